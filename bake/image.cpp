@@ -1,0 +1,74 @@
+#include <brdfbake/bake/image.hpp>
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/core/version.hpp>
+
+namespace brdfbake {
+
+Image::Image(int width, int height, const Rgba& fill) : width_(width), height_(height) {
+  require(width >= 1 && height >= 1, "image size must be at least 1 x 1");
+  pixels_.resize(static_cast<std::size_t>(width) * height * 4);
+  for (std::size_t i = 0; i < pixels_.size(); i += 4) {
+    for (int c = 0; c < 4; ++c) pixels_[i + c] = static_cast<float>(fill[c]);
+  }
+}
+
+nlohmann::json MapInfo::toJson() const {
+  return {{"parameterization", std::string(toString(parameterization))},
+          {"resolution", resolution},
+          {"convention_version", conventionVersion},
+          {"brdfbake_version", BRDFBAKE_VERSION_STRING},
+          {"spec", spec}};
+}
+
+MapInfo MapInfo::fromJson(const nlohmann::json& metadata) {
+  auto missing = [](const char* key) {
+    return Error(Error::Kind::InvalidInput, std::string("map metadata has no valid '") + key + "'");
+  };
+  if (!metadata.is_object()) throw missing("parameterization");
+  MapInfo info;
+  const auto p = metadata.find("parameterization");
+  if (p == metadata.end() || !p->is_string()) throw missing("parameterization");
+  info.parameterization = parseParameterizationKind(p->get<std::string>());
+  const auto r = metadata.find("resolution");
+  if (r == metadata.end() || !r->is_number_integer() || r->get<int>() < 1) throw missing("resolution");
+  info.resolution = r->get<int>();
+  const auto c = metadata.find("convention_version");
+  if (c == metadata.end() || !c->is_number_integer()) throw missing("convention_version");
+  info.conventionVersion = c->get<int>();
+  if (info.conventionVersion > kConventionVersion) {
+    throw Error(Error::Kind::InvalidInput,
+                "map uses convention version " + std::to_string(info.conventionVersion) +
+                    ", newer than this brdfbake understands (" + std::to_string(kConventionVersion) + ")");
+  }
+  info.spec = metadata.value("spec", nlohmann::json::object());
+  return info;
+}
+
+Rgba sampleBilinear(const Image& image, const Vec2& pixel, const TexelRect& region, bool wrapX) {
+  const double fx = pixel.x() - 0.5 - region.x0, fy = pixel.y() - 0.5 - region.y0;
+  const double x0f = std::floor(fx), y0f = std::floor(fy);
+  const double wx = fx - x0f, wy = fy - y0f;
+  auto column = [&](double i) {
+    int c = static_cast<int>(i);
+    if (wrapX) {
+      c %= region.width;
+      if (c < 0) c += region.width;
+    } else {
+      c = std::clamp(c, 0, region.width - 1);
+    }
+    return region.x0 + c;
+  };
+  auto row = [&](double j) { return region.y0 + std::clamp(static_cast<int>(j), 0, region.height - 1); };
+  const int xa = column(x0f), xb = column(x0f + 1), ya = row(y0f), yb = row(y0f + 1);
+  return (1 - wy) * ((1 - wx) * image.at(xa, ya) + wx * image.at(xb, ya)) +
+         wy * ((1 - wx) * image.at(xa, yb) + wx * image.at(xb, yb));
+}
+
+Rgba sampleBilinear(const Image& image, const Parameterization& map, const Vec3& direction) {
+  require(image.width() == map.width() && image.height() == map.height(),
+          "image size does not match the parameterization");
+  const MapAddress address = map.getAddressFor(direction);
+  return sampleBilinear(image, address.pixel, map.region(address.region), map.wrapsHorizontally());
+}
+
+}  // namespace brdfbake

@@ -1,0 +1,50 @@
+#include <brdfbake/bake/image.hpp>
+#include <brdfbake/bake/map_function.hpp>
+#include <brdfbake/core/error.hpp>
+
+namespace brdfbake {
+namespace {
+Vec3 unitOrThrow(const Vec3& v, const char* what) {
+  const double norm = v.norm();
+  require(std::isfinite(norm) && norm > 0.0, std::string(what) + " must be a finite non-zero vector");
+  return v / norm;
+}
+}  // namespace
+
+MaterialMapFunction::MaterialMapFunction(std::shared_ptr<const Material> material,
+                                         std::vector<DirectionalLight> lights, const Vec3& view)
+    : material_(std::move(material)), lights_(std::move(lights)), view_(unitOrThrow(view, "view direction")) {
+  require(material_ != nullptr, "material must not be null");
+  for (auto& light : lights_) {
+    light.direction = unitOrThrow(light.direction, "light direction");
+    require(allFinite(light.color) && (light.color >= 0.0).all(), "light colour must be finite and >= 0");
+  }
+}
+
+Rgb MaterialMapFunction::evaluate(const Vec3& direction) const {
+  const ShadingGeometry g = geometryForReflection(direction, view_);
+  Rgb value = material_->unlit(g);
+  for (const auto& light : lights_) value += light.color * material_->shade(g, light.direction);
+  return value;
+}
+
+std::optional<std::vector<RadialLobe>> MaterialMapFunction::radialLobes() const {
+  // An unlit part is not expressed as lobes; such materials bake through the general path.
+  if (!material_->usesLights()) return std::nullopt;
+  std::vector<RadialLobe> all;
+  for (const auto& light : lights_) {
+    auto lobes = material_->radialLobes(light.direction, view_);
+    if (!lobes) return std::nullopt;
+    for (auto& lobe : *lobes) {
+      lobe.weight *= light.color;
+      all.push_back(std::move(lobe));
+    }
+  }
+  return all;
+}
+
+Rgb ImageMapFunction::evaluate(const Vec3& direction) const {
+  return sampleBilinear(image_, map_, direction).head<3>();
+}
+
+}  // namespace brdfbake

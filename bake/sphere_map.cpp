@@ -1,0 +1,59 @@
+#include <brdfbake/bake/sphere_map.hpp>
+
+#include "disc_region.hpp"
+
+namespace brdfbake {
+namespace {
+
+// Equal-area density 4 sr per unit area of the disc: h(R) = 2 R^2, so h/r^2 = 2.
+constexpr detail::RadialDensity kSphereSolidAngle{
+    [](double d, double s0, double s1) { return 2.0 * d * (s1 - s0); }, 2.0};
+
+// Map-plane square of texel (x, y): the disc is the unit disc of x' = 2s - 1, y' = 2t - 1.
+struct Square {
+  double x0, x1, y0, y1;
+};
+Square texelSquare(int x, int y, int n) {
+  const double scale = 2.0 / n;
+  return {x * scale - 1.0, (x + 1) * scale - 1.0, 1.0 - (y + 1) * scale, 1.0 - y * scale};
+}
+
+}  // namespace
+
+Vec2 SphereMap::textureCoordinates(const Vec3& r) {
+  const double m = 2.0 * std::sqrt(r.x() * r.x() + r.y() * r.y() + (r.z() + 1.0) * (r.z() + 1.0));
+  if (!(m > 0.0)) return {1.0, 0.5};  // r = -z exactly: the whole rim; pick (s, t) = (1, 1/2)
+  return {r.x() / m + 0.5, r.y() / m + 0.5};
+}
+
+Vec3 SphereMap::direction(const Vec2& st) {
+  double x = 2.0 * st.x() - 1.0, y = 2.0 * st.y() - 1.0;
+  const double rho2 = x * x + y * y;
+  if (rho2 >= 1.0) return {0.0, 0.0, -1.0};
+  const double nz = std::sqrt(1.0 - rho2);
+  // r = 2 nz n - (0,0,1)
+  return {2.0 * nz * x, 2.0 * nz * y, 2.0 * nz * nz - 1.0};
+}
+
+MapAddress SphereMap::getAddressFor(const Vec3& direction) const {
+  const Vec2 st = textureCoordinates(checkedUnit(direction));
+  const double n = resolution();
+  return {Vec2(st.x() * n, (1.0 - st.y()) * n), 0};
+}
+
+std::optional<Vec3> SphereMap::getDirectionFor(const Vec2& pixel) const {
+  const double n = resolution();
+  return direction(Vec2(pixel.x() / n, 1.0 - pixel.y() / n));
+}
+
+double SphereMap::texelCoverage(int x, int y) const {
+  const Square q = texelSquare(x, y, resolution());
+  return detail::discCoverage(q.x0, q.x1, q.y0, q.y1);
+}
+
+double SphereMap::texelSolidAngle(int x, int y) const {
+  const Square q = texelSquare(x, y, resolution());
+  return detail::integrateOverDiscPart(q.x0, q.x1, q.y0, q.y1, kSphereSolidAngle);
+}
+
+}  // namespace brdfbake

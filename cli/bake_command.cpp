@@ -1,0 +1,122 @@
+// brdfbake bake SPEC.json: bake every map of a spec.
+#include <brdfbake/bake/baker.hpp>
+#include <brdfbake/bake/map_file.hpp>
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/core/version.hpp>
+#include <brdfbake/importers/spec.hpp>
+
+#include <chrono>
+#include <iostream>
+
+#include "commands.hpp"
+#include "terminal.hpp"
+
+namespace brdfbake::cli {
+namespace fs = std::filesystem;
+
+namespace {
+
+struct BakeArgs {
+  std::string spec;
+  std::string outputDirectory;
+  int threads = 0;
+  bool quiet = false;
+  bool json = false;
+  bool allowLarge = false;
+};
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+int runBake(const BakeArgs& args) {
+  BakeSpec spec = loadBakeSpec(args.spec);
+  if (!args.outputDirectory.empty()) {
+    for (auto& map : spec.maps) {
+      const fs::path written = map.raw.at("output").get<std::string>();
+      map.output = fs::path(args.outputDirectory) / (written.is_absolute() ? written.filename() : written);
+    }
+  }
+  BakeOptions options;
+  options.threads = args.threads;
+  options.allowLarge = args.allowLarge;
+  // Refuse oversize maps before any work, so a spec either bakes whole or writes nothing.
+  for (const auto& map : spec.maps) {
+    const auto parameterization = makeParameterization(map.parameterization, map.resolution);
+    const long long texels = static_cast<long long>(parameterization->width()) * parameterization->height();
+    if (texels > options.maxTexels && !options.allowLarge) {
+      const double gib = static_cast<double>(texels) * 16.0 / (1u << 30);
+      throw Error(Error::Kind::Resource, args.spec + ": " + map.jsonPath + ": a " + std::to_string(parameterization->width()) +
+                                             " x " + std::to_string(parameterization->height()) + " map needs " +
+                                             std::to_string(gib) + " GiB; lower its resolution or pass --allow-large");
+    }
+  }
+
+  nlohmann::json report = {{"spec", args.spec}, {"maps", nlohmann::json::array()}};
+  for (const auto& map : spec.maps) {
+    const auto parameterization = makeParameterization(map.parameterization, map.resolution);
+    const auto function = map.makeFunction();
+    ProgressBar bar(map.jsonPath + " " + map.output.filename().string(), !args.quiet && !args.json);
+    options.samplesPerTexel = map.samplesPerTexel;
+    options.progress = bar.callback();
+    BakeSummary summary;
+    const Image image = bake(*parameterization, *function, options, &summary);
+
+    MapInfo info;
+    info.parameterization = map.parameterization;
+    info.resolution = map.resolution;
+    info.conventionVersion = kConventionVersion;
+    info.spec = map.raw;
+    const auto writeStart = std::chrono::steady_clock::now();
+    const MapWriteReport written = writeMap(image, info, map.output, map.cubeLayout, {{fs::path(args.spec)}});
+    const double writeSeconds = secondsSince(writeStart);
+
+    nlohmann::json entry = {{"output", map.output.string()},
+                            {"files", nlohmann::json::array()},
+                            {"parameterization", std::string(toString(map.parameterization))},
+                            {"resolution", map.resolution},
+                            {"width", parameterization->width()},
+                            {"height", parameterization->height()},
+                            {"samples_per_texel", map.samplesPerTexel},
+                            {"bake_path", summary.path},
+                            {"bake_seconds", summary.seconds},
+                            {"write_seconds", writeSeconds},
+                            {"notes", written.notes}};
+    for (const auto& file : written.files) entry["files"].push_back(file.string());
+    report["maps"].push_back(entry);
+    if (!args.json && !args.quiet) {
+      std::cout << "wrote " << map.output.string() << " (" << toString(map.parameterization) << " "
+                << parameterization->width() << "x" << parameterization->height() << ", " << map.samplesPerTexel
+                << " samples/texel, " << summary.path << "): bake " << summary.seconds << " s, write "
+                << writeSeconds << " s\n";
+      for (const auto& note : written.notes) std::cout << "  note: " << note << "\n";
+    }
+  }
+  if (args.json) std::cout << report.dump(2) << "\n";
+  return 0;
+}
+
+}  // namespace
+
+Command addBakeCommand(CLI::App& app) {
+  auto args = std::make_shared<BakeArgs>();
+  auto* command = app.add_subcommand("bake", "Bake every map described by a JSON spec");
+  command->footer(R"(A spec lists maps; each names its output, parameterization (sphere | paraboloid | cube |
+latlong), resolution, samples_per_texel, material and lights. Relative paths resolve against
+the spec's folder (or -o). The whole spec is validated before anything is baked. Specs for
+every model: data_samples/specs/. Format: docs/spec.md.
+
+  {"maps": [{"output": "phong_eye.exr", "parameterization": "sphere", "resolution": 256,
+             "samples_per_texel": 16,
+             "material": {"model": "phong", "specular": [1, 1, 1], "exponent": 50},
+             "lights": [{"direction": "eye", "color": [1, 1, 1]}]}]})");
+  command->add_option("spec", args->spec, "Spec file (JSON)")->required();
+  command->add_option("-o,--output-dir", args->outputDirectory, "Write outputs under this folder instead of the spec's");
+  command->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->default_val(0)->check(CLI::NonNegativeNumber);
+  command->add_flag("--quiet", args->quiet, "Print nothing on success");
+  command->add_flag("--json", args->json, "Print a machine-readable report (per map: files, seconds baking and writing)");
+  command->add_flag("--allow-large", args->allowLarge, "Allow maps over 8192^2 texels (1 GiB of float RGBA)");
+  return [args] { return runBake(*args); };
+}
+
+}  // namespace brdfbake::cli

@@ -1,0 +1,75 @@
+// brdfbake: bake reflectance functions into environment-map textures.
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/core/version.hpp>
+
+#include <iostream>
+#include <map>
+
+#include "commands.hpp"
+
+namespace {
+
+constexpr const char* kFooter = R"(Exit status: 0 success; 2 bad flags, spec or input file (the message names the
+file, line or JSON path); 3 a file could not be read or written; 4 the work needs more
+memory than allowed; 1 anything else. Nothing is written when a spec is invalid, and
+outputs appear atomically (never half-written).
+
+Examples:
+  brdfbake bake data_samples/specs/phong_eye.json -o out/
+  brdfbake sample out/phong_eye.exr --dir 0,0,1
+  brdfbake info out/phong_eye.exr --json
+  brdfbake convert out/phong_paraboloid.exr --to cube -o out/phong_cube.exr
+
+Conventions (frames, image orientation, texel centres): docs/conventions.md)";
+
+int exitCodeFor(brdfbake::Error::Kind kind) {
+  switch (kind) {
+    case brdfbake::Error::Kind::InvalidArgument:
+    case brdfbake::Error::Kind::InvalidInput: return 2;
+    case brdfbake::Error::Kind::Io: return 3;
+    case brdfbake::Error::Kind::Resource: return 4;
+    case brdfbake::Error::Kind::Numerical: return 1;
+  }
+  return 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"brdfbake " BRDFBAKE_VERSION_STRING
+               ": bake reflectance functions (Phong, Blinn-Phong, ...) into sphere, dual-paraboloid,\n"
+               "cube and lat-long environment maps, and inspect or convert the maps it writes."};
+  app.footer(kFooter);
+  app.set_version_flag("--version", BRDFBAKE_VERSION_STRING);
+  app.require_subcommand(1);
+
+  std::map<CLI::App*, brdfbake::cli::Command> commands;
+  auto add = [&](brdfbake::cli::Command (*factory)(CLI::App&)) {
+    const std::size_t before = app.get_subcommands({}).size();
+    auto command = factory(app);
+    commands[app.get_subcommands({})[before]] = std::move(command);
+  };
+  add(brdfbake::cli::addBakeCommand);
+  add(brdfbake::cli::addSampleCommand);
+  add(brdfbake::cli::addInfoCommand);
+  add(brdfbake::cli::addConvertCommand);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    for (auto& [subcommand, run] : commands) {
+      if (subcommand->parsed()) return run();
+    }
+  } catch (const brdfbake::Error& e) {
+    std::cerr << "brdfbake: error: " << e.what() << "\n";
+    return exitCodeFor(e.kind());
+  } catch (const std::exception& e) {
+    std::cerr << "brdfbake: internal error: " << e.what() << "\n";
+    return 1;
+  }
+  return 1;
+}

@@ -1,0 +1,35 @@
+#include "registry_entries.hpp"
+
+namespace brdfbake {
+
+const std::vector<MaterialEntry>& materialRegistry() {
+  static const std::vector<MaterialEntry> registry{
+      {"phong", "Phong: specular max(0, R.V)^exponent plus optional Lambert diffuse", materials::parsePhong},
+      {"blinn_phong", "Blinn-Phong: (N.H)^exponent, or converted from phong_exponent (exact | 4n | fit)",
+       materials::parseBlinnPhong},
+  };
+  return registry;
+}
+
+std::shared_ptr<const Material> parseMaterial(const nlohmann::json& value, const std::string& path,
+                                              const MaterialContext& context) {
+  JsonObjectReader reader(value, path);
+  const std::string model = reader.string("model");
+  for (const auto& entry : materialRegistry()) {
+    if (entry.model != model) continue;
+    std::shared_ptr<const Material> material;
+    try {
+      material = entry.parse(reader, context);
+    } catch (const Error& e) {
+      if (e.kind() == Error::Kind::InvalidInput) throw;
+      throw specError(path, e.what());  // library validation, reported at the material's path
+    }
+    reader.finish();
+    return material;
+  }
+  std::string known;
+  for (const auto& entry : materialRegistry()) known += (known.empty() ? "" : ", ") + entry.model;
+  throw specError(reader.child("model"), "unknown model '" + model + "' (known: " + known + ")");
+}
+
+}  // namespace brdfbake

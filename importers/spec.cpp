@@ -1,0 +1,158 @@
+#include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/importers/material_spec.hpp>
+#include <brdfbake/importers/spec.hpp>
+
+#include <fstream>
+#include <sstream>
+
+namespace brdfbake {
+namespace fs = std::filesystem;
+namespace {
+
+DirectionalLight parseLight(const nlohmann::json& value, const std::string& path, const Vec3& view, bool& atEye) {
+  JsonObjectReader light(value, path);
+  DirectionalLight result;
+  const auto& direction = light.require("direction");
+  atEye = direction.is_string();
+  if (atEye) {
+    if (direction.get<std::string>() != "eye") {
+      throw specError(light.child("direction"), "must be \"eye\" or [x, y, z], got " + describe(direction));
+    }
+    result.direction = view;
+  } else {
+    result.direction = JsonObjectReader::asDirection(direction, light.child("direction"));
+  }
+  result.color = light.color("color", Rgb::Ones());
+  light.finish();
+  return result;
+}
+
+MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs::path& baseDirectory) {
+  JsonObjectReader map(value, path);
+  MapSpec spec;
+  spec.jsonPath = path;
+  spec.raw = value;
+
+  const std::string output = map.string("output");
+  if (output.empty()) throw specError(map.child("output"), "must not be empty");
+  try {
+    imageFormatFor(output);
+  } catch (const Error& e) {
+    throw specError(map.child("output"), e.what());
+  }
+  spec.output = fs::path(output).is_absolute() ? fs::path(output) : baseDirectory / output;
+
+  const std::string kind = map.string("parameterization");
+  try {
+    spec.parameterization = parseParameterizationKind(kind);
+  } catch (const Error& e) {
+    throw specError(map.child("parameterization"), e.what());
+  }
+  spec.resolution = map.integer("resolution", 256, 1, 65536);
+  spec.samplesPerTexel = map.integer("samples_per_texel", 16, 1, 4096);
+
+  if (const auto* layout = map.find("layout")) {
+    if (spec.parameterization != ParameterizationKind::Cube) throw specError(map.child("layout"), "only applies to cube maps");
+    if (*layout == "cross") {
+      spec.cubeLayout = CubeLayout::Cross;
+    } else if (*layout == "faces") {
+      spec.cubeLayout = CubeLayout::Faces;
+    } else {
+      throw specError(map.child("layout"), "must be \"cross\" or \"faces\", got " + describe(*layout));
+    }
+  }
+
+  if (map.has("view")) {
+    if (spec.parameterization == ParameterizationKind::Sphere) {
+      throw specError(map.child("view"), "sphere maps live in eye space, where the view vector is always +z; remove it");
+    }
+    spec.view = map.direction("view");
+    spec.viewGiven = true;
+  }
+
+  spec.material = parseMaterial(map.require("material"), map.child("material"), {baseDirectory});
+
+  bool anyAtEye = false;
+  if (map.has("lights")) {
+    const auto& lights = map.array("lights");
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+      bool atEye = false;
+      spec.lights.push_back(parseLight(lights[i], map.child("lights") + "[" + std::to_string(i) + "]", spec.view, atEye));
+      anyAtEye = anyAtEye || atEye;
+    }
+  }
+  if (spec.material->usesLights() && spec.lights.empty()) {
+    throw specError(map.child("lights"), std::string(spec.material->model()) + " needs at least one light");
+  }
+  if (!spec.material->usesLights() && !spec.lights.empty()) {
+    throw specError(map.child("lights"), std::string(spec.material->model()) + " ignores lights; remove them");
+  }
+  const bool viewDependent = !spec.material->viewIndependent() || anyAtEye;
+  if (spec.parameterization != ParameterizationKind::Sphere && viewDependent && !spec.viewGiven) {
+    throw specError(path, std::string(spec.material->model()) +
+                              (anyAtEye ? " lit from the eye" : "") +
+                              " depends on the view direction, but a " + std::string(toString(spec.parameterization)) +
+                              " map is indexed by reflected direction only; fix the view with \"view\": [x, y, z]"
+                              " or use a sphere map");
+  }
+  map.finish();
+  return spec;
+}
+
+}  // namespace
+
+std::shared_ptr<const MapFunction> MapSpec::makeFunction() const {
+  return std::make_shared<MaterialMapFunction>(material, lights, view);
+}
+
+BakeSpec parseBakeSpec(const nlohmann::json& document, const fs::path& baseDirectory, const std::string& label) {
+  try {
+    JsonObjectReader root(document, "");
+    BakeSpec spec;
+    const auto& maps = root.array("maps");
+    if (maps.empty()) throw specError("maps", "must hold at least one map");
+    for (std::size_t i = 0; i < maps.size(); ++i) {
+      spec.maps.push_back(parseMap(maps[i], "maps[" + std::to_string(i) + "]", baseDirectory));
+    }
+    root.finish();
+    for (std::size_t i = 0; i < spec.maps.size(); ++i) {
+      for (std::size_t j = 0; j < i; ++j) {
+        if (samePath(spec.maps[i].output, spec.maps[j].output)) {
+          throw specError(spec.maps[i].jsonPath + ".output", "same file as " + spec.maps[j].jsonPath + ".output");
+        }
+      }
+    }
+    return spec;
+  } catch (const Error& e) {
+    throw Error(e.kind(), label + ": " + e.what());
+  }
+}
+
+BakeSpec loadBakeSpec(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error(Error::Kind::Io, file.string() + ": cannot open spec");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  nlohmann::json document;
+  try {
+    document = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    // Report line and column of the byte where parsing stopped.
+    const std::size_t offset = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
+    int line = 1, column = 1;
+    for (std::size_t i = 0; i < offset; ++i) {
+      if (text[i] == '\n') ++line, column = 1;
+      else ++column;
+    }
+    std::string message = e.what();
+    if (const auto pos = message.find("syntax error"); pos != std::string::npos) message = message.substr(pos);
+    throw Error(Error::Kind::InvalidInput,
+                file.string() + ":" + std::to_string(line) + ":" + std::to_string(column) + ": invalid JSON: " + message);
+  }
+  BakeSpec spec = parseBakeSpec(document, file.parent_path().empty() ? fs::path(".") : file.parent_path(), file.string());
+  spec.file = file;
+  return spec;
+}
+
+}  // namespace brdfbake

@@ -1,0 +1,52 @@
+#pragma once
+/// @file
+/// Integrating a MapFunction over every texel's footprint.
+
+#include <brdfbake/bake/image.hpp>
+#include <brdfbake/bake/map_function.hpp>
+
+#include <functional>
+#include <string>
+
+namespace brdfbake {
+
+struct BakeOptions {
+  /// Stratified samples per texel footprint (a grid a x b with a b = samples, a <= b as close to
+  /// square as the count allows), each mapped through the inverse parameterization. >= 1.
+  int samplesPerTexel = 16;
+  /// Worker threads; 0 uses every core.
+  int threads = 0;
+  /// Tolerance of tabulated radial profiles, relative to their peak.
+  double profileTolerance = 1e-6;
+  /// Largest image the baker allocates without `allowLarge`, in texels (default 8192^2 = 1 GiB
+  /// of float RGBA).
+  long long maxTexels = 8192LL * 8192LL;
+  bool allowLarge = false;
+  /// Called with the fraction done (0..1), serialised, from worker threads. May be empty.
+  std::function<void(double)> progress;
+
+  /// Throws Error(InvalidArgument) for out-of-range values.
+  void validate() const;
+};
+
+struct BakeSummary {
+  /// "general" (model per sample), "radial" (tabulated lobes per sample) or "radial-view-axis"
+  /// (sphere map of lobes about the view axis: table indexed by map radius, no inverse mapping).
+  std::string path;
+  int lobes = 0;              ///< tabulated lobes (radial paths)
+  int largestTable = 0;       ///< entries of the largest table
+  double tableError = 0.0;    ///< worst table interpolation error relative to its peak
+  long long samples = 0;      ///< footprint samples evaluated
+  double seconds = 0.0;
+
+  std::string briefReport() const;
+};
+
+/// Bakes `function` into an image laid out by `map`: each texel holds the mean of the function
+/// over its stratified footprint samples (points outside the domain take the value the inverse
+/// mapping extends to), alpha holds the texel's coverage of the domain. Throws Error(Resource)
+/// when the image exceeds options.maxTexels, unless allowed.
+Image bake(const Parameterization& map, const MapFunction& function, const BakeOptions& options = {},
+           BakeSummary* summary = nullptr);
+
+}  // namespace brdfbake

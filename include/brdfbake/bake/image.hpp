@@ -1,0 +1,68 @@
+#pragma once
+/// @file
+/// In-memory float RGBA images (row 0 is the top row) and the metadata every map carries.
+
+#include <brdfbake/bake/parameterization.hpp>
+#include <brdfbake/core/color.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <cstddef>
+#include <vector>
+
+namespace brdfbake {
+
+/// A float RGBA image, row-major, row 0 at the top. Colours are linear; alpha is the texel's
+/// coverage of the map's domain.
+class Image {
+ public:
+  Image() = default;
+  /// A width x height image filled with `fill`. Throws Error(InvalidArgument) for sizes < 1.
+  Image(int width, int height, const Rgba& fill = Rgba::Zero());
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  bool empty() const { return pixels_.empty(); }
+
+  Rgba at(int x, int y) const {
+    const float* p = &pixels_[index(x, y)];
+    return {p[0], p[1], p[2], p[3]};
+  }
+  void set(int x, int y, const Rgba& value) {
+    float* p = &pixels_[index(x, y)];
+    for (int c = 0; c < 4; ++c) p[c] = static_cast<float>(value[c]);
+  }
+  float* data() { return pixels_.data(); }
+  const float* data() const { return pixels_.data(); }
+  std::size_t index(int x, int y) const { return (static_cast<std::size_t>(y) * width_ + x) * 4; }
+
+  /// Map metadata (see MapInfo); empty for a plain image.
+  nlohmann::json metadata = nlohmann::json::object();
+
+ private:
+  int width_ = 0, height_ = 0;
+  std::vector<float> pixels_;
+};
+
+/// What a map file says about itself: written into every map (OpenEXR/TIFF/PNG attributes, or a
+/// sidecar FILE.json where the format cannot hold them) and read back by `brdfbake info`.
+struct MapInfo {
+  ParameterizationKind parameterization = ParameterizationKind::Sphere;
+  int resolution = 0;
+  int conventionVersion = 0;
+  nlohmann::json spec;  ///< the full map spec (material, lights, ...) it was made from
+
+  nlohmann::json toJson() const;
+  /// Reads the keys written by toJson(); throws Error(InvalidInput) naming what is missing.
+  static MapInfo fromJson(const nlohmann::json& metadata);
+};
+
+/// Bilinear lookup at a map-frame direction, as a GPU's bilinear filter does it: texel centres at
+/// +0.5, clamped to the direction's region (hemisphere, cube face), wrapped horizontally for
+/// lat-long. Returns RGBA.
+Rgba sampleBilinear(const Image& image, const Parameterization& map, const Vec3& direction);
+
+/// Bilinear lookup at continuous pixel coordinates inside one region.
+Rgba sampleBilinear(const Image& image, const Vec2& pixel, const TexelRect& region, bool wrapX);
+
+}  // namespace brdfbake

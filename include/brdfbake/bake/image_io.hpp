@@ -1,0 +1,45 @@
+#pragma once
+/// @file
+/// Reading and writing images through OpenImageIO.
+
+#include <brdfbake/bake/image.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace brdfbake {
+
+/// Image file formats brdfbake writes, chosen by the output's extension.
+enum class ImageFormat { OpenExr, RadianceHdr, Tiff, Png };
+
+/// Format for a path's extension (.exr, .hdr, .tif/.tiff, .png); throws Error(InvalidArgument).
+ImageFormat imageFormatFor(const std::filesystem::path& path);
+
+struct WriteOptions {
+  /// Paths that must not be overwritten (the inputs of the computation).
+  std::vector<std::filesystem::path> inputs;
+};
+
+/// What writeImage did, for reports.
+struct WriteReport {
+  std::vector<std::string> notes;  ///< e.g. "8-bit PNG: sRGB transfer curve, values clamped to [0, 1]"
+  bool sidecar = false;            ///< metadata went to PATH.json because the format cannot hold it
+};
+
+/// Writes `image` atomically: to a temporary file in the same folder, then renamed over `path`,
+/// so a failure never leaves a half-written file. OpenEXR and TIFF are written as float RGBA,
+/// Radiance HDR as RGB (alpha dropped, noted), PNG as 8-bit sRGB with clamping (noted). Image
+/// metadata is stored in the file's "brdfbake:metadata" attribute, verified by reading it back, or
+/// in a sidecar PATH.json where the format drops it. Throws Error(Io) on failure and
+/// Error(InvalidArgument) if `path` is one of `options.inputs`, or holds NaN/Inf.
+WriteReport writeImage(const Image& image, const std::filesystem::path& path, const WriteOptions& options = {});
+
+/// Reads any format OpenImageIO reads, as float RGBA (alpha 1 if absent; gray expanded to RGB),
+/// with its brdfbake metadata if present. Throws Error(Io) naming the file.
+Image readImage(const std::filesystem::path& path);
+
+/// True if both paths name the same file (existing or not).
+bool samePath(const std::filesystem::path& a, const std::filesystem::path& b);
+
+}  // namespace brdfbake

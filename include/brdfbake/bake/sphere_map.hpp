@@ -1,0 +1,39 @@
+#pragma once
+/// @file
+/// The OpenGL GL_SPHERE_MAP parameterization (seed 000 Eq. 2).
+
+#include <brdfbake/bake/parameterization.hpp>
+
+namespace brdfbake {
+
+/// Sphere map of N x N texels, in eye space (view vector +z, y up).
+///
+/// Forward: m = 2 sqrt(rx^2 + ry^2 + (rz + 1)^2), s = rx/m + 1/2, t = ry/m + 1/2.
+/// Inverse: x = 2s - 1, y = 2t - 1, n = (x, y, sqrt(1 - x^2 - y^2)), r = 2 n_z n - (0, 0, 1).
+/// Pixels: s = px / N, t = 1 - py / N (row 0 is t = 1, so the image looks like a photograph of a
+/// mirror ball with up at the top).
+///
+/// Singular set: the rim circle x^2 + y^2 = 1, which is the single direction -z. Forward maps -z
+/// (and directions within rounding of it) to the rim point (s, t) = (1, 1/2), never NaN. The
+/// inverse maps points outside the disc to -z (their nearest rim direction), so a texel's
+/// footprint outside the disc contributes the rim value and lookups near the rim stay continuous.
+/// The map is equal-area: 16 / N^2 sr per texel inside the disc; its anisotropy is
+/// 1 / cos^2(theta / 2) at angle theta from +z.
+class SphereMap final : public Parameterization {
+ public:
+  explicit SphereMap(int resolution) : Parameterization(resolution) {}
+  ParameterizationKind kind() const override { return ParameterizationKind::Sphere; }
+  int width() const override { return resolution(); }
+  int height() const override { return resolution(); }
+  MapAddress getAddressFor(const Vec3& direction) const override;
+  std::optional<Vec3> getDirectionFor(const Vec2& pixel) const override;
+  double texelCoverage(int x, int y) const override;
+  double texelSolidAngle(int x, int y) const override;
+
+  /// GL_SPHERE_MAP texture coordinates of a unit reflected direction (total, never NaN).
+  static Vec2 textureCoordinates(const Vec3& unitDirection);
+  /// Reflected direction for texture coordinates inside the disc (clamped onto it outside).
+  static Vec3 direction(const Vec2& st);
+};
+
+}  // namespace brdfbake

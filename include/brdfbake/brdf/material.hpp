@@ -1,0 +1,60 @@
+#pragma once
+/// @file
+/// The material interface the baker evaluates. All vectors are unit vectors pointing away from
+/// the surface, in whatever frame the map uses.
+
+#include <brdfbake/core/color.hpp>
+#include <brdfbake/core/math.hpp>
+
+#include <functional>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+namespace brdfbake {
+
+/// The geometry at one shading point.
+struct ShadingGeometry {
+  Vec3 normal;     ///< surface normal n
+  Vec3 view;       ///< towards the viewer, v
+  Vec3 reflected;  ///< v mirrored about n: 2 (n.v) n - v
+};
+
+/// Builds the geometry for a map texel that stands for reflected direction `reflected` seen from
+/// `view`: n = normalize(r + v). Where r = -v (the sphere map's rim) n is any unit vector
+/// perpendicular to v (grazing); the choice is deterministic.
+ShadingGeometry geometryForReflection(const Vec3& reflected, const Vec3& view);
+
+/// A term radially symmetric about an axis: value(d) = weight * profile(dot(d, axis)), with d the
+/// map direction (the reflected vector). Profiles take the cosine of the angle to the axis, in
+/// [-1, 1], and must be finite there.
+struct RadialLobe {
+  Vec3 axis;
+  Rgb weight;
+  std::function<double(double)> profile;
+};
+
+/// A reflectance model as the baker sees it.
+class Material {
+ public:
+  virtual ~Material() = default;
+  /// The spec's model name, e.g. "phong".
+  virtual std::string_view model() const = 0;
+  /// Radiance towards the viewer from one directional light of unit colour arriving from unit
+  /// direction `light` (irradiance at normal incidence = 1, OpenGL-style lighting).
+  virtual Rgb shade(const ShadingGeometry& g, const Vec3& light) const = 0;
+  /// The part of the map that does not depend on lights (reflectance and hand-designed maps).
+  virtual Rgb unlit(const ShadingGeometry&) const { return Rgb::Zero(); }
+  /// False if the model ignores lights (then a spec may omit them).
+  virtual bool usesLights() const { return true; }
+  /// True if the value depends on the geometry only through the reflected direction, so a map
+  /// indexed by reflected direction is valid for every view.
+  virtual bool viewIndependent() const = 0;
+  /// If shade(g, light) is exactly a sum of radial lobes about fixed axes as a function of the
+  /// reflected direction (for this light and view), those lobes; otherwise nullopt.
+  virtual std::optional<std::vector<RadialLobe>> radialLobes(const Vec3& light, const Vec3& view) const {
+    return std::nullopt;
+  }
+};
+
+}  // namespace brdfbake

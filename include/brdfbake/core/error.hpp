@@ -1,0 +1,41 @@
+#pragma once
+/// @file
+/// The one exception type the library throws. The library never exits or prints; the CLI maps
+/// `Error::Kind` to exit codes.
+
+#include <stdexcept>
+#include <string>
+
+namespace brdfbake {
+
+class Error : public std::runtime_error {
+ public:
+  enum class Kind {
+    InvalidArgument,  ///< a caller passed a value outside the documented range
+    InvalidInput,     ///< a file or spec is malformed (message names file, line or JSON path)
+    Io,               ///< a file could not be read or written
+    Resource,         ///< the work would need more memory than allowed
+    Numerical,        ///< a computation could not produce a finite result
+  };
+
+  Error(Kind kind, const std::string& message) : std::runtime_error(message), kind_(kind) {}
+
+  Kind kind() const noexcept { return kind_; }
+
+  /// "<file>:<line>: <message>" (line omitted when 0).
+  static Error atFile(Kind kind, const std::string& file, int line, const std::string& message) {
+    std::string where = file;
+    if (line > 0) where += ":" + std::to_string(line);
+    return Error(kind, where + ": " + message);
+  }
+
+ private:
+  Kind kind_;
+};
+
+/// Throws Error(InvalidArgument, message) unless `condition` holds.
+inline void require(bool condition, const std::string& message) {
+  if (!condition) throw Error(Error::Kind::InvalidArgument, message);
+}
+
+}  // namespace brdfbake

@@ -1,0 +1,46 @@
+#pragma once
+/// @file
+/// Vector types and small numeric helpers shared by every part. Formulas are templated on the
+/// scalar so that baking (double, float) and fitting (ceres::Jet) share one implementation.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cmath>
+#include <numbers>
+
+namespace brdfbake {
+
+template <class T>
+using Vec2T = Eigen::Matrix<T, 2, 1>;
+template <class T>
+using Vec3T = Eigen::Matrix<T, 3, 1>;
+using Vec2 = Vec2T<double>;
+using Vec3 = Vec3T<double>;
+using Mat3 = Eigen::Matrix3d;
+using Mat4 = Eigen::Matrix4d;
+
+inline constexpr double kPi = std::numbers::pi;
+inline constexpr double kTwoPi = 2.0 * std::numbers::pi;
+inline constexpr double kFourPi = 4.0 * std::numbers::pi;
+
+inline double degrees(double radians) { return radians * 180.0 / kPi; }
+inline double radians(double degrees) { return degrees * kPi / 180.0; }
+
+/// Mirror `v` about the unit normal `n`: 2 (n.v) n - v (both pointing away from the surface).
+template <class T>
+Vec3T<T> reflect(const Vec3T<T>& v, const Vec3T<T>& n) {
+  return T(2) * n.dot(v) * n - v;
+}
+
+/// Clamp to [lo, hi]; unlike std::clamp it also maps NaN to lo.
+inline double clampFinite(double x, double lo, double hi) {
+  return x >= lo ? (x <= hi ? x : hi) : lo;
+}
+
+/// A unit vector perpendicular to the unit vector `a` (deterministic, branch-free of NaN).
+inline Vec3 anyPerpendicular(const Vec3& a) {
+  const Vec3 helper = std::abs(a.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  return a.cross(helper).normalized();
+}
+
+}  // namespace brdfbake

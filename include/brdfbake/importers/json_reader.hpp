@@ -1,0 +1,76 @@
+#pragma once
+/// @file
+/// Reading JSON objects with errors that name the JSON path, and rejecting keys nobody read.
+
+#include <brdfbake/core/color.hpp>
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/core/math.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace brdfbake {
+
+/// Error(InvalidInput) with message "<path>: <message>".
+Error specError(const std::string& path, const std::string& message);
+
+/// A view of one JSON object at a known path ("maps[0].material"). Every accessor marks its key
+/// as read; finish() throws for keys nobody read, so typos never pass silently.
+class JsonObjectReader {
+ public:
+  /// Throws specError(path, "must be an object") if `value` is not an object.
+  JsonObjectReader(const nlohmann::json& value, std::string path);
+
+  const std::string& path() const { return path_; }
+  /// The path of a child key: "<path>.<key>" (or "<key>" at the root).
+  std::string child(const std::string& key) const;
+  bool has(const std::string& key) const {
+    known_.insert(key);
+    return object_.contains(key);
+  }
+  /// The raw value, marked read; nullptr if absent.
+  const nlohmann::json* find(const std::string& key);
+  /// The raw value, marked read; throws "<path>.<key>: required" if absent.
+  const nlohmann::json& require(const std::string& key);
+
+  std::string string(const std::string& key);
+  std::optional<std::string> optionalString(const std::string& key);
+  /// A finite number; `minimum`/`maximum` bounds with `exclusiveMinimum` for "> min".
+  double number(const std::string& key, double minimum = -HUGE_VAL, double maximum = HUGE_VAL,
+                bool exclusiveMinimum = false);
+  double number(const std::string& key, double fallback, double minimum, double maximum, bool exclusiveMinimum);
+  int integer(const std::string& key, int minimum, int maximum);
+  int integer(const std::string& key, int fallback, int minimum, int maximum);
+  /// [r, g, b] of finite numbers >= 0, or one number for grey.
+  Rgb color(const std::string& key);
+  Rgb color(const std::string& key, const Rgb& fallback);
+  /// [x, y, z], finite and non-zero; returned normalized.
+  Vec3 direction(const std::string& key);
+  /// An object member, for nested reading.
+  JsonObjectReader object(const std::string& key);
+  /// An array member; throws unless it is an array.
+  const nlohmann::json& array(const std::string& key);
+
+  /// Throws for the first key that was never read, listing the keys this object accepts.
+  void finish() const;
+
+  /// Helpers for values that are not members of this object.
+  static double asNumber(const nlohmann::json& value, const std::string& path);
+  static Rgb asColor(const nlohmann::json& value, const std::string& path);
+  static Vec3 asDirection(const nlohmann::json& value, const std::string& path);
+
+ private:
+  const nlohmann::json& object_;
+  std::string path_;
+  std::set<std::string> read_;
+  mutable std::set<std::string> known_;  // every key asked for, present or not
+};
+
+/// "[1, 2, 3]" style rendering of a JSON value for messages (truncated).
+std::string describe(const nlohmann::json& value);
+
+}  // namespace brdfbake

@@ -1,0 +1,51 @@
+#pragma once
+/// @file
+/// Bake specs: the JSON files `brdfbake bake` reads. See docs/spec.md for the format.
+
+#include <brdfbake/bake/map_file.hpp>
+#include <brdfbake/bake/map_function.hpp>
+#include <brdfbake/bake/parameterization.hpp>
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace brdfbake {
+
+/// One entry of "maps", validated.
+struct MapSpec {
+  std::string jsonPath;                 ///< "maps[0]", for messages
+  std::filesystem::path output;         ///< resolved against the spec's folder
+  ParameterizationKind parameterization = ParameterizationKind::Sphere;
+  int resolution = 256;
+  int samplesPerTexel = 16;
+  Vec3 view = Vec3::UnitZ();            ///< view vector in the map frame (+z for sphere maps)
+  bool viewGiven = false;               ///< the spec fixed the view ("view": [x, y, z])
+  CubeLayout cubeLayout = CubeLayout::Cross;
+  std::shared_ptr<const Material> material;
+  std::vector<DirectionalLight> lights;
+  nlohmann::json raw;                   ///< the map's JSON as written, stored in the map's metadata
+
+  /// The function the baker integrates.
+  std::shared_ptr<const MapFunction> makeFunction() const;
+};
+
+struct BakeSpec {
+  std::filesystem::path file;  ///< where it was read from (empty for in-memory specs)
+  std::vector<MapSpec> maps;
+};
+
+/// Parses and validates a spec. `baseDirectory` resolves relative paths. Throws Error(InvalidInput)
+/// whose message starts with `label` (usually the file name) and names the JSON path.
+BakeSpec parseBakeSpec(const nlohmann::json& document, const std::filesystem::path& baseDirectory,
+                       const std::string& label = "spec");
+
+/// Reads a spec file. Throws Error(Io) if unreadable, Error(InvalidInput) with file, line and
+/// column for JSON syntax errors, and the errors of parseBakeSpec.
+BakeSpec loadBakeSpec(const std::filesystem::path& file);
+
+}  // namespace brdfbake
