@@ -10,6 +10,7 @@ struct Chord {
   Vec2 a, b;          // entry and exit points, in counter-clockwise order
   bool startsAtCorner;  // a is the edge's start corner (t = 0)
   bool endsAtCorner;    // b is the edge's end corner (t = 1)
+  int edge;             // which rectangle edge (0..3, counter-clockwise)
 };
 
 double chordIntegral(const Vec2& a, const Vec2& b, const RadialDensity& density) {
@@ -51,7 +52,7 @@ double integrateOverDiscPart(double x0, double x1, double y0, double y1, const R
     if (!(hi > lo)) continue;
     const Vec2 entry = lo == 0.0 ? p : Vec2(p + lo * dir);
     const Vec2 exit = hi == 1.0 ? corners[(e + 1) % 4] : Vec2(p + hi * dir);
-    chords.push_back({entry, exit, lo == 0.0, hi == 1.0});
+    chords.push_back({entry, exit, lo == 0.0, hi == 1.0, e});
   }
   if (chords.empty()) {
     const bool containsDisc = x0 <= -1.0 && x1 >= 1.0 && y0 <= -1.0 && y1 >= 1.0;
@@ -62,10 +63,10 @@ double integrateOverDiscPart(double x0, double x1, double y0, double y1, const R
     const Chord& current = chords[i];
     const Chord& next = chords[(i + 1) % chords.size()];
     total += chordIntegral(current.a, current.b, density);
-    const bool sharedCorner = current.endsAtCorner && next.startsAtCorner && chords.size() > 1;
+    // Consecutive edges meeting at a corner inside the disc continue the boundary directly;
+    // otherwise it follows the circle from this chord's exit to the next chord's entry.
+    const bool sharedCorner = current.endsAtCorner && next.startsAtCorner && next.edge == (current.edge + 1) % 4;
     if (!sharedCorner) {
-      // The boundary follows the circle from this chord's exit to the next chord's entry. A single
-      // chord that is a whole edge lying inside the disc cannot happen without its neighbours.
       total += density.arcWeight * ccwAngle(current.b, next.a);
     }
   }

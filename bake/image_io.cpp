@@ -92,6 +92,8 @@ WriteReport writeImage(const Image& image, const fs::path& path, const WriteOpti
   const std::string metadata = image.metadata.empty() ? std::string() : image.metadata.dump();
   if (!metadata.empty()) spec.attribute(kMetadataAttribute, metadata);
   if (format == ImageFormat::OpenExr) spec.attribute("compression", "zip");
+  // Colours are not premultiplied by alpha (alpha is the texel's coverage of the domain).
+  spec.attribute("oiio:UnassociatedAlpha", 1);
 
   std::vector<float> pixels(static_cast<std::size_t>(image.width()) * image.height() * channels);
   for (int y = 0; y < image.height(); ++y) {
@@ -150,7 +152,9 @@ WriteReport writeImage(const Image& image, const fs::path& path, const WriteOpti
 Image readImage(const fs::path& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) throw Error(Error::Kind::Io, path.string() + ": no such file");
-  auto in = OIIO::ImageInput::open(path.string());
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);  // keep colours as stored, never premultiplied
+  auto in = OIIO::ImageInput::open(path.string(), &config);
   if (!in) throw Error(Error::Kind::Io, path.string() + ": cannot read image: " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
   const int channels = spec.nchannels;

@@ -30,7 +30,7 @@ template <class T>
 std::optional<T> blinnExponentRatio(const T& nDotH) {
   using std::log1p;
   const T e = T(1) - nDotH;  // x = 1 - e
-  if (!(e >= T(0)) || !(T(2) * nDotH * nDotH - T(1) > T(0))) return std::nullopt;
+  if (!(e >= T(0)) || !(nDotH > T(0)) || !(T(2) * nDotH * nDotH - T(1) > T(0))) return std::nullopt;
   if (e == T(0)) return T(4);
   // 2x^2 - 1 = 1 - 2e(2 - e);  log(x) = log1p(-e)
   return T(log1p(-T(2) * e * (T(2) - e)) / log1p(-e));

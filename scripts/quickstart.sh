@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# brdfbake quick start on Debian 12: installs what is missing, builds, then
+#   demo  bakes the sample maps of data_samples/specs/phong_eye.json into out/
+#   test  runs the whole test suite (what CI runs)
+# Usage: scripts/quickstart.sh demo|test
+set -euo pipefail
+mode="${1:-}"
+case "$mode" in demo|test) ;; *) echo "usage: $0 demo|test" >&2; exit 2 ;; esac
+cd "$(dirname "$0")/.."
+
+packages=(build-essential cmake libeigen3-dev libceres-dev libopenimageio-dev nlohmann-json3-dev
+          libgtest-dev libtbb-dev libcli11-dev libbenchmark-dev librapidcheck-dev libmatio-dev gnuplot-nox)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "Installing: ${missing[*]}"
+  sudo=""; [ "$(id -u)" -eq 0 ] || sudo="sudo"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+
+jobs="$(nproc)"
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j "$jobs"
+
+if [ "$mode" = demo ]; then
+  build/cli/brdfbake bake data_samples/specs/phong_eye.json -o out
+  build/cli/brdfbake info out/phong_eye.exr
+  echo "Baked maps are in out/ (OpenEXR, float RGBA). Try: build/cli/brdfbake sample out/phong_eye.exr --dir 0,0.3,1"
+else
+  ctest --test-dir build --output-on-failure -j "$jobs"
+fi

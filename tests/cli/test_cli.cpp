@@ -1,0 +1,140 @@
+// The command line as a user meets it: acceptance checks from the issue, exit codes, no output
+// on bad input, machine-readable output.
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/core/math.hpp>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <random>
+
+#include "test_support.hpp"
+
+namespace brdfbake {
+namespace {
+namespace fs = std::filesystem;
+using test::runCli;
+
+std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+
+double sampleValue(const fs::path& map, const Vec3& d) {
+  const auto result = runCli("sample " + q(map) + " --json --dir " + std::to_string(d.x()) + "," + std::to_string(d.y()) + "," + std::to_string(d.z()));
+  EXPECT_EQ(result.exitCode, 0) << result.output;
+  return nlohmann::json::parse(result.output)["value"][0].get<double>();
+}
+
+TEST(Cli, BakeAndSampleMatchTheAnalyticLobes) {
+  test::TempDir dir;
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " -o " + q(dir.path()) + " --quiet");
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  EXPECT_TRUE(result.output.empty()) << result.output;
+  std::mt19937 rng(1);
+  std::normal_distribution<double> g;
+  const Vec3 light = Vec3(1, 1, 1).normalized();
+  for (int i = 0; i < 40; ++i) {
+    const Vec3 r = Vec3(g(rng), g(rng), g(rng)).normalized();
+    // Printed with 6 decimals: compare with the rounded direction.
+    const Vec3 rounded = Vec3(std::round(r.x() * 1e6), std::round(r.y() * 1e6), std::round(r.z() * 1e6)).normalized() ;
+    if (std::acos(-rounded.z()) > radians(10)) {
+      EXPECT_NEAR(sampleValue(dir / "phong_eye.exr", rounded), std::pow(std::max(0.0, rounded.z()), 50), 0.01);
+    }
+    EXPECT_NEAR(sampleValue(dir / "phong_paraboloid.exr", rounded), std::pow(std::max(0.0, rounded.dot(light)), 50), 0.01);
+  }
+}
+
+TEST(Cli, BakeJsonReportsSecondsPerMap) {
+  test::TempDir dir;
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " -o " + q(dir.path()) + " --json");
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  const auto report = nlohmann::json::parse(result.output);
+  ASSERT_EQ(report["maps"].size(), 2u);
+  for (const auto& map : report["maps"]) {
+    EXPECT_GT(map["bake_seconds"].get<double>(), 0.0);
+    EXPECT_GT(map["write_seconds"].get<double>(), 0.0);
+    EXPECT_TRUE(fs::exists(map["output"].get<std::string>()));
+  }
+}
+
+TEST(Cli, InfoReportsTheSpec) {
+  test::TempDir dir;
+  ASSERT_EQ(runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " -o " + q(dir.path()) + " --quiet").exitCode, 0);
+  const auto result = runCli("info " + q(dir / "phong_paraboloid.exr") + " --json");
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  const auto info = nlohmann::json::parse(result.output);
+  EXPECT_EQ(info["parameterization"], "paraboloid");
+  EXPECT_EQ(info["width"], 512);
+  EXPECT_EQ(info["metadata"]["spec"]["material"]["exponent"], 50);
+}
+
+TEST(Cli, ConvertResamplesBetweenParameterizations) {
+  test::TempDir dir;
+  ASSERT_EQ(runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " -o " + q(dir.path()) + " --quiet").exitCode, 0);
+  const auto result = runCli("convert " + q(dir / "phong_paraboloid.exr") + " --to cube --resolution 128 -o " + q(dir / "cube.exr"));
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  const Vec3 light = Vec3(1, 1, 1).normalized();
+  for (const Vec3& d : {light, Vec3(1, 1, 0.5).normalized(), Vec3(0, 0, -1)}) {
+    EXPECT_NEAR(sampleValue(dir / "cube.exr", d), std::pow(std::max(0.0, d.dot(light)), 50), 0.03) << d.transpose();
+  }
+  // Refuses to overwrite its input.
+  const auto same = runCli("convert " + q(dir / "cube.exr") + " --to sphere -o " + q(dir / "cube.exr"));
+  EXPECT_EQ(same.exitCode, 2) << same.output;
+}
+
+TEST(Cli, BadSpecsExitTwoNameTheJsonPathAndWriteNothing) {
+  test::TempDir dir;
+  const fs::path spec = dir / "bad.json";
+  std::ofstream(spec) << R"({"maps": [
+    {"output": "good.exr", "parameterization": "sphere", "resolution": 16,
+     "material": {"model": "phong", "exponent": 5}, "lights": [{"direction": "eye"}]},
+    {"output": "bad.exr", "parameterization": "sphere", "resolution": 16,
+     "material": {"model": "phong", "exponent": -3}, "lights": [{"direction": "eye"}]}]})";
+  const auto result = runCli("bake " + q(spec));
+  EXPECT_EQ(result.exitCode, 2);
+  EXPECT_NE(result.output.find("maps[1].material.exponent: must be > 0, got -3"), std::string::npos) << result.output;
+  EXPECT_FALSE(fs::exists(dir / "good.exr"));  // validated whole before anything is baked
+  EXPECT_FALSE(fs::exists(dir / "bad.exr"));
+}
+
+TEST(Cli, RefusesAnOversizeMapBeforeWritingAnything) {
+  test::TempDir dir;
+  const fs::path spec = dir / "huge.json";
+  std::ofstream(spec) << R"({"maps": [
+    {"output": "small.exr", "parameterization": "sphere", "resolution": 8,
+     "material": {"model": "phong", "exponent": 5}, "lights": [{"direction": "eye"}]},
+    {"output": "huge.exr", "parameterization": "sphere", "resolution": 16384,
+     "material": {"model": "phong", "exponent": 5}, "lights": [{"direction": "eye"}]}]})";
+  const auto result = runCli("bake " + q(spec));
+  EXPECT_EQ(result.exitCode, 4) << result.output;
+  EXPECT_NE(result.output.find("GiB"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("--allow-large"), std::string::npos) << result.output;
+  EXPECT_FALSE(fs::exists(dir / "small.exr"));
+}
+
+TEST(Cli, BadFlagsExitTwo) {
+  test::TempDir dir;
+  EXPECT_EQ(runCli("").exitCode, 2);
+  EXPECT_EQ(runCli("frobnicate").exitCode, 2);
+  EXPECT_EQ(runCli("bake").exitCode, 2);
+  EXPECT_EQ(runCli("bake x.json --threads -2").exitCode, 2);
+  const auto dirResult = runCli("sample " + q(dir / "m.exr") + " --dir 1,2");
+  EXPECT_EQ(dirResult.exitCode, 2);
+  EXPECT_NE(dirResult.output.find("--dir"), std::string::npos) << dirResult.output;
+  EXPECT_EQ(runCli("sample " + q(dir / "m.exr") + " --dir 0,0,0").exitCode, 2);
+  EXPECT_EQ(runCli("convert a.exr --to spherical -o b.exr").exitCode, 2);
+  const auto missing = runCli("info " + q(dir / "none.exr"));
+  EXPECT_EQ(missing.exitCode, 3);
+  EXPECT_NE(missing.output.find("none.exr"), std::string::npos);
+}
+
+TEST(Cli, HelpTeaches) {
+  const auto top = runCli("--help");
+  EXPECT_EQ(top.exitCode, 0);
+  EXPECT_NE(top.output.find("Exit status"), std::string::npos);
+  EXPECT_NE(top.output.find("Examples"), std::string::npos);
+  const auto bake = runCli("bake --help");
+  EXPECT_EQ(bake.exitCode, 0);
+  EXPECT_NE(bake.output.find("\"parameterization\""), std::string::npos);
+}
+
+}  // namespace
+}  // namespace brdfbake

@@ -1,0 +1,66 @@
+#pragma once
+// Helpers shared by the tests: temporary folders, the shared/ data folder, running the CLI.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <string>
+
+namespace brdfbake::test {
+
+/// A fresh empty folder under the system temp dir, removed at destruction.
+class TempDir {
+ public:
+  TempDir() {
+    std::random_device rd;
+    path_ = std::filesystem::temp_directory_path() / ("brdfbake-test-" + std::to_string(rd()) + std::to_string(rd()));
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+/// ../shared/<relative>, or an empty path if the shared folder is absent.
+inline std::filesystem::path sharedPath(const std::string& relative) {
+  const std::filesystem::path p = std::filesystem::path(BRDFBAKE_SHARED_DIR) / relative;
+  return std::filesystem::exists(p) ? p : std::filesystem::path();
+}
+
+/// Skips the current test with a clear message when ../shared/<relative> is absent.
+#define BRDFBAKE_REQUIRE_SHARED(var, relative)                                                         \
+  const std::filesystem::path var = ::brdfbake::test::sharedPath(relative);                           \
+  if (var.empty()) GTEST_SKIP() << "shared data '" << (relative) << "' not found beside the repository (" \
+                                << BRDFBAKE_SHARED_DIR << "); skipping"
+
+/// Result of running a command.
+struct CommandResult {
+  int exitCode = -1;
+  std::string output;  // stdout and stderr interleaved
+};
+
+/// Runs a shell command line, capturing stdout+stderr.
+inline CommandResult run(const std::string& commandLine) {
+  CommandResult result;
+  FILE* pipe = popen((commandLine + " 2>&1").c_str(), "r");
+  if (!pipe) return result;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) result.output += buffer;
+  const int status = pclose(pipe);
+  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return result;
+}
+
+/// Runs the brdfbake CLI with arguments (already shell-quoted as needed).
+inline CommandResult runCli(const std::string& arguments) { return run(std::string(BRDFBAKE_CLI) + " " + arguments); }
+
+inline std::string sourcePath(const std::string& relative) { return std::string(BRDFBAKE_SOURCE_DIR) + "/" + relative; }
+
+}  // namespace brdfbake::test
