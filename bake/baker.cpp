@@ -95,36 +95,163 @@ Image bake(const Parameterization& map, const MapFunction& function, const BakeO
 
   Image image(map.width(), map.height());
   const Grid grid = stratification(options.samplesPerTexel);
-  const double n = map.resolution();
+  const double twoOverN = 2.0 / map.resolution();
   Progress progress(options.progress, map.height());
 
+  // Sample offsets inside a texel; rows of samples are mapped in batches (structure of arrays).
+  std::vector<double> offsetX(grid.columns), offsetY(grid.rows);
+  for (int i = 0; i < grid.columns; ++i) offsetX[i] = (i + 0.5) / grid.columns;
+  for (int j = 0; j < grid.rows; ++j) offsetY[j] = (j + 0.5) / grid.rows;
+  const int width = map.width();
+  const int columns = grid.columns;
+  const int rowSamples = width * columns;
+  std::vector<double> samplePx(rowSamples);
+  for (int x = 0; x < width; ++x)
+    for (int i = 0; i < columns; ++i) samplePx[x * columns + i] = x + offsetX[i];
+  const std::size_t lobeCount = lobes.size();
+
+  // Culling: a texel contributes nothing to lobe k if every direction of its footprint lies
+  // outside the table's support. Distances are chords |d - a| (a metric on the sphere, and
+  // 2u for the table), so no trigonometry is needed: a texel's directions lie within `spread` of
+  // its centre direction, estimated from its corners with a 1.5x margin for curvature; texels the
+  // domain's boundary cuts through (0 < coverage < 1) are never culled.
+  auto chord = [](double ax, double ay, double az, const Vec3& b) {
+    return std::sqrt((ax - b.x()) * (ax - b.x()) + (ay - b.y()) * (ay - b.y()) + (az - b.z()) * (az - b.z()));
+  };
+
   auto bakeRow = [&](int y) {
-    for (int x = 0; x < map.width(); ++x) {
-      const double coverage = map.texelCoverage(x, y);
-      Rgb sum = Rgb::Zero();
-      int counted = 0;
-      for (int j = 0; j < grid.rows; ++j) {
-        for (int i = 0; i < grid.columns; ++i) {
-          const Vec2 pixel(x + (i + 0.5) / grid.columns, y + (j + 0.5) / grid.rows);
-          if (viewAxis) {
-            const double sx = 2.0 * pixel.x() / n - 1.0, sy = 1.0 - 2.0 * pixel.y() / n;
-            const double u = std::sqrt(sx * sx + sy * sy);  // = sin(theta/2) of r about +z
-            for (const auto& lobe : lobes) sum += lobe.weight * lobe.table.atU(u);
-            ++counted;
-            continue;
+    std::vector<double> dx(rowSamples), dy(rowSamples), dz(rowSamples);
+    std::vector<unsigned char> valid(rowSamples);
+    std::vector<Rgb> sums(width, Rgb::Zero());
+    std::vector<double> lobeSums(lobeCount * width, 0.0);  // [lobe][texel]
+    std::vector<int> counted(width, 0);
+    std::vector<double> coverage(width);
+    for (int x = 0; x < width; ++x) coverage[x] = map.texelCoverage(x, y);
+
+    // active[k * width + x]: lobe k may be non-zero somewhere in texel x. anyActive[x]: some lobe is.
+    std::vector<unsigned char> active(lobeCount * width, 1), anyActive(width, 1);
+    if (radial) {
+      std::vector<double> cx(width + 1), cy(width + 1), cz(width + 1);
+      std::vector<double> tx(width + 1), ty(width + 1), tz(width + 1), bx(width + 1), by(width + 1), bz(width + 1);
+      std::vector<unsigned char> cv(width + 1), tv(width + 1), bv(width + 1);
+      std::vector<double> edges(width + 1), centres(width);
+      for (int x = 0; x <= width; ++x) edges[x] = x;
+      for (int x = 0; x < width; ++x) centres[x] = x + 0.5;
+      if (!viewAxis) {
+        map.getDirectionsForRow(y + 0.5, centres.data(), width, cx.data(), cy.data(), cz.data(), cv.data());
+        map.getDirectionsForRow(y, edges.data(), width + 1, tx.data(), ty.data(), tz.data(), tv.data());
+        map.getDirectionsForRow(y + 1, edges.data(), width + 1, bx.data(), by.data(), bz.data(), bv.data());
+      }
+      for (int x = 0; x < width; ++x) {
+        bool any = false;
+        double lo = 0.0, hi = 0.0;  // range of u = chord / 2 of the texel's directions about a lobe axis
+        double spread = 0.0;
+        if (viewAxis) {
+          // The radius in the unit disc is u about +z: its range over the texel's square.
+          const double x0 = x * twoOverN - 1.0, x1 = (x + 1) * twoOverN - 1.0;
+          const double y0 = 1.0 - (y + 1) * twoOverN, y1 = 1.0 - y * twoOverN;
+          const double nearX = std::clamp(0.0, x0, x1), nearY = std::clamp(0.0, y0, y1);
+          lo = std::min(1.0, std::sqrt(nearX * nearX + nearY * nearY));
+          hi = std::min(1.0, std::sqrt(std::max(x0 * x0, x1 * x1) + std::max(y0 * y0, y1 * y1)));
+        } else if (!cv[x]) {
+          for (std::size_t k = 0; k < lobeCount; ++k) active[k * width + x] = 0;
+          anyActive[x] = 0;
+          continue;
+        } else {
+          const Vec3 centre(cx[x], cy[x], cz[x]);
+          for (int c = 0; c < 2; ++c) {
+            if (tv[x + c]) spread = std::max(spread, chord(tx[x + c], ty[x + c], tz[x + c], centre));
+            if (bv[x + c]) spread = std::max(spread, chord(bx[x + c], by[x + c], bz[x + c], centre));
           }
-          const auto direction = map.getDirectionFor(pixel);
-          if (!direction) continue;
-          ++counted;
-          if (radial) {
-            for (const auto& lobe : lobes) sum += lobe.weight * lobe.table.atU(0.5 * (*direction - lobe.axis).norm());
-          } else {
-            sum += function.evaluate(*direction);
+          spread = 1.5 * spread + 1e-9;
+        }
+        const bool boundary = coverage[x] > 0.0 && coverage[x] < 1.0;
+        for (std::size_t k = 0; k < lobeCount; ++k) {
+          const RadialTable& table = lobes[k].table;
+          bool on = boundary && !viewAxis;
+          if (!on) {
+            if (!viewAxis) {
+              const double distance = chord(cx[x], cy[x], cz[x], lobes[k].axis);
+              lo = 0.5 * (distance - spread), hi = 0.5 * (distance + spread);
+            }
+            on = hi >= table.minU() && lo <= table.maxU();
+          }
+          active[k * width + x] = on;
+          any = any || on;
+        }
+        anyActive[x] = any;
+      }
+    }
+
+    for (int j = 0; j < grid.rows; ++j) {
+      const double py = y + offsetY[j];
+      if (viewAxis) {
+        // u = sin(theta/2) of r about +z is the radius in the unit disc: no inverse mapping needed.
+        const double sy = 1.0 - py * twoOverN;
+        for (std::size_t k = 0; k < lobeCount; ++k) {
+          const RadialTable::View table = lobes[k].table.view();
+          double* out = &lobeSums[k * width];
+          const double* px = samplePx.data();
+          const unsigned char* on = &active[k * width];
+          for (int x = 0; x < width; ++x) {
+            if (!on[x]) continue;
+            double acc = 0.0;
+            for (int i = 0; i < columns; ++i) {
+              const double sx = px[x * columns + i] * twoOverN - 1.0;
+              acc += table(std::sqrt(sx * sx + sy * sy));
+            }
+            out[x] += acc;
           }
         }
+        for (int x = 0; x < width; ++x) counted[x] += columns;
+        continue;
       }
-      const Rgb mean = counted > 0 ? Rgb(sum / counted) : Rgb::Zero();
-      image.set(x, y, Rgba(mean[0], mean[1], mean[2], coverage));
+      // Map the samples of each run of texels that need them.
+      for (int x0 = 0; x0 < width;) {
+        if (!anyActive[x0]) {
+          ++x0;
+          continue;
+        }
+        int x1 = x0;
+        while (x1 < width && anyActive[x1]) ++x1;
+        const int first = x0 * columns, count = (x1 - x0) * columns;
+        map.getDirectionsForRow(py, samplePx.data() + first, count, dx.data() + first, dy.data() + first,
+                                dz.data() + first, valid.data() + first);
+        for (int s = first; s < first + count; ++s) counted[s / columns] += valid[s];
+        x0 = x1;
+      }
+      if (radial) {
+        const double *X = dx.data(), *Y = dy.data(), *Z = dz.data();
+        const unsigned char* ok = valid.data();
+        for (std::size_t k = 0; k < lobeCount; ++k) {
+          const RadialTable::View table = lobes[k].table.view();
+          const double ax = lobes[k].axis.x(), ay = lobes[k].axis.y(), az = lobes[k].axis.z();
+          double* out = &lobeSums[k * width];
+          const unsigned char* on = &active[k * width];
+          for (int x = 0; x < width; ++x) {
+            if (!on[x]) continue;
+            double acc = 0.0;
+            for (int i = 0; i < columns; ++i) {
+              const int s = x * columns + i;
+              const double ex = X[s] - ax, ey = Y[s] - ay, ez = Z[s] - az;
+              const double value = table(0.5 * std::sqrt(ex * ex + ey * ey + ez * ez));
+              acc += ok[s] ? value : 0.0;
+            }
+            out[x] += acc;
+          }
+        }
+      } else {
+        for (int s = 0; s < rowSamples; ++s) {
+          if (valid[s]) sums[s / columns] += function.evaluate(Vec3(dx[s], dy[s], dz[s]));
+        }
+      }
+    }
+    for (int x = 0; x < width; ++x) {
+      Rgb sum = sums[x];
+      // Lobe weights are per light and channel: applied once per texel, not per sample.
+      for (std::size_t k = 0; k < lobeCount; ++k) sum += lobes[k].weight * lobeSums[k * width + x];
+      const Rgb mean = counted[x] > 0 ? Rgb(sum / counted[x]) : Rgb::Zero();
+      image.set(x, y, Rgba(mean[0], mean[1], mean[2], coverage[x]));
     }
     progress.rowDone();
   };

@@ -36,13 +36,30 @@ MapAddress ParaboloidMap::getAddressFor(const Vec3& direction) const {
 }
 
 std::optional<Vec3> ParaboloidMap::getDirectionFor(const Vec2& pixel) const {
-  const double n = resolution();
+  const double n = resolution(), inverse = inverseResolution();
   const bool front = pixel.x() < n;
-  const double s = (front ? pixel.x() : pixel.x() - n) / n, t = 1.0 - pixel.y() / n;
+  const double s = (front ? pixel.x() : pixel.x() - n) * inverse, t = 1.0 - pixel.y() * inverse;
   const double x = 2.0 * s - 1.0, y = 2.0 * t - 1.0;
   const double rho2 = x * x + y * y;
-  const double z = (1.0 - rho2) / (1.0 + rho2);
-  return Vec3(2.0 * x / (1.0 + rho2), 2.0 * y / (1.0 + rho2), front ? z : -z);
+  const double scale = 1.0 / (1.0 + rho2);
+  const double z = (1.0 - rho2) * scale;
+  return Vec3(2.0 * x * scale, 2.0 * y * scale, front ? z : -z);
+}
+
+void ParaboloidMap::getDirectionsForRow(double py, const double* px, int count, double* x, double* y, double* z,
+                                        unsigned char* valid) const {
+  const double n = resolution(), twoOverN = 2.0 * inverseResolution();
+  const double sy = 1.0 - py * twoOverN;
+  for (int i = 0; i < count; ++i) {
+    const bool front = px[i] < n;
+    const double sx = (front ? px[i] : px[i] - n) * twoOverN - 1.0;
+    const double rho2 = sx * sx + sy * sy;
+    const double scale = 1.0 / (1.0 + rho2);
+    x[i] = 2.0 * sx * scale;
+    y[i] = 2.0 * sy * scale;
+    z[i] = (front ? 1.0 - rho2 : rho2 - 1.0) * scale;
+    valid[i] = 1;
+  }
 }
 
 TexelRect ParaboloidMap::region(int index) const {

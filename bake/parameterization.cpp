@@ -28,7 +28,7 @@ ParameterizationKind parseParameterizationKind(std::string_view name) {
                                                 "' (expected sphere, paraboloid, cube or latlong)");
 }
 
-Parameterization::Parameterization(int resolution) : resolution_(resolution) {
+Parameterization::Parameterization(int resolution) : resolution_(resolution), inverseResolution_(1.0 / resolution) {
   require(resolution >= 1, "resolution must be >= 1, got " + std::to_string(resolution));
 }
 
@@ -38,6 +38,16 @@ Vec3 Parameterization::checkedUnit(const Vec3& direction) {
     throw Error(Error::Kind::InvalidArgument, "direction must be finite and non-zero");
   }
   return direction / norm;
+}
+
+void Parameterization::getDirectionsForRow(double py, const double* px, int count, double* x, double* y, double* z,
+                                           unsigned char* valid) const {
+  for (int i = 0; i < count; ++i) {
+    const auto d = getDirectionFor(Vec2(px[i], py));
+    valid[i] = d.has_value();
+    const Vec3 v = d.value_or(Vec3::Zero());
+    x[i] = v.x(), y[i] = v.y(), z[i] = v.z();
+  }
 }
 
 namespace {

@@ -38,6 +38,25 @@ RadialTable::RadialTable(const std::function<double(double)>& profile, double to
     values.swap(refined);
     intervals *= 2;
   }
+  // Zero what the tolerance cannot tell from zero, so the table has a support the baker can use.
+  const double peak = *std::max_element(values.begin(), values.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
+  const double negligible = 0.1 * tolerance * std::abs(peak);
+  int first = -1, last = -1;
+  for (int i = 0; i <= intervals; ++i) {
+    if (std::abs(values[i]) <= negligible) {
+      values[i] = 0.0;
+    } else {
+      if (first < 0) first = i;
+      last = i;
+    }
+  }
+  if (first < 0) {
+    minU_ = 1.0, maxU_ = 0.0;  // empty support
+  } else {
+    // Linear interpolation is non-zero strictly between the neighbours of the first and last non-zero entries.
+    minU_ = std::max(0, first - 1) / static_cast<double>(intervals);
+    maxU_ = std::min(intervals, last + 1) / static_cast<double>(intervals);
+  }
   values_.assign(values.begin(), values.end());
   scale_ = intervals;
 }

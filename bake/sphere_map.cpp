@@ -42,8 +42,23 @@ MapAddress SphereMap::getAddressFor(const Vec3& direction) const {
 }
 
 std::optional<Vec3> SphereMap::getDirectionFor(const Vec2& pixel) const {
-  const double n = resolution();
-  return direction(Vec2(pixel.x() / n, 1.0 - pixel.y() / n));
+  const double inverse = inverseResolution();
+  return direction(Vec2(pixel.x() * inverse, 1.0 - pixel.y() * inverse));
+}
+
+void SphereMap::getDirectionsForRow(double py, const double* px, int count, double* x, double* y, double* z,
+                                    unsigned char* valid) const {
+  const double twoOverN = 2.0 * inverseResolution();
+  const double sy = 1.0 - py * twoOverN;
+  for (int i = 0; i < count; ++i) {
+    const double sx = px[i] * twoOverN - 1.0;
+    const double rho2 = sx * sx + sy * sy;
+    const double nz = std::sqrt(std::max(0.0, 1.0 - rho2));  // 0 outside the disc: r = -z there
+    x[i] = 2.0 * nz * sx;
+    y[i] = 2.0 * nz * sy;
+    z[i] = 2.0 * nz * nz - 1.0;
+    valid[i] = 1;
+  }
 }
 
 double SphereMap::texelCoverage(int x, int y) const {

@@ -26,6 +26,8 @@ class ParaboloidMap final : public Parameterization {
   int height() const override { return resolution(); }
   MapAddress getAddressFor(const Vec3& direction) const override;
   std::optional<Vec3> getDirectionFor(const Vec2& pixel) const override;
+  void getDirectionsForRow(double py, const double* px, int count, double* x, double* y, double* z,
+                           unsigned char* valid) const override;
   int regionCount() const override { return 2; }
   TexelRect region(int index) const override;
   double texelCoverage(int x, int y) const override;

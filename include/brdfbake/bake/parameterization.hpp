@@ -61,6 +61,12 @@ class Parameterization {
   /// per class.
   virtual std::optional<Vec3> getDirectionFor(const Vec2& pixel) const = 0;
 
+  /// Batch inverse for one row of positions at height `py`: writes the direction of
+  /// (px[i], py) to (x[i], y[i], z[i]) and valid[i] = 0 where there is none. The default calls
+  /// getDirectionFor; maps override it with a tight loop (the baker's hot path).
+  virtual void getDirectionsForRow(double py, const double* px, int count, double* x, double* y, double* z,
+                                   unsigned char* valid) const;
+
   /// Number of regions and the texels each occupies. Bilinear lookups clamp to a region.
   virtual int regionCount() const { return 1; }
   virtual TexelRect region(int index) const { return {0, 0, width(), height()}; }
@@ -82,9 +88,12 @@ class Parameterization {
  protected:
   /// Unit direction from a finite non-zero vector, or Error(InvalidArgument).
   static Vec3 checkedUnit(const Vec3& direction);
+  /// 1 / resolution(), kept so the per-sample mappings multiply instead of divide.
+  double inverseResolution() const { return inverseResolution_; }
 
  private:
   int resolution_;
+  double inverseResolution_;
 };
 
 /// Makes a parameterization. Throws Error(InvalidArgument) for resolution < 1.

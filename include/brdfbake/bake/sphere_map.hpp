@@ -27,6 +27,8 @@ class SphereMap final : public Parameterization {
   int height() const override { return resolution(); }
   MapAddress getAddressFor(const Vec3& direction) const override;
   std::optional<Vec3> getDirectionFor(const Vec2& pixel) const override;
+  void getDirectionsForRow(double py, const double* px, int count, double* x, double* y, double* z,
+                           unsigned char* valid) const override;
   double texelCoverage(int x, int y) const override;
   double texelSolidAngle(int x, int y) const override;
 

@@ -25,8 +25,13 @@ class Error : public std::runtime_error {
   /// "<file>:<line>: <message>" (line omitted when 0).
   static Error atFile(Kind kind, const std::string& file, int line, const std::string& message) {
     std::string where = file;
-    if (line > 0) where += ":" + std::to_string(line);
-    return Error(kind, where + ": " + message);
+    if (line > 0) {
+      where += ':';
+      where += std::to_string(line);
+    }
+    where += ": ";
+    where += message;
+    return Error(kind, where);
   }
 
  private:

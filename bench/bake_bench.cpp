@@ -1,0 +1,112 @@
+// Bake throughput (texel-samples per second) and accuracy against the exact model, for sphere
+// and paraboloid maps of Phong (n = 50) under a general light, over resolution, samples per
+// texel and threads; plus the plain single-threaded double loop the target refers to.
+//
+//   build/bench/bench_bake                        # everything
+//   build/bench/bench_bake --benchmark_filter=Target
+#include <brdfbake/bake/baker.hpp>
+#include <brdfbake/bake/paraboloid_map.hpp>
+#include <brdfbake/bake/sphere_map.hpp>
+#include <brdfbake/brdf/phong.hpp>
+
+#include <benchmark/benchmark.h>
+
+#include <random>
+
+namespace {
+using namespace brdfbake;
+
+const Vec3 kLight = Vec3(1, 1, 1).normalized();
+constexpr double kExponent = 50.0;
+
+MaterialMapFunction phongFunction() {
+  return MaterialMapFunction(std::make_shared<PhongMaterial>(Rgb::Ones(), kExponent), {{kLight, Rgb::Ones()}},
+                             Vec3::UnitZ());
+}
+
+// RMS and max absolute error of bilinear lookups against max(0, r.l)^n at random directions
+// (uniform on the sphere; for sphere maps directions within 10 degrees of -z are skipped: the
+// rim is the map's singular set). The lobe's peak is 1, so these are relative to the peak.
+std::pair<double, double> lookupError(const Image& image, const Parameterization& map) {
+  std::mt19937 rng(42);
+  std::normal_distribution<double> g;
+  double sum = 0.0, worst = 0.0;
+  int count = 0;
+  while (count < 200000) {
+    const Vec3 r = Vec3(g(rng), g(rng), g(rng)).normalized();
+    if (map.kind() == ParameterizationKind::Sphere && -r.z() > std::cos(radians(10))) continue;
+    const double e = sampleBilinear(image, map, r)[0] - phongLobe(r.dot(kLight), kExponent);
+    sum += e * e;
+    worst = std::max(worst, std::abs(e));
+    ++count;
+  }
+  return {std::sqrt(sum / count), worst};
+}
+
+void BakeMap(benchmark::State& state) {
+  const auto kind = static_cast<ParameterizationKind>(state.range(0));
+  const int resolution = static_cast<int>(state.range(1));
+  BakeOptions options;
+  options.samplesPerTexel = static_cast<int>(state.range(2));
+  options.threads = static_cast<int>(state.range(3));
+  const auto map = makeParameterization(kind, resolution);
+  const auto function = phongFunction();
+  Image image;
+  for (auto _ : state) {
+    image = bake(*map, function, options);
+    benchmark::DoNotOptimize(image.data());
+  }
+  const double samples = double(map->width()) * map->height() * options.samplesPerTexel;
+  state.counters["samples/s"] = benchmark::Counter(samples, benchmark::Counter::kIsIterationInvariantRate);
+  const auto [rms, worst] = lookupError(image, *map);
+  state.counters["rms_err"] = rms;
+  state.counters["max_err"] = worst;
+  state.SetLabel(std::string(toString(kind)));
+}
+
+void BakeArguments(benchmark::internal::Benchmark* b) {
+  for (int kind : {0, 1})
+    for (int n : {256, 512, 1024, 2048})
+      for (int spt : {1, 4, 16, 64})
+        for (int threads : {1, 2}) b->Args({kind, n, spt, threads});
+}
+BENCHMARK(BakeMap)->Apply(BakeArguments)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(0.2);
+
+// The baseline: a plain single-threaded loop over texels and samples in double,
+// evaluating the model through the inverse mapping (1024^2 sphere map, 16 samples per texel).
+void TargetPlainLoop(benchmark::State& state) {
+  const SphereMap map(1024);
+  std::vector<float> out(1024 * 1024 * 3);
+  for (auto _ : state) {
+    for (int y = 0; y < 1024; ++y) {
+      for (int x = 0; x < 1024; ++x) {
+        double sum = 0.0;
+        for (int j = 0; j < 4; ++j)
+          for (int i = 0; i < 4; ++i) {
+            const Vec3 r = *map.getDirectionFor(Vec2(x + (i + 0.5) / 4, y + (j + 0.5) / 4));
+            sum += phongLobe(r.dot(kLight), kExponent);
+          }
+        out[(y * 1024 + x) * 3] = static_cast<float>(sum / 16);
+      }
+    }
+    benchmark::DoNotOptimize(out.data());
+  }
+}
+BENCHMARK(TargetPlainLoop)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+
+// The same map through brdfbake's baker with every core.
+void TargetBrdfbake(benchmark::State& state) {
+  const SphereMap map(1024);
+  const auto function = phongFunction();
+  BakeOptions options;
+  options.samplesPerTexel = 16;
+  for (auto _ : state) {
+    const Image image = bake(map, function, options);
+    benchmark::DoNotOptimize(image.data());
+  }
+}
+BENCHMARK(TargetBrdfbake)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+
+}  // namespace
+
+BENCHMARK_MAIN();
