@@ -5,6 +5,12 @@
 namespace brdfbake {
 namespace {
 
+// Points at or outside the rim are pulled in to this radius (1e-15 inside): the direction is then
+// within 1e-7 of -z but still says which rim point it came from, so the normal n = (x, y, ~0), and
+// every shading term that depends on it, extends continuously outwards at each azimuth.
+constexpr double kRimRadius = 1.0 - 1e-15;
+constexpr double kRimRadius2 = kRimRadius * kRimRadius;
+
 // Equal-area density 4 sr per unit area of the disc: h(R) = 2 R^2, so h/r^2 = 2.
 constexpr detail::RadialDensity kSphereSolidAngle{
     [](double d, double s0, double s1) { return 2.0 * d * (s1 - s0); }, 2.0};
@@ -28,8 +34,11 @@ Vec2 SphereMap::textureCoordinates(const Vec3& r) {
 
 Vec3 SphereMap::direction(const Vec2& st) {
   double x = 2.0 * st.x() - 1.0, y = 2.0 * st.y() - 1.0;
-  const double rho2 = x * x + y * y;
-  if (rho2 >= 1.0) return {0.0, 0.0, -1.0};
+  double rho2 = x * x + y * y;
+  if (rho2 > kRimRadius2) {
+    const double pull = std::sqrt(kRimRadius2 / rho2);
+    x *= pull, y *= pull, rho2 = kRimRadius2;
+  }
   const double nz = std::sqrt(1.0 - rho2);
   // r = 2 nz n - (0,0,1)
   return {2.0 * nz * x, 2.0 * nz * y, 2.0 * nz * nz - 1.0};
@@ -51,11 +60,15 @@ void SphereMap::getDirectionsForRow(double py, const double* px, int count, doub
   const double twoOverN = 2.0 * inverseResolution();
   const double sy = 1.0 - py * twoOverN;
   for (int i = 0; i < count; ++i) {
-    const double sx = px[i] * twoOverN - 1.0;
-    const double rho2 = sx * sx + sy * sy;
-    const double nz = std::sqrt(std::max(0.0, 1.0 - rho2));  // 0 outside the disc: r = -z there
+    double sx = px[i] * twoOverN - 1.0, sy2 = sy;
+    double rho2 = sx * sx + sy * sy;
+    if (rho2 > kRimRadius2) {
+      const double pull = std::sqrt(kRimRadius2 / rho2);
+      sx *= pull, sy2 *= pull, rho2 = kRimRadius2;
+    }
+    const double nz = std::sqrt(1.0 - rho2);
     x[i] = 2.0 * nz * sx;
-    y[i] = 2.0 * nz * sy;
+    y[i] = 2.0 * nz * sy2;
     z[i] = 2.0 * nz * nz - 1.0;
     valid[i] = 1;
   }

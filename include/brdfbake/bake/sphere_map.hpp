@@ -15,8 +15,10 @@ namespace brdfbake {
 ///
 /// Singular set: the rim circle x^2 + y^2 = 1, which is the single direction -z. Forward maps -z
 /// (and directions within rounding of it) to the rim point (s, t) = (1, 1/2), never NaN. The
-/// inverse maps points outside the disc to -z (their nearest rim direction), so a texel's
-/// footprint outside the disc contributes the rim value and lookups near the rim stay continuous.
+/// inverse pulls points at or outside the rim to radius 1 - 1e-15 at the same azimuth: a direction
+/// within 1e-7 of -z whose normal (x, y, ~0) still tells the rim points apart, so the part of a
+/// texel's footprint outside the disc takes the value at its nearest rim point and lookups near
+/// the rim stay continuous, also for terms that depend on the normal.
 /// The map is equal-area: 16 / N^2 sr per texel inside the disc; its anisotropy is
 /// 1 / cos^2(theta / 2) at angle theta from +z.
 class SphereMap final : public Parameterization {
@@ -34,7 +36,7 @@ class SphereMap final : public Parameterization {
 
   /// GL_SPHERE_MAP texture coordinates of a unit reflected direction (total, never NaN).
   static Vec2 textureCoordinates(const Vec3& unitDirection);
-  /// Reflected direction for texture coordinates inside the disc (clamped onto it outside).
+  /// Reflected direction for texture coordinates (pulled just inside the rim outside the disc).
   static Vec3 direction(const Vec2& st);
 };
 
