@@ -88,6 +88,20 @@ Image bake(const Parameterization& map, const MapFunction& function, const BakeO
       lobes.push_back({lobe.axis.normalized(), lobe.weight, RadialTable(lobe.profile, options.profileTolerance)});
     }
   }
+  // Lobes narrower than the sample spacing around their axis are deposited, not sampled.
+  std::vector<unsigned char> deltaLobe(lobes.size(), 0);
+  {
+    const double samplesPerTexel = options.samplesPerTexel;
+    for (std::size_t k = 0; k < lobes.size(); ++k) {
+      const MapAddress at = map.getAddressFor(lobes[k].axis);
+      const TexelRect rect = map.region(at.region);
+      const int tx = std::clamp(static_cast<int>(at.pixel.x()), rect.x0, rect.x0 + rect.width - 1);
+      const int ty = std::clamp(static_cast<int>(at.pixel.y()), rect.y0, rect.y0 + rect.height - 1);
+      const double texelAngle = std::sqrt(std::max(map.texelSolidAngle(tx, ty), 1e-300));
+      const double spacing = texelAngle / std::sqrt(samplesPerTexel);
+      deltaLobe[k] = 2.0 * lobes[k].table.halfEnergyAngle() < spacing && lobes[k].table.energy() != 0.0;
+    }
+  }
   const bool viewAxis = radial && map.kind() == ParameterizationKind::Sphere &&
                         std::all_of(lobes.begin(), lobes.end(), [](const TabulatedLobe& l) {
                           return (l.axis - Vec3::UnitZ()).squaredNorm() < 1e-30;
@@ -168,6 +182,10 @@ Image bake(const Parameterization& map, const MapFunction& function, const BakeO
         const bool boundary = coverage[x] > 0.0 && coverage[x] < 1.0;
         for (std::size_t k = 0; k < lobeCount; ++k) {
           const RadialTable& table = lobes[k].table;
+          if (deltaLobe[k]) {
+            active[k * width + x] = 0;
+            continue;
+          }
           bool on = boundary && !viewAxis;
           if (!on) {
             if (!viewAxis) {
@@ -263,7 +281,34 @@ Image bake(const Parameterization& map, const MapFunction& function, const BakeO
     });
   });
 
+  // Deposit the delta lobes: a box of half-width = the lobe's half-energy angle, in pixels, around
+  // the axis' address, split among the texels it overlaps (within the axis' region).
+  int deltas = 0;
+  for (std::size_t k = 0; k < lobes.size(); ++k) {
+    if (!deltaLobe[k]) continue;
+    ++deltas;
+    const MapAddress at = map.getAddressFor(lobes[k].axis);
+    const TexelRect rect = map.region(at.region);
+    const double density = std::max(map.solidAngleDensity(at.pixel), 1e-300);  // sr per pixel^2
+    const double half = std::clamp(lobes[k].table.halfEnergyAngle() / std::sqrt(density), 1e-6, 0.5);
+    const double x0 = std::clamp(at.pixel.x() - half, double(rect.x0), double(rect.x0 + rect.width) - 2 * half);
+    const double y0 = std::clamp(at.pixel.y() - half, double(rect.y0), double(rect.y0 + rect.height) - 2 * half);
+    const double x1 = x0 + 2 * half, y1 = y0 + 2 * half, area = 4 * half * half;
+    for (int ty = static_cast<int>(std::floor(y0)); ty < static_cast<int>(std::ceil(y1)); ++ty) {
+      for (int tx = static_cast<int>(std::floor(x0)); tx < static_cast<int>(std::ceil(x1)); ++tx) {
+        const double overlap = (std::min(x1, tx + 1.0) - std::max(x0, double(tx))) *
+                               (std::min(y1, ty + 1.0) - std::max(y0, double(ty)));
+        const double solidAngle = map.texelSolidAngle(tx, ty);
+        if (overlap <= 0.0 || solidAngle <= 0.0) continue;
+        const Rgb add = lobes[k].weight * (lobes[k].table.energy() * overlap / area / solidAngle);
+        const Rgba old = image.at(tx, ty);
+        image.set(tx, ty, Rgba(old[0] + add[0], old[1] + add[1], old[2] + add[2], old[3]));
+      }
+    }
+  }
+
   if (summary) {
+    summary->deltaLobes = deltas;
     summary->path = !radial ? "general" : (viewAxis ? "radial-view-axis" : "radial");
     summary->lobes = static_cast<int>(lobes.size());
     summary->largestTable = 0;

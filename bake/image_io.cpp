@@ -53,6 +53,19 @@ std::string readMetadataAttribute(const fs::path& path) {
 
 }  // namespace
 
+void requireFinite(const Image& image, const std::string& label) {
+  for (int y = 0; y < image.height(); ++y) {
+    for (int x = 0; x < image.width(); ++x) {
+      const Rgba v = image.at(x, y);
+      if (allFinite(v)) continue;
+      const bool nan = v.isNaN().any();
+      throw Error(Error::Kind::InvalidInput, label + ": texel (" + std::to_string(x) + ", " + std::to_string(y) +
+                                                 ") is " + (nan ? "NaN" : "infinite") +
+                                                 "; brdfbake needs finite values (repair or clamp the image first)");
+    }
+  }
+}
+
 ImageFormat imageFormatFor(const fs::path& path) {
   const std::string ext = lowerExtension(path);
   if (ext == ".exr") return ImageFormat::OpenExr;

@@ -33,6 +33,7 @@ MapFile readMap(const fs::path& path) {
   }
   file.parameterization = makeParameterization(file.info.parameterization, file.info.resolution);
   checkSize(file.image, *file.parameterization, path.string());
+  requireFinite(file.image, path.string());
   return file;
 }
 
@@ -48,6 +49,7 @@ MapFile adoptImage(Image image, ParameterizationKind kind, const std::string& la
   MapFile file;
   file.parameterization = makeParameterization(kind, resolution);
   checkSize(image, *file.parameterization, label);
+  requireFinite(image, label);
   file.info.parameterization = kind;
   file.info.resolution = resolution;
   file.info.conventionVersion = kConventionVersion;

@@ -33,11 +33,12 @@ Parameterization::Parameterization(int resolution) : resolution_(resolution), in
 }
 
 Vec3 Parameterization::checkedUnit(const Vec3& direction) {
-  const double norm = direction.norm();
-  if (!(norm > 0.0) || !std::isfinite(norm)) {
+  // Scale first, so huge or tiny finite vectors normalise without overflow or underflow.
+  const double largest = direction.cwiseAbs().maxCoeff();
+  if (!(largest > 0.0) || !std::isfinite(largest)) {
     throw Error(Error::Kind::InvalidArgument, "direction must be finite and non-zero");
   }
-  return direction / norm;
+  return (direction / largest).normalized();
 }
 
 void Parameterization::getDirectionsForRow(double py, const double* px, int count, double* x, double* y, double* z,

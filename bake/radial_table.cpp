@@ -1,5 +1,6 @@
 #include <brdfbake/bake/radial_table.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/math.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -56,6 +57,22 @@ RadialTable::RadialTable(const std::function<double(double)>& profile, double to
     // Linear interpolation is non-zero strictly between the neighbours of the first and last non-zero entries.
     minU_ = std::max(0, first - 1) / static_cast<double>(intervals);
     maxU_ = std::min(intervals, last + 1) / static_cast<double>(intervals);
+  }
+  // dω = 2 pi sin(theta) dtheta = 8 pi u du with u = sin(theta/2): integrate the linear
+  // interpolant v0 + (v1 - v0) t over each interval exactly.
+  const double h = 1.0 / intervals;
+  std::vector<double> cumulative(intervals + 1, 0.0);  // of |f|, for the half-energy angle
+  for (int i = 0; i < intervals; ++i) {
+    const double u0 = i * h, v0 = values[i], v1 = values[i + 1];
+    // ∫_0^h (v0 + (v1 - v0) t/h) (u0 + t) dt
+    const double piece = 8.0 * kPi * (v0 * (u0 * h + 0.5 * h * h) + (v1 - v0) * (0.5 * u0 * h + h * h / 3.0));
+    energy_ += piece;
+    cumulative[i + 1] = cumulative[i] + std::abs(piece);
+  }
+  if (cumulative.back() > 0.0) {
+    const auto half = std::lower_bound(cumulative.begin(), cumulative.end(), 0.5 * cumulative.back());
+    const double u = std::min(1.0, static_cast<double>(half - cumulative.begin()) * h);
+    halfEnergyAngle_ = 2.0 * std::asin(u);
   }
   values_.assign(values.begin(), values.end());
   scale_ = intervals;

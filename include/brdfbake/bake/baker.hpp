@@ -37,6 +37,7 @@ struct BakeSummary {
   int largestTable = 0;       ///< entries of the largest table
   double tableError = 0.0;    ///< worst table interpolation error relative to its peak
   long long samples = 0;      ///< footprint samples evaluated
+  int deltaLobes = 0;         ///< lobes narrower than the sample spacing, deposited as deltas
   double seconds = 0.0;
 
   std::string briefReport() const;
@@ -44,8 +45,15 @@ struct BakeSummary {
 
 /// Bakes `function` into an image laid out by `map`: each texel holds the mean of the function
 /// over its stratified footprint samples (points outside the domain take the value the inverse
-/// mapping extends to), alpha holds the texel's coverage of the domain. Throws Error(Resource)
-/// when the image exceeds options.maxTexels, unless allowed.
+/// mapping extends to), alpha holds the texel's coverage of the domain.
+///
+/// Radial lobes narrower than the sample spacing (twice their half-energy angle below the
+/// spacing of samples around their axis), which point samples would miss or alias, are not
+/// sampled: their exact integral ∫ f dω is deposited into the texels around the axis (a box as
+/// wide as the lobe, split by area, divided by each texel's exact solid angle), so the map keeps
+/// the lobe's energy at any resolution.
+///
+/// Throws Error(Resource) when the image exceeds options.maxTexels, unless allowed.
 Image bake(const Parameterization& map, const MapFunction& function, const BakeOptions& options = {},
            BakeSummary* summary = nullptr);
 

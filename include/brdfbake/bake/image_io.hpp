@@ -39,6 +39,10 @@ WriteReport writeImage(const Image& image, const std::filesystem::path& path, co
 /// with its brdfbake metadata if present. Throws Error(Io) naming the file.
 Image readImage(const std::filesystem::path& path);
 
+/// Throws Error(InvalidInput) "<label>: texel (x, y) is NaN|infinite" for the first non-finite
+/// value. Zero and negative values are accepted (negative radiance is kept as stored).
+void requireFinite(const Image& image, const std::string& label);
+
 /// True if both paths name the same file (existing or not).
 bool samePath(const std::filesystem::path& a, const std::filesystem::path& b);
 

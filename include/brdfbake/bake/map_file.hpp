@@ -22,11 +22,13 @@ struct MapFile {
 };
 
 /// Reads a map written by writeMap (cross layout for cubes). Throws Error(InvalidInput) if the
-/// file has no brdfbake metadata or its size does not match the metadata.
+/// file has no brdfbake metadata, its size does not match the metadata, or a texel is NaN or
+/// infinite.
 MapFile readMap(const std::filesystem::path& path);
 
 /// Wraps a plain environment image (no brdfbake metadata) as a map of the given kind, checking
-/// its size (lat-long 2:1, cube cross 4:3, paraboloid 2:1, sphere square).
+/// its size (lat-long 2:1, cube cross 4:3, paraboloid 2:1, sphere square) and that every texel
+/// is finite.
 MapFile adoptImage(Image image, ParameterizationKind kind, const std::string& label);
 
 /// Writes a map with its metadata (image.metadata is replaced by info.toJson()). Returns the

@@ -44,6 +44,10 @@ class RadialTable {
   /// (minU > maxU when it is zero everywhere).
   double minU() const { return minU_; }
   double maxU() const { return maxU_; }
+  /// ∫ f dω over the sphere (sr), exact for the table's piecewise-linear interpolant.
+  double energy() const { return energy_; }
+  /// Angle from the axis (radians) within which half of |f|'s integral lies.
+  double halfEnergyAngle() const { return halfEnergyAngle_; }
   /// Largest midpoint interpolation error found, relative to max|f|.
   double relativeError() const { return relativeError_; }
 
@@ -52,6 +56,7 @@ class RadialTable {
   double scale_ = 0.0;
   double relativeError_ = 0.0;
   double minU_ = 0.0, maxU_ = 0.0;
+  double energy_ = 0.0, halfEnergyAngle_ = 0.0;
 };
 
 }  // namespace brdfbake

@@ -1,0 +1,89 @@
+// Zero, negative, NaN and Inf values in input images and measured tables.
+#include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/bake/map_file.hpp>
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/core/version.hpp>
+#include <brdfbake/importers/measured_io.hpp>
+#include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "test_support.hpp"
+
+namespace brdfbake {
+namespace {
+namespace fs = std::filesystem;
+
+// OpenEXR stores NaN and Inf; reading such an environment is refused with the file and texel named.
+TEST(InputImages, NaNAndInfTexelsAreRefusedNamingTheTexel) {
+  test::TempDir dir;
+  for (const float bad : {std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity(),
+                          -std::numeric_limits<float>::infinity()}) {
+    const fs::path path = dir / "bad.exr";
+    // Written with OpenImageIO directly: writeImage itself refuses non-finite values.
+    std::vector<float> pixels(8 * 4 * 4, 1.0f);
+    pixels[(2 * 8 + 5) * 4 + 1] = bad;
+    auto out = OIIO::ImageOutput::create(path.string());
+    ASSERT_TRUE(out && out->open(path.string(), OIIO::ImageSpec(8, 4, 4, OIIO::TypeDesc::FLOAT)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) && out->close());
+    try {
+      adoptImage(readImage(path), ParameterizationKind::LatLong, path.string());
+      FAIL() << "expected an error";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), Error::Kind::InvalidInput);
+      EXPECT_NE(std::string(e.what()).find(path.string() + ": texel (5, 2) is " + (std::isnan(bad) ? "NaN" : "infinite")),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+TEST(InputImages, ZeroAndNegativeValuesAreKept) {
+  Image image(8, 4, Rgba(0, 0, 0, 1));
+  image.set(1, 1, Rgba(-0.25, 0, 2, 1));
+  const MapFile file = adoptImage(image, ParameterizationKind::LatLong, "env");
+  EXPECT_EQ(file.image.at(1, 1)[0], -0.25f);
+}
+
+TEST(InputImages, WrongShapeIsAClearError) {
+  try {
+    adoptImage(Image(10, 4), ParameterizationKind::LatLong, "pano.exr");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("pano.exr: image is 10 x 4 but a latlong map of resolution 4 is 8 x 4"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+std::string astm(const std::string& values) {
+  return "NUM_POINTS 2\nVARS theta_i,phi_i,theta_s,phi_s,R,G,B\n"
+         "0.174533,0.000000,0.0,0.0,0.1,0.1,0.1\n"
+         "0.174533,0.000000,0.139626,3.141593," + values + "\n";
+}
+
+TEST(InputTables, NaNAndInfFieldsAreRefusedNamingTheLine) {
+  test::TempDir dir;
+  for (const std::string bad : {"nan,0.1,0.1", "0.1,inf,0.1", "0.1,0.1,-inf"}) {
+    std::ofstream(dir / "t.astm") << astm(bad);
+    try {
+      readMeasuredTable(dir / "t.astm");
+      FAIL() << bad;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("t.astm:4"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(InputTables, ZeroAndNegativeValuesAreKeptAndNoted) {
+  test::TempDir dir;
+  std::ofstream(dir / "t.astm") << astm("0,-0.002,0.3");
+  const MeasuredTable table = readMeasuredTable(dir / "t.astm");
+  EXPECT_EQ(table.values(1, 0), 0.0);
+  EXPECT_EQ(table.values(1, 1), -0.002);
+  EXPECT_FALSE(table.notes.empty());
+}
+
+}  // namespace
+}  // namespace brdfbake
