@@ -68,7 +68,11 @@ int runBake(const BakeArgs& args) {
     info.conventionVersion = kConventionVersion;
     info.spec = map.raw;
     const auto writeStart = std::chrono::steady_clock::now();
-    const MapWriteReport written = writeMap(image, info, map.output, map.cubeLayout, {{fs::path(args.spec)}});
+    MapWriteReport written = writeMap(image, info, map.output, map.cubeLayout, {{fs::path(args.spec)}});
+    // Extra files the spec asks for: silhouette mip levels ("mips"), the 1-D Fresnel profile ("profile_output").
+    const MapWriteReport extras = writeMapExtras(map, options, {{fs::path(args.spec)}});
+    written.files.insert(written.files.end(), extras.files.begin(), extras.files.end());
+    written.notes.insert(written.notes.end(), extras.notes.begin(), extras.notes.end());
     const double writeSeconds = secondsSince(writeStart);
 
     nlohmann::json entry = {{"output", map.output.string()},

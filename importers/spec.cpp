@@ -5,6 +5,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "registry_entries.hpp"
+
 namespace brdfbake {
 namespace fs = std::filesystem;
 namespace {
@@ -95,6 +97,8 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
                               " map is indexed by reflected direction only; fix the view with \"view\": [x, y, z]"
                               " or use a sphere map");
   }
+  materials::parseMapExtras(map, spec);     // "mips", "profile_output"
+  materials::checkMaterialSampling(spec);   // narrow highlights the map's samples would miss
   map.finish();
   return spec;
 }

@@ -7,6 +7,13 @@ const std::vector<MaterialEntry>& materialRegistry() {
       {"phong", "Phong: specular max(0, R.V)^exponent plus optional Lambert diffuse", materials::parsePhong},
       {"blinn_phong", "Blinn-Phong: (N.H)^exponent, or converted from phong_exponent (exact | 4n | fit)",
        materials::parseBlinnPhong},
+      {"cook_torrance", "Cook-Torrance 1981: lighting (D G F, directional lights) or reflectance (sphere-map model, F / (N.V)^2)",
+       materials::parseCookTorrance},
+      {"fresnel", "Fresnel factor F(N.V) as its own map (decomposition), optional 1-D profile", materials::parseFresnel},
+      {"colorgram", "Colorgram: rings of colour over the view-normal angle, blurred and twisted", materials::parseColorgram},
+      {"gooch", "Gooch cool-to-warm shading with a highlight (hand-drawn NPR map)", materials::parseGooch},
+      {"silhouette", "Silhouette ring near the rim (NPR), optional constant-width mip chain", materials::parseSilhouette},
+      {"hatching", "Hatching strokes near silhouettes (NPR)", materials::parseHatching},
   };
   return registry;
 }

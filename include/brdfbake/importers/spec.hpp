@@ -2,6 +2,7 @@
 /// @file
 /// Bake specs: the JSON files `brdfbake bake` reads. See docs/spec.md for the format.
 
+#include <brdfbake/bake/baker.hpp>
 #include <brdfbake/bake/map_file.hpp>
 #include <brdfbake/bake/map_function.hpp>
 #include <brdfbake/bake/parameterization.hpp>
@@ -29,6 +30,12 @@ struct MapSpec {
   std::shared_ptr<const Material> material;
   std::vector<DirectionalLight> lights;
   nlohmann::json raw;                   ///< the map's JSON as written, stored in the map's metadata
+  /// "mips": true (silhouette sphere maps only): also write the hand-made mip levels 1.. as
+  /// STEM_mip1.EXT, STEM_mip2.EXT, ... beside the output (docs/materials.md).
+  bool mips = false;
+  /// "profile_output" (fresnel model only): also write the 1-D texture F(cos theta), `resolution`
+  /// x 1 texels, to this path; a relative path is taken relative to the folder of `output`.
+  std::optional<std::filesystem::path> profileOutput;
 
   /// The function the baker integrates.
   std::shared_ptr<const MapFunction> makeFunction() const;
@@ -43,6 +50,11 @@ struct BakeSpec {
 /// whose message starts with `label` (usually the file name) and names the JSON path.
 BakeSpec parseBakeSpec(const nlohmann::json& document, const std::filesystem::path& baseDirectory,
                        const std::string& label = "spec");
+
+/// Writes the extra files a map asks for besides its image ("mips", "profile_output"; see MapSpec),
+/// each written with writeImage/writeMap semantics. `bakeOptions` is used for baking mip levels.
+/// Returns the files written and notes (nothing if the map asks for no extras).
+MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions, const WriteOptions& writeOptions = {});
 
 /// Reads a spec file. Throws Error(Io) if unreadable, Error(InvalidInput) with file, line and
 /// column for JSON syntax errors, and the errors of parseBakeSpec.

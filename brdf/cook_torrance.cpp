@@ -1,0 +1,86 @@
+#include <brdfbake/brdf/cook_torrance.hpp>
+#include <brdfbake/core/error.hpp>
+
+namespace brdfbake {
+
+CookTorranceMaterial::CookTorranceMaterial(CookTorranceParams params) : params_(std::move(params)) {
+  const auto& p = params_;
+  require(std::isfinite(p.roughness) && p.roughness > 0.0 && p.roughness <= 10.0,
+          "roughness must be in (0, 10], got " + std::to_string(p.roughness));
+  require(std::isfinite(p.specularWeight) && p.specularWeight >= 0.0 && p.specularWeight <= 1.0,
+          "specular_weight must be in [0, 1], got " + std::to_string(p.specularWeight));
+  require(allFinite(p.diffuse) && (p.diffuse >= 0.0).all() && (p.diffuse <= 1.0).all(),
+          "diffuse albedo must be in [0, 1]");
+  const bool hasDiffuse = (p.diffuse > 0.0).any();
+  if (p.mode == CookTorranceMode::Reflectance) {
+    require(!hasDiffuse, "diffuse must be zero in reflectance mode: a mirror-direction map holds the specular "
+                         "term R_s only (seed 000 section 7); bake the diffuse part in lighting mode");
+    require(std::isfinite(p.grazingAngleDegrees) && p.grazingAngleDegrees > 0.0 && p.grazingAngleDegrees < 90.0,
+            "grazing_angle must be in (0, 90) degrees, got " + std::to_string(p.grazingAngleDegrees));
+  }
+  require(!(hasDiffuse && p.specularWeight >= 1.0),
+          "diffuse has no effect with specular_weight 1 (R = s R_s + d R_d with d = 1 - s); lower specular_weight");
+  grazingCos_ = std::cos(radians(p.grazingAngleDegrees));
+}
+
+double CookTorranceMaterial::distribution(double nh) const {
+  return params_.distribution == MicrofacetDistribution::Beckmann ? beckmannD(nh, params_.roughness)
+                                                                    : ggxD(nh, params_.roughness);
+}
+
+double CookTorranceMaterial::denominator() const {
+  return params_.normalization == CookTorranceNormalization::Microfacet ? 4.0 : 1.0;
+}
+
+double CookTorranceMaterial::highlightHalfWidth() const { return std::atan(params_.roughness); }
+
+Rgb CookTorranceMaterial::brdf(const Vec3& n, const Vec3& v, const Vec3& l) const {
+  const double nl = n.dot(l), nv = n.dot(v);
+  if (!(nl > 0.0) || !(nv >= 0.0)) return Rgb::Zero();
+  // nl > 0 and nv >= 0 exclude l = -v, so l + v is not zero.
+  const Vec3 h = (l + v).normalized();
+  const double nh = n.dot(h), vh = v.dot(h);
+  const double specular = cookTorranceSpecular(distribution(nh), nh, nv, nl, vh, denominator());
+  Rgb value = params_.specularWeight * specular * params_.fresnel(vh);
+  if (params_.specularWeight < 1.0) value += (1.0 - params_.specularWeight) * params_.diffuse / kPi;
+  return value;
+}
+
+Rgb CookTorranceMaterial::reflectance(double nDotV) const {
+  const double c = clampFinite(nDotV, 0.0, 1.0);
+  const double scaleCos = std::max(c, grazingCos_);
+  return params_.specularWeight * peakDistribution() * params_.fresnel(c) / (denominator() * scaleCos * scaleCos);
+}
+
+Rgb CookTorranceMaterial::shade(const ShadingGeometry& g, const Vec3& light) const {
+  if (params_.mode != CookTorranceMode::Lighting) return Rgb::Zero();
+  const double nl = g.normal.dot(light);
+  if (!(nl > 0.0)) return Rgb::Zero();
+  return brdf(g.normal, g.view, light) * nl;
+}
+
+Rgb CookTorranceMaterial::unlit(const ShadingGeometry& g) const {
+  if (params_.mode != CookTorranceMode::Reflectance) return Rgb::Zero();
+  return reflectance(g.normal.dot(g.view));
+}
+
+MicrofacetDistribution parseMicrofacetDistribution(std::string_view name) {
+  if (name == "beckmann") return MicrofacetDistribution::Beckmann;
+  if (name == "ggx") return MicrofacetDistribution::Ggx;
+  throw Error(Error::Kind::InvalidArgument, "distribution must be \"beckmann\" or \"ggx\", got \"" + std::string(name) + "\"");
+}
+
+CookTorranceMode parseCookTorranceMode(std::string_view name) {
+  if (name == "lighting") return CookTorranceMode::Lighting;
+  if (name == "reflectance") return CookTorranceMode::Reflectance;
+  throw Error(Error::Kind::InvalidArgument, "mode must be \"lighting\" or \"reflectance\", got \"" + std::string(name) + "\"");
+}
+
+CookTorranceNormalization parseCookTorranceNormalization(std::string_view name) {
+  if (name == "microfacet") return CookTorranceNormalization::Microfacet;
+  if (name == "1981") return CookTorranceNormalization::CookTorrance1981;
+  throw Error(Error::Kind::InvalidArgument,
+              "normalization must be \"microfacet\" or \"1981\", got \"" + std::string(name) + "\"");
+}
+
+}  // namespace brdfbake

@@ -1,0 +1,100 @@
+// Map-level extras: "mips" (silhouette mip chain) and "profile_output" (1-D Fresnel texture), parsed
+// and written beside the map.
+#include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/bake/mip_chain.hpp>
+#include <brdfbake/brdf/fresnel.hpp>
+#include <brdfbake/brdf/npr.hpp>
+#include <brdfbake/core/version.hpp>
+
+#include "registry_entries.hpp"
+
+namespace brdfbake {
+namespace fs = std::filesystem;
+namespace {
+
+fs::path mipPath(const fs::path& output, int level) {
+  return output.parent_path() / (output.stem().string() + "_mip" + std::to_string(level) + output.extension().string());
+}
+
+fs::path profilePath(const MapSpec& map) {
+  return map.profileOutput->is_absolute() ? *map.profileOutput : map.output.parent_path() / *map.profileOutput;
+}
+
+}  // namespace
+
+namespace materials {
+
+void parseMapExtras(JsonObjectReader& map, MapSpec& spec) {
+  const std::string model(spec.material->model());
+  if (const auto* mips = map.find("mips")) {
+    if (!mips->is_boolean()) throw specError(map.child("mips"), "must be true or false, got " + describe(*mips));
+    spec.mips = mips->get<bool>();
+    if (spec.mips && model != "silhouette") {
+      throw specError(map.child("mips"), "only the silhouette model defines its own mip levels (a ring of constant "
+                                         "width in texels); " + model + " has none");
+    }
+    if (spec.mips && spec.parameterization != ParameterizationKind::Sphere) {
+      throw specError(map.child("mips"), "silhouette mip levels are defined for sphere maps only, where the ring is a "
+                                         "circle of one width in texels all round");
+    }
+  }
+  if (map.has("profile_output")) {
+    const std::string profile = map.string("profile_output");
+    if (model != "fresnel") {
+      throw specError(map.child("profile_output"), "only the fresnel model has a 1-D profile F(cos theta); " + model +
+                                                       " has none");
+    }
+    if (profile.empty()) throw specError(map.child("profile_output"), "must not be empty");
+    try {
+      imageFormatFor(profile);
+    } catch (const Error& e) {
+      throw specError(map.child("profile_output"), e.what());
+    }
+    spec.profileOutput = fs::path(profile);
+    if (samePath(profilePath(spec), spec.output)) throw specError(map.child("profile_output"), "same file as output");
+  }
+}
+
+}  // namespace materials
+
+MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions, const WriteOptions& writeOptions) {
+  MapWriteReport report;
+  if (map.mips) {
+    const auto* silhouette = dynamic_cast<const SilhouetteMaterial*>(map.material.get());
+    require(silhouette != nullptr, map.jsonPath + ": \"mips\" needs a silhouette material");
+    BakeOptions options = bakeOptions;
+    options.progress = {};
+    options.samplesPerTexel = map.samplesPerTexel;
+    const std::vector<Image> chain = silhouetteMipChain(*silhouette, map.resolution, options);
+    for (std::size_t level = 1; level < chain.size(); ++level) {
+      MapInfo info;
+      info.parameterization = ParameterizationKind::Sphere;
+      info.resolution = chain[level].width();
+      info.conventionVersion = kConventionVersion;
+      info.spec = map.raw;
+      const MapWriteReport written =
+          writeMap(chain[level], info, mipPath(map.output, static_cast<int>(level)), CubeLayout::Cross, writeOptions);
+      report.files.insert(report.files.end(), written.files.begin(), written.files.end());
+      if (level == 1) report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());
+    }
+  }
+  if (map.profileOutput) {
+    const auto* fresnel = dynamic_cast<const FresnelMaterial*>(map.material.get());
+    require(fresnel != nullptr, map.jsonPath + ": \"profile_output\" needs a fresnel material");
+    const std::vector<Rgb> profile = fresnelProfile(fresnel->fresnel(), map.resolution);
+    Image image(map.resolution, 1);
+    for (int i = 0; i < map.resolution; ++i) {
+      const Rgb& f = profile[static_cast<std::size_t>(i)];
+      image.set(i, 0, Rgba(f[0], f[1], f[2], 1.0));
+    }
+    const fs::path path = profilePath(map);
+    const WriteReport written = writeImage(image, path, writeOptions);
+    report.files.push_back(path);
+    report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());
+    report.notes.push_back(path.filename().string() + ": 1-D Fresnel profile, texel i holds F at cos theta = (i + 0.5) / " +
+                           std::to_string(map.resolution));
+  }
+  return report;
+}
+
+}  // namespace brdfbake
