@@ -12,5 +12,6 @@ Command addBakeCommand(CLI::App& app);
 Command addSampleCommand(CLI::App& app);
 Command addInfoCommand(CLI::App& app);
 Command addConvertCommand(CLI::App& app);
+Command addPreviewCommand(CLI::App& app);
 
 }  // namespace brdfbake::cli

@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
   add(brdfbake::cli::addSampleCommand);
   add(brdfbake::cli::addInfoCommand);
   add(brdfbake::cli::addConvertCommand);
+  add(brdfbake::cli::addPreviewCommand);
 
   try {
     app.parse(argc, argv);

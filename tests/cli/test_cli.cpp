@@ -132,6 +132,25 @@ TEST(Cli, BadFlagsExitTwo) {
   EXPECT_NE(missing.output.find("none.exr"), std::string::npos);
 }
 
+TEST(Cli, PreviewRendersAnObject) {
+  test::TempDir dir;
+  ASSERT_EQ(runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " -o " + q(dir.path()) + " --quiet").exitCode, 0);
+  for (const std::string flags : {"--object teapot", "--object torus --per-vertex --segments 8", "--size 64"}) {
+    const auto result = runCli("preview " + q(dir / "phong_eye.exr") + " -o " + q(dir / "p.png") + " " + flags);
+    ASSERT_EQ(result.exitCode, 0) << flags << "\n" << result.output;
+    EXPECT_TRUE(fs::exists(dir / "p.png"));
+    fs::remove(dir / "p.png");
+  }
+  // A paraboloid map can be seen from any view; a sphere map only from +z.
+  EXPECT_EQ(runCli("preview " + q(dir / "phong_paraboloid.exr") + " -o " + q(dir / "side.png") + " --view 1,0.5,0").exitCode, 0);
+  const auto wrongView = runCli("preview " + q(dir / "phong_eye.exr") + " -o " + q(dir / "x.png") + " --view 1,0,0");
+  EXPECT_EQ(wrongView.exitCode, 2);
+  EXPECT_NE(wrongView.output.find("eye space"), std::string::npos) << wrongView.output;
+  EXPECT_EQ(runCli("preview " + q(dir / "phong_eye.exr") + " -o " + q(dir / "x.png") + " --object cube").exitCode, 2);
+  EXPECT_EQ(runCli("preview " + q(dir / "phong_eye.exr") + " -o " + q(dir / "phong_eye.exr")).exitCode, 2);
+  EXPECT_FALSE(fs::exists(dir / "x.png"));
+}
+
 TEST(Cli, HelpTeaches) {
   const auto top = runCli("--help");
   EXPECT_EQ(top.exitCode, 0);
