@@ -108,7 +108,8 @@ Command addBakeCommand(CLI::App& app) {
   command->footer(R"(A spec lists maps; each names its output, parameterization (sphere | paraboloid | cube |
 latlong), resolution, samples_per_texel, material and lights. Relative paths resolve against
 the spec's folder (or -o). The whole spec is validated before anything is baked. Specs for
-every model: data_samples/specs/. Format: docs/spec.md.
+every model: data_samples/specs/. Format: docs/spec.md. Models: phong, blinn_phong, cook_torrance,
+fresnel, colorgram, gooch, silhouette, hatching (docs/materials.md).
 
   {"maps": [{"output": "phong_eye.exr", "parameterization": "sphere", "resolution": 256,
              "samples_per_texel": 16,
