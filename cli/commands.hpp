@@ -13,5 +13,6 @@ Command addSampleCommand(CLI::App& app);
 Command addInfoCommand(CLI::App& app);
 Command addConvertCommand(CLI::App& app);
 Command addPreviewCommand(CLI::App& app);
+Command addChartCommand(CLI::App& app);
 
 }  // namespace brdfbake::cli

@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
   add(brdfbake::cli::addInfoCommand);
   add(brdfbake::cli::addConvertCommand);
   add(brdfbake::cli::addPreviewCommand);
+  add(brdfbake::cli::addChartCommand);
 
   try {
     app.parse(argc, argv);

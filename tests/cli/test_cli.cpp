@@ -151,6 +151,41 @@ TEST(Cli, PreviewRendersAnObject) {
   EXPECT_FALSE(fs::exists(dir / "x.png"));
 }
 
+TEST(Cli, ChartSweepsAndMarksTheParetoFront) {
+  test::TempDir dir;
+  std::ofstream(dir / "s.json") << R"({"maps": [{"output": "m.exr", "parameterization": "sphere",
+      "material": {"model": "phong", "exponent": 20}, "lights": [{"direction": [0, 1, 1]}]}]})";
+  const auto result = runCli("chart " + q(dir / "s.json") + " -o " + q(dir / "c.png") + " --csv " + q(dir / "c.csv") +
+                             " --resolutions 16,64 --samples 1,4 --parameterizations sphere,paraboloid --lookups 2000 --json");
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  EXPECT_TRUE(fs::exists(dir / "c.png"));
+  const auto points = nlohmann::json::parse(result.output);
+  ASSERT_EQ(points.size(), 8u);
+  int front = 0;
+  for (const auto& p : points) {
+    front += p["pareto"].get<bool>();
+    EXPECT_GT(p["rms"].get<double>(), 0.0);
+    EXPECT_GE(p["max"].get<double>(), p["rms"].get<double>());
+  }
+  EXPECT_GE(front, 1);
+  // Four times the resolution cuts the error of every map by far more than half.
+  auto rms = [&](const std::string& kind, int n, int spt) {
+    for (const auto& p : points)
+      if (p["parameterization"] == kind && p["resolution"] == n && p["samples_per_texel"] == spt) return p["rms"].get<double>();
+    return -1.0;
+  };
+  EXPECT_LT(rms("sphere", 64, 4), 0.3 * rms("sphere", 16, 4));
+  EXPECT_LT(rms("paraboloid", 64, 4), 0.3 * rms("paraboloid", 16, 4));
+  std::ifstream csv(dir / "c.csv");
+  int lines = 0;
+  for (std::string line; std::getline(csv, line);) ++lines;
+  EXPECT_EQ(lines, 9);
+  EXPECT_EQ(runCli("chart " + q(dir / "s.json") + " -o " + q(dir / "c.jpg")).exitCode, 2);
+  EXPECT_EQ(runCli("chart " + q(dir / "s.json") + " -o " + q(dir / "d.png") + " --resolutions 16,x").exitCode, 2);
+  EXPECT_EQ(runCli("chart " + q(dir / "s.json") + " -o " + q(dir / "d.png") + " --parameterizations disc").exitCode, 2);
+  EXPECT_FALSE(fs::exists(dir / "d.png"));
+}
+
 TEST(Cli, HelpTeaches) {
   const auto top = runCli("--help");
   EXPECT_EQ(top.exitCode, 0);
