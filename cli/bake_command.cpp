@@ -42,6 +42,7 @@ int runBake(const BakeArgs& args) {
   options.allowLarge = args.allowLarge;
   // Refuse oversize maps before any work, so a spec either bakes whole or writes nothing.
   for (const auto& map : spec.maps) {
+    if (map.anyAuto()) continue;  // auto candidates stay far below the limit
     const auto parameterization = makeParameterization(map.parameterization, map.resolution);
     const long long texels = static_cast<long long>(parameterization->width()) * parameterization->height();
     if (texels > options.maxTexels && !options.allowLarge) {
@@ -53,20 +54,50 @@ int runBake(const BakeArgs& args) {
   }
 
   nlohmann::json report = {{"spec", args.spec}, {"maps", nlohmann::json::array()}};
-  for (const auto& map : spec.maps) {
-    const auto parameterization = makeParameterization(map.parameterization, map.resolution);
+  for (const auto& specified : spec.maps) {
+    MapSpec map = specified;
     const auto function = map.makeFunction();
     ProgressBar bar(map.jsonPath + " " + map.output.filename().string(), !args.quiet && !args.json);
-    options.samplesPerTexel = map.samplesPerTexel;
     options.progress = bar.callback();
     BakeSummary summary;
-    const Image image = bake(*parameterization, *function, options, &summary);
+    Image image;
+    nlohmann::json autoReport;
+    if (map.anyAuto()) {
+      // The cheapest configuration meeting max_error (each candidate baked and measured).
+      AutoOptions autoOptions = map.autoOptions();
+      autoOptions.bake = options;
+      autoOptions.bake.progress = {};
+      const auto start = std::chrono::steady_clock::now();
+      AutoResult chosen = chooseConfiguration(*function, autoOptions);
+      summary.path = "auto";
+      summary.seconds = secondsSince(start);
+      map.parameterization = chosen.chosen.parameterization;
+      map.resolution = chosen.chosen.resolution;
+      map.samplesPerTexel = chosen.chosen.samplesPerTexel;
+      image = std::move(chosen.image);
+      autoReport = {{"chosen", chosen.chosen.describe()},
+                    {"measured_error", chosen.error},
+                    {"max_error", map.autoSelect.maxError},
+                    {"error_measure", map.parameterization == ParameterizationKind::Sphere
+                                          ? "RMS over a visible sphere's lookups, relative to the peak"
+                                          : "RMS over directions uniform on the sphere, relative to the peak"},
+                    {"configurations_tried", chosen.tried}};
+      if (!chosen.rejected.empty()) {
+        autoReport["next_cheaper"] = {{"configuration", chosen.rejected.back().first.describe()},
+                                      {"measured_error", chosen.rejected.back().second}};
+      }
+    } else {
+      options.samplesPerTexel = map.samplesPerTexel;
+      image = bake(*makeParameterization(map.parameterization, map.resolution), *function, options, &summary);
+    }
+    const auto parameterization = makeParameterization(map.parameterization, map.resolution);
 
     MapInfo info;
     info.parameterization = map.parameterization;
     info.resolution = map.resolution;
     info.conventionVersion = kConventionVersion;
     info.spec = map.raw;
+    if (!autoReport.is_null()) info.spec["auto"] = autoReport;
     const auto writeStart = std::chrono::steady_clock::now();
     MapWriteReport written = writeMap(image, info, map.output, map.cubeLayout, {{fs::path(args.spec)}});
     // Extra files the spec asks for: silhouette mip levels ("mips"), the 1-D Fresnel profile ("profile_output").
@@ -86,6 +117,7 @@ int runBake(const BakeArgs& args) {
                             {"bake_seconds", summary.seconds},
                             {"write_seconds", writeSeconds},
                             {"notes", written.notes}};
+    if (!autoReport.is_null()) entry["auto"] = autoReport;
     for (const auto& file : written.files) entry["files"].push_back(file.string());
     report["maps"].push_back(entry);
     if (!args.json && !args.quiet) {
@@ -93,6 +125,11 @@ int runBake(const BakeArgs& args) {
                 << parameterization->width() << "x" << parameterization->height() << ", " << map.samplesPerTexel
                 << " samples/texel, " << summary.path << "): bake " << summary.seconds << " s, write "
                 << writeSeconds << " s\n";
+      if (!autoReport.is_null()) {
+        std::cout << "  auto: chose " << autoReport["chosen"].get<std::string>() << ", measured error "
+                  << autoReport["measured_error"].get<double>() << " <= " << map.autoSelect.maxError << " ("
+                  << autoReport["configurations_tried"].get<int>() << " configurations tried, cheapest first)\n";
+      }
       for (const auto& note : written.notes) std::cout << "  note: " << note << "\n";
     }
   }

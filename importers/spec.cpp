@@ -45,13 +45,30 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
   spec.output = fs::path(output).is_absolute() ? fs::path(output) : baseDirectory / output;
 
   const std::string kind = map.string("parameterization");
-  try {
-    spec.parameterization = parseParameterizationKind(kind);
-  } catch (const Error& e) {
-    throw specError(map.child("parameterization"), e.what());
+  if (kind == "auto") {
+    spec.autoSelect.parameterization = true;
+  } else {
+    try {
+      spec.parameterization = parseParameterizationKind(kind);
+    } catch (const Error& e) {
+      throw specError(map.child("parameterization"), std::string(e.what()) + " or auto");
+    }
   }
-  spec.resolution = map.integer("resolution", 256, 1, 65536);
-  spec.samplesPerTexel = map.integer("samples_per_texel", 16, 1, 4096);
+  auto isAuto = [&](const char* key) {
+    const auto* value = map.find(key);
+    return value && value->is_string() && *value == "auto";
+  };
+  if (isAuto("resolution")) spec.autoSelect.resolution = true;
+  else spec.resolution = map.integer("resolution", 256, 1, 65536);
+  if (isAuto("samples_per_texel")) spec.autoSelect.samplesPerTexel = true;
+  else spec.samplesPerTexel = map.integer("samples_per_texel", 16, 1, 4096);
+  if (spec.anyAuto()) {
+    if (!map.has("max_error")) throw specError(map.child("max_error"), "required with \"auto\" values: the RMS lookup error to meet, e.g. 0.01");
+    spec.autoSelect.maxError = map.number("max_error", 0.0, 1.0, /*exclusiveMinimum=*/true);
+    if (spec.autoSelect.maxError >= 1.0) throw specError(map.child("max_error"), "must be < 1");
+  } else if (map.has("max_error")) {
+    throw specError(map.child("max_error"), "only applies when parameterization, resolution or samples_per_texel is \"auto\"");
+  }
 
   if (const auto* layout = map.find("layout")) {
     if (spec.parameterization != ParameterizationKind::Cube) throw specError(map.child("layout"), "only applies to cube maps");
@@ -64,9 +81,22 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     }
   }
 
-  if (map.has("view")) {
-    if (spec.parameterization == ParameterizationKind::Sphere) {
-      throw specError(map.child("view"), "sphere maps live in eye space, where the view vector is always +z; remove it");
+  if (const auto* view = map.find("view"); view && view->is_string()) {
+    if (*view == "fixed") {
+      spec.viewNeed = MapSpec::ViewNeed::Fixed;
+    } else if (*view == "free") {
+      spec.viewNeed = MapSpec::ViewNeed::Free;
+      if (!spec.autoSelect.parameterization && spec.parameterization == ParameterizationKind::Sphere) {
+        throw specError(map.child("view"), "a sphere map holds one view (eye space); a free view needs a paraboloid, cube or latlong map");
+      }
+    } else {
+      throw specError(map.child("view"), "must be \"fixed\", \"free\" or [x, y, z], got " + describe(*view));
+    }
+  } else if (map.has("view")) {
+    if (spec.autoSelect.parameterization || spec.parameterization == ParameterizationKind::Sphere) {
+      throw specError(map.child("view"), spec.autoSelect.parameterization
+                                             ? "with \"parameterization\": \"auto\" give \"view\": \"fixed\" or \"free\""
+                                             : "sphere maps live in eye space, where the view vector is always +z; remove it");
     }
     spec.view = map.direction("view");
     spec.viewGiven = true;
@@ -90,7 +120,14 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     throw specError(map.child("lights"), std::string(spec.material->model()) + " ignores lights; remove them");
   }
   const bool viewDependent = !spec.material->viewIndependent() || anyAtEye;
-  if (spec.parameterization != ParameterizationKind::Sphere && viewDependent && !spec.viewGiven) {
+  if (viewDependent && spec.viewNeed == MapSpec::ViewNeed::Free) {
+    throw specError(map.child("view"), std::string(spec.material->model()) + (anyAtEye ? " lit from the eye" : "") +
+                                           " depends on the view direction, so no environment map can serve a free view;"
+                                           " use \"view\": \"fixed\"");
+  }
+  // A fixed view ("fixed", or a sphere map's eye space) is +z in every candidate map frame.
+  const bool viewFixed = spec.viewGiven || spec.viewNeed == MapSpec::ViewNeed::Fixed || spec.autoSelect.parameterization;
+  if (spec.parameterization != ParameterizationKind::Sphere && viewDependent && !viewFixed) {
     throw specError(path, std::string(spec.material->model()) +
                               (anyAtEye ? " lit from the eye" : "") +
                               " depends on the view direction, but a " + std::string(toString(spec.parameterization)) +
@@ -98,12 +135,28 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
                               " or use a sphere map");
   }
   materials::parseMapExtras(map, spec);     // "mips", "profile_output"
-  materials::checkMaterialSampling(spec);   // narrow highlights the map's samples would miss
+  if (!spec.anyAuto()) materials::checkMaterialSampling(spec);   // narrow highlights the map's samples would miss
   map.finish();
   return spec;
 }
 
 }  // namespace
+
+AutoOptions MapSpec::autoOptions() const {
+  AutoOptions options;
+  options.maxError = autoSelect.maxError;
+  if (autoSelect.parameterization) {
+    options.parameterizations = viewNeed == ViewNeed::Free
+                                    ? std::vector{ParameterizationKind::Paraboloid, ParameterizationKind::Cube, ParameterizationKind::LatLong}
+                                    : std::vector{ParameterizationKind::Sphere, ParameterizationKind::Paraboloid,
+                                                  ParameterizationKind::Cube, ParameterizationKind::LatLong};
+  } else {
+    options.parameterizations = {parameterization};
+  }
+  if (!autoSelect.resolution) options.resolutions = {resolution};
+  if (!autoSelect.samplesPerTexel) options.samplesPerTexel = {samplesPerTexel};
+  return options;
+}
 
 std::shared_ptr<const MapFunction> MapSpec::makeFunction() const {
   return std::make_shared<MaterialMapFunction>(material, lights, view);

@@ -186,6 +186,21 @@ TEST(Cli, ChartSweepsAndMarksTheParetoFront) {
   EXPECT_FALSE(fs::exists(dir / "d.png"));
 }
 
+TEST(Cli, AutoPicksAConfigurationAndRecordsIt) {
+  test::TempDir dir;
+  std::ofstream(dir / "a.json") << R"({"maps": [{"output": "a.exr", "parameterization": "auto", "resolution": "auto",
+      "samples_per_texel": "auto", "max_error": 0.005, "view": "free",
+      "material": {"model": "phong", "exponent": 40}, "lights": [{"direction": [1, 1, 1]}]}]})";
+  const auto result = runCli("bake " + q(dir / "a.json") + " --json");
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  const auto report = nlohmann::json::parse(result.output)["maps"][0];
+  EXPECT_NE(report["parameterization"], "sphere");  // a free view rules out sphere maps
+  EXPECT_LE(report["auto"]["measured_error"].get<double>(), 0.005);
+  const auto info = nlohmann::json::parse(runCli("info " + q(dir / "a.exr") + " --json").output);
+  EXPECT_EQ(info["metadata"]["spec"]["auto"]["chosen"], report["auto"]["chosen"]);
+  EXPECT_LE(info["metadata"]["spec"]["auto"]["measured_error"].get<double>(), 0.005);
+}
+
 TEST(Cli, HelpTeaches) {
   const auto top = runCli("--help");
   EXPECT_EQ(top.exitCode, 0);

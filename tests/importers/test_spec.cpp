@@ -106,6 +106,46 @@ TEST(Spec, AViewMakesViewDependentMaterialsValidInOtherMaps) {
   EXPECT_EQ(spec.maps[0].view, Vec3::UnitZ());
 }
 
+TEST(Spec, AutoValuesNeedATargetAndAViewThatFits) {
+  const auto autoMap = [](json& m) {
+    m["parameterization"] = "auto";
+    m["resolution"] = "auto";
+    m["samples_per_texel"] = "auto";
+    m["max_error"] = 0.01;
+    m["lights"] = {{{"direction", {1, 1, 1}}}};
+  };
+  const BakeSpec spec = parseBakeSpec(withMap(autoMap), "/b");
+  ASSERT_TRUE(spec.maps[0].anyAuto());
+  const AutoOptions options = spec.maps[0].autoOptions();
+  EXPECT_EQ(options.parameterizations.size(), 4u);  // fixed view (default): sphere is a candidate
+  EXPECT_EQ(options.maxError, 0.01);
+  const BakeSpec free = parseBakeSpec(withMap([&](json& m) { autoMap(m); m["view"] = "free"; }), "/b");
+  const auto freeKinds = free.maps[0].autoOptions().parameterizations;
+  EXPECT_EQ(std::count(freeKinds.begin(), freeKinds.end(), ParameterizationKind::Sphere), 0);
+  EXPECT_EQ(freeKinds.size(), 3u);
+
+  struct Case {
+    std::function<void(json&)> edit;
+    std::string expected;
+  };
+  const std::vector<Case> cases{
+      {[&](json& m) { autoMap(m); m.erase("max_error"); }, "maps[0].max_error: required with \"auto\" values"},
+      {[&](json& m) { autoMap(m); m["max_error"] = 0; }, "maps[0].max_error: must be > 0"},
+      {[&](json& m) { autoMap(m); m["max_error"] = 1.5; }, "maps[0].max_error: must be <= 1"},
+      {[](json& m) { m["max_error"] = 0.01; }, "maps[0].max_error: only applies when"},
+      {[](json& m) { m["resolution"] = "big"; }, "maps[0].resolution: must be an integer"},
+      {[&](json& m) { autoMap(m); m["view"] = "moving"; }, "maps[0].view: must be \"fixed\", \"free\" or [x, y, z]"},
+      {[&](json& m) { autoMap(m); m["view"] = {0, 0, 1}; }, "maps[0].view: with \"parameterization\": \"auto\" give"},
+      {[](json& m) { m["view"] = "free"; }, "maps[0].view: a sphere map holds one view"},
+      {[&](json& m) { autoMap(m); m["view"] = "free"; m["lights"] = {{{"direction", "eye"}}}; },
+       "maps[0].view: phong lit from the eye depends on the view direction, so no environment map can serve a free view"},
+  };
+  for (const auto& c : cases) {
+    const std::string message = errorFor(withMap(c.edit));
+    EXPECT_NE(message.find(c.expected), std::string::npos) << "got: " << message << "\nexpected: " << c.expected;
+  }
+}
+
 TEST(Spec, FileErrorsNameFileLineAndColumn) {
   test::TempDir dir;
   const auto path = dir / "broken.json";

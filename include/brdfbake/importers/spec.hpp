@@ -3,6 +3,7 @@
 /// Bake specs: the JSON files `brdfbake bake` reads. See docs/spec.md for the format.
 
 #include <brdfbake/bake/baker.hpp>
+#include <brdfbake/bake/auto_config.hpp>
 #include <brdfbake/bake/map_file.hpp>
 #include <brdfbake/bake/map_function.hpp>
 #include <brdfbake/bake/parameterization.hpp>
@@ -36,6 +37,19 @@ struct MapSpec {
   /// "profile_output" (fresnel model only): also write the 1-D texture F(cos theta), `resolution`
   /// x 1 texels, to this path; a relative path is taken relative to the folder of `output`.
   std::optional<std::filesystem::path> profileOutput;
+
+  /// "auto" values: the tool picks the cheapest configuration meeting `maxError`.
+  struct AutoSelection {
+    bool parameterization = false, resolution = false, samplesPerTexel = false;
+    double maxError = 0.0;  ///< "max_error": RMS lookup error relative to the peak
+  } autoSelect;
+  /// "view": "fixed" (one view, +z: a sphere map suffices) or "free" (the viewer moves: only
+  /// maps indexed by reflected direction, of view-independent materials).
+  enum class ViewNeed { Unspecified, Fixed, Free } viewNeed = ViewNeed::Unspecified;
+
+  bool anyAuto() const { return autoSelect.parameterization || autoSelect.resolution || autoSelect.samplesPerTexel; }
+  /// The candidates and target for chooseConfiguration (fixed values become one-element lists).
+  AutoOptions autoOptions() const;
 
   /// The function the baker integrates.
   std::shared_ptr<const MapFunction> makeFunction() const;

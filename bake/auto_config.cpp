@@ -1,0 +1,66 @@
+#include <brdfbake/bake/auto_config.hpp>
+#include <brdfbake/core/error.hpp>
+
+#include <sstream>
+
+namespace brdfbake {
+
+long long MapConfiguration::cost() const {
+  const auto map = makeParameterization(parameterization, resolution);
+  return static_cast<long long>(map->width()) * map->height() * samplesPerTexel;
+}
+
+std::string MapConfiguration::describe() const {
+  std::ostringstream out;
+  out << toString(parameterization) << " " << resolution << "^2, " << samplesPerTexel << " samples/texel";
+  return out.str();
+}
+
+void AutoOptions::validate() const {
+  require(!parameterizations.empty() && !resolutions.empty() && !samplesPerTexel.empty(),
+          "auto selection needs at least one candidate of each kind");
+  require(maxError > 0.0 && maxError < 1.0, "max_error must be in (0, 1), got " + std::to_string(maxError));
+  for (int r : resolutions) require(r >= 1, "candidate resolutions must be >= 1");
+  for (int s : samplesPerTexel) require(s >= 1, "candidate samples per texel must be >= 1");
+}
+
+double autoErrorMeasure(const ErrorStats& stats, ParameterizationKind kind) {
+  return kind == ParameterizationKind::Sphere ? stats.visibleRms : stats.rms;
+}
+
+AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& options) {
+  options.validate();
+  std::vector<MapConfiguration> candidates;
+  for (auto kind : options.parameterizations)
+    for (int resolution : options.resolutions)
+      for (int spt : options.samplesPerTexel) candidates.push_back({kind, resolution, spt});
+  // Cheapest first; ties go to fewer samples (sharper texels), then the order given.
+  std::stable_sort(candidates.begin(), candidates.end(), [](const MapConfiguration& a, const MapConfiguration& b) {
+    return a.cost() != b.cost() ? a.cost() < b.cost() : a.samplesPerTexel < b.samplesPerTexel;
+  });
+  AutoResult result;
+  double best = std::numeric_limits<double>::infinity();
+  MapConfiguration bestConfiguration;
+  for (const auto& candidate : candidates) {
+    const auto map = makeParameterization(candidate.parameterization, candidate.resolution);
+    BakeOptions bakeOptions = options.bake;
+    bakeOptions.samplesPerTexel = candidate.samplesPerTexel;
+    Image image = bake(*map, function, bakeOptions);
+    const double error = autoErrorMeasure(measureMapError(image, *map, function, options.error), candidate.parameterization);
+    ++result.tried;
+    if (error <= options.maxError) {
+      result.chosen = candidate;
+      result.error = error;
+      result.image = std::move(image);
+      return result;
+    }
+    result.rejected.emplace_back(candidate, error);
+    if (error < best) best = error, bestConfiguration = candidate;
+  }
+  std::ostringstream message;
+  message << "no configuration meets max_error " << options.maxError << ": the best, " << bestConfiguration.describe()
+          << ", reaches " << best << "; allow larger resolutions or a larger max_error";
+  throw Error(Error::Kind::InvalidInput, message.str());
+}
+
+}  // namespace brdfbake
