@@ -79,11 +79,13 @@ Mesh makeSphereMesh(int segments) {
 
 Mesh makeTorusMesh(int segments) {
   Mesh mesh;
-  addGrid(mesh, segments, 2 * segments, [](double u, double v) {
+  // Axis tilted 60 degrees from y towards +z, so a viewer on +z sees through the hole.
+  const Mat3 tilt = Eigen::AngleAxisd(radians(60.0), Vec3::UnitX()).toRotationMatrix();
+  addGrid(mesh, segments, 2 * segments, [&](double u, double v) {
     const double a = u * kTwoPi, b = v * kTwoPi;
     const Vec3 ring(std::sin(b), 0, std::cos(b));
     const Vec3 n = std::cos(a) * ring + std::sin(a) * Vec3::UnitY();
-    return std::pair{Vec3(kMajorRadius * ring + kMinorRadius * n), n};
+    return std::pair{Vec3(tilt * (kMajorRadius * ring + kMinorRadius * n)), Vec3(tilt * n)};
   });
   return mesh;
 }

@@ -20,7 +20,7 @@ enum class PreviewObject { Sphere, Torus, Teapot };
 
 /// Unit sphere tessellated into `segments` x 2 `segments` quads.
 Mesh makeSphereMesh(int segments);
-/// Torus about the y axis, radii 0.65 and 0.35.
+/// Torus of radii 0.65 and 0.35 about the y axis tilted 60 degrees towards +z.
 Mesh makeTorusMesh(int segments);
 /// A procedural teapot (body and lid of revolution about y, spout towards +x, handle towards -x),
 /// fitted into the unit sphere. Drawn for brdfbake, not Newell's patch data.

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Regenerates the README's gallery and charts from data_samples/ with the built CLI.
+# Usage: docs/make_gallery.sh [build/cli/brdfbake]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cli="${1:-build/cli/brdfbake}"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+out=docs/images
+
+for spec in phong_eye phong_diffuse blinn_phong copper colorgram gooch silhouette; do
+  "$cli" bake "data_samples/specs/$spec.json" -o "$work" --quiet
+done
+preview() { "$cli" preview "$work/$1" -o "$out/gallery_$2.png" --size 320 "${@:3}" > /dev/null; }
+preview phong_diffuse.exr phong --object teapot
+preview blinn_exact.exr blinn --object teapot
+preview copper_reflectance.exr copper --object teapot --exposure -1
+preview colorgram.exr colorgram --object torus
+preview gooch.png gooch --object teapot --from sphere
+preview silhouette.exr silhouette --object torus
+preview phong_diffuse.exr phong_per_vertex --per-vertex --segments 8
+
+# Speed against accuracy, one chart per model family.
+"$cli" chart data_samples/specs/phong_eye.json -o "$work/phong.png" --resolutions 32,64,128,256,512 --samples 1,4,16 \
+  --csv "$out/chart_phong.csv" > /dev/null
+mv "$work/phong_1.png" "$out/chart_phong_eye.png"
+mv "$work/phong_2.png" "$out/chart_phong_paraboloid.png"
+cat > "$work/ct.json" <<'JSON'
+{"maps": [{"output": "ct.exr", "parameterization": "sphere", "view": "fixed",
+  "material": {"model": "cook_torrance", "mode": "lighting", "roughness": 0.3, "fresnel": {"f0": [0.955, 0.638, 0.538]}},
+  "lights": [{"direction": [1, 1, 1]}]}]}
+JSON
+"$cli" chart "$work/ct.json" -o "$out/chart_cook_torrance.png" --resolutions 32,64,128,256 --samples 1,4,16 \
+  --parameterizations sphere,paraboloid,cube --csv "$out/chart_cook_torrance.csv" > /dev/null
+echo "gallery and charts written to $out"
