@@ -6,13 +6,12 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/importers/spec.hpp>
 
-#include <unistd.h>
-
 #include <fstream>
 #include <iostream>
 #include <sstream>
 
 #include "commands.hpp"
+#include "gnuplot.hpp"
 #include "terminal.hpp"
 
 namespace brdfbake::cli {
@@ -68,53 +67,33 @@ void writeCsv(const std::vector<Point>& points, const fs::path& path) {
   fs::rename(temporary, path);
 }
 
-// Plots with gnuplot (log-log time against RMS error, one colour per parameterization, the
-// Pareto front as a line), writing to a temporary file that is renamed into place.
+// Plots log-log time against RMS error, one colour per parameterization, the Pareto front as a line.
 void plot(const std::vector<Point>& points, const std::string& title, const fs::path& output) {
-  const std::string ext = output.extension().string();
-  if (ext != ".png" && ext != ".svg") throw Error(Error::Kind::InvalidArgument, output.string() + ": chart must be .png or .svg");
-  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
-    throw Error(Error::Kind::Io, "gnuplot not found: install gnuplot-nox (Debian), or use --csv / --json for the points");
-  }
-  const fs::path temporary = output.parent_path() / ("." + output.stem().string() + ".tmp-" + std::to_string(::getpid()) + ext);
-  const fs::path script = fs::temp_directory_path() / ("brdfbake-chart-" + std::to_string(::getpid()) + ".gp");
-  {
-    std::ofstream gp(script);
-    gp << (ext == ".png" ? "set terminal pngcairo size 900,600 noenhanced\n" : "set terminal svg size 900,600 noenhanced\n");
-    gp << "set output '" << temporary.string() << "'\n";
-    gp << "set title '" << title << "'\nset logscale xy\nset grid\nset key outside right\n";
-    gp << "set xlabel 'bake time (s)'\nset ylabel 'RMS error (relative to peak)'\nset format x '%g'\nset format y '%g'\n";
-    std::vector<std::string> kinds;
+  std::ostringstream gp;
+  gp << "set title '" << title << "'\nset logscale xy\nset grid\nset key outside right\n";
+  gp << "set xlabel 'bake time (s)'\nset ylabel 'RMS error (relative to peak)'\nset format x '%g'\nset format y '%g'\n";
+  std::vector<std::string> kinds;
+  for (const auto& p : points)
+    if (std::find(kinds.begin(), kinds.end(), p.parameterization) == kinds.end()) kinds.push_back(p.parameterization);
+  for (const auto& kind : kinds) {
+    gp << "$" << kind << " << EOD\n";
     for (const auto& p : points)
-      if (std::find(kinds.begin(), kinds.end(), p.parameterization) == kinds.end()) kinds.push_back(p.parameterization);
-    for (const auto& kind : kinds) {
-      gp << "$" << kind << " << EOD\n";
-      for (const auto& p : points)
-        if (p.parameterization == kind) gp << p.seconds << " " << p.error.rms << " \"" << p.resolution << "/" << p.samples << "\"\n";
-      gp << "EOD\n";
-    }
-    std::vector<Point> front;
-    for (const auto& p : points)
-      if (p.pareto) front.push_back(p);
-    std::sort(front.begin(), front.end(), [](const Point& a, const Point& b) { return a.seconds < b.seconds; });
-    gp << "$pareto << EOD\n";
-    for (const auto& p : front) gp << p.seconds << " " << p.error.rms << "\n";
-    gp << "EOD\nplot ";
-    for (std::size_t i = 0; i < kinds.size(); ++i) {
-      gp << "$" << kinds[i] << " using 1:2 with points pt 7 ps 1.2 title '" << kinds[i] << "', ";
-      gp << "$" << kinds[i] << " using 1:2:3 with labels font ',7' offset 0,0.8 notitle, ";
-    }
-    gp << "$pareto using 1:2 with lines lw 2 lc rgb 'black' title 'Pareto front'\n";
+      if (p.parameterization == kind) gp << p.seconds << " " << p.error.rms << " \"" << p.resolution << "/" << p.samples << "\"\n";
+    gp << "EOD\n";
   }
-  const int status = std::system(("gnuplot '" + script.string() + "' 2>&1").c_str());
-  std::error_code ec;
-  fs::remove(script, ec);
-  if (status != 0 || !fs::exists(temporary)) {
-    fs::remove(temporary, ec);
-    throw Error(Error::Kind::Io, output.string() + ": gnuplot failed");
+  std::vector<Point> front;
+  for (const auto& p : points)
+    if (p.pareto) front.push_back(p);
+  std::sort(front.begin(), front.end(), [](const Point& a, const Point& b) { return a.seconds < b.seconds; });
+  gp << "$pareto << EOD\n";
+  for (const auto& p : front) gp << p.seconds << " " << p.error.rms << "\n";
+  gp << "EOD\nplot ";
+  for (const auto& kind : kinds) {
+    gp << "$" << kind << " using 1:2 with points pt 7 ps 1.2 title '" << kind << "', ";
+    gp << "$" << kind << " using 1:2:3 with labels font ',7' offset 0,0.8 notitle, ";
   }
-  fs::rename(temporary, output, ec);
-  if (ec) throw Error(Error::Kind::Io, output.string() + ": " + ec.message());
+  gp << "$pareto using 1:2 with lines lw 2 lc rgb 'black' title 'Pareto front'\n";
+  renderWithGnuplot(gp.str(), output);
 }
 
 }  // namespace
@@ -159,9 +138,7 @@ Examples:
     const auto kinds = parseList<ParameterizationKind>(args->parameterizations, "--parameterizations",
                                                        [](const std::string& s) { return parseParameterizationKind(s); });
     const fs::path output = args->output;
-    if (output.extension() != ".png" && output.extension() != ".svg") {
-      throw Error(Error::Kind::InvalidArgument, args->output + ": chart must be .png or .svg");
-    }
+    checkChartPath(output);
     const BakeSpec spec = loadBakeSpec(args->spec);
     // Warm up the thread pool, so the first point does not carry its start-up.
     bake(*makeParameterization(ParameterizationKind::Sphere, 8), *spec.maps.front().makeFunction());

@@ -14,5 +14,6 @@ Command addInfoCommand(CLI::App& app);
 Command addConvertCommand(CLI::App& app);
 Command addPreviewCommand(CLI::App& app);
 Command addChartCommand(CLI::App& app);
+Command addInterpolationCommand(CLI::App& app);
 
 }  // namespace brdfbake::cli

@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
   add(brdfbake::cli::addConvertCommand);
   add(brdfbake::cli::addPreviewCommand);
   add(brdfbake::cli::addChartCommand);
+  add(brdfbake::cli::addInterpolationCommand);
 
   try {
     app.parse(argc, argv);

@@ -201,6 +201,21 @@ TEST(Cli, AutoPicksAConfigurationAndRecordsIt) {
   EXPECT_LE(info["metadata"]["spec"]["auto"]["measured_error"].get<double>(), 0.005);
 }
 
+TEST(Cli, InterpolationChartsBothSchemesAndTheSeedLine) {
+  test::TempDir dir;
+  const auto result = runCli("interpolation -o " + q(dir / "i.png") + " --sizes 2 --places 0,45,80 --json");
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  EXPECT_TRUE(fs::exists(dir / "i.png"));
+  EXPECT_TRUE(fs::exists(dir / "i_line.png"));
+  const auto report = nlohmann::json::parse(result.output);
+  EXPECT_EQ(report["sweep"].size(), 3u);
+  EXPECT_GT(report["line"]["max_error_degrees"].get<double>(), 0.0);
+  EXPECT_EQ(runCli("interpolation -o " + q(dir / "j.png") + " --sizes 0").exitCode, 2);
+  EXPECT_EQ(runCli("interpolation -o " + q(dir / "j.png") + " --places 95").exitCode, 2);
+  EXPECT_EQ(runCli("interpolation -o " + q(dir / "j.gif")).exitCode, 2);
+  EXPECT_FALSE(fs::exists(dir / "j.png"));
+}
+
 TEST(Cli, HelpTeaches) {
   const auto top = runCli("--help");
   EXPECT_EQ(top.exitCode, 0);

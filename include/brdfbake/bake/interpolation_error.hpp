@@ -1,0 +1,45 @@
+#pragma once
+/// @file
+/// How wrong per-vertex environment lookups are (seed 000 section 3.4.2, seed 001 Figs. 16, 34-36).
+///
+/// Fixed-function sphere mapping computes texture coordinates per vertex and interpolates them
+/// linearly across a triangle; hardware cube mapping interpolates the reflected vector. Both are
+/// compared with the exact per-pixel lookup: the reflected vector of the interpolated normal.
+/// Errors are angles (degrees) between the direction each scheme looks up and the exact one.
+
+#include <brdfbake/core/math.hpp>
+
+#include <vector>
+
+namespace brdfbake {
+
+enum class InterpolationScheme {
+  SphereMapCoordinates,  ///< per-vertex GL_SPHERE_MAP (s, t), interpolated linearly
+  ReflectedVector,       ///< per-vertex reflected vectors, interpolated linearly (cube maps)
+};
+
+/// Largest angular error (degrees) over a triangle of unit normals in eye space (orthographic
+/// view +z), sampled at `steps` x `steps` barycentric points.
+double triangleInterpolationError(InterpolationScheme scheme, const std::array<Vec3, 3>& normals, int steps = 24);
+
+/// One point of the sweep: a triangle whose normals are `size` degrees apart (equilateral about
+/// its centre normal), centred `place` degrees from the view axis (its reflected vector lands at
+/// radius sin(place) of the sphere map; 90 degrees is the rim), worst over its orientation.
+struct InterpolationPoint {
+  double sizeDegrees = 0.0, placeDegrees = 0.0;
+  double sphereMapError = 0.0, reflectedVectorError = 0.0;  ///< degrees
+};
+std::vector<InterpolationPoint> interpolationSweep(const std::vector<double>& sizesDegrees,
+                                                   const std::vector<double>& placesDegrees);
+
+/// Seed 001's experiment: a planar surface along the x axis from -10 to +10 (normal +y), a
+/// viewer at `viewer` (a perspective eye: v = normalize(viewer - p)), vertices every `segment`
+/// units; the reflected vectors computed at the vertices are interpolated linearly along each
+/// segment and compared with the per-point ones.
+struct LineExperiment {
+  std::vector<double> x, errorDegrees;
+  double maxError = 0.0, maxAt = 0.0;
+};
+LineExperiment seed001LineExperiment(const Vec3& viewer = Vec3(-8.3, 1, 0), double segment = 20.0, int samples = 4001);
+
+}  // namespace brdfbake

@@ -1,0 +1,57 @@
+// Per-vertex interpolation error: limits, scaling, where it is worst, and seed 001's line.
+#include <brdfbake/bake/interpolation_error.hpp>
+#include <gtest/gtest.h>
+
+namespace brdfbake {
+namespace {
+
+double sweepError(double size, double place, bool sphereMap) {
+  const auto p = interpolationSweep({size}, {place}).front();
+  return sphereMap ? p.sphereMapError : p.reflectedVectorError;
+}
+
+TEST(InterpolationError, VanishesForAFlatTriangle) {
+  const Vec3 n = Vec3(0.3, 0.2, 1).normalized();
+  for (auto scheme : {InterpolationScheme::SphereMapCoordinates, InterpolationScheme::ReflectedVector}) {
+    EXPECT_NEAR(triangleInterpolationError(scheme, {n, n, n}), 0.0, 1e-6);
+  }
+}
+
+TEST(InterpolationError, GrowsWithTheSquareOfTheTriangleSize) {
+  for (bool sphereMap : {true, false}) {
+    for (double place : {20.0, 50.0}) {
+      const double ratio = sweepError(2.0, place, sphereMap) / sweepError(1.0, place, sphereMap);
+      EXPECT_NEAR(ratio, 4.0, 0.4) << (sphereMap ? "(s,t)" : "r") << " at " << place;
+    }
+  }
+}
+
+TEST(InterpolationError, SphereMapCoordinatesAreWorstNearTheRim) {
+  // Texture coordinates: the error grows towards the rim and explodes where a triangle straddles
+  // it (its (s, t) are interpolated across the disc); reflected vectors do not care.
+  EXPECT_GT(sweepError(5, 80, true), 5 * sweepError(5, 20, true));
+  EXPECT_GT(sweepError(10, 88, true), 90.0);
+  EXPECT_LT(sweepError(10, 88, false), 1.0);
+}
+
+TEST(SeedLineExperiment, MatchesAHandComputationAtTheMidpoint) {
+  // One polygon from -10 to 10, viewer (-8.3, 1, 0), normal +y: in the x-y plane r = (x - ex, ey)/|.|.
+  const LineExperiment line = seed001LineExperiment(Vec3(-8.3, 1, 0), 20.0, 4001);
+  auto r = [](double x) { return Vec2(x + 8.3, 1.0).normalized(); };
+  const Vec2 lerp = 0.5 * (r(-10) + r(10));
+  const double expected = degrees(std::acos(lerp.normalized().dot(r(0))));
+  ASSERT_NEAR(line.x[2000], 0.0, 1e-12);
+  EXPECT_NEAR(line.errorDegrees[2000], expected, 1e-9);
+  EXPECT_EQ(line.errorDegrees.front(), 0.0);
+}
+
+TEST(SeedLineExperiment, IsSymmetricAndShrinksQuadraticallyWithTheSegment) {
+  const LineExperiment left = seed001LineExperiment(Vec3(-8.3, 1, 0), 1.0, 2001);
+  const LineExperiment right = seed001LineExperiment(Vec3(8.3, 1, 0), 1.0, 2001);
+  for (std::size_t i = 0; i < left.x.size(); i += 37) EXPECT_NEAR(left.errorDegrees[i], right.errorDegrees[2000 - i], 1e-9);
+  const double half = seed001LineExperiment(Vec3(-8.3, 1, 0), 0.5, 4001).maxError;
+  EXPECT_NEAR(left.maxError / half, 4.0, 0.6);
+}
+
+}  // namespace
+}  // namespace brdfbake
