@@ -32,4 +32,11 @@ cat > "$work/ct.json" <<'JSON'
 JSON
 "$cli" chart "$work/ct.json" -o "$out/chart_cook_torrance.png" --resolutions 32,64,128,256 --samples 1,4,16 \
   --parameterizations sphere,paraboloid,cube --csv "$out/chart_cook_torrance.csv" > /dev/null
+
+
+# Per-vertex interpolation error, and seed 001's line experiment with one polygon and unit segments.
+"$cli" interpolation -o "$out/interpolation.png" --csv "$out/interpolation.csv" > /dev/null
+mv "$out/interpolation_line.png" "$out/interpolation_line_one_polygon.png"
+"$cli" interpolation -o "$work/i.png" --segment 1 > /dev/null
+mv "$work/i_line.png" "$out/interpolation_line_unit_segments.png"
 echo "gallery and charts written to $out"
