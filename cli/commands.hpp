@@ -12,6 +12,8 @@ Command addBakeCommand(CLI::App& app);
 Command addSampleCommand(CLI::App& app);
 Command addInfoCommand(CLI::App& app);
 Command addConvertCommand(CLI::App& app);
+Command addFitCommand(CLI::App& app);   // fit_command.cpp
+Command addEvalCommand(CLI::App& app);  // eval_command.cpp
 Command addPreviewCommand(CLI::App& app);
 Command addChartCommand(CLI::App& app);
 Command addInterpolationCommand(CLI::App& app);

@@ -53,6 +53,8 @@ int main(int argc, char** argv) {
   add(brdfbake::cli::addSampleCommand);
   add(brdfbake::cli::addInfoCommand);
   add(brdfbake::cli::addConvertCommand);
+  add(brdfbake::cli::addFitCommand);
+  add(brdfbake::cli::addEvalCommand);
   add(brdfbake::cli::addPreviewCommand);
   add(brdfbake::cli::addChartCommand);
   add(brdfbake::cli::addInterpolationCommand);

@@ -14,6 +14,9 @@ const std::vector<MaterialEntry>& materialRegistry() {
       {"gooch", "Gooch cool-to-warm shading with a highlight (hand-drawn NPR map)", materials::parseGooch},
       {"silhouette", "Silhouette ring near the rim (NPR), optional constant-width mip chain", materials::parseSilhouette},
       {"hatching", "Hatching strokes near silhouettes (NPR)", materials::parseHatching},
+      {"measured", "Measured BRDF table (Cornell ASTM, pbrt, MERL, MAT): the seed's mirror-direction map, or fitted lobes",
+       materials::parseMeasured},
+      {"lobes", "Radially symmetric lobes fitted by `brdfbake fit` (a fit.json)", materials::parseLobes},
   };
   return registry;
 }

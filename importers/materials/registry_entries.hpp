@@ -25,3 +25,16 @@ FresnelTerm parseFresnelTerm(JsonObjectReader& owner, const std::string& key);
 void parseMapExtras(JsonObjectReader& map, MapSpec& spec);
 void checkMaterialSampling(const MapSpec& spec);
 }  // namespace brdfbake::materials
+
+// "measured" and "lobes" (measured_spec.cpp, lobes_spec.cpp; built with brdfbake::fit, see
+// importers/CMakeLists.txt), and their shared helpers: "file" resolved against the spec's folder, and
+// "mode" of a lobe material (reflectance | lighting | prefiltered; brdf/lobes.hpp).
+namespace brdfbake {
+enum class LobeMaterialMode;
+}
+namespace brdfbake::materials {
+std::shared_ptr<const Material> parseMeasured(JsonObjectReader&, const MaterialContext&);
+std::shared_ptr<const Material> parseLobes(JsonObjectReader&, const MaterialContext&);
+std::filesystem::path resolveMaterialFile(JsonObjectReader& material, const MaterialContext& context);
+LobeMaterialMode parseLobeMode(JsonObjectReader& material);
+}  // namespace brdfbake::materials

@@ -1,0 +1,199 @@
+#include <brdfbake/brdf/lobes.hpp>
+#include <brdfbake/brdf/spectrum.hpp>
+#include <brdfbake/core/error.hpp>
+
+#include <algorithm>
+#include <array>
+
+namespace brdfbake {
+
+std::string_view toString(LobeElevation elevation) {
+  return elevation == LobeElevation::Constant ? "constant" : "varying";
+}
+
+std::optional<LobeElevation> parseLobeElevation(std::string_view name) {
+  if (name == "constant") return LobeElevation::Constant;
+  if (name == "varying") return LobeElevation::Varying;
+  return std::nullopt;
+}
+
+std::string_view toString(LobeMaterialMode mode) {
+  switch (mode) {
+    case LobeMaterialMode::Reflectance: return "reflectance";
+    case LobeMaterialMode::Lighting: return "lighting";
+    case LobeMaterialMode::Prefiltered: return "prefiltered";
+  }
+  return "reflectance";
+}
+
+std::optional<LobeMaterialMode> parseLobeMaterialMode(std::string_view name) {
+  if (name == "reflectance") return LobeMaterialMode::Reflectance;
+  if (name == "lighting") return LobeMaterialMode::Lighting;
+  if (name == "prefiltered") return LobeMaterialMode::Prefiltered;
+  return std::nullopt;
+}
+
+void LobeModel::validate() const {
+  require(!channels.empty(), "lobe model: no channels");
+  require(std::isfinite(minCos) && std::isfinite(maxCos) && 0.0 < minCos && minCos <= maxCos && maxCos <= 1.0,
+          "lobe model: elevation range must satisfy 0 < minCos <= maxCos <= 1");
+  const std::size_t count = static_cast<std::size_t>(elevationCoefficientCount(elevation));
+  for (const auto& channel : channels) {
+    const std::string where = "lobe model: channel '" + channel.name + "'";
+    require(channel.lobes.size() <= static_cast<std::size_t>(kMaxModelLobes),
+            where + ": at most " + std::to_string(kMaxModelLobes) + " lobes");
+    require(std::isfinite(channel.diffuse) && channel.diffuse >= 0.0, where + ": diffuse must be finite and >= 0");
+    for (std::size_t k = 0; k < channel.lobes.size(); ++k) {
+      const Lobe& lobe = channel.lobes[k];
+      const std::string at = where + " lobe " + std::to_string(k);
+      require(lobe.weight.size() == count && lobe.exponent.size() == count,
+              at + ": " + std::string(toString(elevation)) + " lobes need " + std::to_string(count) +
+                  " coefficient(s) per parameter");
+      for (double c : lobe.weight) {
+        require(std::isfinite(c) && c >= 0.0, at + ": weights must be finite and >= 0");
+        require(count == 1 || c > 0.0, at + ": varying weights must be > 0 (they are interpolated geometrically)");
+      }
+      for (double n : lobe.exponent) {
+        require(std::isfinite(n) && n >= kMinLobeExponent && n <= kMaxLobeExponent,
+                at + ": exponents must lie in [1, 1e5]");
+      }
+    }
+  }
+  if (!wavelengthsNm.empty()) {
+    require(wavelengthsNm.size() == channels.size(), "lobe model: one wavelength per channel");
+    for (std::size_t i = 0; i < wavelengthsNm.size(); ++i) {
+      require(std::isfinite(wavelengthsNm[i]) && (i == 0 || wavelengthsNm[i] > wavelengthsNm[i - 1]),
+              "lobe model: wavelengths must be finite and strictly increasing");
+    }
+  }
+}
+
+double LobeModel::elevationCoordinate(double u) const {
+  const double range = std::log(maxCos / minCos);
+  if (!(range > 1e-12) || !(u > minCos)) return 0.0;
+  return clampFinite(std::log(u / minCos) / range, 0.0, 1.0);
+}
+
+double LobeModel::weight(std::size_t channel, std::size_t lobe, double u) const {
+  const Lobe& l = channels.at(channel).lobes.at(lobe);
+  return elevationBlend(l.weight.data(), static_cast<int>(l.weight.size()), elevationCoordinate(u));
+}
+
+double LobeModel::exponent(std::size_t channel, std::size_t lobe, double u) const {
+  const Lobe& l = channels.at(channel).lobes.at(lobe);
+  return elevationBlend(l.exponent.data(), static_cast<int>(l.exponent.size()), elevationCoordinate(u));
+}
+
+namespace {
+// Evaluates lobeBrdf for one channel from its stored coefficients.
+double channelBrdf(const LobeModel& model, const LobeChannel& channel, double u, double cosToMirror) {
+  const int count = elevationCoefficientCount(model.elevation);
+  std::vector<double> packed;
+  packed.reserve(channel.lobes.size() * 2 * count);
+  for (const auto& lobe : channel.lobes) {
+    packed.insert(packed.end(), lobe.weight.begin(), lobe.weight.end());
+    packed.insert(packed.end(), lobe.exponent.begin(), lobe.exponent.end());
+  }
+  std::vector<const double*> lobes(channel.lobes.size());
+  for (std::size_t k = 0; k < lobes.size(); ++k) lobes[k] = packed.data() + k * 2 * count;
+  return lobeBrdf(channel.diffuse, lobes.data(), static_cast<int>(lobes.size()), count, model.elevationCoordinate(u), cosToMirror);
+}
+}  // namespace
+
+double LobeModel::evaluate(std::size_t channel, const Vec3& wi, const Vec3& wo) const {
+  if (!(wi.z() > 0.0) || !(wo.z() > 0.0)) return 0.0;
+  const Vec3 mirrored = reflect(wo, Vec3(Vec3::UnitZ()));
+  return channelBrdf(*this, channels.at(channel), wo.z(), mirrored.dot(wi));
+}
+
+Eigen::VectorXd LobeModel::evaluate(const Vec3& wi, const Vec3& wo) const {
+  Eigen::VectorXd values(static_cast<Eigen::Index>(channels.size()));
+  for (std::size_t c = 0; c < channels.size(); ++c) values[static_cast<Eigen::Index>(c)] = evaluate(c, wi, wo);
+  return values;
+}
+
+double LobeModel::mirrorValue(std::size_t channel, double u) const {
+  return channelBrdf(*this, channels.at(channel), u, 1.0);
+}
+
+Eigen::Matrix<double, 3, Eigen::Dynamic> LobeModel::rgbWeights() const {
+  const auto n = static_cast<Eigen::Index>(channels.size());
+  if (!wavelengthsNm.empty()) return SpectrumToRgb(wavelengthsNm).srgbWeights();
+  if (n == 1) return Eigen::Matrix<double, 3, Eigen::Dynamic>::Ones(3, 1);
+  if (n == 3 && channels[0].name == "R" && channels[1].name == "G" && channels[2].name == "B") {
+    return Eigen::Matrix<double, 3, Eigen::Dynamic>::Identity(3, 3);
+  }
+  throw Error(Error::Kind::InvalidArgument,
+              "lobe model: cannot make RGB from " + std::to_string(n) +
+                  " channels (need R, G, B, one channel, or wavelengths for a spectral model)");
+}
+
+LobeMaterial::LobeMaterial(LobeModel model, LobeMaterialMode mode, std::string modelName)
+    : model_(std::move(model)), mode_(mode), modelName_(std::move(modelName)) {
+  model_.validate();
+  rgbWeights_ = model_.rgbWeights();
+}
+
+Rgb LobeMaterial::toRgb(const Eigen::VectorXd& channels) const { return (rgbWeights_ * channels).array(); }
+
+bool LobeMaterial::viewIndependent() const {
+  return mode_ == LobeMaterialMode::Prefiltered && model_.elevation == LobeElevation::Constant;
+}
+
+Rgb LobeMaterial::brdf(const Vec3& normal, const Vec3& view, const Vec3& light) const {
+  const double nv = normal.dot(view), nl = normal.dot(light);
+  if (!(nv > 0.0) || !(nl > 0.0)) return Rgb::Zero();
+  const double cosToMirror = reflect(view, normal).dot(light);
+  Eigen::VectorXd values(static_cast<Eigen::Index>(model_.channelCount()));
+  for (std::size_t c = 0; c < model_.channelCount(); ++c) {
+    values[static_cast<Eigen::Index>(c)] = channelBrdf(model_, model_.channels[c], nv, cosToMirror);
+  }
+  return toRgb(values);
+}
+
+Rgb LobeMaterial::mirrorRgb(double nDotV) const {
+  Eigen::VectorXd values(static_cast<Eigen::Index>(model_.channelCount()));
+  for (std::size_t c = 0; c < model_.channelCount(); ++c) {
+    values[static_cast<Eigen::Index>(c)] = model_.mirrorValue(c, clampFinite(nDotV, 0.0, 1.0));
+  }
+  return toRgb(values);
+}
+
+Rgb LobeMaterial::unlit(const ShadingGeometry& g) const {
+  if (mode_ != LobeMaterialMode::Reflectance) return Rgb::Zero();
+  return mirrorRgb(g.normal.dot(g.view));
+}
+
+Rgb LobeMaterial::shade(const ShadingGeometry& g, const Vec3& light) const {
+  switch (mode_) {
+    case LobeMaterialMode::Reflectance: return Rgb::Zero();
+    case LobeMaterialMode::Lighting: return brdf(g.normal, g.view, light) * std::max(0.0, g.normal.dot(light));
+    case LobeMaterialMode::Prefiltered: break;
+  }
+  const double u = clampFinite(g.normal.dot(g.view), 0.0, 1.0);
+  const double cosToAxis = g.reflected.dot(light);
+  Eigen::VectorXd values = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model_.channelCount()));
+  for (std::size_t c = 0; c < model_.channelCount(); ++c) {
+    for (std::size_t k = 0; k < model_.channels[c].lobes.size(); ++k) {
+      values[static_cast<Eigen::Index>(c)] +=
+          normalizedLobe(model_.weight(c, k, u), model_.exponent(c, k, u), cosToAxis);
+    }
+  }
+  return toRgb(values);
+}
+
+std::optional<std::vector<RadialLobe>> LobeMaterial::radialLobes(const Vec3& light, const Vec3&) const {
+  if (!viewIndependent()) return std::nullopt;
+  // Constant prefiltered lobes: one radial lobe about the light per channel and lobe.
+  std::vector<RadialLobe> lobes;
+  for (std::size_t c = 0; c < model_.channelCount(); ++c) {
+    for (const auto& lobe : model_.channels[c].lobes) {
+      const double n = lobe.exponent[0];
+      const Rgb weight = lobe.weight[0] * rgbWeights_.col(static_cast<Eigen::Index>(c)).array();
+      lobes.push_back({light, weight, [n](double x) { return normalizedLobe(1.0, n, x); }});
+    }
+  }
+  return lobes;
+}
+
+}  // namespace brdfbake

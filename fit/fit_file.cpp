@@ -1,0 +1,357 @@
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/core/version.hpp>
+#include <brdfbake/fit/fit_file.hpp>
+#include <brdfbake/importers/json_reader.hpp>
+
+#include <fstream>
+#include <random>
+#include <sstream>
+
+namespace brdfbake {
+namespace fs = std::filesystem;
+namespace {
+
+// Every number written goes through here: a fit file never holds NaN or infinity.
+double finite(double value, const char* what) {
+  if (!std::isfinite(value)) throw Error(Error::Kind::Numerical, std::string("fit file: ") + what + " is not finite");
+  return value;
+}
+
+nlohmann::ordered_json numbers(const std::vector<double>& values, const char* what) {
+  nlohmann::ordered_json array = nlohmann::ordered_json::array();
+  for (double v : values) array.push_back(finite(v, what));
+  return array;
+}
+
+std::string requestedLobes(int lobes) { return lobes == 0 ? "auto" : std::to_string(lobes); }
+
+std::vector<double> readNumbers(JsonObjectReader& reader, const std::string& key, std::size_t count, double minimum,
+                                double maximum) {
+  const auto& array = reader.array(key);
+  const std::string path = reader.child(key);
+  if (array.size() != count) {
+    throw specError(path, "must hold " + std::to_string(count) + " number(s), got " + std::to_string(array.size()));
+  }
+  std::vector<double> values;
+  for (std::size_t i = 0; i < array.size(); ++i) {
+    const std::string at = path + "[" + std::to_string(i) + "]";
+    const double v = JsonObjectReader::asNumber(array[i], at);
+    if (v < minimum) throw specError(at, "must be >= " + describe(minimum) + ", got " + describe(v));
+    if (v > maximum) throw specError(at, "must be <= " + describe(maximum) + ", got " + describe(v));
+    values.push_back(v);
+  }
+  return values;
+}
+
+ChannelFitStats readStats(JsonObjectReader stats, const std::string& name) {
+  ChannelFitStats s;
+  s.name = name;
+  s.samples = static_cast<std::size_t>(stats.integer("samples", 0, 1 << 30));
+  s.rmsCosineWeighted = stats.number("rms_cosine_weighted", 0.0);
+  s.logRmse = stats.number("log_rmse", 0.0);
+  s.cubeRootRmse = stats.number("cube_root_rmse", 0.0);
+  JsonObjectReader worst = stats.object("worst_sample");
+  s.worst.index = static_cast<std::size_t>(worst.integer("index", 0, 1 << 30));
+  s.worst.angles = {worst.number("theta_i"), worst.number("phi_i"), worst.number("theta_s"), worst.number("phi_s")};
+  s.worst.measured = worst.number("measured");
+  s.worst.fitted = worst.number("fitted");
+  worst.finish();
+  s.solver.iterations = stats.integer("iterations", 0, 1 << 30);
+  s.totalIterations = stats.integer("total_iterations", 0, 1 << 30);
+  s.seconds = stats.number("seconds", 0.0);
+  s.solver.termination = stats.string("termination");
+  const auto& usable = stats.require("usable");
+  if (!usable.is_boolean()) throw specError(stats.child("usable"), "must be true or false, got " + describe(usable));
+  s.solver.usable = usable.get<bool>();
+  s.solver.briefReport = stats.optionalString("brief_report").value_or("");
+  stats.finish();
+  return s;
+}
+
+}  // namespace
+
+std::string lobeModelDescription(LobeElevation elevation) {
+  std::string text =
+      "f(l, v) = k_d / pi + sum_k C_k (n_k + 2) / (2 pi) max(0, r_v . l)^n_k [1/sr], r_v = view mirrored about the "
+      "normal, per channel";
+  if (elevation == LobeElevation::Constant) return text + "; C_k, n_k constant";
+  return text + "; C_k, n_k varying with u = cos(theta_view): p(u) = p0^((1-t)^2) p1^(2t(1-t)) p2^(t^2), "
+                "t = ln(u / min_cos) / ln(max_cos / min_cos) clamped to [0, 1]";
+}
+
+nlohmann::ordered_json fitFileToJson(const FitFile& file) {
+  const LobeModel& model = file.fit.model;
+  nlohmann::ordered_json document;
+  document["format"] = kFitFileFormat;
+  document["version"] = kFitFileVersion;
+  document["generator"] = std::string("brdfbake ") + BRDFBAKE_VERSION_STRING;
+  if (file.hasSource) {
+    document["source"] = {{"file", file.source.file},
+                          {"format", file.source.format},
+                          {"samples", file.source.samples},
+                          {"channels", file.source.channels},
+                          {"notes", file.source.notes}};
+  }
+  const std::size_t lobes = model.channels.empty() ? 0 : model.channels[0].lobes.size();
+  nlohmann::ordered_json m = {{"description", lobeModelDescription(model.elevation)},
+                      {"elevation", std::string(toString(model.elevation))},
+                      {"elevation_range", {{"min_cos", finite(model.minCos, "min_cos")}, {"max_cos", finite(model.maxCos, "max_cos")}}},
+                      {"lobes", lobes}};
+  if (!model.wavelengthsNm.empty()) m["wavelengths_nm"] = numbers(model.wavelengthsNm, "wavelength");
+  document["model"] = m;
+  if (file.hasFitInfo) {
+    const FitOptions& o = file.fit.options;
+    nlohmann::ordered_json candidates = nlohmann::ordered_json::array();
+    for (const auto& c : file.fit.candidates) {
+      candidates.push_back({{"lobes", c.lobes},
+                            {"elevation", std::string(toString(c.elevation))},
+                            {"error", finite(c.error, "candidate error")},
+                            {"chosen", c.chosen}});
+    }
+    document["fit"] = {{"residual", "cbrt(cos theta_i f_fit + eps) - cbrt(cos theta_i f_measured + eps), eps = 1e-6 of the channel's largest cos theta_i f"},
+                       {"loss", std::string(toString(o.loss))},
+                       {"loss_scale", finite(o.lossScale, "loss scale")},
+                       {"auto_margin", finite(o.autoMargin, "auto margin")},
+                       {"elevation_margin", finite(o.elevationMargin, "elevation margin")},
+                       {"requested_lobes", requestedLobes(o.lobes)},
+                       {"requested_elevation", std::string(toString(o.elevation))},
+                       {"seconds", finite(file.fit.seconds, "seconds")},
+                       {"usable", file.fit.usable()},
+                       {"candidates", candidates}};
+  }
+  nlohmann::ordered_json channels = nlohmann::ordered_json::array();
+  for (std::size_t c = 0; c < model.channels.size(); ++c) {
+    const LobeChannel& channel = model.channels[c];
+    nlohmann::ordered_json lobeArray = nlohmann::ordered_json::array();
+    for (const auto& lobe : channel.lobes) {
+      lobeArray.push_back({{"weight", numbers(lobe.weight, "lobe weight")}, {"exponent", numbers(lobe.exponent, "lobe exponent")}});
+    }
+    nlohmann::ordered_json entry = {{"name", channel.name}, {"diffuse", finite(channel.diffuse, "diffuse")}, {"lobes", lobeArray}};
+    if (c < file.fit.channels.size()) {
+      const ChannelFitStats& s = file.fit.channels[c];
+      entry["stats"] = {
+          {"samples", s.samples},
+          {"rms_cosine_weighted", finite(s.rmsCosineWeighted, "rms")},
+          {"log_rmse", finite(s.logRmse, "log rmse")},
+          {"cube_root_rmse", finite(s.cubeRootRmse, "cube-root rmse")},
+          {"worst_sample", {{"index", s.worst.index},
+                            {"theta_i", finite(s.worst.angles.thetaIn, "angle")},
+                            {"phi_i", finite(s.worst.angles.phiIn, "angle")},
+                            {"theta_s", finite(s.worst.angles.thetaOut, "angle")},
+                            {"phi_s", finite(s.worst.angles.phiOut, "angle")},
+                            {"measured", finite(s.worst.measured, "measured value")},
+                            {"fitted", finite(s.worst.fitted, "fitted value")}}},
+          {"iterations", s.solver.iterations},
+          {"total_iterations", s.totalIterations},
+          {"seconds", finite(s.seconds, "seconds")},
+          {"termination", s.solver.termination},
+          {"usable", s.solver.usable},
+          {"brief_report", s.solver.briefReport}};
+    }
+    channels.push_back(entry);
+  }
+  document["channels"] = channels;
+  return document;
+}
+
+bool isFitFileJson(const nlohmann::json& document) {
+  return document.is_object() && document.contains("format") && document["format"] == kFitFileFormat;
+}
+
+FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label) {
+  try {
+    JsonObjectReader root(document, "");
+    FitFile file;
+    const std::string format = root.string("format");
+    if (format != kFitFileFormat) {
+      throw specError("format", "must be \"" + std::string(kFitFileFormat) + "\", got \"" + format + "\"");
+    }
+    const int version = root.integer("version", 1, 1 << 20);
+    if (version != kFitFileVersion) {
+      throw specError("version", "this brdfbake reads version " + std::to_string(kFitFileVersion) + ", the file is version " +
+                                     std::to_string(version));
+    }
+    root.optionalString("generator");
+
+    file.hasSource = root.has("source");
+    if (file.hasSource) {
+      JsonObjectReader source = root.object("source");
+      file.source.file = source.string("file");
+      file.source.format = source.string("format");
+      file.source.samples = static_cast<std::size_t>(source.integer("samples", 0, 1 << 30));
+      file.source.channels = source.string("channels");
+      const auto& notes = source.array("notes");
+      for (std::size_t i = 0; i < notes.size(); ++i) {
+        if (!notes[i].is_string()) throw specError(source.child("notes") + "[" + std::to_string(i) + "]", "must be a string");
+        file.source.notes.push_back(notes[i].get<std::string>());
+      }
+      source.finish();
+    }
+
+    LobeModel& model = file.fit.model;
+    JsonObjectReader m = root.object("model");
+    m.optionalString("description");
+    const std::string elevation = m.string("elevation");
+    const auto parsed = parseLobeElevation(elevation);
+    if (!parsed) throw specError(m.child("elevation"), "must be \"constant\" or \"varying\", got \"" + elevation + "\"");
+    model.elevation = *parsed;
+    JsonObjectReader range = m.object("elevation_range");
+    model.minCos = range.number("min_cos", 0.0, 1.0, /*exclusiveMinimum=*/true);
+    model.maxCos = range.number("max_cos", model.minCos, 1.0);
+    range.finish();
+    const int lobeCount = m.integer("lobes", 0, kMaxModelLobes);
+    if (m.has("wavelengths_nm")) {
+      const auto& w = m.array("wavelengths_nm");
+      for (std::size_t i = 0; i < w.size(); ++i) {
+        const std::string at = m.child("wavelengths_nm") + "[" + std::to_string(i) + "]";
+        model.wavelengthsNm.push_back(JsonObjectReader::asNumber(w[i], at));
+        if (i > 0 && !(model.wavelengthsNm[i] > model.wavelengthsNm[i - 1])) throw specError(at, "wavelengths must increase");
+      }
+    }
+    m.finish();
+
+    if (root.has("fit")) {
+      JsonObjectReader fit = root.object("fit");
+      fit.optionalString("residual");
+      FitOptions& o = file.fit.options;
+      const std::string loss = fit.string("loss");
+      if (auto l = parseRobustLoss(loss)) o.loss = *l;
+      else throw specError(fit.child("loss"), "must be \"cauchy\", \"huber\" or \"none\", got \"" + loss + "\"");
+      o.lossScale = fit.number("loss_scale", 0.0, HUGE_VAL, true);
+      o.autoMargin = fit.number("auto_margin", 0.0, 1.0, true);
+      o.elevationMargin = fit.number("elevation_margin", 0.0, 1.0, true);
+      const std::string lobes = fit.string("requested_lobes");
+      if (lobes == "auto") {
+        o.lobes = 0;
+      } else {
+        try {
+          std::size_t used = 0;
+          o.lobes = std::stoi(lobes, &used);
+          if (used != lobes.size() || o.lobes < 1) throw std::invalid_argument(lobes);
+        } catch (const std::exception&) {
+          throw specError(fit.child("requested_lobes"), "must be \"auto\" or a positive whole number, got \"" + lobes + "\"");
+        }
+      }
+      const std::string requested = fit.string("requested_elevation");
+      if (auto e = parseElevationChoice(requested)) o.elevation = *e;
+      else throw specError(fit.child("requested_elevation"), "must be \"auto\", \"constant\" or \"varying\", got \"" + requested + "\"");
+      file.fit.seconds = fit.number("seconds", 0.0);
+      fit.require("usable");  // recomputed from the channels' stats
+      const auto& candidates = fit.array("candidates");
+      for (std::size_t i = 0; i < candidates.size(); ++i) {
+        JsonObjectReader c(candidates[i], fit.child("candidates") + "[" + std::to_string(i) + "]");
+        ModelCandidate candidate;
+        candidate.lobes = c.integer("lobes", 1, kMaxModelLobes);
+        const std::string e = c.string("elevation");
+        if (auto pe = parseLobeElevation(e)) candidate.elevation = *pe;
+        else throw specError(c.child("elevation"), "must be \"constant\" or \"varying\", got \"" + e + "\"");
+        candidate.error = c.number("error", 0.0);
+        const auto& chosen = c.require("chosen");
+        if (!chosen.is_boolean()) throw specError(c.child("chosen"), "must be true or false");
+        candidate.chosen = chosen.get<bool>();
+        c.finish();
+        file.fit.candidates.push_back(candidate);
+      }
+      fit.finish();
+    } else {
+      file.hasFitInfo = false;
+    }
+
+    const auto& channels = root.array("channels");
+    if (channels.empty()) throw specError("channels", "must hold at least one channel");
+    const std::size_t count = static_cast<std::size_t>(elevationCoefficientCount(model.elevation));
+    bool allStats = true, anyStats = false;
+    std::vector<ChannelFitStats> stats;
+    for (std::size_t c = 0; c < channels.size(); ++c) {
+      JsonObjectReader ch(channels[c], "channels[" + std::to_string(c) + "]");
+      LobeChannel channel;
+      channel.name = ch.string("name");
+      channel.diffuse = ch.number("diffuse", 0.0);
+      const auto& lobes = ch.array("lobes");
+      if (static_cast<int>(lobes.size()) != lobeCount) {
+        throw specError(ch.child("lobes"), "model.lobes says " + std::to_string(lobeCount) + " lobe(s), this channel has " +
+                                               std::to_string(lobes.size()));
+      }
+      for (std::size_t k = 0; k < lobes.size(); ++k) {
+        JsonObjectReader lobe(lobes[k], ch.child("lobes") + "[" + std::to_string(k) + "]");
+        Lobe l;
+        l.weight = readNumbers(lobe, "weight", count, count == 1 ? 0.0 : 1e-300, HUGE_VAL);
+        l.exponent = readNumbers(lobe, "exponent", count, kMinLobeExponent, kMaxLobeExponent);
+        lobe.finish();
+        channel.lobes.push_back(std::move(l));
+      }
+      if (ch.has("stats")) {
+        anyStats = true;
+        stats.push_back(readStats(ch.object("stats"), channel.name));
+      } else {
+        allStats = false;
+      }
+      ch.finish();
+      model.channels.push_back(std::move(channel));
+    }
+    if (anyStats && !allStats) throw specError("channels", "either every channel has \"stats\" or none has");
+    if (!model.wavelengthsNm.empty() && model.wavelengthsNm.size() != model.channels.size()) {
+      throw specError("model.wavelengths_nm", "must hold one wavelength per channel (" + std::to_string(model.channels.size()) + ")");
+    }
+    file.fit.channels = std::move(stats);
+    root.finish();
+    try {
+      model.validate();
+    } catch (const Error& e) {
+      throw specError("channels", e.what());
+    }
+    return file;
+  } catch (const Error& e) {
+    throw Error(e.kind() == Error::Kind::InvalidArgument ? Error::Kind::InvalidInput : e.kind(), label + ": " + e.what());
+  }
+}
+
+nlohmann::json readJsonDocument(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(Error::Kind::Io, path.string() + ": cannot open");
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  try {
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::parse_error& e) {
+    const std::size_t offset = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
+    int line = 1, column = 1;
+    for (std::size_t i = 0; i < offset; ++i) {
+      if (text[i] == '\n') ++line, column = 1;
+      else ++column;
+    }
+    std::string message = e.what();
+    if (const auto pos = message.find("syntax error"); pos != std::string::npos) message = message.substr(pos);
+    throw Error(Error::Kind::InvalidInput,
+                path.string() + ":" + std::to_string(line) + ":" + std::to_string(column) + ": invalid JSON: " + message);
+  }
+}
+
+FitFile readFitFile(const fs::path& path) { return fitFileFromJson(readJsonDocument(path), path.string()); }
+
+void writeFitFile(const fs::path& path, const FitFile& file) {
+  const std::string text = fitFileToJson(file).dump(2) + "\n";
+  const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  std::random_device rd;
+  const fs::path temporary = folder / std::string(".").append(path.filename().string()).append(".tmp").append(std::to_string(rd()));
+  {
+    std::ofstream out(temporary, std::ios::binary);
+    if (!out) throw Error(Error::Kind::Io, path.string() + ": cannot write (folder missing or not writable?)");
+    out << text;
+    out.close();
+    if (!out) {
+      std::error_code ec;
+      fs::remove(temporary, ec);
+      throw Error(Error::Kind::Io, path.string() + ": write failed");
+    }
+  }
+  std::error_code ec;
+  fs::rename(temporary, path, ec);
+  if (ec) {
+    fs::remove(temporary, ec);
+    throw Error(Error::Kind::Io, path.string() + ": cannot write: " + ec.message());
+  }
+}
+
+}  // namespace brdfbake

@@ -1,0 +1,77 @@
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/fit/gnuplot.hpp>
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+namespace brdfbake {
+namespace fs = std::filesystem;
+
+std::optional<fs::path> findGnuplot() {
+  if (const char* forced = std::getenv("BRDFBAKE_GNUPLOT")) {
+    if (*forced == '\0' || ::access(forced, X_OK) != 0) return std::nullopt;
+    return fs::path(forced);
+  }
+  const char* path = std::getenv("PATH");
+  std::stringstream folders(path ? path : "/usr/bin:/bin");
+  std::string folder;
+  while (std::getline(folders, folder, ':')) {
+    if (folder.empty()) continue;
+    const fs::path candidate = fs::path(folder) / "gnuplot";
+    if (::access(candidate.c_str(), X_OK) == 0) return candidate;
+  }
+  return std::nullopt;
+}
+
+std::string gnuplotQuote(const std::string& text) {
+  std::string quoted = "'";
+  for (char c : text) {
+    if (c == '\'') quoted += "''";
+    else if (c != '\n') quoted += c;
+  }
+  return quoted + "'";
+}
+
+void runGnuplot(const std::string& script) {
+  const auto gnuplot = findGnuplot();
+  if (!gnuplot) {
+    throw Error(Error::Kind::InvalidArgument,
+                "gnuplot not found on PATH (Debian: apt-get install gnuplot-nox); charts need it");
+  }
+  // The script goes through a file (no pipe that could break if gnuplot stops early).
+  std::random_device rd;
+  const std::string stem = "brdfbake-gnuplot-" + std::to_string(rd()) + std::to_string(rd());
+  const fs::path scriptFile = fs::temp_directory_path() / (stem + ".gp");
+  const fs::path errors = fs::temp_directory_path() / (stem + ".log");
+  {
+    std::ofstream out(scriptFile, std::ios::binary);
+    out << script;
+    if (!out) throw Error(Error::Kind::Io, scriptFile.string() + ": cannot write the gnuplot script");
+  }
+  auto shellQuote = [](const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+  };
+  const std::string command = shellQuote(gnuplot->string()) + " " + shellQuote(scriptFile.string()) + " </dev/null >/dev/null 2>" +
+                              shellQuote(errors.string());
+  const int status = std::system(command.c_str());
+  std::ifstream log(errors);
+  std::stringstream messages;
+  messages << log.rdbuf();
+  std::error_code ec;
+  fs::remove(errors, ec);
+  fs::remove(scriptFile, ec);
+  if (status != 0) {
+    std::string text = messages.str();
+    if (text.size() > 2000) text = text.substr(0, 2000) + "...";
+    throw Error(Error::Kind::Io, "gnuplot failed (status " + std::to_string(status) + "): " + text);
+  }
+}
+
+}  // namespace brdfbake

@@ -1,0 +1,250 @@
+#pragma once
+/// @file
+/// Radially symmetric lobes about the mirrored view direction (Kautz & McCool, seed 002 section
+/// 3.2.3): the model `brdfbake fit` fits to measured tables, and the material that evaluates it.
+/// docs/fitting.md describes the model, how it is fitted and the fit.json format.
+///
+/// For light direction l and view direction v (unit, pointing away from the surface, local frame
+/// with z = n the normal), one channel of the model is
+///
+///     f(l, v) = k_d / pi + sum_k C_k(u) (n_k(u) + 2) / (2 pi) max(0, r_v . l)^n_k(u)    [1/sr]
+///
+/// with r_v = 2 (n.v) n - v the view direction mirrored about the normal and u = n.v = cos theta,
+/// theta the elevation angle of the view direction (equal to that of r_v) from the normal; in the
+/// Cornell convention the view is the outgoing direction, so theta = theta_s. (n + 2) / (2 pi) is
+/// phongNormalization: C_k is the lobe's cosine-weighted integral about its own axis,
+/// integral C (n+2)/(2 pi) (r.l)^n (r.l) dl = C over the hemisphere about r, so at normal incidence
+/// (r_v = n, nothing clipped by the horizon) lobe k reflects exactly the fraction C_k of the light.
+///
+/// C_k and n_k are either constant (LobeElevation::Constant: one 2-D lobe, so an environment can
+/// be prefiltered into a single map) or vary smoothly with u (LobeElevation::Varying: a 3-D map).
+/// A varying parameter has three positive values p0, p1, p2 and is their weighted geometric mean
+/// with quadratic Bernstein weights,
+///
+///     p(u) = p0^((1 - t)^2) p1^(2 t (1 - t)) p2^(t^2),   t = ln(u / minCos) / ln(maxCos / minCos),
+///
+/// i.e. ln p is a quadratic polynomial (Bernstein form) in ln cos theta over the elevation range
+/// [minCos, maxCos] the model was fitted on: p0 is the value at the most grazing fitted view
+/// (u = minCos), p2 at the most normal one (u = maxCos), and t is clamped to [0, 1] so the
+/// parameters are held constant beyond the fitted range instead of extrapolated. Why this form:
+/// measured lobes grow and sharpen towards grazing by orders of magnitude (Fresnel, and the
+/// 1 / cos growth of a BRDF whose lobe keeps its radiance), which is nearly a power of cos theta,
+/// linear in ln cos theta; a polynomial in cos theta itself cannot follow it. A geometric mean
+/// lies between its smallest and largest value, so bounds on p0..p2 (C > 0, 1 <= n <= 1e5) bound
+/// the functions, and equal values give a constant.
+///
+/// The formulas are templates on the parameters' scalar so that the fitter differentiates them
+/// with ceres::Jet and the material evaluates them in double: one implementation.
+
+#include <brdfbake/brdf/material.hpp>
+#include <brdfbake/brdf/phong.hpp>
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace brdfbake {
+
+/// Degree of the Bernstein polynomials of LobeElevation::Varying.
+inline constexpr int kVaryingDegree = 2;
+static_assert(kVaryingDegree + 1 <= 8, "elevationBlend holds at most 8 coefficients");
+
+/// How the lobe parameters depend on the elevation (see @file).
+enum class LobeElevation {
+  Constant,  ///< C_k, n_k constant: one coefficient each
+  Varying,   ///< C_k(u), n_k(u) log-quadratic in ln cos theta (see @file): three values each
+};
+
+/// "constant", "varying".
+std::string_view toString(LobeElevation elevation);
+/// Inverse of toString; std::nullopt for other names.
+std::optional<LobeElevation> parseLobeElevation(std::string_view name);
+
+/// Coefficients per lobe parameter: 1 (Constant) or 3 (Varying).
+constexpr int elevationCoefficientCount(LobeElevation elevation) {
+  return elevation == LobeElevation::Constant ? 1 : kVaryingDegree + 1;
+}
+
+/// Bounds the fitter enforces and LobeModel::validate checks.
+inline constexpr double kMinLobeExponent = 1.0;
+inline constexpr double kMaxLobeExponent = 1e5;
+
+/// The Bernstein weights binom(count - 1, j) t^j (1 - t)^(count - 1 - j), j = 0..count-1, at t.
+inline void bernsteinWeights(int count, double t, double* weights) {
+  const int degree = count - 1;
+  double binomial = 1.0;
+  for (int j = 0; j <= degree; ++j) {
+    weights[j] = binomial * std::pow(t, j) * std::pow(1.0 - t, degree - j);
+    binomial = binomial * (degree - j) / (j + 1);
+  }
+}
+
+/// A varying lobe parameter from the logarithms of its values and the Bernstein weights at the
+/// elevation (see @file): exp(sum_j weights[j] logValues[j]).
+template <class T>
+T geometricBlend(const T* logValues, const double* weights, int count) {
+  using std::exp;
+  T logValue = T(0.0);
+  for (int j = 0; j < count; ++j) logValue += T(weights[j]) * logValues[j];
+  return exp(logValue);
+}
+
+/// A lobe parameter at elevation coordinate t in [0, 1] (LobeModel::elevationCoordinate):
+/// `coefficients[0]` when `count` is 1, else geometricBlend of the logarithms of the `count`
+/// coefficients (all > 0) with Bernstein weights of degree count - 1.
+template <class T>
+T elevationBlend(const T* coefficients, int count, double t) {
+  if (count == 1) return coefficients[0];
+  using std::log;
+  double weights[8];
+  T logs[8];
+  for (int j = 0; j < count && j < 8; ++j) logs[j] = log(coefficients[j]);
+  bernsteinWeights(count, t, weights);
+  return geometricBlend(logs, weights, count);
+}
+
+/// One normalised lobe: weight (n + 2) / (2 pi) max(0, cosToAxis)^n, in 1/sr for weight in 1.
+/// `cosToAxis` is data (a direction), never differentiated.
+template <class T>
+T normalizedLobe(const T& weight, const T& exponent, double cosToAxis) {
+  using std::pow;
+  if (!(cosToAxis > 0.0)) return T(0.0);
+  return weight * phongNormalization(exponent) * pow(cosToAxis, exponent);
+}
+
+/// diffuse / pi plus the lobes of the given weights and exponents (already evaluated at the
+/// elevation), at cosToMirror = r_v . l.
+template <class T>
+T lobeSum(const T& diffuse, const T* weights, const T* exponents, int lobeCount, double cosToMirror) {
+  T value = diffuse * T(1.0 / std::numbers::pi);
+  for (int k = 0; k < lobeCount; ++k) value += normalizedLobe(weights[k], exponents[k], cosToMirror);
+  return value;
+}
+
+/// Most lobes lobeBrdf evaluates.
+inline constexpr int kMaxModelLobes = 16;
+
+/// The model of one channel (see @file) at elevation coordinate `t` (LobeModel::
+/// elevationCoordinate) and cosToMirror = r_v . l. `lobes[k]` points to lobe k's 2 * count
+/// coefficients: the weight's `count`, then the exponent's `count`. At most kMaxModelLobes lobes.
+template <class T>
+T lobeBrdf(const T& diffuse, const T* const* lobes, int lobeCount, int count, double t, double cosToMirror) {
+  T weights[kMaxModelLobes], exponents[kMaxModelLobes];
+  for (int k = 0; k < lobeCount && k < kMaxModelLobes; ++k) {
+    weights[k] = elevationBlend(lobes[k], count, t);
+    exponents[k] = elevationBlend(lobes[k] + count, count, t);
+  }
+  return lobeSum(diffuse, weights, exponents, std::min(lobeCount, kMaxModelLobes), cosToMirror);
+}
+
+/// One lobe of one channel: weight C (dimensionless; >= 0, and > 0 for Varying) and exponent n (in
+/// [1, 1e5]), each elevationCoefficientCount() values (see @file).
+struct Lobe {
+  std::vector<double> weight;
+  std::vector<double> exponent;
+};
+
+/// One channel of a lobe model: Lambertian albedo k_d (>= 0; the term is k_d / pi) and the lobes.
+struct LobeChannel {
+  std::string name;  ///< "R", "550nm", ...
+  double diffuse = 0.0;
+  std::vector<Lobe> lobes;
+};
+
+/// A fitted (or hand-written) lobe model: per channel, the same elevation dependence.
+struct LobeModel {
+  LobeElevation elevation = LobeElevation::Constant;
+  /// Elevation range of a Varying model (see @file): cosines of the most grazing and the most
+  /// normal fitted view, 0 < minCos <= maxCos <= 1. Irrelevant for Constant.
+  double minCos = 0.1;
+  double maxCos = 1.0;
+  std::vector<LobeChannel> channels;
+  /// Spectral models: the wavelength (nm) of each channel, strictly increasing; else empty.
+  std::vector<double> wavelengthsNm;
+
+  std::size_t channelCount() const { return channels.size(); }
+  /// Throws Error(InvalidArgument) naming the channel and lobe for: no channels, a coefficient
+  /// count other than elevationCoefficientCount(elevation), negative or non-finite weights or
+  /// diffuse (zero weights of Varying lobes too), exponents outside [1, 1e5], a bad elevation
+  /// range, or wavelengths of the wrong count.
+  void validate() const;
+
+  /// The elevation coordinate of the view cosine u: t = ln(u / minCos) / ln(maxCos / minCos)
+  /// clamped to [0, 1] (0 at or beyond the most grazing fitted view; 0 when minCos = maxCos).
+  double elevationCoordinate(double u) const;
+  /// C_k(u) and n_k(u) of a lobe (u is clamped).
+  double weight(std::size_t channel, std::size_t lobe, double u) const;
+  double exponent(std::size_t channel, std::size_t lobe, double u) const;
+
+  /// The BRDF (1/sr) of one channel for light `wi` and view `wo` (unit, local frame, z = normal);
+  /// 0 when either is at or below the horizon (z <= 0).
+  double evaluate(std::size_t channel, const Vec3& wi, const Vec3& wo) const;
+  /// Every channel.
+  Eigen::VectorXd evaluate(const Vec3& wi, const Vec3& wo) const;
+  /// The BRDF on the mirror direction (wi = wo mirrored about the normal) seen at elevation
+  /// cosine u: k_d / pi + sum_k C_k(u) (n_k(u) + 2) / (2 pi). The seed's reflectance map profile.
+  double mirrorValue(std::size_t channel, double u) const;
+
+  /// The 3 x channelCount() matrix taking channel values to linear sRGB: identity for channels R,
+  /// G, B; the CIE 1931 / D65 weights (SpectrumToRgb) for spectral models; a column of ones for
+  /// one channel. Throws Error(InvalidArgument) for other layouts.
+  Eigen::Matrix<double, 3, Eigen::Dynamic> rgbWeights() const;
+};
+
+/// What LobeMaterial puts in a map.
+enum class LobeMaterialMode {
+  /// The seed's reflectance map (seed 000 section 8): no lights; unlit(g) is the BRDF on the mirror
+  /// direction at the texel's elevation, mirrorValue(n.v), like cook_torrance's reflectance mode.
+  Reflectance,
+  /// Directional lights: shade(g, l) = f(l, v) max(0, n.l), the radiance for a light of unit
+  /// irradiance at normal incidence (as Phong and Cook-Torrance's lighting mode).
+  Lighting,
+  /// Kautz & McCool's prefiltered form (seed 002 Eq. 19): shade(g, l) = sum_k C_k(u) (n_k + 2) /
+  /// (2 pi) max(0, r.l)^n_k, the lobes alone (no k_d, no cosine: the renderer multiplies by n.r_v).
+  /// For a Constant model it depends on r alone and is a sum of radial lobes about l.
+  Prefiltered,
+};
+
+/// "reflectance", "lighting", "prefiltered".
+std::string_view toString(LobeMaterialMode mode);
+/// Inverse of toString; std::nullopt for other names.
+std::optional<LobeMaterialMode> parseLobeMaterialMode(std::string_view name);
+
+/// A Material evaluating a LobeModel, channels converted to linear sRGB by LobeModel::rgbWeights.
+class LobeMaterial final : public Material {
+ public:
+  /// Validates the model (Error(InvalidArgument)). `modelName` is what model() reports ("lobes",
+  /// "measured").
+  LobeMaterial(LobeModel model, LobeMaterialMode mode, std::string modelName = "lobes");
+
+  std::string_view model() const override { return modelName_; }
+  Rgb shade(const ShadingGeometry& g, const Vec3& light) const override;
+  Rgb unlit(const ShadingGeometry& g) const override;
+  bool usesLights() const override { return mode_ != LobeMaterialMode::Reflectance; }
+  bool viewIndependent() const override;
+  std::optional<std::vector<RadialLobe>> radialLobes(const Vec3& light, const Vec3& view) const override;
+
+  /// The BRDF in linear sRGB (1/sr) for unit normal, view and light: 0 when n.l <= 0 or n.v <= 0.
+  Rgb brdf(const Vec3& normal, const Vec3& view, const Vec3& light) const;
+  /// mirrorValue of every channel at u = n.v, in linear sRGB.
+  Rgb mirrorRgb(double nDotV) const;
+
+  const LobeModel& lobeModel() const { return model_; }
+  LobeMaterialMode mode() const { return mode_; }
+
+ private:
+  Rgb toRgb(const Eigen::VectorXd& channels) const;
+  LobeModel model_;
+  LobeMaterialMode mode_;
+  std::string modelName_;
+  Eigen::Matrix<double, 3, Eigen::Dynamic> rgbWeights_;
+};
+
+}  // namespace brdfbake

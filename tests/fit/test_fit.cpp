@@ -1,0 +1,643 @@
+// Lobe fitting (fit/): the lobe formula against hand-written formulas, the Cornell geometry against
+// the real files, recovery of known lobes from synthetic tables on that geometry (holes, 1 %
+// noise), degenerate tables, fit.json, table interpolation, the mirror-direction profiles and the
+// "measured" / "lobes" spec materials.
+#include <brdfbake/bake/baker.hpp>
+#include <brdfbake/bake/sphere_map.hpp>
+#include <brdfbake/brdf/lobes.hpp>
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/fit/cornell_grid.hpp>
+#include <brdfbake/fit/fit_file.hpp>
+#include <brdfbake/fit/fit_report.hpp>
+#include <brdfbake/fit/lobe_fit.hpp>
+#include <brdfbake/fit/mirror_profile.hpp>
+#include <brdfbake/fit/table_interpolation.hpp>
+#include <brdfbake/importers/measured_io.hpp>
+#include <brdfbake/importers/spec.hpp>
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <random>
+#include <set>
+
+#include "test_support.hpp"
+
+namespace brdfbake {
+namespace {
+
+bool imageIsFinite(const Image& image) {
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x)
+      if (!image.at(x, y).allFinite()) return false;
+  return true;
+}
+
+// Hand-written model of one channel: the formula of brdf/lobes.hpp typed out again.
+double phongLobeByHand(double c, double n, double cosine) {
+  return cosine > 0.0 ? c * (n + 2.0) / (2.0 * kPi) * std::pow(cosine, n) : 0.0;
+}
+
+LobeModel constantModel() {
+  LobeModel m;
+  m.elevation = LobeElevation::Constant;
+  m.channels = {{"R", 0.20, {{{0.30}, {12.0}}, {{0.50}, {300.0}}}},
+                {"G", 0.10, {{{0.20}, {30.0}}, {{0.45}, {800.0}}}},
+                {"B", 0.05, {{{0.10}, {5.0}}, {{0.60}, {150.0}}}}};
+  return m;
+}
+
+// The elevation range of the Cornell views: theta_s from 0 to 79.05 degrees.
+double cornellMinCos() { return std::cos(2.0 * std::asin(0.9 / std::sqrt(2.0))); }
+
+LobeModel varyingModel() {
+  LobeModel m;
+  m.elevation = LobeElevation::Varying;
+  m.minCos = cornellMinCos();
+  m.maxCos = 1.0;
+  // Lobes that grow and sharpen towards grazing, as measured lacquers do.
+  m.channels = {{"R", 0.15, {{{0.80, 0.25, 0.08}, {120.0, 60.0, 25.0}}}},
+                {"G", 0.05, {{{0.90, 0.30, 0.10}, {150.0, 70.0, 30.0}}}},
+                {"B", 0.02, {{{1.00, 0.35, 0.12}, {180.0, 80.0, 35.0}}}}};
+  return m;
+}
+
+// Geometric Bernstein blend typed out: p0^((1-t)^2) p1^(2t(1-t)) p2^(t^2).
+double blendByHand(const std::vector<double>& p, double u, double minCos, double maxCos) {
+  const double t = std::clamp(std::log(u / minCos) / std::log(maxCos / minCos), 0.0, 1.0);
+  return std::pow(p[0], (1 - t) * (1 - t)) * std::pow(p[1], 2 * t * (1 - t)) * std::pow(p[2], t * t);
+}
+
+TEST(LobeFormula, MatchesTheFormulaTypedOut) {
+  const LobeModel m = constantModel();
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  for (int i = 0; i < 200; ++i) {
+    const Vec3 wi = directionFromAngles(0.5 * kPi * uniform(rng), kTwoPi * uniform(rng));
+    const Vec3 wo = directionFromAngles(0.5 * kPi * uniform(rng), kTwoPi * uniform(rng));
+    const Vec3 rv(-wo.x(), -wo.y(), wo.z());
+    for (std::size_t c = 0; c < 3; ++c) {
+      double expected = m.channels[c].diffuse / kPi;
+      for (const auto& lobe : m.channels[c].lobes) expected += phongLobeByHand(lobe.weight[0], lobe.exponent[0], rv.dot(wi));
+      EXPECT_NEAR(m.evaluate(c, wi, wo), expected, 1e-12 * std::max(1.0, expected));
+    }
+  }
+  // Below the horizon there is no BRDF.
+  EXPECT_EQ(m.evaluate(0, Vec3(0, 0, -1), Vec3(0, 0, 1)), 0.0);
+  // On the mirror direction the lobes peak at C (n + 2) / (2 pi).
+  EXPECT_NEAR(m.mirrorValue(0, 0.7), 0.2 / kPi + 0.3 * 14.0 / kTwoPi + 0.5 * 302.0 / kTwoPi, 1e-12);
+}
+
+TEST(LobeFormula, VaryingParametersAreGeometricBernsteinBlends) {
+  const LobeModel m = varyingModel();
+  for (double theta : {0.0, 0.3, 0.8, 1.2, 1.38, 1.5}) {
+    const double u = std::cos(theta);
+    const auto& lobe = m.channels[1].lobes[0];
+    EXPECT_NEAR(m.weight(1, 0, u), blendByHand(lobe.weight, std::max(u, m.minCos), m.minCos, m.maxCos), 1e-12);
+    EXPECT_NEAR(m.exponent(1, 0, u), blendByHand(lobe.exponent, std::max(u, m.minCos), m.minCos, m.maxCos), 1e-9);
+  }
+  // The ends of the range are the first and last values; beyond the range they are held.
+  EXPECT_NEAR(m.weight(0, 0, m.minCos), 0.80, 1e-12);
+  EXPECT_NEAR(m.weight(0, 0, 0.01), 0.80, 1e-12);
+  EXPECT_NEAR(m.exponent(0, 0, 1.0), 25.0, 1e-9);
+}
+
+TEST(LobeFormula, NormalisedLobeReflectsItsWeightAboutItsAxis) {
+  // Integral over the hemisphere about the axis of C (n+2)/(2 pi) cos^n cos dw = C, by quadrature.
+  for (double n : {1.0, 10.0, 300.0}) {
+    double sum = 0.0;
+    const int steps = 200000;
+    for (int i = 0; i < steps; ++i) {
+      const double theta = (i + 0.5) * (0.5 * kPi) / steps;
+      sum += normalizedLobe(0.7, n, std::cos(theta)) * std::cos(theta) * std::sin(theta) * kTwoPi * (0.5 * kPi / steps);
+    }
+    EXPECT_NEAR(sum, 0.7, 1e-6) << "n = " << n;
+  }
+}
+
+TEST(LobeFormula, ValidationNamesTheChannel) {
+  LobeModel m = constantModel();
+  m.channels[1].lobes[0].exponent[0] = 2e5;
+  try {
+    m.validate();
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("channel 'G' lobe 0"), std::string::npos) << e.what();
+  }
+  m = varyingModel();
+  m.channels[0].lobes[0].weight[1] = 0.0;  // a geometric blend needs positive values
+  EXPECT_THROW(m.validate(), Error);
+}
+
+TEST(CornellGrid, HasTheGeometryOfTheCornellFiles) {
+  const auto full = cornellSampleAngles(false);
+  EXPECT_EQ(full.size(), 8u * 190u);
+  const auto measured = cornellSampleAngles(true);
+  EXPECT_EQ(measured.size(), 1439u);
+  // Every hole lies within 17 degrees of the source, but one.
+  int far = 0;
+  for (const auto& a : full) {
+    if (!isCornellHole(a)) continue;
+    const double angle = std::acos(directionFromAngles(a.thetaIn, a.phiIn).dot(directionFromAngles(a.thetaOut, a.phiOut)));
+    far += angle > radians(17.0);
+  }
+  EXPECT_EQ(far, 1);
+}
+
+TEST(CornellGrid, MatchesEveryRealFileSampleForSample) {
+  BRDFBAKE_REQUIRE_SHARED(dir, "data/cornell");
+  const auto ours = cornellSampleAngles(true);
+  auto key = [](const SampleAngles& a) {
+    return std::tuple(std::llround(a.thetaIn * 1e6), std::llround(a.phiIn * 1e6), std::llround(a.thetaOut * 1e6),
+                      std::llround(a.phiOut * 1e6));
+  };
+  std::set<decltype(key(ours[0]))> expected;
+  for (const auto& a : ours) expected.insert(key(a));
+  for (const char* name : {"garnet_red.astm", "krylon_blue_RGB.astm", "krylon_blue.brdf"}) {
+    const MeasuredTable table = readMeasuredTable(dir / name);
+    std::set<decltype(key(ours[0]))> got;
+    for (const auto& a : table.angles) got.insert(key(a));
+    EXPECT_EQ(got, expected) << name;
+  }
+}
+
+TEST(SyntheticTable, IsTheModelWithRelativeNoise) {
+  const MeasuredTable clean = makeSyntheticTable(constantModel(), 0.0, 1);
+  const MeasuredTable noisy = makeSyntheticTable(constantModel(), 0.01, 1);
+  ASSERT_EQ(clean.size(), 1439u);
+  double sum = 0.0, sumSquares = 0.0;
+  int count = 0;
+  for (std::size_t i = 0; i < clean.size(); ++i) {
+    for (Eigen::Index c = 0; c < 3; ++c) {
+      const double v = clean.values(static_cast<Eigen::Index>(i), c);
+      EXPECT_NEAR(v, constantModel().evaluate(static_cast<std::size_t>(c), clean.incidentDirection(i), clean.outgoingDirection(i)), 1e-12);
+      const double ratio = noisy.values(static_cast<Eigen::Index>(i), c) / v - 1.0;
+      sum += ratio, sumSquares += ratio * ratio, ++count;
+    }
+  }
+  EXPECT_NEAR(sum / count, 0.0, 0.001);
+  EXPECT_NEAR(std::sqrt(sumSquares / count), 0.01, 0.0005);
+}
+
+// C within 2 %, n within 5 %, for every lobe of every channel.
+void expectRecovered(const LobeModel& truth, const LobeModel& fitted, double u) {
+  ASSERT_EQ(fitted.channelCount(), truth.channelCount());
+  for (std::size_t c = 0; c < truth.channelCount(); ++c) {
+    ASSERT_EQ(fitted.channels[c].lobes.size(), truth.channels[c].lobes.size());
+    for (std::size_t k = 0; k < truth.channels[c].lobes.size(); ++k) {
+      const double C = truth.weight(c, k, u), n = truth.exponent(c, k, u);
+      EXPECT_NEAR(fitted.weight(c, k, u), C, 0.02 * C) << "channel " << c << " lobe " << k << " u " << u;
+      EXPECT_NEAR(fitted.exponent(c, k, u), n, 0.05 * n) << "channel " << c << " lobe " << k << " u " << u;
+    }
+  }
+}
+
+TEST(LobeFit, RecoversKnownConstantLobesFromANoisyCornellTable) {
+  const LobeModel truth = constantModel();
+  const MeasuredTable table = makeSyntheticTable(truth, 0.01, 7);
+  const FitResult fit = fitLobes(table);  // defaults: lobes and elevation auto
+  ASSERT_TRUE(fit.usable()) << fit.briefReport();
+  EXPECT_EQ(fit.model.elevation, LobeElevation::Constant) << fit.briefReport();
+  expectRecovered(truth, fit.model, 0.5);
+  for (std::size_t c = 0; c < 3; ++c) {
+    EXPECT_NEAR(fit.model.channels[c].diffuse, truth.channels[c].diffuse, 0.02 * truth.channels[c].diffuse);
+    // 1 % noise on values is 1/3 % on cube roots: the fit sits at the noise level.
+    EXPECT_LT(fit.channels[c].logRmse, 0.012);
+    EXPECT_EQ(fit.channels[c].solver.termination, "CONVERGENCE");
+  }
+  // Auto chose 2 lobes: 3 improved by less than the margin.
+  int chosen = 0;
+  for (const auto& candidate : fit.candidates) {
+    if (candidate.chosen) chosen = candidate.lobes;
+  }
+  EXPECT_EQ(chosen, 2);
+}
+
+TEST(LobeFit, RecoversKnownVaryingLobesFromANoisyCornellTable) {
+  const LobeModel truth = varyingModel();
+  const MeasuredTable table = makeSyntheticTable(truth, 0.01, 11);
+  FitOptions options;
+  options.lobes = 1;
+  options.elevation = ElevationChoice::Varying;
+  const FitResult fit = fitLobes(table, options);
+  ASSERT_TRUE(fit.usable()) << fit.briefReport();
+  EXPECT_NEAR(fit.model.minCos, truth.minCos, 1e-6);
+  // At the elevations of the table's incident angles, where the highlights are measured.
+  for (int degreesIn = 10; degreesIn <= 80; degreesIn += 10) expectRecovered(truth, fit.model, std::cos(radians(degreesIn)));
+}
+
+TEST(LobeFit, AutoElevationPrefersVaryingOnlyWhenTheDataVaries) {
+  FitOptions options;
+  options.lobes = 1;
+  const FitResult varying = fitLobes(makeSyntheticTable(varyingModel(), 0.01, 5), options);
+  EXPECT_EQ(varying.model.elevation, LobeElevation::Varying) << varying.briefReport();
+}
+
+TEST(LobeFit, OptionsAreValidatedBeforeWork) {
+  const MeasuredTable table = makeSyntheticTable(constantModel(), 0.01, 1);
+  for (auto change : std::vector<std::function<void(FitOptions&)>>{
+           [](FitOptions& o) { o.lobes = 7; }, [](FitOptions& o) { o.autoMargin = 0.0; },
+           [](FitOptions& o) { o.lossScale = -1.0; }, [](FitOptions& o) { o.maxIterations = 0; },
+           [](FitOptions& o) { o.maxAutoLobes = 0; }}) {
+    FitOptions options;
+    change(options);
+    try {
+      fitLobes(table, options);
+      ADD_FAILURE() << "accepted bad options";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), Error::Kind::InvalidArgument) << e.what();
+    }
+  }
+}
+
+// Degenerate tables: a clear error or a sane documented result, never a crash.
+TEST(LobeFitDegenerate, AllZeroChannelFitsExactlyWithZeroWeights) {
+  MeasuredTable table = makeSyntheticTable(constantModel(), 0.01, 2);
+  table.values.col(1).setZero();
+  FitOptions options;
+  options.lobes = 2;
+  options.elevation = ElevationChoice::Constant;
+  const FitResult fit = fitLobes(table, options);
+  ASSERT_TRUE(fit.usable()) << fit.briefReport();
+  const auto& g = fit.model.channels[1];
+  EXPECT_NEAR(g.diffuse, 0.0, 1e-9);
+  for (const auto& lobe : g.lobes) EXPECT_NEAR(lobe.weight[0], 0.0, 1e-9);
+  EXPECT_NEAR(fit.channels[1].rmsCosineWeighted, 0.0, 1e-9);
+  expectRecovered(LobeModel{constantModel().elevation, 0.1, 1.0, {constantModel().channels[0]}, {}},
+                  LobeModel{fit.model.elevation, 0.1, 1.0, {fit.model.channels[0]}, {}}, 0.5);
+}
+
+TEST(LobeFitDegenerate, OneIncidentAngleFits) {
+  const MeasuredTable full = makeSyntheticTable(constantModel(), 0.01, 3);
+  MeasuredTable table = full;
+  const auto rows = full.samplesAtIncidentTheta(radians(40.0));
+  table.angles.clear();
+  table.values.resize(static_cast<Eigen::Index>(rows.size()), 3);
+  for (std::size_t j = 0; j < rows.size(); ++j) {
+    table.angles.push_back(full.angles[rows[j]]);
+    table.values.row(static_cast<Eigen::Index>(j)) = full.values.row(static_cast<Eigen::Index>(rows[j]));
+  }
+  const FitResult fit = fitLobes(table);
+  ASSERT_TRUE(fit.usable()) << fit.briefReport();
+  for (const auto& c : fit.channels) {
+    EXPECT_TRUE(std::isfinite(c.logRmse));
+    EXPECT_LT(c.logRmse, 0.05) << c.name;  // the samples it saw are fitted to about the noise
+  }
+}
+
+TEST(LobeFitDegenerate, ThreeSamplesFitOneConstantLobeAndTwoAreRefused) {
+  const MeasuredTable full = makeSyntheticTable(constantModel(), 0.0, 1);
+  MeasuredTable table = full;
+  const auto rows = full.samplesAtIncidentTheta(radians(30.0));
+  const std::size_t picked[3] = {rows[0], rows[5], rows[9]};
+  table.angles.clear();
+  table.values.resize(3, 3);
+  for (int j = 0; j < 3; ++j) {
+    table.angles.push_back(full.angles[picked[j]]);
+    table.values.row(j) = full.values.row(static_cast<Eigen::Index>(picked[j]));
+  }
+  const FitResult fit = fitLobes(table);
+  EXPECT_EQ(fit.model.channels[0].lobes.size(), 1u);
+  EXPECT_EQ(fit.model.elevation, LobeElevation::Constant);
+  for (const auto& c : fit.model.channels) {
+    EXPECT_TRUE(std::isfinite(c.diffuse));
+    EXPECT_TRUE(std::isfinite(c.lobes[0].exponent[0]));
+  }
+  // Asking for more than three samples can determine is an error, not a silent fallback.
+  FitOptions options;
+  options.lobes = 2;
+  options.elevation = ElevationChoice::Constant;
+  EXPECT_THROW(fitLobes(table, options), Error);
+  table.angles.pop_back();
+  table.values.conservativeResize(2, 3);
+  try {
+    fitLobes(table);
+    FAIL() << "two samples accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), Error::Kind::InvalidInput);
+    EXPECT_NE(std::string(e.what()).find("cannot determine"), std::string::npos) << e.what();
+  }
+}
+
+TEST(LobeFitDegenerate, NaNFieldsAreRejectedNamingTheFileAndLine) {
+  test::TempDir dir;
+  MeasuredTable table = makeSyntheticTable(constantModel(), 0.0, 1);
+  table.values(5, 1) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(fitLobes(table), Error);  // an in-memory table with NaN does not validate
+  table.values(5, 1) = 0.5;
+  writeAstm(dir / "t.astm", table);
+  // Corrupt one field of the written file.
+  std::ifstream in(dir / "t.astm");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  const auto vars = s.find("VARS");
+  const auto row = s.find('\n', vars) + 1;
+  const auto comma = s.find(',', row);
+  s.replace(row, comma - row, "nan");
+  std::ofstream(dir / "t.astm") << s;
+  try {
+    readTableForFitting(dir / "t.astm");
+    FAIL() << "NaN accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), Error::Kind::InvalidInput);
+    EXPECT_NE(std::string(e.what()).find("t.astm:"), std::string::npos) << e.what();
+  }
+}
+
+TEST(FitFile, RoundTripsModelAndStatistics) {
+  test::TempDir dir;
+  FitOptions options;
+  options.lobes = 1;
+  options.elevation = ElevationChoice::Varying;
+  FitFile file;
+  file.source = {"synthetic", "synthetic", 1439, "rgb", {"a note"}};
+  file.fit = fitLobes(makeSyntheticTable(varyingModel(), 0.01, 4), options);
+  writeFitFile(dir / "fit.json", file);
+  const FitFile back = readFitFile(dir / "fit.json");
+  EXPECT_EQ(back.source.notes, file.source.notes);
+  EXPECT_EQ(back.fit.model.elevation, LobeElevation::Varying);
+  EXPECT_EQ(back.fit.model.minCos, file.fit.model.minCos);
+  for (std::size_t c = 0; c < 3; ++c) {
+    EXPECT_EQ(back.fit.model.channels[c].diffuse, file.fit.model.channels[c].diffuse);
+    EXPECT_EQ(back.fit.model.channels[c].lobes[0].weight, file.fit.model.channels[c].lobes[0].weight);
+    EXPECT_EQ(back.fit.model.channels[c].lobes[0].exponent, file.fit.model.channels[c].lobes[0].exponent);
+    EXPECT_EQ(back.fit.channels[c].logRmse, file.fit.channels[c].logRmse);
+    EXPECT_EQ(back.fit.channels[c].solver.termination, file.fit.channels[c].solver.termination);
+    EXPECT_EQ(back.fit.channels[c].worst.index, file.fit.channels[c].worst.index);
+  }
+  EXPECT_EQ(back.fit.candidates.size(), file.fit.candidates.size());
+  EXPECT_TRUE(back.fit.usable());
+}
+
+TEST(FitFile, ErrorsNameTheJsonPath) {
+  FitFile file;
+  file.fit.model = constantModel();
+  file.hasFitInfo = false;
+  const nlohmann::json good = nlohmann::json::parse(fitFileToJson(file).dump());
+  EXPECT_NO_THROW(fitFileFromJson(good, "fit.json"));
+  auto expectError = [&](nlohmann::json document, const std::string& fragment) {
+    try {
+      fitFileFromJson(document, "fit.json");
+      ADD_FAILURE() << "accepted; expected " << fragment;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), Error::Kind::InvalidInput);
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).rfind("fit.json: ", 0), 0u) << e.what();
+    }
+  };
+  nlohmann::json d = good;
+  d["channels"][1]["lobes"][0]["exponent"][0] = 2e5;
+  expectError(d, "channels[1].lobes[0].exponent[0]");
+  d = good;
+  d["version"] = 2;
+  expectError(d, "version");
+  d = good;
+  d["channels"][0]["diffuse"] = -1;
+  expectError(d, "channels[0].diffuse");
+  d = good;
+  d["channels"][2]["lobes"][1]["wieght"] = 1;
+  expectError(d, "wieght");
+  d = good;
+  d["model"]["elevation"] = "varying";  // then one value per parameter is too few
+  expectError(d, "channels[0].lobes[0].weight");
+  d = good;
+  d["channels"][0]["lobes"].erase(1);
+  expectError(d, "channels[0].lobes");
+}
+
+TEST(TableInterpolation, ReturnsSamplesAndUsesSymmetryAndIsotropy) {
+  const MeasuredTable table = makeSyntheticTable(constantModel(), 0.01, 9);
+  const TableInterpolator interpolator(table);
+  for (std::size_t i : {0ul, 100ul, 777ul, 1400ul}) {
+    const Vec3 wi = table.incidentDirection(i), wo = table.outgoingDirection(i);
+    const Eigen::VectorXd expected = table.values.row(static_cast<Eigen::Index>(i)).transpose();
+    EXPECT_TRUE(interpolator.evaluate(wi, wo).isApprox(expected, 1e-12));
+    // The mirror image (phi_s -> -phi_s) and any rotation about the normal give the same value.
+    const Vec3 mirrored(wo.x(), -wo.y(), wo.z());
+    EXPECT_TRUE(interpolator.evaluate(wi, mirrored).isApprox(expected, 1e-12));
+    const Eigen::AngleAxisd rotation(1.234, Vec3::UnitZ());
+    EXPECT_TRUE(interpolator.evaluate(rotation * wi, rotation * wo).isApprox(expected, 1e-9));
+  }
+  // Between samples: a weighted mean of the 4 nearest, so inside their range.
+  const Vec3 wi = directionFromAngles(radians(30.0), 0.0), wo = directionFromAngles(radians(45.0), radians(-100.0));
+  const Eigen::VectorXd v = interpolator.evaluate(wi, wo);
+  const auto rows = table.samplesAtIncidentTheta(radians(30.0));
+  std::vector<std::pair<double, std::size_t>> byDistance;
+  for (std::size_t r : rows) byDistance.emplace_back(std::acos(std::min(1.0, wo.dot(table.outgoingDirection(r)))), r);
+  std::sort(byDistance.begin(), byDistance.end());
+  for (Eigen::Index c = 0; c < 3; ++c) {
+    double lo = HUGE_VAL, hi = -HUGE_VAL;
+    for (int k = 0; k < 4; ++k) {
+      lo = std::min(lo, table.values(static_cast<Eigen::Index>(byDistance[static_cast<std::size_t>(k)].second), c));
+      hi = std::max(hi, table.values(static_cast<Eigen::Index>(byDistance[static_cast<std::size_t>(k)].second), c));
+    }
+    EXPECT_GE(v[c], lo);
+    EXPECT_LE(v[c], hi);
+  }
+  EXPECT_EQ(interpolator.evaluate(wi, Vec3(0, 0, -1)).norm(), 0.0);
+}
+
+TEST(MirrorProfile, SeedsWayTakesTheStrongestSampleNearTheMirror) {
+  const MeasuredTable table = makeSyntheticTable(constantModel(), 0.0, 1);
+  const MirrorProfile seed = strongestNearMirrorProfile(table, radians(10.0));
+  ASSERT_EQ(seed.thetas.size(), 8u);
+  for (std::size_t r = 0; r < 8; ++r) {
+    const Vec3 mirror = reflect(directionFromAngles(seed.thetas[r], 0.0), Vec3(Vec3::UnitZ()));
+    for (Eigen::Index c = 0; c < 3; ++c) {
+      double best = -1.0;
+      for (std::size_t i : table.samplesAtIncidentTheta(seed.thetas[r])) {
+        if (std::acos(std::min(1.0, mirror.dot(table.outgoingDirection(i)))) <= radians(10.0)) {
+          best = std::max(best, table.values(static_cast<Eigen::Index>(i), c));
+        }
+      }
+      EXPECT_EQ(seed.values(static_cast<Eigen::Index>(r), c), best);
+      EXPECT_GT(seed.offsets(static_cast<Eigen::Index>(r), c), radians(0.1));  // never on the mirror itself
+    }
+  }
+  // The fitted profile is the model on the exact mirror direction, so the seed's way is lower
+  // for these sharp lobes.
+  const MirrorProfile fitted = fittedMirrorProfile(constantModel(), seed.thetas);
+  for (std::size_t r = 0; r < 8; ++r) {
+    EXPECT_NEAR(fitted.values(static_cast<Eigen::Index>(r), 0), 0.2 / kPi + 0.3 * 14 / kTwoPi + 0.5 * 302 / kTwoPi, 1e-12);
+    EXPECT_LT(seed.values(static_cast<Eigen::Index>(r), 0), fitted.values(static_cast<Eigen::Index>(r), 0));
+  }
+  // Linear in theta between angles, held beyond them.
+  const double mid = 0.5 * (seed.thetas[2] + seed.thetas[3]);
+  EXPECT_NEAR(seed.at(mid)[1], 0.5 * (seed.values(2, 1) + seed.values(3, 1)), 1e-12);
+  EXPECT_EQ(seed.at(0.0)[2], seed.values(0, 2));
+  EXPECT_EQ(seed.at(1.5)[2], seed.values(7, 2));
+}
+
+TEST(LobeMaterialTest, ReflectanceAndLightingFollowTheModel) {
+  const LobeModel model = varyingModel();
+  const LobeMaterial reflectance(model, LobeMaterialMode::Reflectance);
+  const LobeMaterial lighting(model, LobeMaterialMode::Lighting);
+  EXPECT_FALSE(reflectance.usesLights());
+  EXPECT_TRUE(lighting.usesLights());
+  std::mt19937 rng(5);
+  std::normal_distribution<double> g;
+  for (int i = 0; i < 50; ++i) {
+    const Vec3 r = Vec3(g(rng), g(rng), g(rng)).normalized();
+    const ShadingGeometry geometry = geometryForReflection(r, Vec3::UnitZ());
+    const double nv = geometry.normal.dot(geometry.view);
+    const Rgb value = reflectance.unlit(geometry);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(value[c], model.mirrorValue(static_cast<std::size_t>(c), nv), 1e-12);
+    // Lighting in any frame equals the model in the local frame of the normal, times n.l.
+    const Vec3 light = Vec3(g(rng), g(rng), std::abs(g(rng))).normalized();
+    const Eigen::Quaterniond toLocal = Eigen::Quaterniond::FromTwoVectors(geometry.normal, Vec3::UnitZ());
+    const Vec3 wi = toLocal * light, wo = toLocal * geometry.view;
+    const Rgb lit = lighting.shade(geometry, light);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(lit[c], model.evaluate(static_cast<std::size_t>(c), wi, wo) * std::max(0.0, wi.z()), 1e-9 * (1.0 + lit[c]));
+    }
+  }
+}
+
+TEST(SpecMaterials, LobesAndMeasuredBakeIntoSphereMaps) {
+  test::TempDir dir;
+  FitFile file;
+  file.fit.model = varyingModel();
+  file.hasFitInfo = false;
+  file.hasSource = false;
+  writeFitFile(dir / "fit.json", file);
+  writeAstm(dir / "table.astm", makeSyntheticTable(constantModel(), 0.0, 1));
+  const nlohmann::json spec = {
+      {"maps",
+       {{{"output", "lobes.exr"}, {"parameterization", "sphere"}, {"resolution", 32}, {"samples_per_texel", 1},
+         {"material", {{"model", "lobes"}, {"file", "fit.json"}}}},
+        {{"output", "mirror.exr"}, {"parameterization", "sphere"}, {"resolution", 32}, {"samples_per_texel", 1},
+         {"material", {{"model", "measured"}, {"file", "table.astm"}, {"method", "mirror"}}}},
+        {{"output", "lit.exr"}, {"parameterization", "paraboloid"}, {"resolution", 32}, {"samples_per_texel", 1},
+         {"view", {0, 0, 1}},
+         {"material", {{"model", "lobes"}, {"file", "fit.json"}, {"mode", "lighting"}}},
+         {"lights", {{{"direction", {0.3, 0.2, 1.0}}}}}}}}};
+  const BakeSpec parsed = parseBakeSpec(spec, dir.path(), "spec.json");
+  ASSERT_EQ(parsed.maps.size(), 3u);
+  BakeOptions options;
+  options.samplesPerTexel = 1;
+  const SphereMap sphere(32);
+  // Texel centres: the sphere map's normal at a texel is n = (x, y, sqrt(1 - x^2 - y^2)).
+  const Image lobes = bake(sphere, *parsed.maps[0].makeFunction(), options);
+  const Image mirror = bake(sphere, *parsed.maps[1].makeFunction(), options);
+  const MirrorProfile profile = strongestNearMirrorProfile(makeSyntheticTable(constantModel(), 0.0, 1));
+  for (int y = 2; y < 30; y += 5) {
+    for (int x = 2; x < 30; x += 5) {
+      const double sx = (x + 0.5) / 32 * 2 - 1, sy = 1 - (y + 0.5) / 32 * 2;
+      if (sx * sx + sy * sy > 0.95) continue;
+      const double nz = std::sqrt(1 - sx * sx - sy * sy);
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(lobes.at(x, y)[c], varyingModel().mirrorValue(static_cast<std::size_t>(c), nz), 1e-4 * (1 + lobes.at(x, y)[c]));
+        EXPECT_NEAR(mirror.at(x, y)[c], profile.at(std::acos(nz))[c], 1e-4 * (1 + mirror.at(x, y)[c]));
+      }
+    }
+  }
+  const Image lit = bake(*makeParameterization(ParameterizationKind::Paraboloid, 32), *parsed.maps[2].makeFunction(), options);
+  EXPECT_TRUE(imageIsFinite(lit));
+}
+
+TEST(SpecMaterials, ErrorsNameTheJsonPath) {
+  test::TempDir dir;
+  writeAstm(dir / "table.astm", makeSyntheticTable(constantModel(), 0.0, 1));
+  auto errorFor = [&](const nlohmann::json& material) -> std::string {
+    try {
+      parseBakeSpec({{"maps", {{{"output", "a.exr"}, {"parameterization", "sphere"}, {"material", material}}}}}, dir.path(), "spec.json");
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), Error::Kind::InvalidInput) << e.what();
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_NE(errorFor({{"model", "measured"}, {"file", "table.astm"}}).find("maps[0].material.method: required"), std::string::npos);
+  EXPECT_NE(errorFor({{"model", "measured"}, {"file", "table.astm"}, {"method", "mirror"}, {"lobes", 2}}).find("maps[0].material.lobes"),
+            std::string::npos);
+  EXPECT_NE(errorFor({{"model", "measured"}, {"file", "missing.astm"}, {"method", "mirror"}}).find("maps[0].material.file"),
+            std::string::npos);
+  EXPECT_NE(errorFor({{"model", "lobes"}, {"file", "table.astm"}}).find("maps[0].material.file"), std::string::npos);
+  EXPECT_NE(errorFor({{"model", "lobes"}, {"file", "x.json"}, {"mode", "shiny"}}).find("maps[0].material.mode"), std::string::npos);
+}
+
+TEST(FitReport, ScriptPlotsThePlaneOfIncidence) {
+  const LobeModel model = constantModel();
+  const MeasuredTable table = makeSyntheticTable(model, 0.0, 1);
+  const std::string script = fitReportScript("/tmp/x.png", table, model, "t");
+  EXPECT_NE(script.find("multiplot layout 2,4"), std::string::npos);
+  // The measured mirror-side sample at theta_i = 40, theta_s = 41.41 degrees (ring 5) is listed
+  // with its value.
+  const auto rows = table.samplesAtIncidentTheta(radians(40.0));
+  for (std::size_t i : rows) {
+    if (std::abs(table.angles[i].phiOut - kPi) < 1e-5 && std::abs(degrees(table.angles[i].thetaOut) - 41.4096) < 1e-3) {
+      std::ostringstream line;
+      line.precision(9);
+      line << degrees(table.angles[i].thetaOut) << " " << table.values(static_cast<Eigen::Index>(i), 0);
+      EXPECT_NE(script.find(line.str()), std::string::npos) << line.str();
+    }
+  }
+}
+
+// The real tables: fit with the defaults, converge, bake. Errors and times are printed for docs.
+class RealTable : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(RealTable, FitsConvergesAndBakes) {
+  BRDFBAKE_REQUIRE_SHARED(dir, "data/cornell");
+  const MeasuredTable table = readTableForFitting(dir / GetParam()).toRgb();
+  const FitResult fit = fitLobes(table);
+  ASSERT_TRUE(fit.usable()) << fit.briefReport();
+  for (const auto& c : fit.channels) {
+    EXPECT_EQ(c.solver.termination, "CONVERGENCE") << c.name;
+    // Radiance-weighted RMS error against peaks of 5-10 1/sr (cos 80 x 30-60 1/sr).
+    EXPECT_LT(c.rmsCosineWeighted, 0.1) << c.name << "\n" << fit.briefReport();
+  }
+  std::cout << GetParam() << ": " << fit.briefReport();
+  const LobeMaterial material(fit.model, LobeMaterialMode::Reflectance);
+  const Image image = bake(SphereMap(32), MaterialMapFunction(std::make_shared<LobeMaterial>(material), {}, Vec3::UnitZ()));
+  EXPECT_TRUE(imageIsFinite(image));
+  EXPECT_GT(image.at(16, 16)[0], 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cornell, RealTable,
+                         ::testing::Values("garnet_red.astm", "garnet_red_RGB.astm", "krylon_blue.astm",
+                                           "krylon_blue_RGB.astm", "krylon_blue.brdf"),
+                         [](const ::testing::TestParamInfo<const char*>& param) {
+                           std::string name = param.param;
+                           for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+                           return name;
+                         });
+
+TEST(RealTableSpectral, EveryWavelengthFits) {
+  BRDFBAKE_REQUIRE_SHARED(dir, "data/cornell");
+  const MeasuredTable table = readTableForFitting(dir / "krylon_blue.astm");
+  FitOptions options;
+  options.lobes = 1;
+  options.elevation = ElevationChoice::Varying;
+  const FitResult fit = fitLobes(table, options);
+  ASSERT_TRUE(fit.usable()) << fit.briefReport();
+  ASSERT_EQ(fit.channels.size(), 31u);
+  EXPECT_EQ(fit.model.wavelengthsNm, table.wavelengthsNm);
+  std::cout << fit.briefReport();
+  // A spectral fit bakes through the CIE 1931 conversion.
+  const auto material = std::make_shared<LobeMaterial>(fit.model, LobeMaterialMode::Reflectance);
+  const Image image = bake(SphereMap(16), MaterialMapFunction(material, {}, Vec3::UnitZ()));
+  EXPECT_TRUE(imageIsFinite(image));
+}
+
+TEST(MerlSampling, SamplesTheFullCornellGridAndSkipsUnmeasuredBins) {
+  // A constant MERL table: stored 1500 in every bin gives BRDF (1, 1.15, 1.66); one bin unmeasured.
+  std::vector<double> stored(3 * MerlTable::kBinsPerChannel, 1500.0);
+  const MerlTable probe(stored);
+  const auto a = cornellSampleAngles(false)[100];
+  const auto hd = MerlTable::halfDiffCoordinates(directionFromAngles(a.thetaIn, a.phiIn), directionFromAngles(a.thetaOut, a.phiOut));
+  const std::size_t bin = static_cast<std::size_t>(MerlTable::phiDiffIndex(hd.phiDiff)) +
+                          MerlTable::kPhiDiffBins * (static_cast<std::size_t>(MerlTable::thetaDiffIndex(hd.thetaDiff)) +
+                                                     MerlTable::kThetaDiffBins * static_cast<std::size_t>(MerlTable::thetaHalfIndex(hd.thetaHalf)));
+  stored[bin] = -1.0;
+  const MeasuredTable table = sampleMerlOnCornellGrid(MerlTable(std::move(stored)));
+  EXPECT_LT(table.size(), 1520u);
+  EXPECT_GE(table.size(), 1519u - 8u);  // the unmeasured bin may be hit by a few grid directions
+  for (std::size_t i = 0; i < table.size(); i += 97) {
+    EXPECT_NEAR(table.values(static_cast<Eigen::Index>(i), 0), 1.0, 1e-12);
+    EXPECT_NEAR(table.values(static_cast<Eigen::Index>(i), 2), 1.66, 1e-12);
+  }
+}
+
+}  // namespace
+}  // namespace brdfbake
