@@ -1,6 +1,8 @@
 // brdfbake bake SPEC.json: bake every map of a spec.
 #include <brdfbake/bake/baker.hpp>
+#include <brdfbake/bake/environment.hpp>
 #include <brdfbake/bake/map_file.hpp>
+#include <brdfbake/bake/prefilter.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/version.hpp>
 #include <brdfbake/importers/spec.hpp>
@@ -29,6 +31,51 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// A map with "environment" (docs/prefilter.md): prefilter instead of bake; returns its report entry.
+nlohmann::json bakeEnvironmentMap(const MapSpec& map, const Environment& environment, const BakeArgs& args) {
+  const EnvironmentMapSpec& e = *map.environment;
+  const fs::path specFolder = fs::path(args.spec).parent_path();
+  PrefilterOptions options;
+  options.parameterization = map.parameterization;
+  options.resolution = map.resolution;
+  options.mips = e.mips;
+  options.method = e.method;
+  options.maxError = e.maxError;
+  options.view = e.view;
+  options.up = e.up;
+  options.mirrorSamples = map.samplesPerTexel;
+  options.threads = args.threads;
+  options.allowLarge = args.allowLarge;
+  ProgressBar bar(map.jsonPath + " " + map.output.filename().string(), !args.quiet && !args.json);
+  options.progress = bar.callback();
+  const PrefilteredMap result =
+      e.lobeModel ? prefilterLobeModel(environment, *e.lobeModel, e.lobe, options)
+                  : prefilter(environment, PrefilterLobe::parse(e.lobe, specFolder.empty() ? fs::path(".") : specFolder), options);
+  const auto writeStart = std::chrono::steady_clock::now();
+  const MapWriteReport written =
+      writePrefilteredMap(result, map.output, map.raw, map.cubeLayout, {{fs::path(args.spec), e.file}});
+  const double writeSeconds = secondsSince(writeStart);
+  nlohmann::json entry = {{"output", map.output.string()},
+                          {"files", nlohmann::json::array()},
+                          {"parameterization", std::string(toString(map.parameterization))},
+                          {"resolution", map.resolution},
+                          {"width", result.map->width()},
+                          {"height", result.map->height()},
+                          {"bake_path", "prefilter:" + std::string(toString(result.summary.method))},
+                          {"bake_seconds", result.summary.seconds},
+                          {"write_seconds", writeSeconds},
+                          {"prefilter", result.summary.toJson()},
+                          {"notes", written.notes}};
+  for (const auto& file : written.files) entry["files"].push_back(file.string());
+  if (!args.json && !args.quiet) {
+    std::cout << "wrote " << map.output.string() << " (" << toString(map.parameterization) << " " << result.map->width() << "x"
+              << result.map->height() << "): " << result.summary.briefReport() << "; write " << writeSeconds << " s\n";
+    for (const auto& note : result.summary.notes) std::cout << "  note: " << note << "\n";
+    for (const auto& note : written.notes) std::cout << "  note: " << note << "\n";
+  }
+  return entry;
+}
+
 int runBake(const BakeArgs& args) {
   BakeSpec spec = loadBakeSpec(args.spec);
   if (!args.outputDirectory.empty()) {
@@ -53,8 +100,20 @@ int runBake(const BakeArgs& args) {
     }
   }
 
+  // Environments of prefiltered maps are read (and checked) before any work, too.
+  std::vector<std::optional<Environment>> environments(spec.maps.size());
+  for (std::size_t i = 0; i < spec.maps.size(); ++i) {
+    if (const auto& e = spec.maps[i].environment) {
+      environments[i] = loadEnvironment(e->file, EnvironmentLoadOptions{e->from});
+    }
+  }
+
   nlohmann::json report = {{"spec", args.spec}, {"maps", nlohmann::json::array()}};
   for (const auto& specified : spec.maps) {
+    if (specified.environment) {
+      report["maps"].push_back(bakeEnvironmentMap(specified, *environments[&specified - spec.maps.data()], args));
+      continue;
+    }
     MapSpec map = specified;
     const auto function = map.makeFunction();
     ProgressBar bar(map.jsonPath + " " + map.output.filename().string(), !args.quiet && !args.json);

@@ -1,11 +1,9 @@
 #include "gnuplot.hpp"
 
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/fit/gnuplot.hpp>
 
 #include <unistd.h>
-
-#include <cstdlib>
-#include <fstream>
 
 namespace brdfbake::cli {
 namespace fs = std::filesystem;
@@ -17,24 +15,21 @@ void checkChartPath(const fs::path& output) {
 
 void renderWithGnuplot(const std::string& body, const fs::path& output) {
   checkChartPath(output);
-  if (std::system("command -v gnuplot > /dev/null 2>&1") != 0) {
+  if (!findGnuplot()) {
     throw Error(Error::Kind::Io, "gnuplot not found: install gnuplot-nox (Debian), or use --csv / --json for the points");
   }
   const std::string ext = output.extension().string();
-  const fs::path temporary = output.parent_path() / ("." + output.stem().string() + ".tmp-" + std::to_string(::getpid()) + ext);
-  const fs::path script = fs::temp_directory_path() / ("brdfbake-" + std::to_string(::getpid()) + ".gp");
-  {
-    std::ofstream gp(script);
-    gp << (ext == ".png" ? "set terminal pngcairo size 900,600 noenhanced\n" : "set terminal svg size 900,600 noenhanced\n");
-    gp << "set output '" << temporary.string() << "'\n" << body << "\n";
-  }
-  const int status = std::system(("gnuplot '" + script.string() + "' 2>&1").c_str());
+  const fs::path temporary =
+      output.parent_path() / std::string(".").append(output.stem().string()).append(".tmp-").append(std::to_string(::getpid())).append(ext);
+  const std::string terminal = ext == ".png" ? "set terminal pngcairo size 900,600 noenhanced\n" : "set terminal svg size 900,600 noenhanced\n";
   std::error_code ec;
-  fs::remove(script, ec);
-  if (status != 0 || !fs::exists(temporary)) {
+  try {
+    runGnuplot(terminal + "set output " + gnuplotQuote(temporary.string()) + "\n" + body + "\nset output\n");
+  } catch (const Error& e) {
     fs::remove(temporary, ec);
-    throw Error(Error::Kind::Io, output.string() + ": gnuplot failed");
+    throw Error(Error::Kind::Io, output.string() + ": " + e.what());
   }
+  if (!fs::exists(temporary)) throw Error(Error::Kind::Io, output.string() + ": gnuplot wrote nothing");
   fs::rename(temporary, output, ec);
   if (ec) throw Error(Error::Kind::Io, output.string() + ": " + ec.message());
 }

@@ -53,6 +53,7 @@ int main(int argc, char** argv) {
   add(brdfbake::cli::addSampleCommand);
   add(brdfbake::cli::addInfoCommand);
   add(brdfbake::cli::addConvertCommand);
+  add(brdfbake::cli::addPrefilterCommand);
   add(brdfbake::cli::addFitCommand);
   add(brdfbake::cli::addEvalCommand);
   add(brdfbake::cli::addPreviewCommand);

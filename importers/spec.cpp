@@ -1,4 +1,5 @@
 #include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/importers/material_spec.hpp>
 #include <brdfbake/importers/spec.hpp>
 
@@ -29,6 +30,67 @@ DirectionalLight parseLight(const nlohmann::json& value, const std::string& path
   return result;
 }
 
+// "environment": {"file", "lobe", "method", "max_error", "mips", "from", "view", "up"} in place of
+// "material" and "lights".
+void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& baseDirectory) {
+  for (const char* key : {"material", "lights"}) {
+    if (map.has(key)) throw specError(map.child(key), "an environment map takes its values from \"environment\"; remove it");
+  }
+  if (spec.anyAuto()) throw specError(map.path(), "environment maps need a fixed parameterization, resolution and samples_per_texel");
+  if (spec.viewGiven || spec.viewNeed != MapSpec::ViewNeed::Unspecified) {
+    throw specError(map.child("view"), "environment maps live in the environment's frame; a sphere map's view goes in "
+                                       "\"environment\": {\"view\": [x, y, z]}");
+  }
+  JsonObjectReader env = map.object("environment");
+  EnvironmentMapSpec e;
+  const std::string file = env.string("file");
+  if (file.empty()) throw specError(env.child("file"), "must not be empty");
+  e.file = fs::path(file).is_absolute() ? fs::path(file) : baseDirectory / file;
+  e.lobe = env.string("lobe");
+  try {
+    if (e.lobe.rfind("lobes:", 0) == 0) {  // a fitted lobe model (docs/fitting.md)
+      const fs::path fit(e.lobe.substr(6));
+      auto model = std::make_shared<LobeModel>(readFitFile(fit.is_absolute() ? fit : baseDirectory / fit).fit.model);
+      if (model->elevation != LobeElevation::Constant) {
+        throw Error(Error::Kind::InvalidInput, "lobes that vary with elevation need a stack of maps; only constant models prefilter into one map");
+      }
+      e.lobeModel = std::move(model);
+    } else {
+      PrefilterLobe::parse(e.lobe, baseDirectory);
+    }
+  } catch (const Error& error) {
+    throw specError(env.child("lobe"), error.what());
+  }
+  if (const auto method = env.optionalString("method")) {
+    try {
+      e.method = parsePrefilterMethod(*method);
+    } catch (const Error& error) {
+      throw specError(env.child("method"), error.what());
+    }
+  }
+  e.maxError = env.number("max_error", 0.01, 0.0, 0.5, /*exclusiveMinimum=*/true);
+  if (const auto* mips = env.find("mips")) {
+    if (!mips->is_boolean()) throw specError(env.child("mips"), "must be true or false, got " + describe(*mips));
+    e.mips = mips->get<bool>();
+  }
+  if (const auto from = env.optionalString("from")) {
+    try {
+      e.from = parseParameterizationKind(*from);
+    } catch (const Error& error) {
+      throw specError(env.child("from"), error.what());
+    }
+  }
+  for (const char* key : {"view", "up"}) {
+    if (!env.has(key)) continue;
+    if (spec.parameterization != ParameterizationKind::Sphere) {
+      throw specError(env.child(key), "only sphere maps have a view; the others live in the environment's frame");
+    }
+    (std::string(key) == "view" ? e.view : e.up) = env.direction(key);
+  }
+  env.finish();
+  spec.environment = e;
+}
+
 MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs::path& baseDirectory) {
   JsonObjectReader map(value, path);
   MapSpec spec;
@@ -55,8 +117,8 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     }
   }
   auto isAuto = [&](const char* key) {
-    const auto* value = map.find(key);
-    return value && value->is_string() && *value == "auto";
+    const auto* entry = map.find(key);
+    return entry && entry->is_string() && *entry == "auto";
   };
   if (isAuto("resolution")) spec.autoSelect.resolution = true;
   else spec.resolution = map.integer("resolution", 256, 1, 65536);
@@ -100,6 +162,12 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     }
     spec.view = map.direction("view");
     spec.viewGiven = true;
+  }
+
+  if (map.has("environment")) {  // a prefiltered environment map instead of a material (docs/prefilter.md)
+    parseEnvironmentMap(map, spec, baseDirectory);
+    map.finish();
+    return spec;
   }
 
   spec.material = parseMaterial(map.require("material"), map.child("material"), {baseDirectory});
@@ -159,6 +227,10 @@ AutoOptions MapSpec::autoOptions() const {
 }
 
 std::shared_ptr<const MapFunction> MapSpec::makeFunction() const {
+  if (environment) {
+    throw Error(Error::Kind::InvalidArgument, jsonPath + ": an environment map is prefiltered from its environment "
+                                                         "(brdfbake bake or prefilter), not baked from a material");
+  }
   return std::make_shared<MaterialMapFunction>(material, lights, view);
 }
 

@@ -7,6 +7,7 @@
 #include <brdfbake/bake/map_file.hpp>
 #include <brdfbake/bake/map_function.hpp>
 #include <brdfbake/bake/parameterization.hpp>
+#include <brdfbake/bake/prefilter.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -17,6 +18,20 @@
 #include <vector>
 
 namespace brdfbake {
+
+/// "environment": {...} in place of "material" and "lights": a prefiltered environment map
+/// (docs/prefilter.md): the map's parameterization, resolution, samples_per_texel (mirror lobe)
+/// and layout apply as for any map.
+struct EnvironmentMapSpec {
+  std::filesystem::path file;                    ///< "file", resolved against the spec's folder
+  std::string lobe;                              ///< "lobe", as PrefilterLobe::parse reads it, or "lobes:FIT.json"
+  std::shared_ptr<const LobeModel> lobeModel;    ///< the fitted model read from "lobes:FIT.json" (else null)
+  PrefilterMethod method = PrefilterMethod::Auto;  ///< "method" (default "auto")
+  double maxError = 0.01;                        ///< "max_error" (default 0.01)
+  bool mips = false;                             ///< "mips": also write STEM_mipK.EXT
+  std::optional<ParameterizationKind> from;      ///< "from": parameterization of a plain image
+  Vec3 view = Vec3::UnitZ(), up = Vec3::UnitY();  ///< "view", "up": sphere maps only
+};
 
 /// One entry of "maps", validated.
 struct MapSpec {
@@ -31,6 +46,8 @@ struct MapSpec {
   std::shared_ptr<const Material> material;
   std::vector<DirectionalLight> lights;
   nlohmann::json raw;                   ///< the map's JSON as written, stored in the map's metadata
+  /// Set for prefiltered environment maps ("environment"); then material and lights are empty.
+  std::optional<EnvironmentMapSpec> environment;
   /// "mips": true (silhouette sphere maps only): also write the hand-made mip levels 1.. as
   /// STEM_mip1.EXT, STEM_mip2.EXT, ... beside the output (docs/materials.md).
   bool mips = false;
@@ -51,7 +68,7 @@ struct MapSpec {
   /// The candidates and target for chooseConfiguration (fixed values become one-element lists).
   AutoOptions autoOptions() const;
 
-  /// The function the baker integrates.
+  /// The function the baker integrates (Error(InvalidArgument) for environment maps).
   std::shared_ptr<const MapFunction> makeFunction() const;
 };
 

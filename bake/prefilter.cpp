@@ -1,0 +1,922 @@
+#include <brdfbake/bake/baker.hpp>
+#include <brdfbake/bake/env_mips.hpp>
+#include <brdfbake/bake/prefilter.hpp>
+#include <brdfbake/brdf/material.hpp>
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/core/version.hpp>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <atomic>
+#include <map>
+#include <chrono>
+#include <mutex>
+#include <optional>
+#include <random>
+#include <sstream>
+
+#include "prefilter_internal.hpp"
+
+namespace brdfbake {
+namespace {
+using detail::LatLongPyramid;
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+std::string formatG(double value) {
+  std::ostringstream out;
+  out.precision(3);
+  out << value;
+  return out.str();
+}
+
+// Cost model (seconds per operation on one core, measured on the development machine; only the
+// order of candidates depends on it).
+constexpr double kDirectPerSample = 5e-9;
+constexpr double kShPerCoefficient = 5e-9;  // evaluation: basis and RGB dot, per coefficient
+constexpr double kShProjectPerCoefficient = 2e-9;
+constexpr double kImportancePerSample = 60e-9;
+constexpr double kGridLookup = 80e-9;
+constexpr double kReferencePerSample = 6e-9;
+
+class Progress {
+ public:
+  Progress(const std::function<void(double)>& callback, int total) : callback_(callback), total_(std::max(1, total)) {}
+  void step() {
+    const int done = ++done_;
+    if (!callback_) return;
+    std::unique_lock lock(mutex_, std::try_to_lock);
+    if (lock.owns_lock() || done == total_) {
+      if (!lock.owns_lock()) lock.lock();
+      callback_(std::min(1.0, static_cast<double>(done) / total_));
+    }
+  }
+
+ private:
+  const std::function<void(double)>& callback_;
+  int total_;
+  std::atomic<int> done_{0};
+  std::mutex mutex_;
+};
+
+// Eye space of a sphere map -> environment frame.
+Mat3 eyeToEnvironment(const PrefilterOptions& options) {
+  const Vec3 z = options.view.normalized();
+  Vec3 up = options.up - options.up.dot(z) * z;
+  if (up.norm() < 1e-9) up = anyPerpendicular(z);
+  const Vec3 y = up.normalized();
+  Mat3 r;
+  r.col(0) = y.cross(z), r.col(1) = y, r.col(2) = z;
+  return r;
+}
+
+// ---- evaluators ------------------------------------------------------------------------------
+
+struct Evaluator {
+  virtual ~Evaluator() = default;
+  virtual Rgb value(const Vec3& axis) const = 0;
+};
+
+struct DirectEvaluator final : Evaluator {
+  explicit DirectEvaluator(std::unique_ptr<detail::DirectSummer> s) : summer(std::move(s)) {}
+  Rgb value(const Vec3& axis) const override { return summer->value(axis); }
+  std::unique_ptr<detail::DirectSummer> summer;
+};
+
+struct ImportanceEvaluator final : Evaluator {
+  explicit ImportanceEvaluator(std::unique_ptr<detail::ImportanceSampler> s) : sampler(std::move(s)) {}
+  Rgb value(const Vec3& axis) const override { return sampler->value(axis); }
+  std::unique_ptr<detail::ImportanceSampler> sampler;
+};
+
+struct ShEvaluator final : Evaluator {
+  explicit ShEvaluator(std::unique_ptr<detail::ShFilter> f) : filter(std::move(f)) {}
+  Rgb value(const Vec3& axis) const override {
+    thread_local std::vector<double> scratch;
+    scratch.resize(shCount(filter->order()));
+    return filter->value(axis, scratch.data());
+  }
+  std::unique_ptr<detail::ShFilter> filter;
+};
+
+struct GridEvaluator final : Evaluator {
+  GridEvaluator(const Evaluator& inner, int height) : grid(height) {
+    tbb::parallel_for(0, grid.height(), [&](int y) {
+      for (int x = 0; x < grid.width(); ++x) grid.set(x, y, inner.value(grid.direction(x, y)));
+    });
+  }
+  Rgb value(const Vec3& axis) const override { return grid.value(axis); }
+  detail::LatLongGrid grid;
+};
+
+struct ReferenceEvaluator final : Evaluator {
+  ReferenceEvaluator(const Environment& environment, const PrefilterLobe& lobe) : summer(environment, lobe) {}
+  Rgb value(const Vec3& axis) const override { return summer.value(axis); }
+  detail::ReferenceSummer summer;
+};
+
+// A configuration of one method.
+struct CandidateSpec {
+  PrefilterMethod method = PrefilterMethod::Auto;
+  int shOrder = 0;
+  int samples = 0;
+  double q = 0.0, tail = 0.0;
+  double shTail = 0.0;   // SH: max over l > order of |lambda_l| / lambda_0 (the truncation's scale)
+  int gridPerWidth = 0;  // > 0: evaluate a lat-long grid with this many points per lobe width, interpolate
+  int gridHeight = 0;
+  double predicted = 0.0;
+  std::string detail;
+};
+
+CandidateSpec makeSpec(PrefilterMethod method, int shOrder = 0, int samples = 0, double q = 0.0, double tail = 0.0) {
+  CandidateSpec spec;
+  spec.method = method, spec.shOrder = shOrder, spec.samples = samples, spec.q = q, spec.tail = tail;
+  return spec;
+}
+
+// Everything the candidates share, built on first use.
+class Context {
+ public:
+  Context(const Environment& environment, const PrefilterLobe& lobe) : environment_(environment), lobe_(lobe) {}
+  const LatLongPyramid& pyramid() {
+    if (!pyramid_) pyramid_ = std::make_unique<LatLongPyramid>(environment_);
+    return *pyramid_;
+  }
+  std::shared_ptr<const RadialTable> table() {
+    if (!table_) {
+      const PrefilterLobe lobe = lobe_;
+      table_ = std::make_shared<RadialTable>([lobe](double c) { return lobe.profile(c); }, 1e-6, (1 << 20) + 1);
+    }
+    return table_;
+  }
+  // The lobe narrowed for sums over box-filtered texels of angular size `box`: a box adds a
+  // variance of box^2/12 per axis, so the lobe's angles are scaled by s = sigma / sqrt(sigma^2 -
+  // box^2/12) (at most sqrt 2) to keep the variance of the sum that of the lobe.
+  std::shared_ptr<const RadialTable> correctedTable(double box) {
+    const double sigma = lobe_.width(), added = box * box / 12.0;
+    const double scale = added < 0.5 * sigma * sigma ? sigma / std::sqrt(sigma * sigma - added) : std::sqrt(2.0);
+    if (scale < 1.0 + 1e-3) return table();
+    const long key = std::lround(scale * 1e6);
+    auto& entry = corrected_[key];
+    if (!entry) {
+      const PrefilterLobe lobe = lobe_;
+      entry = std::make_shared<RadialTable>(
+          [lobe, scale](double c) { return lobe.profile(std::cos(std::min(kPi, scale * std::acos(std::clamp(c, -1.0, 1.0))))); },
+          1e-6, (1 << 20) + 1);
+    }
+    return entry;
+  }
+  const std::vector<double>& zonal(int order) {
+    if (static_cast<int>(zonal_.size()) <= order) zonal_ = lobe_.zonalCoefficients(std::max(order, 256));
+    return zonal_;
+  }
+  const Environment& environment() const { return environment_; }
+  const PrefilterLobe& lobe() const { return lobe_; }
+
+ private:
+  const Environment& environment_;
+  PrefilterLobe lobe_;
+  std::unique_ptr<LatLongPyramid> pyramid_;
+  std::shared_ptr<const RadialTable> table_;
+  std::map<long, std::shared_ptr<const RadialTable>> corrected_;
+  std::vector<double> zonal_;
+};
+
+int directLevel(Context& context, double q) { return context.pyramid().levelFor(context.lobe().width() / q); }
+// Where even level 0 is coarser than width/q, its texels are split into sub-samples (at most 4 x 4).
+int directSubdivision(Context& context, double q) {
+  const int level = directLevel(context, q);
+  return std::clamp(static_cast<int>(std::ceil(q * context.pyramid().texelAngle(level) / std::max(context.lobe().width(), 1e-12))), 1, 4);
+}
+
+std::unique_ptr<Evaluator> buildInner(const CandidateSpec& spec, Context& context) {
+  switch (spec.method) {
+    case PrefilterMethod::SphericalHarmonics:
+      return std::make_unique<ShEvaluator>(std::make_unique<detail::ShFilter>(context.pyramid(), context.lobe(), spec.shOrder));
+    case PrefilterMethod::Importance:
+      return std::make_unique<ImportanceEvaluator>(
+          std::make_unique<detail::ImportanceSampler>(context.pyramid(), context.lobe(), spec.samples));
+    case PrefilterMethod::Direct: {
+      const int level = directLevel(context, spec.q), sub = directSubdivision(context, spec.q);
+      const double cosCap = std::cos(context.lobe().tailAngle(spec.tail));
+      return std::make_unique<DirectEvaluator>(std::make_unique<detail::DirectSummer>(
+          context.pyramid(), context.lobe(), level, cosCap, sub, context.correctedTable(context.pyramid().texelAngle(level) / sub)));
+    }
+    case PrefilterMethod::Reference:
+      return std::make_unique<ReferenceEvaluator>(context.environment(), context.lobe());
+    default: break;
+  }
+  throw Error(Error::Kind::InvalidArgument, "prefilter: no evaluator for method " + std::string(toString(spec.method)));
+}
+
+std::unique_ptr<Evaluator> build(const CandidateSpec& spec, Context& context) {
+  auto inner = buildInner(spec, context);
+  if (spec.gridHeight <= 0) return inner;
+  return std::make_unique<GridEvaluator>(*inner, spec.gridHeight);
+}
+
+// ---- candidates and the cost model -----------------------------------------------------------
+
+// The smallest SH order past which every |lambda_l| / lambda_0 stays below tau (up to 256).
+int shOrderFor(const std::vector<double>& lambda, double tau) {
+  int order = static_cast<int>(lambda.size()) - 1;
+  for (int l = static_cast<int>(lambda.size()) - 1; l >= 0; --l) {
+    if (std::abs(lambda[l]) > tau * std::abs(lambda[0])) break;
+    order = l - 1;
+  }
+  return std::max(order, 0);
+}
+
+struct Workload {
+  double outputPoints = 0.0;  // texels evaluated
+  int threads = 1;
+};
+
+// Per-point cost and setup cost of an inner method (seconds, one core).
+void innerCost(const CandidateSpec& spec, Context& context, double& perPoint, double& setup) {
+  setup = 0.0;
+  switch (spec.method) {
+    case PrefilterMethod::SphericalHarmonics: {
+      const int n = shCount(spec.shOrder);
+      const auto& level = context.pyramid().level(context.pyramid().levelFor(kPi / (4.0 * (spec.shOrder + 1))));
+      perPoint = n * kShPerCoefficient;
+      setup = (static_cast<double>(level.width) * level.height * (spec.shOrder + 1) * 2.0 + level.height * 8.0 * n) *
+              kShProjectPerCoefficient;
+      break;
+    }
+    case PrefilterMethod::Importance: perPoint = spec.samples * kImportancePerSample; break;
+    case PrefilterMethod::Direct: {
+      const detail::DirectSummer summer(context.pyramid(), context.lobe(), directLevel(context, spec.q),
+                                        std::cos(context.lobe().tailAngle(spec.tail)), directSubdivision(context, spec.q), nullptr);
+      perPoint = summer.texelsPerAxis() * kDirectPerSample;
+      break;
+    }
+    default: perPoint = 0.0;
+  }
+}
+
+// Fills in the grid, predicted seconds and the detail text; false if the grid would not pay.
+bool finishSpec(CandidateSpec& spec, Context& context, const Workload& work) {
+  double perPoint = 0.0, setup = 0.0;
+  innerCost(spec, context, perPoint, setup);
+  const double direct = setup + work.outputPoints * perPoint;
+  double seconds = direct;
+  if (spec.gridPerWidth > 0) {
+    const double rows = std::ceil(spec.gridPerWidth * kPi / std::max(context.lobe().width(), 1e-9) / 2.0) * 2.0;
+    if (rows > 4096) return false;
+    spec.gridHeight = std::max(8, static_cast<int>(rows));
+    const double gridPoints = 2.0 * spec.gridHeight * static_cast<double>(spec.gridHeight);
+    seconds = setup + gridPoints * perPoint + work.outputPoints * kGridLookup;
+    if (seconds > 0.7 * direct) return false;
+  }
+  spec.predicted = seconds / work.threads;
+  std::ostringstream detail;
+  switch (spec.method) {
+    case PrefilterMethod::SphericalHarmonics: detail << "order " << spec.shOrder << " (" << shCount(spec.shOrder) << " coefficients)"; break;
+    case PrefilterMethod::Importance: detail << spec.samples << " samples"; break;
+    case PrefilterMethod::Direct: {
+      const int level = directLevel(context, spec.q);
+      const auto& L = context.pyramid().level(level);
+      detail << "level " << level << " (" << L.width << "x" << L.height << ", q " << spec.q << "), tail " << spec.tail;
+      if (const int sub = directSubdivision(context, spec.q); sub > 1) detail << ", " << sub << "x" << sub << " per texel";
+      break;
+    }
+    default: break;
+  }
+  if (spec.gridHeight > 0) detail << ", via a " << 2 * spec.gridHeight << "x" << spec.gridHeight << " grid";
+  spec.detail = detail.str();
+  return true;
+}
+
+std::vector<CandidateSpec> candidatesFor(const PrefilterOptions& options, Context& context, const Workload& work) {
+  std::vector<CandidateSpec> specs;
+  const PrefilterMethod m = options.method;
+  auto want = [&](PrefilterMethod method) { return m == PrefilterMethod::Auto || m == method; };
+  const bool fixed = options.shOrder > 0 || options.importanceSamples > 0 || options.directTexelsPerWidth > 0.0;
+  if (want(PrefilterMethod::SphericalHarmonics)) {
+    std::vector<int> orders;
+    if (options.shOrder > 0) {
+      orders.push_back(options.shOrder);
+    } else if (!fixed) {
+      const auto& lambda = context.zonal(256);
+      if (context.lobe().kind() == LobeKind::Irradiance) orders.push_back(2);
+      for (double tau : {3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5}) {
+        const int order = shOrderFor(lambda, tau);
+        if (order <= 128 && (orders.empty() || order > orders.back())) orders.push_back(order);
+      }
+    }
+    for (int order : orders) {
+      CandidateSpec spec = makeSpec(PrefilterMethod::SphericalHarmonics, order);
+      const auto& lambda = context.zonal(256);
+      for (std::size_t l = order + 1; l < lambda.size(); ++l) spec.shTail = std::max(spec.shTail, std::abs(lambda[l] / lambda[0]));
+      specs.push_back(spec);
+    }
+  }
+  if (want(PrefilterMethod::Direct)) {
+    if (options.directTexelsPerWidth > 0.0) {
+      specs.push_back(makeSpec(PrefilterMethod::Direct, 0, 0, options.directTexelsPerWidth, 1e-6));
+    } else if (!fixed) {
+      specs.push_back(makeSpec(PrefilterMethod::Direct, 0, 0, 2.0, 1e-4));
+      specs.push_back(makeSpec(PrefilterMethod::Direct, 0, 0, 4.0, 1e-5));
+      specs.push_back(makeSpec(PrefilterMethod::Direct, 0, 0, 8.0, 1e-6));
+    }
+  }
+  if (want(PrefilterMethod::Importance)) {
+    if (options.importanceSamples > 0) {
+      specs.push_back(makeSpec(PrefilterMethod::Importance, 0, options.importanceSamples));
+    } else if (!fixed) {
+      for (int samples : {64, 256, 1024}) specs.push_back(makeSpec(PrefilterMethod::Importance, 0, samples));
+    }
+  }
+  // Each configuration evaluated at the output texels, or on a grid of 4 or 8 points per lobe
+  // width and interpolated, where that is cheaper.
+  std::vector<CandidateSpec> all;
+  for (const auto& spec : specs) {
+    for (int grid : {0, 4, 8}) {
+      if (grid > 0 && !options.interpolate) continue;
+      CandidateSpec variant = spec;
+      variant.gridPerWidth = grid;
+      if (finishSpec(variant, context, work)) all.push_back(variant);
+    }
+  }
+  std::stable_sort(all.begin(), all.end(), [](const CandidateSpec& a, const CandidateSpec& b) { return a.predicted < b.predicted; });
+  return all;
+}
+
+// ---- probes ----------------------------------------------------------------------------------
+
+struct Probes {
+  std::vector<Vec3> axes;
+  std::vector<double> weights;
+  std::vector<Rgb> reference;
+  double floor = 0.0;
+  double seconds = 0.0;
+};
+
+Vec3 randomUnit(std::mt19937& rng) {
+  std::normal_distribution<double> g;
+  Vec3 v;
+  do v = Vec3(g(rng), g(rng), g(rng));
+  while (v.norm() < 1e-6);
+  return v.normalized();
+}
+
+Probes makeProbes(Context& context, const PrefilterOptions& options, double floor) {
+  const auto start = Clock::now();
+  const PrefilterLobe& lobe = context.lobe();
+  const LatLongPyramid& pyramid = context.pyramid();
+  std::mt19937 rng(options.seed);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  Probes probes;
+  probes.floor = floor;
+  const bool sphereIrradiance = options.parameterization == ParameterizationKind::Sphere && lobe.indexedByNormal();
+  // A random rotation of a Fibonacci lattice: uniform directions, evenly spread.
+  Mat3 rotate;
+  {
+    const Vec3 a = randomUnit(rng);
+    const Vec3 t = anyPerpendicular(a);
+    const double angle = kTwoPi * uniform(rng);
+    const Vec3 b = std::cos(angle) * t + std::sin(angle) * a.cross(t);
+    rotate.col(0) = b, rotate.col(1) = a.cross(b), rotate.col(2) = a;
+  }
+  // Guided probes: a texel drawn by its luminance x solid angle at a coarse level, then a lobe sample.
+  const int guidedLevel = pyramid.levelFor(kPi / 64.0);
+  const auto& G = pyramid.level(guidedLevel);
+  std::vector<double> cdf(static_cast<std::size_t>(G.width) * G.height + 1, 0.0);
+  for (int y = 0; y < G.height; ++y)
+    for (int x = 0; x < G.width; ++x) {
+      const Rgb v = G.at(x, y);
+      const double luminance = std::max(0.0, 0.2126 * v[0] + 0.7152 * v[1] + 0.0722 * v[2]);
+      const std::size_t i = static_cast<std::size_t>(y) * G.width + x;
+      cdf[i + 1] = cdf[i] + luminance * G.rowSolidAngle[y];
+    }
+  const double total = cdf.back();
+  const int count = options.probes;
+  const int guided = sphereIrradiance || !(total > 0.0) ? 0 : count / 2;
+  const int uniformCount = count - guided;
+  const double golden = kPi * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < uniformCount; ++i) {
+    const double z = 1.0 - 2.0 * (i + 0.5) / uniformCount, r = std::sqrt(std::max(0.0, 1.0 - z * z));
+    const Vec3 d = rotate * Vec3(r * std::cos(golden * i), r * std::sin(golden * i), z);
+    probes.axes.push_back(sphereIrradiance ? prefilterAxis(d, lobe, options) : d);
+  }
+  for (int i = 0; i < guided; ++i) {
+    const double u = (i + uniform(rng)) / guided * total;
+    const std::size_t k = std::min<std::size_t>(cdf.size() - 2, std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin() - 1);
+    const int y = static_cast<int>(k / G.width), x = static_cast<int>(k % G.width);
+    const Vec3 centre(G.rowSin[y] * G.columnSin[x], G.rowCos[y], -G.rowSin[y] * G.columnCos[x]);
+    const double theta = lobe.sampleAngle(uniform(rng)), phi = kTwoPi * uniform(rng);
+    const Vec3 t = anyPerpendicular(centre), b = centre.cross(t);
+    probes.axes.push_back((std::sin(theta) * (std::cos(phi) * t + std::sin(phi) * b) + std::cos(theta) * centre).normalized());
+  }
+  // Weights: (1/4pi) / q(d), q the mixture density the probes were drawn from.
+  probes.weights.assign(probes.axes.size(), 1.0);
+  probes.reference.resize(probes.axes.size());
+  // The reference on the probes: the lobe (tabulated to 1e-6 of its peak) over all but 1e-7 of its
+  // mass, on the finest level needed (texels <= width / 16, else level 0 split into sub-samples
+  // <= width / 8).
+  const int referenceLevel = pyramid.levelFor(lobe.width() / 16.0);
+  const int sub = std::clamp(static_cast<int>(std::ceil(8.0 * pyramid.texelAngle(referenceLevel) / std::max(lobe.width(), 1e-12))), 1, 8);
+  const auto table = context.table();
+  const RadialTable::View profile = table->view();
+  const detail::DirectSummer reference(pyramid, lobe, referenceLevel, std::cos(lobe.tailAngle(1e-7)), sub, table);
+  tbb::parallel_for(0, static_cast<int>(probes.axes.size()), [&](int p) {
+    const Vec3& d = probes.axes[p];
+    probes.reference[p] = reference.value(d);
+    if (guided > 0) {
+      double density = 0.0;
+      for (int y = 0; y < G.height; ++y)
+        for (int x = 0; x < G.width; ++x) {
+          const std::size_t i = static_cast<std::size_t>(y) * G.width + x;
+          const double pi = cdf[i + 1] - cdf[i];
+          if (pi <= 0.0) continue;
+          const Vec3 centre(G.rowSin[y] * G.columnSin[x], G.rowCos[y], -G.rowSin[y] * G.columnCos[x]);
+          density += pi * profile(0.5 * (d - centre).norm());  // u = sin(theta / 2)
+        }
+      density /= total * lobe.mass();
+      const double q = (static_cast<double>(uniformCount) / count) / kFourPi + (static_cast<double>(guided) / count) * density;
+      probes.weights[p] = 1.0 / (kFourPi * q);
+    }
+  });
+  probes.seconds = since(start);
+  return probes;
+}
+
+double relativeError(const Rgb& value, const Rgb& reference, double floor) {
+  return (value - reference).matrix().norm() / std::max(reference.matrix().norm(), floor);
+}
+
+void estimate(const Evaluator& evaluator, const Probes& probes, double& rms, double& worst) {
+  std::vector<double> errors(probes.axes.size());
+  tbb::parallel_for(0, static_cast<int>(probes.axes.size()), [&](int p) {
+    errors[p] = relativeError(evaluator.value(probes.axes[p]), probes.reference[p], probes.floor);
+  });
+  double sum = 0.0, weights = 0.0;
+  worst = 0.0;
+  for (std::size_t p = 0; p < errors.size(); ++p) {
+    sum += probes.weights[p] * errors[p] * errors[p];
+    weights += probes.weights[p];
+    worst = std::max(worst, errors[p]);
+  }
+  rms = weights > 0.0 ? std::sqrt(sum / weights) : 0.0;
+}
+
+// Evaluates `evaluator` at every output texel centre.
+Image evaluateOutput(const Parameterization& map, const Evaluator& evaluator, const PrefilterLobe& lobe,
+                     const PrefilterOptions& options) {
+  Image image(map.width(), map.height(), Rgba::Zero());
+  Progress progress(options.progress, map.height());
+  tbb::parallel_for(0, map.height(), [&](int y) {
+    for (int x = 0; x < map.width(); ++x) {
+      const auto d = map.getDirectionFor(Vec2(x + 0.5, y + 0.5));
+      if (!d) continue;
+      const Rgb v = evaluator.value(prefilterAxis(*d, lobe, options));
+      image.set(x, y, Rgba(v[0], v[1], v[2], map.texelCoverage(x, y)));
+    }
+    progress.step();
+  });
+  return image;
+}
+
+// Mirror: the environment looked up (bilinear) over each texel's footprint.
+class RotatedEnvironment final : public MapFunction {
+ public:
+  RotatedEnvironment(const Environment& environment, const Mat3& rotation) : environment_(environment), rotation_(rotation) {}
+  Rgb evaluate(const Vec3& direction) const override { return environment_.radiance(rotation_ * direction); }
+
+ private:
+  const Environment& environment_;
+  Mat3 rotation_;
+};
+
+void requireFiniteOutput(const Image& image) {
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x)
+      if (!allFinite(image.at(x, y))) {
+        throw Error(Error::Kind::Numerical, "prefilter produced a non-finite value at texel (" + std::to_string(x) + ", " +
+                                                std::to_string(y) + ")");
+      }
+}
+
+}  // namespace
+
+// ---- public ----------------------------------------------------------------------------------
+
+std::string_view toString(PrefilterMethod method) {
+  switch (method) {
+    case PrefilterMethod::Auto: return "auto";
+    case PrefilterMethod::Reference: return "reference";
+    case PrefilterMethod::SphericalHarmonics: return "sh";
+    case PrefilterMethod::Importance: return "importance";
+    case PrefilterMethod::Direct: return "direct";
+    case PrefilterMethod::Resample: return "resample";
+  }
+  return "?";
+}
+
+PrefilterMethod parsePrefilterMethod(std::string_view name) {
+  for (auto m : {PrefilterMethod::Auto, PrefilterMethod::Reference, PrefilterMethod::SphericalHarmonics,
+                 PrefilterMethod::Importance, PrefilterMethod::Direct}) {
+    if (name == toString(m)) return m;
+  }
+  throw Error(Error::Kind::InvalidArgument,
+              "unknown prefilter method '" + std::string(name) + "' (accepted: auto, reference, sh, importance, direct)");
+}
+
+void PrefilterOptions::validate() const {
+  require(resolution >= 1 && resolution <= 65536, "prefilter resolution must be in [1, 65536], got " + std::to_string(resolution));
+  require(view.allFinite() && view.norm() > 0.0, "prefilter view must be a non-zero finite vector");
+  require(up.allFinite() && up.norm() > 0.0, "prefilter up must be a non-zero finite vector");
+  require(maxError > 0.0 && maxError < 1.0, "max error must be in (0, 1) (a relative RMS error; 0.01 is 1 %), got " + formatG(maxError));
+  require(method != PrefilterMethod::Resample, "the resample method is the mirror lobe's; choose auto or reference");
+  require(shOrder >= 0 && shOrder <= 200, "SH order must be in [0, 200], got " + std::to_string(shOrder));
+  require(importanceSamples >= 0 && importanceSamples <= 1 << 20, "importance samples must be in [0, 2^20]");
+  require(directTexelsPerWidth >= 0.0 && directTexelsPerWidth <= 64.0, "direct texels per width must be in [0, 64]");
+  require(shOrder == 0 || method == PrefilterMethod::SphericalHarmonics, "an SH order needs the sh method");
+  require(importanceSamples == 0 || method == PrefilterMethod::Importance, "importance samples need the importance method");
+  require(directTexelsPerWidth == 0.0 || method == PrefilterMethod::Direct, "direct texels per width need the direct method");
+  require(probes >= 16 && probes <= 1 << 20, "probes must be in [16, 2^20], got " + std::to_string(probes));
+  require(mirrorSamples >= 1 && mirrorSamples <= 4096, "mirror samples must be in [1, 4096]");
+  require(threads >= 0, "threads must be >= 0 (0 = all cores), got " + std::to_string(threads));
+  require(maxTexels > 0, "maxTexels must be > 0");
+}
+
+std::string PrefilterSummary::briefReport() const {
+  std::ostringstream out;
+  out << lobe << " by " << toString(method);
+  if (!detail.empty()) out << " (" << detail << ")";
+  if (errorEstimated) {
+    out << ": estimated RMS relative error " << formatG(100.0 * errorEstimate) << " % (bound " << formatG(100.0 * maxError) << " %"
+        << (metTarget ? "" : ", NOT met") << ")";
+  } else {
+    out << ": exact";
+  }
+  out << ", " << formatG(seconds) << " s";
+  if (levels > 1) out << ", " << levels << " mip levels";
+  return out.str();
+}
+
+nlohmann::json PrefilterSummary::toJson() const {
+  nlohmann::json candidatesJson = nlohmann::json::array();
+  for (const auto& c : candidates) {
+    nlohmann::json entry = {{"method", std::string(toString(c.method))}, {"detail", c.detail},
+                            {"predicted_seconds", c.predictedSeconds}, {"seconds", c.seconds}, {"chosen", c.chosen}};
+    if (c.errorEstimate >= 0.0) entry["error_estimate"] = c.errorEstimate, entry["error_estimate_max"] = c.errorEstimateMax;
+    candidatesJson.push_back(entry);
+  }
+  nlohmann::json out = {{"lobe", lobe},
+                        {"method", std::string(toString(method))},
+                        {"detail", detail},
+                        {"max_error", maxError},
+                        {"error_metric", "rms_relative"},
+                        {"error_estimated", errorEstimated},
+                        {"met_target", metTarget},
+                        {"levels", levels},
+                        {"filter_seconds", seconds},
+                        {"estimate_seconds", estimateSeconds},
+                        {"output_seconds", outputSeconds},
+                        {"mip_seconds", mipSeconds},
+                        {"candidates", candidatesJson},
+                        {"notes", notes}};
+  out["error_estimate"] = errorEstimated ? nlohmann::json(errorEstimate) : nlohmann::json(nullptr);
+  out["error_estimate_max"] = errorEstimated ? nlohmann::json(errorEstimateMax) : nlohmann::json(nullptr);
+  return out;
+}
+
+Vec3 prefilterAxis(const Vec3& mapDirection, const PrefilterLobe& lobe, const PrefilterOptions& options) {
+  if (options.parameterization != ParameterizationKind::Sphere) return mapDirection.normalized();
+  const Mat3 rotation = eyeToEnvironment(options);
+  const Vec3 eye = lobe.indexedByNormal() ? geometryForReflection(mapDirection.normalized(), Vec3::UnitZ()).normal
+                                          : mapDirection.normalized();
+  return (rotation * eye).normalized();
+}
+
+double prefilterErrorFloor(const Environment& environment, const PrefilterLobe& lobe) {
+  const Parameterization& map = *environment.map;
+  double sum = 0.0, weight = 0.0;
+  for (int y = 0; y < map.height(); ++y)
+    for (int x = 0; x < map.width(); ++x) {
+      const double w = map.texelSolidAngle(x, y);
+      sum += w * environment.image.at(x, y).head<3>().matrix().norm();
+      weight += w;
+    }
+  const double mean = weight > 0.0 ? sum / weight : 0.0;
+  return std::max(1e-3 * lobe.mass() * mean, 1e-30);
+}
+
+PrefilterError prefilterError(const Image& result, const Image& reference, const Parameterization& map, double floor) {
+  require(result.width() == map.width() && result.height() == map.height() && reference.width() == map.width() &&
+              reference.height() == map.height(),
+          "prefilterError: images do not match the map");
+  double sum = 0.0, weight = 0.0;
+  PrefilterError error;
+  for (int y = 0; y < map.height(); ++y)
+    for (int x = 0; x < map.width(); ++x) {
+      const double w = map.texelSolidAngle(x, y);
+      if (!(w > 0.0)) continue;
+      const double e = relativeError(result.at(x, y).head<3>(), reference.at(x, y).head<3>(), floor);
+      sum += w * e * e;
+      weight += w;
+      error.max = std::max(error.max, e);
+    }
+  error.rms = weight > 0.0 ? std::sqrt(sum / weight) : 0.0;
+  return error;
+}
+
+std::vector<Rgb> prefilterReferenceAt(const Environment& environment, const PrefilterLobe& lobe, const std::vector<Vec3>& axes,
+                                      int threads) {
+  require(!lobe.isMirror(), "the mirror lobe has no integral; look the environment up instead");
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  std::vector<Rgb> values(axes.size());
+  arena.execute([&] {
+    const detail::ReferenceSummer summer(environment, lobe);
+    tbb::parallel_for(std::size_t(0), axes.size(), [&](std::size_t i) { values[i] = summer.value(axes[i].normalized()); });
+  });
+  return values;
+}
+
+PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lobe, const PrefilterOptions& options) {
+  options.validate();
+  require(environment.map && !environment.image.empty(), "prefilter: empty environment");
+  const auto start = Clock::now();
+  std::shared_ptr<const Parameterization> map(makeParameterization(options.parameterization, options.resolution));
+  const long long texels = static_cast<long long>(map->width()) * map->height();
+  if (texels > options.maxTexels && !options.allowLarge) {
+    std::ostringstream message;
+    message << "a " << map->width() << " x " << map->height() << " map needs "
+            << static_cast<double>(texels) * 16.0 / (1u << 30) << " GiB of float RGBA, more than the limit of "
+            << static_cast<double>(options.maxTexels) * 16.0 / (1u << 30) << " GiB; lower the resolution or allow large maps";
+    throw Error(Error::Kind::Resource, message.str());
+  }
+  PrefilteredMap result;
+  result.map = map;
+  PrefilterSummary& summary = result.summary;
+  summary.lobe = lobe.name();
+  summary.maxError = options.maxError;
+
+  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  const int threads = arena.max_concurrency();
+  arena.execute([&] {
+    Image level0;
+    if (lobe.isMirror()) {
+      if (options.method != PrefilterMethod::Auto && options.method != PrefilterMethod::Reference) {
+        throw Error(Error::Kind::InvalidArgument, "the mirror lobe is plain resampling (no integral); --method " +
+                                                      std::string(toString(options.method)) + " applies to filtered lobes only");
+      }
+      const auto outputStart = Clock::now();
+      const Mat3 rotation = options.parameterization == ParameterizationKind::Sphere ? eyeToEnvironment(options) : Mat3::Identity();
+      const RotatedEnvironment function(environment, rotation);
+      BakeOptions bakeOptions;
+      bakeOptions.samplesPerTexel = options.mirrorSamples;
+      bakeOptions.threads = options.threads;
+      bakeOptions.maxTexels = options.maxTexels;
+      bakeOptions.allowLarge = options.allowLarge;
+      bakeOptions.progress = options.progress;
+      level0 = bake(*map, function, bakeOptions);
+      summary.method = PrefilterMethod::Resample;
+      summary.detail = std::to_string(options.mirrorSamples) + " footprint samples per texel";
+      summary.outputSeconds = since(outputStart);
+    } else {
+      Context context(environment, lobe);
+      Workload work;
+      work.outputPoints = static_cast<double>(texels);
+      work.threads = threads;
+      std::unique_ptr<Evaluator> chosen;
+      if (options.method == PrefilterMethod::Reference) {
+        const auto setupStart = Clock::now();
+        chosen = build(makeSpec(PrefilterMethod::Reference), context);
+        const auto& ref = static_cast<const ReferenceEvaluator&>(*chosen);
+        summary.method = PrefilterMethod::Reference;
+        summary.detail = std::to_string(ref.summer.samples()) + " input samples (" + std::to_string(ref.summer.subdivision()) +
+                         "x" + std::to_string(ref.summer.subdivision()) + " per texel)";
+        PrefilterCandidate c{PrefilterMethod::Reference, summary.detail,
+                             work.outputPoints * ref.summer.samples() * kReferencePerSample / threads, since(setupStart)};
+        c.chosen = true;
+        summary.candidates.push_back(c);
+      } else {
+        const auto specs = candidatesFor(options, context, work);
+        const bool estimating = options.estimateError || options.method == PrefilterMethod::Auto;
+        std::optional<Probes> probes;
+        if (estimating) {
+          probes = makeProbes(context, options, prefilterErrorFloor(environment, lobe));
+          summary.estimateSeconds += probes->seconds;
+        }
+        // Cheapest first. Auto skips a candidate when one already tried predicts it will fail: the
+        // same setting on another grid failed by more than 2x, or a coarser setting of the same
+        // method failed by more than the method's convergence can make up (importance sampling's
+        // error falls as 1/sqrt(samples), the direct sum's as 1/q^2, SH's as the lobe's
+        // coefficients beyond the order), with a factor 1.5 to spare.
+        const double target = 0.8 * options.maxError;
+        std::vector<std::pair<CandidateSpec, double>> failures;
+        auto predictedFailure = [&](const CandidateSpec& spec) -> double {
+          double worst = 0.0;
+          for (const auto& [tried, error] : failures) {
+            if (tried.method != spec.method) continue;
+            if (tried.shOrder == spec.shOrder && tried.samples == spec.samples && tried.q == spec.q && error > 2.0 * target) {
+              worst = std::max(worst, error);
+            }
+            if (spec.method == PrefilterMethod::Importance && spec.samples > tried.samples) {
+              worst = std::max(worst, error * std::sqrt(static_cast<double>(tried.samples) / spec.samples) / 1.5);
+            }
+            if (spec.method == PrefilterMethod::SphericalHarmonics && spec.shOrder > tried.shOrder && tried.shTail > 0.0) {
+              worst = std::max(worst, error * spec.shTail / tried.shTail / 1.5);
+            }
+            if (spec.method == PrefilterMethod::Direct && spec.q > tried.q) {
+              worst = std::max(worst, error * (tried.q / spec.q) * (tried.q / spec.q) / 1.5);
+            }
+          }
+          return worst;
+        };
+        std::unique_ptr<Evaluator> best;
+        PrefilterCandidate bestCandidate;
+        for (const CandidateSpec& spec : specs) {
+          if (estimating && options.method == PrefilterMethod::Auto) {
+            const double predicted = predictedFailure(spec);
+            if (predicted > target) {
+              PrefilterCandidate skipped{spec.method, spec.detail + " (skipped: predicted error " + formatG(100.0 * predicted) + " %)",
+                                         spec.predicted, 0.0};
+              summary.candidates.push_back(skipped);
+              continue;
+            }
+          }
+          const auto setupStart = Clock::now();
+          auto evaluator = build(spec, context);
+          PrefilterCandidate candidate{spec.method, spec.detail, spec.predicted, since(setupStart)};
+          bool accept = !estimating;
+          if (estimating) {
+            const auto estimateStart = Clock::now();
+            estimate(*evaluator, *probes, candidate.errorEstimate, candidate.errorEstimateMax);
+            summary.estimateSeconds += since(estimateStart);
+            accept = candidate.errorEstimate <= target;
+          }
+          if (accept) {
+            candidate.chosen = true;
+            summary.method = spec.method;
+            summary.detail = spec.detail;
+            summary.errorEstimated = estimating;
+            summary.errorEstimate = std::max(0.0, candidate.errorEstimate);
+            summary.errorEstimateMax = std::max(0.0, candidate.errorEstimateMax);
+            summary.metTarget = !estimating || candidate.errorEstimate <= options.maxError;
+            summary.candidates.push_back(candidate);
+            chosen = std::move(evaluator);
+            break;
+          }
+          failures.emplace_back(spec, candidate.errorEstimate);
+          summary.candidates.push_back(candidate);
+          if (!best || candidate.errorEstimate < bestCandidate.errorEstimate) {
+            best = std::move(evaluator);
+            bestCandidate = candidate;
+          }
+        }
+        if (!chosen && best && options.method != PrefilterMethod::Auto) {
+          // A named method keeps its most accurate setting tried, and says so.
+          for (auto& c : summary.candidates)
+            if (c.detail == bestCandidate.detail && c.method == bestCandidate.method) c.chosen = true;
+          summary.method = bestCandidate.method;
+          summary.detail = bestCandidate.detail;
+          summary.errorEstimated = true;
+          summary.errorEstimate = bestCandidate.errorEstimate;
+          summary.errorEstimateMax = bestCandidate.errorEstimateMax;
+          summary.metTarget = bestCandidate.errorEstimate <= options.maxError;
+          summary.notes.push_back("no " + std::string(toString(options.method)) +
+                                  " setting met the error bound; used the most accurate one tried");
+          chosen = std::move(best);
+        }
+        if (!chosen) {
+          // Auto: nothing fast met the bound (or no candidate applies): the reference does.
+          chosen = build(makeSpec(PrefilterMethod::Reference), context);
+          const auto& ref = static_cast<const ReferenceEvaluator&>(*chosen);
+          summary.method = PrefilterMethod::Reference;
+          summary.detail = std::to_string(ref.summer.samples()) + " input samples";
+          summary.errorEstimated = false;
+          summary.errorEstimate = 0.0;
+          summary.notes.push_back("no fast method met the error bound; fell back to the reference sum");
+          PrefilterCandidate c{PrefilterMethod::Reference, summary.detail,
+                               work.outputPoints * ref.summer.samples() * kReferencePerSample / threads, 0.0};
+          c.chosen = true;
+          summary.candidates.push_back(c);
+        }
+      }
+      const auto outputStart = Clock::now();
+      level0 = evaluateOutput(*map, *chosen, lobe, options);
+      summary.outputSeconds = since(outputStart);
+    }
+    requireFiniteOutput(level0);
+    const auto mipStart = Clock::now();
+    if (options.mips) {
+      result.levels = environmentMipChain(level0, *map);
+    } else {
+      if (options.parameterization == ParameterizationKind::Cube) fixCubeEdges(level0, static_cast<const CubeMap&>(*map));
+      if (options.parameterization == ParameterizationKind::Paraboloid) alignParaboloidBorder(level0, static_cast<const ParaboloidMap&>(*map));
+      result.levels.push_back(std::move(level0));
+    }
+    summary.mipSeconds = since(mipStart);
+  });
+  summary.levels = static_cast<int>(result.levels.size());
+  summary.seconds = since(start);
+  return result;
+}
+
+PrefilteredMap prefilterLobeModel(const Environment& environment, const LobeModel& model, const std::string& name,
+                                  const PrefilterOptions& options) {
+  model.validate();
+  if (model.elevation != LobeElevation::Constant) {
+    throw Error(Error::Kind::InvalidArgument, name + ": lobes that vary with elevation need a stack of maps over elevation; "
+                                                     "only constant lobe models prefilter into one map");
+  }
+  options.validate();
+  const auto start = Clock::now();
+  const Eigen::Matrix<double, 3, Eigen::Dynamic> toRgb = model.rgbWeights();
+  // RGB weight of each distinct exponent: Σ over channels c and lobes k with n_kc = n of
+  // C_kc (n + 2)/(n + 1) times channel c's RGB column.
+  std::map<double, Rgb> terms;
+  for (std::size_t c = 0; c < model.channelCount(); ++c) {
+    for (const Lobe& lobe : model.channels[c].lobes) {
+      const double n = lobe.exponent[0], weight = lobe.weight[0];
+      if (weight == 0.0) continue;
+      auto [it, inserted] = terms.try_emplace(n, Rgb::Zero());
+      it->second += weight * (n + 2.0) / (n + 1.0) * toRgb.col(static_cast<Eigen::Index>(c)).array();
+    }
+  }
+  PrefilterOptions run = options;
+  run.mips = false;
+  PrefilteredMap result;
+  PrefilterSummary& summary = result.summary;
+  summary.lobe = name;
+  summary.maxError = options.maxError;
+  std::ostringstream detail;
+  Image sum;
+  for (const auto& [exponent, weight] : terms) {
+    const PrefilteredMap part = prefilter(environment, PrefilterLobe::phong(exponent), run);
+    if (sum.empty()) {
+      sum = part.levels[0];
+      result.map = part.map;
+      for (int y = 0; y < sum.height(); ++y)
+        for (int x = 0; x < sum.width(); ++x) sum.set(x, y, Rgba(0, 0, 0, part.levels[0].at(x, y)[3]));
+    }
+    for (int y = 0; y < sum.height(); ++y)
+      for (int x = 0; x < sum.width(); ++x) {
+        Rgba v = sum.at(x, y);
+        v.head<3>() += weight * part.levels[0].at(x, y).head<3>();
+        sum.set(x, y, v);
+      }
+    const PrefilterSummary& s = part.summary;
+    detail << (detail.tellp() > 0 ? "; " : "") << s.lobe << " by " << toString(s.method);
+    if (s.method != PrefilterMethod::Resample && s.method != PrefilterMethod::Reference) summary.method = s.method;
+    if (summary.method == PrefilterMethod::Auto) summary.method = s.method;
+    summary.errorEstimated = summary.errorEstimated || s.errorEstimated;
+    summary.errorEstimate = std::max(summary.errorEstimate, s.errorEstimate);
+    summary.errorEstimateMax = std::max(summary.errorEstimateMax, s.errorEstimateMax);
+    summary.metTarget = summary.metTarget && s.metTarget;
+    summary.estimateSeconds += s.estimateSeconds;
+    summary.outputSeconds += s.outputSeconds;
+    for (auto candidate : s.candidates) {
+      candidate.detail = s.lobe + ": " + candidate.detail;
+      summary.candidates.push_back(candidate);
+    }
+    for (const auto& note : s.notes) summary.notes.push_back(s.lobe + ": " + note);
+  }
+  if (terms.empty()) {
+    throw Error(Error::Kind::InvalidArgument, name + ": the model has no lobe of non-zero weight to prefilter");
+  }
+  summary.detail = std::to_string(terms.size()) + " Phong terms: " + detail.str();
+  const auto mipStart = Clock::now();
+  result.levels = options.mips ? environmentMipChain(sum, *result.map) : std::vector<Image>{sum};
+  summary.mipSeconds = since(mipStart);
+  summary.levels = static_cast<int>(result.levels.size());
+  summary.seconds = since(start);
+  return result;
+}
+
+MapWriteReport writePrefilteredMap(const PrefilteredMap& map, const std::filesystem::path& path, nlohmann::json spec,
+                                   CubeLayout layout, const WriteOptions& options) {
+  require(!map.levels.empty() && map.map, "writePrefilteredMap: nothing to write");
+  if (!spec.is_object()) spec = nlohmann::json::object();
+  MapWriteReport report;
+  const int count = static_cast<int>(map.levels.size());
+  for (int level = 0; level < count; ++level) {
+    MapInfo info;
+    info.parameterization = map.map->kind();
+    info.resolution = std::max(1, map.map->resolution() >> level);
+    info.conventionVersion = kConventionVersion;
+    info.spec = spec;
+    const PrefilterSummary& s = map.summary;
+    info.spec["prefilter"] = {{"lobe", s.lobe},
+                              {"method", std::string(toString(s.method))},
+                              {"detail", s.detail},
+                              {"max_error", s.maxError},
+                              {"error_metric", "rms_relative"},
+                              {"error_estimate", s.errorEstimated ? nlohmann::json(s.errorEstimate) : nlohmann::json(nullptr)},
+                              {"exact", !s.errorEstimated && (s.method == PrefilterMethod::Reference || s.method == PrefilterMethod::Resample)},
+                              {"mip_level", level},
+                              {"mip_levels", count}};
+    const MapWriteReport written = writeMap(map.levels[level], info, mipLevelPath(path, level), layout, options);
+    report.files.insert(report.files.end(), written.files.begin(), written.files.end());
+    if (level == 0) report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());
+  }
+  return report;
+}
+
+}  // namespace brdfbake

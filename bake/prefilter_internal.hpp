@@ -1,0 +1,144 @@
+#pragma once
+// Internals of prefilter.cpp: the working lat-long pyramid the fast methods read, and the
+// evaluators (direct sum, filtered importance sampling, spherical harmonics, interpolation grid,
+// reference) that give the prefiltered value at one axis.
+#include <brdfbake/bake/environment.hpp>
+#include <brdfbake/bake/prefilter_lobe.hpp>
+#include <brdfbake/bake/radial_table.hpp>
+#include <brdfbake/bake/sh.hpp>
+
+#include <memory>
+#include <vector>
+
+namespace brdfbake::detail {
+
+// One level of a lat-long image: H rows, W = 2H columns, RGB floats; row y spans
+// theta in [y, y+1] pi/H, column x spans phi in [x, x+1] 2pi/W - pi (docs/conventions.md).
+struct LatLongLevel {
+  int height = 0, width = 0;
+  std::vector<float> rgb;
+  std::vector<double> rowCos, rowSin, rowSolidAngle;  // at row centres; solid angle of one texel of the row
+  std::vector<double> edgeCos, edgeSin;               // of theta at the H + 1 row edges
+  std::vector<double> columnCos, columnSin;           // of phi at column centres
+
+  Rgb at(int x, int y) const {
+    const float* p = &rgb[(static_cast<std::size_t>(y) * width + x) * 3];
+    return {p[0], p[1], p[2]};
+  }
+  // Bilinear at (theta, phi): texel centres at +0.5, wrapped in phi, clamped in theta.
+  Rgb bilinear(double theta, double phi) const;
+  void setGeometry();
+};
+
+// Direction of (theta, phi) in the environment's frame, and back.
+inline Vec3 latLongDirection(double theta, double phi) {
+  const double s = std::sin(theta);
+  return {s * std::sin(phi), std::cos(theta), -s * std::cos(phi)};
+}
+inline void latLongAngles(const Vec3& d, double& theta, double& phi) {
+  theta = std::acos(std::clamp(d.y(), -1.0, 1.0));
+  phi = std::atan2(d.x(), -d.z());
+}
+
+// The environment as a lat-long image with a power-of-two row count and its solid-angle mip chain.
+class LatLongPyramid {
+ public:
+  explicit LatLongPyramid(const Environment& environment);
+  int levels() const { return static_cast<int>(levels_.size()); }
+  const LatLongLevel& level(int index) const { return levels_[index]; }
+  // Angular size (radians) of a texel of `index` (pi / H).
+  double texelAngle(int index) const { return kPi / levels_[index].height; }
+  // The coarsest level whose texels are no wider than `angle` (0 if none is).
+  int levelFor(double angle) const;
+  Rgb trilinear(double theta, double phi, double lod) const;
+  bool resampled() const { return resampled_; }
+  // Solid-angle mean of |L| (RGB norm).
+  double meanNorm() const { return meanNorm_; }
+
+ private:
+  std::vector<LatLongLevel> levels_;
+  bool resampled_ = false;
+  double meanNorm_ = 0.0;
+};
+
+// Σ w Ω L and Σ w Ω over the texels of one pyramid level whose centres lie within the cap
+// cos(angle to axis) >= cosCap, each texel split into sub x sub samples; w from `table` (on
+// u = sin(theta/2)) or, if null, the exact profile.
+class DirectSummer {
+ public:
+  DirectSummer(const LatLongPyramid& pyramid, const PrefilterLobe& lobe, int level, double cosCap, int sub,
+               std::shared_ptr<const RadialTable> table);
+  void sum(const Vec3& axis, Rgb& numerator, double& denominator) const;
+  // mass x numerator / denominator (nearest texel if the lobe missed every sample).
+  Rgb value(const Vec3& axis) const;
+  // Expected texels visited per axis (cost model).
+  double texelsPerAxis() const;
+
+ private:
+  const LatLongPyramid& pyramid_;
+  PrefilterLobe lobe_;
+  int level_, sub_;
+  double cosCap_, capAngle_;
+  std::shared_ptr<const RadialTable> table_;
+  std::vector<double> subColumnCos_, subColumnSin_;  // sub > 1
+};
+
+// Filtered importance sampling from the pyramid.
+class ImportanceSampler {
+ public:
+  ImportanceSampler(const LatLongPyramid& pyramid, const PrefilterLobe& lobe, int samples);
+  Rgb value(const Vec3& axis) const;
+
+ private:
+  const LatLongPyramid& pyramid_;
+  double mass_;
+  std::vector<Vec3> local_;
+  std::vector<double> lod_;  // at the equator; + 0.5 log2(1 / sin theta) elsewhere
+};
+
+// The environment projected onto SH (from a pyramid level with >= 8 rows per band) and convolved.
+class ShFilter {
+ public:
+  ShFilter(const LatLongPyramid& pyramid, const PrefilterLobe& lobe, int order);
+  Rgb value(const Vec3& axis, double* scratch) const { return expansion_.evaluate(shFrame(axis), scratch); }
+  // Environment direction -> SH frame: pole on +y, azimuth phi = atan2(x, -z) as the lat-long's.
+  static Vec3 shFrame(const Vec3& d) { return {-d.z(), d.x(), d.y()}; }
+  int order() const { return expansion_.order; }
+  int projectionLevel() const { return projectionLevel_; }
+
+ private:
+  ShExpansion expansion_;
+  int projectionLevel_ = 0;
+};
+
+// A function sampled at the texel centres of a lat-long grid and interpolated bicubically
+// (Catmull-Rom; wrapped in phi, continued across the poles).
+class LatLongGrid {
+ public:
+  explicit LatLongGrid(int height) : height_(height), width_(2 * height), values_(static_cast<std::size_t>(2 * height) * height) {}
+  int height() const { return height_; }
+  int width() const { return width_; }
+  Vec3 direction(int x, int y) const;
+  void set(int x, int y, const Rgb& value) { values_[static_cast<std::size_t>(y) * width_ + x] = value; }
+  Rgb value(const Vec3& axis) const;
+
+ private:
+  int height_, width_;
+  std::vector<Rgb> values_;
+};
+
+// The exact reference over the environment's own texels (sub-sampled where the lobe is narrow).
+class ReferenceSummer {
+ public:
+  ReferenceSummer(const Environment& environment, const PrefilterLobe& lobe);
+  Rgb value(const Vec3& axis) const;
+  std::size_t samples() const { return x_.size(); }
+  int subdivision() const { return sub_; }
+
+ private:
+  PrefilterLobe lobe_;
+  int sub_ = 1;
+  std::vector<double> x_, y_, z_, weight_, r_, g_, b_;  // r, g, b premultiplied by weight
+};
+
+}  // namespace brdfbake::detail

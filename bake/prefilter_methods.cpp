@@ -1,0 +1,494 @@
+// The prefilter methods at one axis: working pyramid, direct sums, filtered importance sampling,
+// spherical harmonics, interpolation grid, and the exact reference.
+#include <brdfbake/bake/latlong_map.hpp>
+#include <brdfbake/core/error.hpp>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <bit>
+
+#include "prefilter_internal.hpp"
+
+namespace brdfbake::detail {
+namespace {
+
+double luminanceNorm(const Rgb& v) { return v.matrix().norm(); }
+
+// Radical inverse in base 2 (Hammersley points).
+double radicalInverse(unsigned i) {
+  i = (i << 16u) | (i >> 16u);
+  i = ((i & 0x55555555u) << 1u) | ((i & 0xAAAAAAAAu) >> 1u);
+  i = ((i & 0x33333333u) << 2u) | ((i & 0xCCCCCCCCu) >> 2u);
+  i = ((i & 0x0F0F0F0Fu) << 4u) | ((i & 0xF0F0F0F0u) >> 4u);
+  i = ((i & 0x00FF00FFu) << 8u) | ((i & 0xFF00FF00u) >> 8u);
+  return static_cast<double>(i) * 2.3283064365386963e-10;
+}
+
+// An orthonormal frame with `axis` as its third vector.
+void frame(const Vec3& axis, Vec3& t, Vec3& b) {
+  t = anyPerpendicular(axis);
+  b = axis.cross(t);
+}
+
+}  // namespace
+
+// ---- lat-long levels -------------------------------------------------------------------------
+
+void LatLongLevel::setGeometry() {
+  const double dTheta = kPi / height, dPhi = kTwoPi / width;
+  rowCos.resize(height), rowSin.resize(height), rowSolidAngle.resize(height);
+  edgeCos.resize(height + 1), edgeSin.resize(height + 1);
+  for (int y = 0; y <= height; ++y) edgeCos[y] = std::cos(y * dTheta), edgeSin[y] = std::sin(y * dTheta);
+  for (int y = 0; y < height; ++y) {
+    const double theta = (y + 0.5) * dTheta;
+    rowCos[y] = std::cos(theta), rowSin[y] = std::sin(theta);
+    rowSolidAngle[y] = dPhi * (std::cos(y * dTheta) - std::cos((y + 1) * dTheta));
+  }
+  columnCos.resize(width), columnSin.resize(width);
+  for (int x = 0; x < width; ++x) {
+    const double phi = (x + 0.5) * dPhi - kPi;
+    columnCos[x] = std::cos(phi), columnSin[x] = std::sin(phi);
+  }
+}
+
+Rgb LatLongLevel::bilinear(double theta, double phi) const {
+  const double px = (phi / kTwoPi + 0.5) * width - 0.5, py = theta / kPi * height - 0.5;
+  const double fx = std::floor(px), fy = std::floor(py);
+  const double wx = px - fx, wy = py - fy;
+  int x0 = static_cast<int>(fx) % width;
+  if (x0 < 0) x0 += width;
+  const int x1 = x0 + 1 == width ? 0 : x0 + 1;
+  const int y0 = std::clamp(static_cast<int>(fy), 0, height - 1), y1 = std::clamp(static_cast<int>(fy) + 1, 0, height - 1);
+  return (1.0 - wy) * ((1.0 - wx) * at(x0, y0) + wx * at(x1, y0)) + wy * ((1.0 - wx) * at(x0, y1) + wx * at(x1, y1));
+}
+
+LatLongPyramid::LatLongPyramid(const Environment& environment) {
+  const Parameterization& map = *environment.map;
+  LatLongLevel base;
+  const bool powerOfTwoLatLong = map.kind() == ParameterizationKind::LatLong && std::has_single_bit(static_cast<unsigned>(map.resolution()));
+  if (powerOfTwoLatLong) {
+    base.height = map.resolution();
+  } else {
+    // Rows enough to keep the input's finest texels: sphere texels ~4/N rad, paraboloid rim and
+    // cube texels ~1/N... 2/N rad.
+    const double factor = map.kind() == ParameterizationKind::Sphere ? 0.8 : map.kind() == ParameterizationKind::LatLong ? 1.0 : 1.6;
+    base.height = static_cast<int>(std::bit_ceil(static_cast<unsigned>(std::max(8.0, std::ceil(factor * map.resolution())))));
+    base.height = std::min(base.height, 4096);
+    resampled_ = true;
+  }
+  base.width = 2 * base.height;
+  base.rgb.resize(static_cast<std::size_t>(base.width) * base.height * 3);
+  base.setGeometry();
+  tbb::parallel_for(0, base.height, [&](int y) {
+    for (int x = 0; x < base.width; ++x) {
+      Rgb value;
+      if (powerOfTwoLatLong) {
+        value = environment.image.at(x, y).head<3>();
+      } else {
+        // Mean of 2 x 2 bilinear lookups over the texel's footprint.
+        value = Rgb::Zero();
+        for (int a = 0; a < 2; ++a)
+          for (int b = 0; b < 2; ++b) {
+            const double theta = (y + 0.25 + 0.5 * a) * kPi / base.height;
+            const double phi = (x + 0.25 + 0.5 * b) * kTwoPi / base.width - kPi;
+            value += environment.radiance(latLongDirection(theta, phi));
+          }
+        value *= 0.25;
+      }
+      float* p = &base.rgb[(static_cast<std::size_t>(y) * base.width + x) * 3];
+      p[0] = static_cast<float>(value[0]), p[1] = static_cast<float>(value[1]), p[2] = static_cast<float>(value[2]);
+    }
+  });
+  double normSum = 0.0;
+  for (int y = 0; y < base.height; ++y)
+    for (int x = 0; x < base.width; ++x) normSum += base.rowSolidAngle[y] * luminanceNorm(base.at(x, y));
+  meanNorm_ = normSum / kFourPi;
+  levels_.push_back(std::move(base));
+  while (levels_.back().height > 1) {
+    const LatLongLevel& fine = levels_.back();
+    LatLongLevel coarse;
+    coarse.height = fine.height / 2;
+    coarse.width = 2 * coarse.height;
+    coarse.rgb.resize(static_cast<std::size_t>(coarse.width) * coarse.height * 3);
+    coarse.setGeometry();
+    for (int y = 0; y < coarse.height; ++y) {
+      const double w0 = fine.rowSolidAngle[2 * y], w1 = fine.rowSolidAngle[2 * y + 1];
+      const double norm = 1.0 / (2.0 * (w0 + w1));
+      for (int x = 0; x < coarse.width; ++x) {
+        const Rgb v = (w0 * (fine.at(2 * x, 2 * y) + fine.at(2 * x + 1, 2 * y)) +
+                       w1 * (fine.at(2 * x, 2 * y + 1) + fine.at(2 * x + 1, 2 * y + 1))) * norm;
+        float* p = &coarse.rgb[(static_cast<std::size_t>(y) * coarse.width + x) * 3];
+        p[0] = static_cast<float>(v[0]), p[1] = static_cast<float>(v[1]), p[2] = static_cast<float>(v[2]);
+      }
+    }
+    levels_.push_back(std::move(coarse));
+  }
+}
+
+int LatLongPyramid::levelFor(double angle) const {
+  int best = 0;
+  for (int l = 0; l < levels(); ++l)
+    if (texelAngle(l) <= angle) best = l;
+  return best;
+}
+
+Rgb LatLongPyramid::trilinear(double theta, double phi, double lod) const {
+  lod = std::clamp(lod, 0.0, static_cast<double>(levels() - 1));
+  const int l0 = static_cast<int>(lod);
+  const double f = lod - l0;
+  const Rgb a = levels_[l0].bilinear(theta, phi);
+  if (f <= 0.0 || l0 + 1 >= levels()) return a;
+  return (1.0 - f) * a + f * levels_[l0 + 1].bilinear(theta, phi);
+}
+
+// ---- direct sum over the lobe's support ------------------------------------------------------
+
+DirectSummer::DirectSummer(const LatLongPyramid& pyramid, const PrefilterLobe& lobe, int level, double cosCap, int sub,
+                           std::shared_ptr<const RadialTable> table)
+    : pyramid_(pyramid), lobe_(lobe), level_(level), sub_(sub), cosCap_(cosCap), capAngle_(std::acos(std::clamp(cosCap, -1.0, 1.0))),
+      table_(std::move(table)) {
+  if (sub_ > 1) {
+    const LatLongLevel& L = pyramid_.level(level_);
+    const double dPhi = kTwoPi / L.width;
+    subColumnCos_.resize(static_cast<std::size_t>(L.width) * sub_), subColumnSin_.resize(subColumnCos_.size());
+    for (int x = 0; x < L.width; ++x)
+      for (int b = 0; b < sub_; ++b) {
+        const double phi = (x + (b + 0.5) / sub_) * dPhi - kPi;
+        subColumnCos_[x * sub_ + b] = std::cos(phi), subColumnSin_[x * sub_ + b] = std::sin(phi);
+      }
+  }
+}
+
+double DirectSummer::texelsPerAxis() const {
+  const LatLongLevel& L = pyramid_.level(level_);
+  const double capSolidAngle = kTwoPi * (1.0 - cosCap_);
+  const double meanTexel = kFourPi / (static_cast<double>(L.width) * L.height);
+  // Rows near the poles hold more texels per steradian; the band of rows and the column margin add more.
+  const double texels = 1.4 * capSolidAngle / meanTexel + 2.0 * (2.0 * capAngle_ / kPi * L.height + 1.0) + 4.0;
+  return std::min(texels, static_cast<double>(L.width) * L.height) * sub_ * sub_;
+}
+
+void DirectSummer::sum(const Vec3& axis, Rgb& numerator, double& denominator) const {
+  const LatLongLevel& L = pyramid_.level(level_);
+  double thetaD, phiD;
+  latLongAngles(axis, thetaD, phiD);
+  const double cosD = std::cos(thetaD), sinD = std::sin(thetaD), cosPhiD = std::cos(phiD), sinPhiD = std::sin(phiD);
+  const double dTheta = kPi / L.height, dPhi = kTwoPi / L.width;
+  const int yFirst = std::max(0, static_cast<int>(std::floor((thetaD - capAngle_) / dTheta)));
+  const int yLast = std::min(L.height - 1, static_cast<int>(std::floor((thetaD + capAngle_) / dTheta)));
+  const bool exact = !table_;
+  const RadialTable::View view = exact ? RadialTable::View{nullptr, 0.0, 0} : table_->view();
+  const double maxF = static_cast<double>(view.lastInterval) + 0.999999;
+  double nr = 0.0, ng = 0.0, nb = 0.0, den = 0.0;
+  const double u0 = (phiD / kTwoPi + 0.5) * L.width - 0.5;  // column coordinate of the axis (centres at integers)
+  // The weight of a sample at cosine c to the axis.
+  auto weight = [&](double c) {
+    if (exact) return lobe_.profile(c);
+    double f = std::sqrt(std::max(0.0, 0.5 - 0.5 * c)) * view.scale;  // u = sin(theta/2)
+    f = f < maxF ? f : maxF;
+    const long i = static_cast<long>(f);
+    const double t = f - static_cast<double>(i);
+    return view.values[i] + t * (view.values[i + 1] - view.values[i]);
+  };
+  // The cosine limit of the azimuth offset at polar angle theta (cos, sin given) for the cap.
+  auto kappa = [&](double cosT, double sinT) {
+    if (sinT < 1e-12) return cosT * cosD >= cosCap_ ? -2.0 : 2.0;
+    return (cosCap_ - cosT * cosD) / (sinT * sinD);
+  };
+  const double widest = std::acos(std::clamp(cosD / std::max(cosCap_, 1e-300), -1.0, 1.0));
+  for (int y = yFirst; y <= yLast; ++y) {
+    // The widest azimuth of the cap over the row's band.
+    double halfWidth = kPi;
+    if (capAngle_ < kPi && sinD > 1e-12) {
+      double k = std::min(kappa(L.edgeCos[y], L.edgeSin[y]), kappa(L.edgeCos[y + 1], L.edgeSin[y + 1]));
+      if (cosCap_ > 0.0 && widest > y * dTheta && widest < (y + 1) * dTheta) k = std::min(k, kappa(std::cos(widest), std::sin(widest)));
+      if (k > 1.0) continue;
+      halfWidth = k <= -1.0 ? kPi : std::acos(k);
+    }
+    int xFirst = 0, count = L.width;
+    if (halfWidth < kPi - 2.0 * dPhi) {
+      xFirst = static_cast<int>(std::floor(u0 - halfWidth / dPhi)) - 1;
+      count = std::min(L.width, static_cast<int>(std::ceil(u0 + halfWidth / dPhi)) + 2 - xFirst);
+      xFirst = ((xFirst % L.width) + L.width) % L.width;
+    }
+    // The columns as at most two contiguous runs.
+    const int firstEnd = std::min(L.width, xFirst + count);
+    const int runs[2][2] = {{xFirst, firstEnd}, {0, xFirst + count - firstEnd}};
+    const float* row = &L.rgb[static_cast<std::size_t>(y) * L.width * 3];
+    if (sub_ == 1) {
+      const double a = L.rowCos[y] * cosD, b = L.rowSin[y] * sinD, omega = L.rowSolidAngle[y];
+      const double bc = b * cosPhiD, bs = b * sinPhiD;
+      const double* cc = L.columnCos.data();
+      const double* cs = L.columnSin.data();
+      double rr = 0.0, rg = 0.0, rb = 0.0, rw = 0.0;
+      for (const auto& run : runs) {
+        for (int x = run[0]; x < run[1]; ++x) {
+          const double w = weight(a + cc[x] * bc + cs[x] * bs);
+          const float* p = row + 3 * x;
+          rr += w * p[0], rg += w * p[1], rb += w * p[2], rw += w;
+        }
+      }
+      nr += omega * rr, ng += omega * rg, nb += omega * rb, den += omega * rw;
+    } else {
+      for (int sa = 0; sa < sub_; ++sa) {
+        const double t0 = y * dTheta + sa * dTheta / sub_, t1 = t0 + dTheta / sub_, tc = 0.5 * (t0 + t1);
+        const double a = std::cos(tc) * cosD, b = std::sin(tc) * sinD;
+        const double bc = b * cosPhiD, bs = b * sinPhiD;
+        const double omega = dPhi / sub_ * (std::cos(t0) - std::cos(t1));
+        for (const auto& run : runs) {
+          for (int x = run[0]; x < run[1]; ++x) {
+            const float* p = row + 3 * x;
+            double wx = 0.0;
+            for (int sb = 0; sb < sub_; ++sb) {
+              const std::size_t k = static_cast<std::size_t>(x) * sub_ + sb;
+              wx += weight(a + subColumnCos_[k] * bc + subColumnSin_[k] * bs);
+            }
+            wx *= omega;
+            nr += wx * p[0], ng += wx * p[1], nb += wx * p[2], den += wx;
+          }
+        }
+      }
+    }
+  }
+  numerator = Rgb(nr, ng, nb);
+  denominator = den;
+}
+
+Rgb DirectSummer::value(const Vec3& axis) const {
+  Rgb numerator;
+  double denominator;
+  sum(axis, numerator, denominator);
+  if (denominator > 0.0) return lobe_.mass() * numerator / denominator;
+  // The lobe fell between samples: its limit is the value at the axis.
+  double theta, phi;
+  latLongAngles(axis, theta, phi);
+  return lobe_.mass() * pyramid_.level(level_).bilinear(theta, phi);
+}
+
+// ---- filtered importance sampling ------------------------------------------------------------
+
+ImportanceSampler::ImportanceSampler(const LatLongPyramid& pyramid, const PrefilterLobe& lobe, int samples)
+    : pyramid_(pyramid), mass_(lobe.mass()) {
+  const LatLongLevel& base = pyramid.level(0);
+  const double equatorTexel = (kPi / base.height) * (kTwoPi / base.width);
+  for (int i = 0; i < samples; ++i) {
+    const double u = (i + 0.5) / samples, v = radicalInverse(static_cast<unsigned>(i));
+    const double theta = lobe.sampleAngle(u), phi = kTwoPi * v;
+    const double c = std::cos(theta), s = std::sin(theta);
+    local_.emplace_back(s * std::cos(phi), s * std::sin(phi), c);
+    const double pdf = lobe.profile(c) / mass_;
+    // Solid angle of the sample 1/(K pdf); one level coarser (Křivánek's bias, log4 K = 1 in Filament).
+    const double omega = pdf > 0.0 ? 1.0 / (samples * pdf) : kFourPi;
+    lod_.push_back(0.5 * std::log2(omega / equatorTexel) + 1.0);
+  }
+}
+
+Rgb ImportanceSampler::value(const Vec3& axis) const {
+  Vec3 t, b;
+  frame(axis, t, b);
+  Rgb sum = Rgb::Zero();
+  for (std::size_t i = 0; i < local_.size(); ++i) {
+    const Vec3 d = local_[i].x() * t + local_[i].y() * b + local_[i].z() * axis;
+    double theta, phi;
+    latLongAngles(d, theta, phi);
+    const double lod = lod_[i] - 0.5 * std::log2(std::max(std::sin(theta), 1e-9));
+    sum += pyramid_.trilinear(theta, phi, lod);
+  }
+  return mass_ * sum / static_cast<double>(local_.size());
+}
+
+// ---- spherical harmonics ---------------------------------------------------------------------
+
+ShFilter::ShFilter(const LatLongPyramid& pyramid, const PrefilterLobe& lobe, int order) {
+  // Project the piecewise-constant level exactly: each texel's value times the integral of Y_lm
+  // over the texel, which separates into an azimuth part (closed form) and a polar part (8-point
+  // Gauss-Legendre per row), so constant and band-limited environments project without
+  // quadrature error. The SH frame has its pole on the environment's +y (shFrame).
+  projectionLevel_ = pyramid.levelFor(kPi / (8.0 * (order + 1)));
+  const LatLongLevel& L = pyramid.level(projectionLevel_);
+  const int n = shCount(order);
+  static constexpr double nodes[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
+                                      0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
+  static constexpr double weights[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873, 0.3626837833783620,
+                                        0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
+  const double dTheta = kPi / L.height, dPhi = kTwoPi / L.width;
+  // Azimuth integrals of 1, cos(m phi), sin(m phi) over each column.
+  std::vector<double> colCos(static_cast<std::size_t>(L.width) * (order + 1)), colSin(colCos.size());
+  for (int x = 0; x < L.width; ++x) {
+    const double p0 = x * dPhi - kPi, p1 = (x + 1) * dPhi - kPi;
+    colCos[static_cast<std::size_t>(x) * (order + 1)] = dPhi;
+    for (int m = 1; m <= order; ++m) {
+      colCos[static_cast<std::size_t>(x) * (order + 1) + m] = (std::sin(m * p1) - std::sin(m * p0)) / m;
+      colSin[static_cast<std::size_t>(x) * (order + 1) + m] = (std::cos(m * p0) - std::cos(m * p1)) / m;
+    }
+  }
+  std::vector<Rgb> partial(static_cast<std::size_t>(L.height) * n, Rgb::Zero());
+  tbb::parallel_for(0, L.height, [&](int y) {
+    // Row Fourier sums of the radiance.
+    std::vector<Rgb> fc(order + 1, Rgb::Zero()), fs(order + 1, Rgb::Zero());
+    for (int x = 0; x < L.width; ++x) {
+      const Rgb v = L.at(x, y);
+      const double* c = &colCos[static_cast<std::size_t>(x) * (order + 1)];
+      const double* s = &colSin[static_cast<std::size_t>(x) * (order + 1)];
+      for (int m = 0; m <= order; ++m) fc[m] += c[m] * v, fs[m] += s[m] * v;
+    }
+    // Polar integrals of the basis at phi = 0 (Y_lm / sqrt2 = Q_lm sin^m theta for m > 0).
+    std::vector<double> basis(n), polar(n, 0.0);
+    for (int k = 0; k < 8; ++k) {
+      const double theta = (y + 0.5 + 0.5 * nodes[k]) * dTheta;
+      evaluateShBasis(order, Vec3(std::sin(theta), 0.0, std::cos(theta)), basis.data());
+      const double w = 0.5 * weights[k] * dTheta * std::sin(theta);
+      for (int i = 0; i < n; ++i) polar[i] += w * basis[i];
+    }
+    Rgb* out = &partial[static_cast<std::size_t>(y) * n];
+    for (int l = 0; l <= order; ++l) {
+      out[shIndex(l, 0)] = polar[shIndex(l, 0)] * fc[0];
+      for (int m = 1; m <= l; ++m) {
+        // polar holds sqrt2 Q sin^m; Y_l,+m = sqrt2 Q sin^m cos(m phi), Y_l,-m = ... sin(m phi).
+        out[shIndex(l, m)] = polar[shIndex(l, m)] * fc[m];
+        out[shIndex(l, -m)] = polar[shIndex(l, m)] * fs[m];
+      }
+    }
+  });
+  expansion_.order = order;
+  expansion_.coefficients.assign(n, Rgb::Zero());
+  for (int y = 0; y < L.height; ++y)
+    for (int i = 0; i < n; ++i) expansion_.coefficients[i] += partial[static_cast<std::size_t>(y) * n + i];
+  expansion_.convolve(lobe.zonalCoefficients(order));
+}
+
+// ---- interpolation grid ----------------------------------------------------------------------
+
+Vec3 LatLongGrid::direction(int x, int y) const {
+  return latLongDirection((y + 0.5) * kPi / height_, (x + 0.5) * kTwoPi / width_ - kPi);
+}
+
+Rgb LatLongGrid::value(const Vec3& axis) const {
+  double theta, phi;
+  latLongAngles(axis, theta, phi);
+  const double px = (phi / kTwoPi + 0.5) * width_ - 0.5, py = theta / kPi * height_ - 0.5;
+  const double fx = std::floor(px), fy = std::floor(py);
+  const double tx = px - fx, ty = py - fy;
+  auto weights = [](double t, double w[4]) {  // Catmull-Rom
+    const double t2 = t * t, t3 = t2 * t;
+    w[0] = 0.5 * (-t3 + 2.0 * t2 - t);
+    w[1] = 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0);
+    w[2] = 0.5 * (-3.0 * t3 + 4.0 * t2 + t);
+    w[3] = 0.5 * (t3 - t2);
+  };
+  double wx[4], wy[4];
+  weights(tx, wx), weights(ty, wy);
+  Rgb sum = Rgb::Zero();
+  for (int j = 0; j < 4; ++j) {
+    int y = static_cast<int>(fy) - 1 + j, shift = 0;
+    // Across a pole, row -1 - k is row k seen from the other side (phi + pi).
+    if (y < 0) y = -1 - y, shift = width_ / 2;
+    if (y >= height_) y = 2 * height_ - 1 - y, shift = width_ / 2;
+    y = std::clamp(y, 0, height_ - 1);
+    Rgb row = Rgb::Zero();
+    for (int i = 0; i < 4; ++i) {
+      int x = (static_cast<int>(fx) - 1 + i + shift) % width_;
+      if (x < 0) x += width_;
+      row += wx[i] * values_[static_cast<std::size_t>(y) * width_ + x];
+    }
+    sum += wy[j] * row;
+  }
+  return sum;
+}
+
+// ---- reference -------------------------------------------------------------------------------
+
+ReferenceSummer::ReferenceSummer(const Environment& environment, const PrefilterLobe& lobe) : lobe_(lobe) {
+  const Parameterization& map = *environment.map;
+  double largest = 0.0;
+  for (int y = 0; y < map.height(); ++y)
+    for (int x = 0; x < map.width(); ++x) largest = std::max(largest, map.texelSolidAngle(x, y));
+  // Split texels wider than an eighth of the lobe's width (at most 8 x 8, and 2^22 samples in all:
+  // 56 bytes each).
+  const double texelAngle = std::sqrt(largest);
+  sub_ = std::clamp(static_cast<int>(std::ceil(8.0 * texelAngle / std::max(lobe.width(), 1e-12))), 1, 8);
+  while (sub_ > 1 && static_cast<double>(map.width()) * map.height() * sub_ * sub_ > 4194304.0) --sub_;
+  for (int y = 0; y < map.height(); ++y) {
+    for (int x = 0; x < map.width(); ++x) {
+      const double omega = map.texelSolidAngle(x, y);
+      if (!(omega > 0.0)) continue;
+      const Rgb radiance = environment.image.at(x, y).head<3>();
+      // Keep the sub-samples that lie in the texel's own part of the domain (round trip), and
+      // share the texel's exact solid angle among them.
+      std::vector<Vec3> inside;
+      const int region = [&] {
+        for (int r = 0; r < map.regionCount(); ++r)
+          if (map.region(r).contains(x, y)) return r;
+        return 0;
+      }();
+      for (int a = 0; a < sub_; ++a) {
+        for (int b = 0; b < sub_; ++b) {
+          const Vec2 position(x + (b + 0.5) / sub_, y + (a + 0.5) / sub_);
+          const auto d = map.getDirectionFor(position);
+          if (!d) continue;
+          const MapAddress back = map.getAddressFor(*d);
+          Vec2 delta = back.pixel - position;
+          if (map.wrapsHorizontally()) delta.x() -= std::round(delta.x() / map.width()) * map.width();
+          if (back.region != region || delta.norm() > 1e-6) continue;
+          inside.push_back(*d);
+        }
+      }
+      if (inside.empty()) continue;
+      const double share = omega / static_cast<double>(inside.size());
+      for (const Vec3& d : inside) {
+        x_.push_back(d.x()), y_.push_back(d.y()), z_.push_back(d.z());
+        weight_.push_back(share);
+        r_.push_back(share * radiance[0]), g_.push_back(share * radiance[1]), b_.push_back(share * radiance[2]);
+      }
+    }
+  }
+}
+
+namespace {
+template <class Weight>
+void referenceLoop(const std::vector<double>& xs, const std::vector<double>& ys, const std::vector<double>& zs,
+                   const std::vector<double>& ws, const std::vector<double>& rs, const std::vector<double>& gs,
+                   const std::vector<double>& bs, const Vec3& axis, bool positiveOnly, Weight weight, double out[4]) {
+  double nr = 0.0, ng = 0.0, nb = 0.0, den = 0.0;
+  const double ax = axis.x(), ay = axis.y(), az = axis.z();
+  const std::size_t n = xs.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double c = ax * xs[i] + ay * ys[i] + az * zs[i];
+    if (positiveOnly && !(c > 0.0)) continue;
+    const double w = weight(c);
+    nr += w * rs[i], ng += w * gs[i], nb += w * bs[i], den += w * ws[i];
+  }
+  out[0] = nr, out[1] = ng, out[2] = nb, out[3] = den;
+}
+}  // namespace
+
+Rgb ReferenceSummer::value(const Vec3& axis) const {
+  double s[4];
+  const double scale = lobe_.profile(1.0);  // only ratios matter; keep weights near 1
+  switch (lobe_.kind()) {
+    case LobeKind::Irradiance:
+      referenceLoop(x_, y_, z_, weight_, r_, g_, b_, axis, true, [](double c) { return c; }, s);
+      break;
+    case LobeKind::Phong: {
+      const double n = lobe_.phongExponent();
+      referenceLoop(x_, y_, z_, weight_, r_, g_, b_, axis, true, [n](double c) { return n == 0.0 ? 1.0 : std::pow(c, n); }, s);
+      break;
+    }
+    default:
+      referenceLoop(x_, y_, z_, weight_, r_, g_, b_, axis, false, [&](double c) { return lobe_.profile(c) / scale; }, s);
+      break;
+  }
+  if (s[3] > 0.0) return lobe_.mass() * Rgb(s[0], s[1], s[2]) / s[3];
+  // The lobe fell between every sample: the nearest sample's radiance.
+  std::size_t best = 0;
+  double bestCos = -2.0;
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    const double c = axis.x() * x_[i] + axis.y() * y_[i] + axis.z() * z_[i];
+    if (c > bestCos) bestCos = c, best = i;
+  }
+  if (x_.empty()) return Rgb::Zero();
+  return lobe_.mass() * Rgb(r_[best], g_[best], b_[best]) / weight_[best];
+}
+
+}  // namespace brdfbake::detail

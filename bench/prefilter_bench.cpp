@@ -1,0 +1,367 @@
+// Prefiltering speed against accuracy (issue 5's bar), and brdfbake's GGX path next to Filament's
+// cmgen where it is installed.
+//
+//   build/bench/prefilter_bench [--quick] [--threads N] [--subset N] [--chart FILE.png] [--no-cmgen]
+//
+// Environment: the generated sky (SkyEnvironment: sky, aureole, ground, a 1.5 degree sun of
+// radiance ~2000) as a 1024 x 512 lat-long image (256 x 128 with --quick). For normalised Phong
+// exponents 1, 10, 100, 1000, into a 256^2-per-hemisphere paraboloid map and a 256^2 sphere map,
+// every method at several settings makes the whole map (timed, wall clock) and is compared with
+// the reference on a random subset of output texels (--subset, default 256): the reference over
+// all 131 072 (paraboloid) or 65 536 (sphere) texels would take minutes to hours, so its time is
+// the subset's time scaled to the whole map. Error: RMS relative error per texel (weighted by
+// the texels' solid angles) and its maximum, as docs/prefilter.md defines them.
+//
+// GGX: roughness 0.25 and 0.5 into 256^2 cube faces by brdfbake (auto, importance 1024) and by
+// `cmgen --extract-blur=R -s 256 --no-mirror` (Filament's roughnessFilter, 1024 samples, fed the
+// same environment as a 3-channel float EXR), each compared with brdfbake's reference at its own
+// texel centres. cmgen's faces are the OpenGL faces of the frame (x, y, -z) (found by feeding it a
+// direction-coded environment; see docs/prefilter.md). Skipped with a message if cmgen is absent.
+//
+// The chart (gnuplot, time against error per exponent and for GGX) goes to
+// docs/images/prefilter_speed_error.png unless --chart says otherwise; a markdown table of every
+// point goes to stdout.
+#include <brdfbake/bake/cube_map.hpp>
+#include <brdfbake/bake/environment.hpp>
+#include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/bake/prefilter.hpp>
+#include <brdfbake/core/error.hpp>
+
+#include <OpenImageIO/imageio.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <random>
+#include <sstream>
+#include <unistd.h>
+
+namespace {
+using namespace brdfbake;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+struct Row {
+  std::string group;   // "phong:100 paraboloid", "ggx:0.5 cube"
+  std::string tool;    // "brdfbake" or "cmgen"
+  std::string method;  // reference, auto, sh, direct, importance, cmgen
+  std::string detail;
+  double seconds = 0.0, rms = 0.0, max = 0.0, estimate = -1.0;
+  bool extrapolated = false;
+};
+
+// Texels of a map to compare on, with their axes and solid angles.
+struct Subset {
+  std::vector<std::array<int, 2>> texels;
+  std::vector<Vec3> axes;
+  std::vector<double> weights;
+};
+
+Subset pickSubset(const Parameterization& map, const PrefilterLobe& lobe, const PrefilterOptions& options, int count, unsigned seed) {
+  std::mt19937 rng(seed);
+  Subset s;
+  while (static_cast<int>(s.texels.size()) < count) {
+    const int x = static_cast<int>(rng() % map.width()), y = static_cast<int>(rng() % map.height());
+    const double omega = map.texelSolidAngle(x, y);
+    if (!(omega > 0.0)) continue;
+    const auto d = map.getDirectionFor(Vec2(x + 0.5, y + 0.5));
+    if (!d) continue;
+    s.texels.push_back({x, y});
+    s.axes.push_back(prefilterAxis(*d, lobe, options));
+    s.weights.push_back(omega);
+  }
+  return s;
+}
+
+void compare(const std::vector<Rgb>& values, const std::vector<Rgb>& reference, const std::vector<double>& weights, double floor,
+             double& rms, double& max) {
+  double sum = 0.0, weight = 0.0;
+  max = 0.0;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const double e = (values[i] - reference[i]).matrix().norm() / std::max(reference[i].matrix().norm(), floor);
+    sum += weights[i] * e * e;
+    weight += weights[i];
+    max = std::max(max, e);
+  }
+  rms = std::sqrt(sum / weight);
+}
+
+std::string format(double value, int precision = 3) {
+  std::ostringstream out;
+  out << std::setprecision(precision) << value;
+  return out.str();
+}
+
+// The whole map by one configuration, timed, compared on the subset.
+Row run(const Environment& environment, const PrefilterLobe& lobe, PrefilterOptions options, const Subset& subset,
+        const std::vector<Rgb>& reference, double floor, const std::string& group) {
+  const auto start = Clock::now();
+  const PrefilteredMap map = prefilter(environment, lobe, options);
+  Row row;
+  row.seconds = since(start);
+  row.group = group;
+  row.tool = "brdfbake";
+  row.method = options.method == PrefilterMethod::Auto ? "auto" : std::string(toString(map.summary.method));
+  row.detail = map.summary.detail;
+  if (options.method == PrefilterMethod::Auto) row.detail = std::string(toString(map.summary.method)) + ": " + row.detail;
+  if (map.summary.errorEstimated) row.estimate = map.summary.errorEstimate;
+  std::vector<Rgb> values;
+  for (const auto& t : subset.texels) values.push_back(map.levels[0].at(t[0], t[1]).head<3>());
+  compare(values, reference, subset.weights, floor, row.rms, row.max);
+  return row;
+}
+
+void writeFloatRgbExr(const Environment& environment, const fs::path& path) {
+  const Image& image = environment.image;
+  std::vector<float> rgb(static_cast<std::size_t>(image.width()) * image.height() * 3);
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x)
+      for (int c = 0; c < 3; ++c) rgb[(static_cast<std::size_t>(y) * image.width() + x) * 3 + c] = image.data()[image.index(x, y) + c];
+  auto out = OIIO::ImageOutput::create(path.string());
+  OIIO::ImageSpec spec(image.width(), image.height(), 3, OIIO::TypeDesc::FLOAT);
+  if (!out || !out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()) || !out->close()) {
+    throw Error(Error::Kind::Io, path.string() + ": cannot write");
+  }
+}
+
+bool haveProgram(const std::string& name) { return std::system(("command -v " + name + " > /dev/null 2>&1").c_str()) == 0; }
+
+// cmgen's face F holds the OpenGL face F of the frame (x, y, -z).
+Vec3 cmgenDirection(int face, int x, int y, int n) {
+  const Vec3 c = CubeMap::faceDirection(static_cast<CubeMap::Face>(face), Vec2((x + 0.5) / n, (y + 0.5) / n));
+  return {c.x(), c.y(), -c.z()};
+}
+
+void ggxComparison(const Environment& environment, int faceSize, int subsetSize, int threads, bool useCmgen, std::vector<Row>& rows) {
+  const fs::path work = fs::temp_directory_path() / ("brdfbake-prefilter-bench-" + std::to_string(::getpid()));
+  fs::create_directories(work);
+  const fs::path input = work / "sky.exr";
+  writeFloatRgbExr(environment, input);
+  const CubeMap cube(faceSize);
+  for (double roughness : {0.25, 0.5}) {
+    const PrefilterLobe lobe = PrefilterLobe::ggx(roughness);
+    const std::string group = lobe.name() + " cube";
+    const double floor = prefilterErrorFloor(environment, lobe);
+    PrefilterOptions options;
+    options.parameterization = ParameterizationKind::Cube;
+    options.resolution = faceSize;
+    options.threads = threads;
+    const Subset subset = pickSubset(cube, lobe, options, subsetSize, 11);
+    auto referenceStart = Clock::now();
+    const auto reference = prefilterReferenceAt(environment, lobe, subset.axes, threads);
+    Row ref;
+    ref.group = group, ref.tool = "brdfbake", ref.method = "reference", ref.extrapolated = true;
+    ref.seconds = since(referenceStart) * 6.0 * faceSize * faceSize / subset.axes.size();
+    rows.push_back(ref);
+    rows.push_back(run(environment, lobe, options, subset, reference, floor, group));
+    for (int samples : {256, 1024}) {
+      PrefilterOptions o = options;
+      o.method = PrefilterMethod::Importance;
+      o.importanceSamples = samples;
+      o.estimateError = false;
+      o.interpolate = false;
+      rows.push_back(run(environment, lobe, o, subset, reference, floor, group));
+    }
+    for (double q : {2.0, 4.0}) {
+      PrefilterOptions o = options;
+      o.method = PrefilterMethod::Direct;
+      o.directTexelsPerWidth = q;
+      o.estimateError = false;
+      o.interpolate = false;
+      rows.push_back(run(environment, lobe, o, subset, reference, floor, group));
+    }
+    if (!useCmgen) continue;
+    const fs::path out = work / ("cmgen_" + format(roughness));
+    fs::create_directories(out);
+    const std::string command = "cmgen --quiet --no-mirror -s " + std::to_string(faceSize) + " -f exr --extract=" + out.string() +
+                                " --extract-blur=" + format(roughness) + " " + input.string() + " > /dev/null 2>&1";
+    const auto start = Clock::now();
+    const int status = std::system(command.c_str());
+    const double seconds = since(start);
+    if (status != 0) {
+      std::cerr << "cmgen failed (" << status << "): " << command << "\n";
+      continue;
+    }
+    // Faces px nx py ny pz nz in a folder named after the input.
+    static const char* names[6] = {"px", "nx", "py", "ny", "pz", "nz"};
+    std::vector<Image> faces;
+    for (const char* name : names) faces.push_back(readImage(out / "sky" / (std::string(name) + ".exr")));
+    std::mt19937 rng(11);
+    std::vector<Vec3> axes;
+    std::vector<Rgb> values;
+    std::vector<double> weights;
+    while (static_cast<int>(axes.size()) < subsetSize) {
+      const int f = static_cast<int>(rng() % 6), x = static_cast<int>(rng() % faceSize), y = static_cast<int>(rng() % faceSize);
+      axes.push_back(cmgenDirection(f, x, y, faceSize));
+      values.push_back(faces[f].at(x, y).head<3>());
+      const TexelRect r = cube.region(f);
+      weights.push_back(cube.texelSolidAngle(r.x0 + x, r.y0 + y));
+    }
+    const auto cmgenReference = prefilterReferenceAt(environment, lobe, axes, threads);
+    Row row;
+    row.group = group, row.tool = "cmgen", row.method = "cmgen", row.detail = "roughnessFilter, 1024 samples, half-float faces";
+    row.seconds = seconds;
+    compare(values, cmgenReference, weights, floor, row.rms, row.max);
+    rows.push_back(row);
+  }
+  std::error_code ec;
+  fs::remove_all(work, ec);
+}
+
+void chart(const std::vector<Row>& rows, const fs::path& png, const std::vector<std::string>& groups) {
+  if (!haveProgram("gnuplot")) {
+    std::cerr << "gnuplot not found: no chart written\n";
+    return;
+  }
+  const fs::path data = fs::temp_directory_path() / ("brdfbake-prefilter-chart-" + std::to_string(::getpid()) + ".dat");
+  {
+    std::ofstream out(data);
+    // One gnuplot data block per (panel, series): index = panel * 5 + series.
+    const std::vector<std::string> series{"sh", "direct", "importance", "auto", "cmgen"};
+    for (const auto& panel : groups) {
+      for (const auto& s : series) {
+        out << "# " << panel << " " << s << "\n";
+        bool any = false;
+        for (const auto& r : rows) {
+          if (r.group.rfind(panel + " ", 0) != 0 || r.method != s) continue;
+          const bool sphere = r.group.find("sphere") != std::string::npos;
+          out << r.seconds << " " << std::max(r.rms, 1e-6) << " " << (sphere ? 1 : 0) << "\n";
+          any = true;
+        }
+        if (!any) out << "nan nan 0\n";
+        out << "\n\n";
+      }
+    }
+  }
+  std::ostringstream script;
+  script << "set terminal pngcairo size 1500,950 font 'sans,10'\n"
+         << "set output '" << png.string() << "'\n"
+         << "set multiplot layout 2,3 title 'Prefiltering a 1024x512 sky: time against RMS relative error (wall clock, "
+         << "filled = paraboloid 2x256^2 or cube 6x256^2, open = sphere 256^2)'\n"
+         << "set logscale xy\nset grid\nset xlabel 'seconds'\nset ylabel 'RMS relative error'\nset key bottom left\n"
+         << "set format y '10^{%L}'\nset yrange [1e-6:10]\n";
+  int panelIndex = 0;
+  for (const auto& panel : groups) {
+    double referenceSeconds = 0.0;
+    for (const auto& r : rows)
+      if (r.group.rfind(panel + " ", 0) == 0 && r.method == "reference") referenceSeconds = std::max(referenceSeconds, r.seconds);
+    script << "set title '" << panel << " (reference about " << static_cast<long>(std::lround(referenceSeconds)) << " s, off the chart)'\n";
+    script << "unset arrow\nset arrow from graph 0, first 0.01 to graph 1, first 0.01 nohead dt 2 lc rgb 'gray40'\n";
+    const int base = panelIndex * 5;
+    script << "plot '" << data.string() << "' index " << base << " using 1:($3==0?$2:1/0) with points pt 7 ps 1.3 lc rgb '#1f77b4' title 'sh', "
+           << "'' index " << base << " using 1:($3==1?$2:1/0) with points pt 6 ps 1.3 lc rgb '#1f77b4' notitle, "
+           << "'' index " << base + 1 << " using 1:($3==0?$2:1/0) with points pt 5 ps 1.3 lc rgb '#2ca02c' title 'direct', "
+           << "'' index " << base + 1 << " using 1:($3==1?$2:1/0) with points pt 4 ps 1.3 lc rgb '#2ca02c' notitle, "
+           << "'' index " << base + 2 << " using 1:($3==0?$2:1/0) with points pt 9 ps 1.3 lc rgb '#ff7f0e' title 'importance', "
+           << "'' index " << base + 2 << " using 1:($3==1?$2:1/0) with points pt 8 ps 1.3 lc rgb '#ff7f0e' notitle, "
+           << "'' index " << base + 3 << " using 1:($3==0?$2:1/0) with points pt 13 ps 2.2 lc rgb '#d62728' title 'auto', "
+           << "'' index " << base + 3 << " using 1:($3==1?$2:1/0) with points pt 12 ps 2.2 lc rgb '#d62728' notitle, "
+           << "'' index " << base + 4 << " using 1:2 with points pt 3 ps 2.2 lc rgb 'black' title 'cmgen'\n";
+    ++panelIndex;
+  }
+  script << "unset multiplot\n";
+  FILE* pipe = popen("gnuplot", "w");
+  if (!pipe) {
+    std::cerr << "cannot run gnuplot\n";
+    return;
+  }
+  const std::string text = script.str();
+  std::fwrite(text.data(), 1, text.size(), pipe);
+  if (pclose(pipe) != 0) std::cerr << "gnuplot failed\n";
+  else std::cerr << "wrote " << png.string() << "\n";
+  std::error_code ec;
+  fs::remove(data, ec);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false, useCmgen = true;
+  int threads = 0, subsetSize = 256;
+  fs::path png = "docs/images/prefilter_speed_error.png";
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--quick") quick = true;
+    else if (a == "--no-cmgen") useCmgen = false;
+    else if (a == "--threads" && i + 1 < argc) threads = std::stoi(argv[++i]);
+    else if (a == "--subset" && i + 1 < argc) subsetSize = std::stoi(argv[++i]);
+    else if (a == "--chart" && i + 1 < argc) png = argv[++i];
+    else {
+      std::cerr << "usage: prefilter_bench [--quick] [--threads N] [--subset N] [--chart FILE.png] [--no-cmgen]\n";
+      return 2;
+    }
+  }
+  try {
+    const int rowsOfSky = quick ? 128 : 512, outputResolution = quick ? 64 : 256;
+    auto start = Clock::now();
+    const Environment sky = bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, rowsOfSky, "sky", 16, threads);
+    std::cerr << "sky " << sky.image.width() << "x" << sky.image.height() << " in " << since(start) << " s\n";
+    std::vector<Row> rows;
+    std::vector<std::string> groups;
+    for (double exponent : {1.0, 10.0, 100.0, 1000.0}) {
+      const PrefilterLobe lobe = PrefilterLobe::phong(exponent);
+      groups.push_back(lobe.name());
+      const double floor = prefilterErrorFloor(sky, lobe);
+      for (auto kind : {ParameterizationKind::Paraboloid, ParameterizationKind::Sphere}) {
+        const std::string group = lobe.name() + " " + std::string(toString(kind));
+        PrefilterOptions options;
+        options.parameterization = kind;
+        options.resolution = outputResolution;
+        options.threads = threads;
+        const auto map = makeParameterization(kind, outputResolution);
+        const Subset subset = pickSubset(*map, lobe, options, subsetSize, 7);
+        start = Clock::now();
+        const auto reference = prefilterReferenceAt(sky, lobe, subset.axes, threads);
+        Row ref;
+        ref.group = group, ref.tool = "brdfbake", ref.method = "reference", ref.extrapolated = true;
+        ref.seconds = since(start) * map->width() * map->height() / subset.axes.size();
+        rows.push_back(ref);
+        std::cerr << group << ": reference ~" << ref.seconds << " s\n";
+        rows.push_back(run(sky, lobe, options, subset, reference, floor, group));
+        std::cerr << "  auto " << rows.back().seconds << " s, rms " << rows.back().rms << " (estimate " << rows.back().estimate << ")\n";
+        auto fixed = [&](PrefilterMethod method, int order, int samples, double q) {
+          PrefilterOptions o = options;
+          o.method = method, o.shOrder = order, o.importanceSamples = samples, o.directTexelsPerWidth = q;
+          o.estimateError = false;
+          o.interpolate = false;  // each method alone, at every output texel
+          rows.push_back(run(sky, lobe, o, subset, reference, floor, group));
+          std::cerr << "  " << rows.back().method << " " << rows.back().detail << ": " << rows.back().seconds << " s, rms " << rows.back().rms << "\n";
+        };
+        for (int order : {8, 16, 32, 64}) fixed(PrefilterMethod::SphericalHarmonics, order, 0, 0.0);
+        for (double q : {2.0, 4.0, 8.0}) fixed(PrefilterMethod::Direct, 0, 0, q);
+        for (int samples : {64, 256, 1024}) fixed(PrefilterMethod::Importance, 0, samples, 0.0);
+      }
+    }
+    if (useCmgen && !haveProgram("cmgen")) {
+      std::cerr << "cmgen not found (Debian: apt-get install libfilament-tools): GGX comparison without it\n";
+      useCmgen = false;
+    }
+    ggxComparison(sky, outputResolution, subsetSize, threads, useCmgen, rows);
+    groups.push_back("ggx:0.25");
+    groups.push_back("ggx:0.5");
+
+    std::cout << "| lobe, map | tool | method | setting | seconds | RMS rel. error | max rel. error | estimate | speedup vs reference |\n"
+              << "|---|---|---|---|---:|---:|---:|---:|---:|\n";
+    for (const auto& r : rows) {
+      double referenceSeconds = 0.0;
+      for (const auto& q : rows)
+        if (q.group == r.group && q.method == "reference") referenceSeconds = q.seconds;
+      std::cout << "| " << r.group << " | " << r.tool << " | " << r.method << " | " << r.detail << " | "
+                << format(r.seconds) << (r.extrapolated ? " (scaled)" : "") << " | "
+                << (r.method == "reference" ? "0" : format(100.0 * r.rms, 2) + " %") << " | "
+                << (r.method == "reference" ? "0" : format(100.0 * r.max, 2) + " %") << " | "
+                << (r.estimate >= 0.0 ? format(100.0 * r.estimate, 2) + " %" : "") << " | "
+                << (r.method == "reference" ? "1" : format(referenceSeconds / r.seconds, 3)) << " |\n";
+    }
+    chart(rows, png, groups);
+  } catch (const Error& e) {
+    std::cerr << "prefilter_bench: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

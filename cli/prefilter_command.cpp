@@ -1,0 +1,189 @@
+// brdfbake prefilter ENV: prefiltered environment maps (docs/prefilter.md).
+#include <brdfbake/bake/env_mips.hpp>
+#include <brdfbake/bake/environment.hpp>
+#include <brdfbake/bake/prefilter.hpp>
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/fit/fit_file.hpp>
+
+#include <chrono>
+#include <iostream>
+
+#include "commands.hpp"
+#include "terminal.hpp"
+
+namespace brdfbake::cli {
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kFooter = R"(ENV is an environment image (EXR, HDR, or anything OpenImageIO reads): incoming radiance
+in its own frame, y up, a lat-long image's centre looking down -z. Its parameterization comes
+from its brdfbake metadata if it has any, else from --from, else from its shape: 2:1 is read
+as lat-long and 4:3 as a horizontal cube cross (sphere and paraboloid images need --from). A
+cube may also be six files STEM_posx.EXT ... STEM_negz.EXT: pass STEM.EXT.
+
+Lobes (each texel holds the integral of the lobe times the environment about its axis):
+  mirror         the environment itself, resampled over each texel's footprint
+  irradiance     ∫ L max(0, n.l) dω, indexed by the normal (a constant L = 1 gives pi)
+  phong:N        (N+1)/(2pi) max(0, r.l)^N, normalised (a constant L = 1 gives 1)
+  blinn:N        Blinn-Phong exponent N as phong:N/4 (the classic N' = 4n conversion)
+  ggx:R          GGX split-sum lobe with n = v = r (as Filament), perceptual roughness R
+  lobes:FIT.json the fitted lobes of `brdfbake fit` (constant models), prefiltered as Kautz & McCool's
+                 sum of C_k (n_k+2)/(2pi) max(0, r.l)^n_k per channel (no diffuse term, no cosine)
+
+Methods: reference is the exact sum over every input texel (slow: the ground truth); sh
+(spherical harmonics), importance (filtered importance sampling from the environment's mips)
+and direct (the reference sum over the lobe's support on a coarser mip level) are fast and
+estimate their own error beforehand from 512 probe directions against the reference. auto
+picks the cheapest setting of any of them whose estimated RMS relative error is within
+--max-error, and falls back to reference when none is.
+
+--mips also writes the solid-angle-weighted mip levels STEM_mip1.EXT, STEM_mip2.EXT, ... down
+to 1 texel, each a map of its own (cube faces edge-fixed, paraboloid borders kept). The output's
+metadata records the lobe, the method, the error bound and estimate, and the environment.
+
+Examples:
+  brdfbake prefilter data_samples/environments/sky_latlong.exr --lobe phong:100 --to paraboloid \
+      --resolution 128 --mips -o out/sky_phong100.exr
+  brdfbake prefilter data_samples/environments/sky_latlong.exr --lobe irradiance --to sphere -o out/sky_irr.exr
+  brdfbake prefilter sky.hdr --lobe ggx:0.4 --to cube --faces --json -o out/sky_ggx.exr)";
+
+struct PrefilterArgs {
+  std::string environment, lobe, to, from, method = "auto", output, view, up;
+  int resolution = 256, threads = 0, samples = 16;
+  double maxError = 0.01;
+  bool mips = false, json = false, quiet = false, faces = false, allowLarge = false;
+};
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+int runPrefilter(const PrefilterArgs& args) {
+  // Everything that can be checked before reading the environment.
+  imageFormatFor(args.output);
+  // A fitted lobe model (lobes:FIT.json) or one lobe.
+  std::optional<PrefilterLobe> lobe;
+  std::optional<LobeModel> model;
+  std::string lobeName = args.lobe;
+  std::vector<fs::path> inputs{fs::path(args.environment)};
+  if (args.lobe.rfind("lobes:", 0) == 0) {
+    const fs::path file = args.lobe.substr(6);
+    if (file.empty()) throw Error(Error::Kind::InvalidArgument, "--lobe lobes:FILE needs the fit.json written by brdfbake fit");
+    model = readFitFile(file).fit.model;
+    if (model->elevation != LobeElevation::Constant) {
+      throw Error(Error::Kind::InvalidArgument, file.string() + ": lobes that vary with elevation need a stack of maps over "
+                                                                "elevation; only constant lobe models prefilter into one map");
+    }
+    inputs.push_back(file);
+  } else {
+    lobe = PrefilterLobe::parse(args.lobe, fs::current_path());
+    lobeName = lobe->name();
+  }
+  PrefilterOptions options;
+  options.parameterization = parseParameterizationKind(args.to);
+  options.resolution = args.resolution;
+  options.mips = args.mips;
+  options.method = parsePrefilterMethod(args.method);
+  options.maxError = args.maxError;
+  options.threads = args.threads;
+  options.mirrorSamples = args.samples;
+  options.allowLarge = args.allowLarge;
+  if (!args.view.empty() || !args.up.empty()) {
+    if (options.parameterization != ParameterizationKind::Sphere) {
+      throw Error(Error::Kind::InvalidArgument, "--view/--up: only sphere maps have a view (the others live in the environment's frame)");
+    }
+    if (!args.view.empty()) options.view = parseVector(args.view, "--view");
+    if (!args.up.empty()) options.up = parseVector(args.up, "--up");
+  }
+  options.validate();
+  if (samePath(args.environment, args.output)) {
+    throw Error(Error::Kind::InvalidArgument, args.output + ": output would overwrite the environment");
+  }
+
+  EnvironmentLoadOptions load;
+  if (!args.from.empty()) load.kind = parseParameterizationKind(args.from);
+  const Environment environment = loadEnvironment(args.environment, load);
+
+  ProgressBar bar("prefilter " + lobeName, !args.quiet && !args.json);
+  options.progress = bar.callback();
+  const PrefilteredMap map = model ? prefilterLobeModel(environment, *model, lobeName, options) : prefilter(environment, *lobe, options);
+
+  nlohmann::json source = {{"file", args.environment},
+                           {"lobe", lobeName},
+                           {"parameterization", std::string(toString(environment.kind()))},
+                           {"resolution", environment.map->resolution()},
+                           {"detected", environment.detection}};
+  if (options.parameterization == ParameterizationKind::Sphere) {
+    source["view"] = {options.view.x(), options.view.y(), options.view.z()};
+  }
+  const auto writeStart = std::chrono::steady_clock::now();
+  const MapWriteReport written = writePrefilteredMap(map, args.output, {{"environment", source}},
+                                                     args.faces ? CubeLayout::Faces : CubeLayout::Cross, {inputs});
+  const double writeSeconds = secondsSince(writeStart);
+
+  const PrefilterSummary& s = map.summary;
+  if (args.json) {
+    nlohmann::json report = s.toJson();
+    report["environment"] = source;
+    report["output"] = args.output;
+    report["files"] = nlohmann::json::array();
+    for (const auto& f : written.files) report["files"].push_back(f.string());
+    report["parameterization"] = std::string(toString(options.parameterization));
+    report["resolution"] = options.resolution;
+    report["width"] = map.map->width();
+    report["height"] = map.map->height();
+    report["write_seconds"] = writeSeconds;
+    for (const auto& note : written.notes) report["notes"].push_back(note);
+    std::cout << report.dump(2) << "\n";
+    return 0;
+  }
+  if (!args.quiet) {
+    std::cout << "wrote " << args.output << " (" << toString(options.parameterization) << " " << map.map->width() << "x"
+              << map.map->height() << "): " << s.briefReport() << "; write " << writeSeconds << " s\n";
+    if (written.files.size() > 1) std::cout << "  " << written.files.size() - 1 << " more files (mip levels or cube faces)\n";
+    for (const auto& note : s.notes) std::cout << "  note: " << note << "\n";
+    for (const auto& note : written.notes) std::cout << "  note: " << note << "\n";
+  }
+  if (!s.metTarget) {
+    std::cerr << "brdfbake: warning: the estimated error " << 100.0 * s.errorEstimate << " % exceeds --max-error "
+              << 100.0 * s.maxError << " %\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command addPrefilterCommand(CLI::App& app) {
+  auto args = std::make_shared<PrefilterArgs>();
+  auto* command = app.add_subcommand("prefilter", "Prefilter an environment with a reflection lobe (mirror, irradiance, Phong, GGX)");
+  command->footer(kFooter);
+  const std::map<std::string, std::string> kinds{{"sphere", "sphere"}, {"paraboloid", "paraboloid"}, {"cube", "cube"}, {"latlong", "latlong"}};
+  command->add_option("environment", args->environment, "Environment image (EXR, HDR, ...)")->required();
+  command->add_option("--lobe", args->lobe, "mirror | irradiance | phong:N | blinn:N | ggx:ROUGHNESS | lobes:FIT.json")->required();
+  command->add_option("--to", args->to, "Output parameterization")->required()->check(CLI::IsMember(kinds));
+  command->add_option("--from", args->from, "Parameterization of a plain environment image (default: metadata or aspect ratio)")
+      ->check(CLI::IsMember(kinds));
+  command->add_option("--resolution", args->resolution, "Texels per side (sphere), hemisphere (paraboloid), face (cube) or rows (latlong)")
+      ->default_val(256)
+      ->check(CLI::Range(1, 65536));
+  command->add_flag("--mips", args->mips, "Also write the solid-angle-weighted mip levels STEM_mipK.EXT");
+  command->add_option("--method", args->method, "auto | reference | sh | importance | direct")
+      ->default_val("auto")
+      ->check(CLI::IsMember({"auto", "reference", "sh", "importance", "direct"}));
+  command->add_option("--max-error", args->maxError, "RMS relative error the map is built to (0.01 = 1 %)")
+      ->default_val(0.01)
+      ->check(CLI::Range(1e-6, 0.5));
+  command->add_option("--view", args->view, "Sphere maps: direction towards the viewer X,Y,Z in the environment's frame (default 0,0,1)");
+  command->add_option("--up", args->up, "Sphere maps: up vector X,Y,Z (default 0,1,0)");
+  command->add_option("--samples", args->samples, "Mirror lobe: footprint samples per texel")->default_val(16)->check(CLI::Range(1, 4096));
+  command->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->default_val(0)->check(CLI::NonNegativeNumber);
+  command->add_flag("--faces", args->faces, "Write a cube map as six files STEM_posx.EXT ... instead of a cross");
+  command->add_flag("--allow-large", args->allowLarge, "Allow maps over 8192^2 texels (1 GiB of float RGBA)");
+  command->add_option("-o,--output", args->output, "Output map (.exr, .hdr, .tif, .png)")->required();
+  command->add_flag("--json", args->json, "Print a machine-readable report (method, error estimate, seconds filtering and writing)");
+  command->add_flag("--quiet", args->quiet, "Print nothing on success");
+  return [args] { return runPrefilter(*args); };
+}
+
+}  // namespace brdfbake::cli

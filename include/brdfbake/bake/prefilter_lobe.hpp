@@ -1,0 +1,90 @@
+#pragma once
+/// @file
+/// The lobes an environment is prefiltered with (seed 002 section 3.2): radially symmetric weights
+/// w(cos theta) per unit solid angle about an axis (the reflected direction r, or the normal n for
+/// irradiance). A prefiltered map stores  L_o(a) = ∫ w(a . l) L(l) dω(l)  at each axis a.
+///
+/// Normalisation (docs/prefilter.md):
+/// - mirror: the delta lobe; the map is the environment resampled (no integral).
+/// - irradiance: w = max(0, c), so ∫ w dω = pi and a constant environment L = 1 gives pi (Eq. 15
+///   without k_d).
+/// - phong:N: w = (N + 1) / (2 pi) max(0, c)^N (Eq. 17 normalised: ∫ w dω = 1; note the factor is
+///   N + 1, not the N + 2 of phongNormalization, which also weights by the cosine to the normal).
+/// - blinn:N: the Blinn-Phong exponent N' = N converted by the classic policy N' = 4 n
+///   (BlinnConversion::FourN), i.e. phong:N/4. Under the n = v = r assumption of prefiltering,
+///   the N.H lobe is cos^N(theta/2) ≈ cos^(N/4)(theta) near its peak, which is the same policy.
+/// - ggx:R: the split-sum lobe of Karis (2013) and Filament with n = v = r: the weight of light
+///   direction l is D(h) max(0, n.l) with h = normalize(r + l), normalised to integrate to 1.
+///   R is the perceptual roughness; D uses alpha = R^2 (Filament's linearRoughness).
+/// - tabulated: any profile w(c) (the fitted lobes), normalised or not as its source says.
+
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace brdfbake {
+
+enum class LobeKind { Mirror, Irradiance, Phong, Ggx, Tabulated };
+
+class PrefilterLobe {
+ public:
+  /// The delta lobe: plain resampling.
+  static PrefilterLobe mirror();
+  /// Diffuse irradiance max(0, n.l), indexed by the normal; integrates to pi.
+  static PrefilterLobe irradiance();
+  /// Normalised Phong (N + 1)/(2 pi) max(0, c)^N. Throws Error(InvalidArgument) unless
+  /// 0 <= exponent <= 1e6 and finite.
+  static PrefilterLobe phong(double exponent);
+  /// Blinn-Phong exponent converted with N' = 4n: phong(exponent / 4), named "blinn:N".
+  static PrefilterLobe blinn(double blinnExponent);
+  /// GGX split-sum lobe for perceptual roughness in [0.01, 1] (alpha = roughness^2).
+  static PrefilterLobe ggx(double roughness);
+  /// A lobe from a profile w(c), c in [-1, 1] (finite, >= 0). With `normalise` it is scaled to
+  /// integrate to 1; otherwise its integral is kept (an albedo). `name` is what metadata records.
+  static PrefilterLobe tabulated(std::string name, std::function<double(double)> profile, bool normalise);
+
+  /// Parses "mirror", "irradiance", "phong:N", "blinn:N", "ggx:ROUGHNESS" or "lobes:FILE.json"
+  /// (FILE relative to `baseDirectory`). Throws Error(InvalidArgument) naming the accepted forms,
+  /// or the errors of the fitted-lobe reader.
+  static PrefilterLobe parse(std::string_view text, const std::filesystem::path& baseDirectory = {});
+
+  LobeKind kind() const;
+  /// Canonical text, as parse() accepts it: "phong:100", "ggx:0.3", ...
+  const std::string& name() const;
+  /// One line for people: "normalised Phong, exponent 100".
+  std::string description() const;
+  bool isMirror() const { return kind() == LobeKind::Mirror; }
+  /// True for irradiance: the map is indexed by the normal, not the reflected direction.
+  bool indexedByNormal() const { return kind() == LobeKind::Irradiance; }
+  /// The Phong exponent (phong, blinn converted), or 0.
+  double phongExponent() const;
+  /// GGX alpha (= roughness^2), or 0.
+  double ggxAlpha() const;
+
+  /// w(c) per steradian for the cosine c of the angle to the axis (exact formula; 0 for mirror).
+  double profile(double cosAngle) const;
+  /// ∫ w dω over the sphere: 1 for normalised lobes, pi for irradiance.
+  double mass() const;
+  /// Angle (radians) about the axis holding half of the mass.
+  double halfMassAngle() const;
+  /// A Gaussian-equivalent angular width: halfMassAngle / sqrt(2 ln 2) (= 1/sqrt(N) for Phong N).
+  double width() const;
+  /// The smallest angle theta_c such that at most `fraction` of the mass lies beyond it.
+  double tailAngle(double fraction) const;
+  /// Inverse CDF of the angle to the axis under w (as a distribution): theta for u in [0, 1].
+  double sampleAngle(double u) const;
+  /// Funk-Hecke coefficients lambda_l = 2 pi ∫ w(t) P_l(t) dt, l = 0..maxOrder: convolving a
+  /// function with the lobe multiplies its band-l spherical harmonics by lambda_l (lambda_0 = mass).
+  std::vector<double> zonalCoefficients(int maxOrder) const;
+
+  struct Data;
+
+ private:
+  explicit PrefilterLobe(std::shared_ptr<const Data> data) : data_(std::move(data)) {}
+  std::shared_ptr<const Data> data_;
+};
+
+}  // namespace brdfbake

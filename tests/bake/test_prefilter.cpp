@@ -1,0 +1,595 @@
+// Prefiltered environment maps: lobes and their normalisation, spherical harmonics, the furnace,
+// closed-form environments, fast methods against the reference (and their own error estimates),
+// seams at every mip level, bad environments, metadata round trips.
+#include <brdfbake/bake/cube_map.hpp>
+#include <brdfbake/bake/env_mips.hpp>
+#include <brdfbake/bake/environment.hpp>
+#include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/bake/map_file.hpp>
+#include <brdfbake/bake/paraboloid_map.hpp>
+#include <brdfbake/bake/prefilter.hpp>
+#include <brdfbake/bake/sh.hpp>
+#include <brdfbake/bake/sphere_map.hpp>
+#include <brdfbake/core/error.hpp>
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <random>
+
+#include "test_support.hpp"
+
+namespace brdfbake {
+namespace {
+
+const std::vector<ParameterizationKind> kAllKinds{ParameterizationKind::Sphere, ParameterizationKind::Paraboloid,
+                                                  ParameterizationKind::Cube, ParameterizationKind::LatLong};
+
+std::string errorOf(const std::function<void()>& f, Error::Kind* kind = nullptr) {
+  try {
+    f();
+  } catch (const Error& e) {
+    if (kind) *kind = e.kind();
+    return e.what();
+  }
+  return "";
+}
+
+// Small output resolutions per kind (texels per side, hemisphere, face, rows).
+int smallResolution(ParameterizationKind kind) { return kind == ParameterizationKind::Cube ? 8 : 16; }
+
+// ∫ f(theta) dω over the sphere by Simpson's rule in theta (independent of the lobe's own grid).
+double sphereIntegral(const std::function<double(double)>& f, int intervals = 200000) {
+  double sum = 0.0;
+  const double h = kPi / intervals;
+  for (int i = 0; i <= intervals; ++i) {
+    const double t = i * h;
+    const double w = (i == 0 || i == intervals) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+    sum += w * f(t) * std::sin(t);
+  }
+  return kTwoPi * sum * h / 3.0;
+}
+
+// ---- lobes -----------------------------------------------------------------------------------
+
+TEST(PrefilterLobe, NormalisedLobesIntegrateToOneAndIrradianceToPi) {
+  for (const auto& lobe : {PrefilterLobe::phong(0), PrefilterLobe::phong(1), PrefilterLobe::phong(10), PrefilterLobe::phong(1000),
+                           PrefilterLobe::blinn(40), PrefilterLobe::ggx(0.1), PrefilterLobe::ggx(0.5), PrefilterLobe::ggx(1.0)}) {
+    EXPECT_NEAR(lobe.mass(), 1.0, 1e-12) << lobe.name();
+    const int intervals = lobe.phongExponent() == 0.0 ? 2000000 : 200000;  // a step at the horizon
+    EXPECT_NEAR(sphereIntegral([&](double t) { return lobe.profile(std::cos(t)); }, intervals), 1.0, 2e-5) << lobe.name();
+  }
+  const auto irradiance = PrefilterLobe::irradiance();
+  EXPECT_DOUBLE_EQ(irradiance.mass(), kPi);
+  EXPECT_NEAR(sphereIntegral([&](double t) { return irradiance.profile(std::cos(t)); }), kPi, 1e-6);
+  // Phong's factor is (N + 1)/(2 pi); blinn:N is phong:N/4.
+  EXPECT_NEAR(PrefilterLobe::phong(100).profile(1.0), 101.0 / kTwoPi, 1e-12);
+  EXPECT_NEAR(PrefilterLobe::blinn(400).profile(0.99), PrefilterLobe::phong(100).profile(0.99), 1e-12);
+  EXPECT_EQ(PrefilterLobe::blinn(400).name(), "blinn:400");
+}
+
+TEST(PrefilterLobe, GgxLobeIsFilamentsSplitSumWeight) {
+  // D(h) (n.l) with n = v = r and h the half vector, alpha = roughness^2, normalised.
+  const double roughness = 0.4, alpha = roughness * roughness;
+  const auto lobe = PrefilterLobe::ggx(roughness);
+  auto raw = [&](double c) {
+    if (c <= 0.0) return 0.0;
+    const double nh = std::cos(0.5 * std::acos(c));
+    const double d = alpha * alpha / (kPi * std::pow(nh * nh * (alpha * alpha - 1.0) + 1.0, 2.0));
+    return d * c;
+  };
+  const double norm = sphereIntegral([&](double t) { return raw(std::cos(t)); });
+  for (double c : {1.0, 0.99, 0.9, 0.5, 0.1}) EXPECT_NEAR(lobe.profile(c), raw(c) / norm, 1e-5 * raw(1.0) / norm) << c;
+}
+
+TEST(PrefilterLobe, ZonalCoefficientsMatchClosedForms) {
+  // Phong: lambda_l = 2 pi (N + 1)/(2 pi) I_l with I_l = ∫_0^1 x^N P_l(x) dx,
+  // I_0 = 1/(N+1), I_1 = 1/(N+2), I_l = (N - l + 2)/(N + l + 1) I_{l-2}.
+  for (double n : {1.0, 7.0, 100.0, 1000.0}) {
+    const auto lambda = PrefilterLobe::phong(n).zonalCoefficients(40);
+    std::vector<double> integral(41);
+    integral[0] = 1.0 / (n + 1.0), integral[1] = 1.0 / (n + 2.0);
+    for (int l = 2; l <= 40; ++l) integral[l] = (n - l + 2.0) / (n + l + 1.0) * integral[l - 2];
+    for (int l = 0; l <= 40; ++l) EXPECT_NEAR(lambda[l], (n + 1.0) * integral[l], 2e-6) << "n " << n << " l " << l;
+  }
+  // Clamped cosine (Ramamoorthi & Hanrahan): pi, 2 pi/3, pi/4, 0, -pi/24, 0, pi/64.
+  const auto lambda = PrefilterLobe::irradiance().zonalCoefficients(6);
+  const double expected[7] = {kPi, kTwoPi / 3.0, kPi / 4.0, 0.0, -kPi / 24.0, 0.0, kPi / 64.0};
+  for (int l = 0; l <= 6; ++l) EXPECT_NEAR(lambda[l], expected[l], 1e-6) << l;
+}
+
+TEST(PrefilterLobe, ParseAcceptsTheDocumentedFormsAndNamesTheRest) {
+  EXPECT_EQ(PrefilterLobe::parse("mirror").kind(), LobeKind::Mirror);
+  EXPECT_EQ(PrefilterLobe::parse("irradiance").kind(), LobeKind::Irradiance);
+  EXPECT_EQ(PrefilterLobe::parse("phong:50").name(), "phong:50");
+  EXPECT_EQ(PrefilterLobe::parse("ggx:0.25").ggxAlpha(), 0.0625);
+  for (const char* bad : {"phong", "phong:", "phong:x", "phong:-1", "ggx:0", "ggx:2", "mirror:3", "cook", "blinn:1e99"}) {
+    try {
+      PrefilterLobe::parse(bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), Error::Kind::InvalidArgument) << bad;
+    }
+  }
+  try {
+    PrefilterLobe::parse("cook");
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("phong:N"), std::string::npos) << e.what();
+  }
+}
+
+// ---- spherical harmonics ---------------------------------------------------------------------
+
+TEST(SphericalHarmonics, BasisIsOrthonormal) {
+  const int order = 12, n = shCount(order);
+  // Gauss-Legendre in cos theta (64 nodes) x 128 azimuths integrates products up to degree 24 exactly.
+  std::vector<double> nodes, weights;
+  {
+    const int m = 64;
+    for (int i = 0; i < m; ++i) {
+      double x = std::cos(kPi * (i + 0.75) / (m + 0.5));
+      for (int it = 0; it < 100; ++it) {
+        double p0 = 1.0, p1 = x;
+        for (int k = 2; k <= m; ++k) {
+          const double p2 = ((2 * k - 1) * x * p1 - (k - 1) * p0) / k;
+          p0 = p1, p1 = p2;
+        }
+        const double dp = m * (x * p1 - p0) / (x * x - 1.0);
+        x -= p1 / dp;
+        if (it == 99) {
+          nodes.push_back(x);
+          weights.push_back(2.0 / ((1.0 - x * x) * dp * dp));
+        }
+      }
+    }
+  }
+  Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(n, n);
+  std::vector<double> y(n);
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    for (int a = 0; a < 128; ++a) {
+      const double phi = kTwoPi * a / 128.0, s = std::sqrt(1.0 - nodes[i] * nodes[i]);
+      evaluateShBasis(order, Vec3(s * std::cos(phi), s * std::sin(phi), nodes[i]), y.data());
+      const Eigen::Map<Eigen::VectorXd> v(y.data(), n);
+      gram += weights[i] * (kTwoPi / 128.0) * v * v.transpose();
+    }
+  }
+  EXPECT_LT((gram - Eigen::MatrixXd::Identity(n, n)).cwiseAbs().maxCoeff(), 1e-10);
+  // Low orders against the textbook formulas.
+  evaluateShBasis(2, Vec3(0.36, 0.48, 0.8), y.data());
+  EXPECT_NEAR(y[shIndex(0, 0)], 0.5 / std::sqrt(kPi), 1e-14);
+  EXPECT_NEAR(y[shIndex(1, 0)], std::sqrt(3.0 / kFourPi) * 0.8, 1e-14);
+  EXPECT_NEAR(y[shIndex(2, 0)], std::sqrt(5.0 / (16.0 * kPi)) * (3.0 * 0.64 - 1.0), 1e-14);
+  EXPECT_NEAR(y[shIndex(2, 2)], std::sqrt(15.0 / (16.0 * kPi)) * (0.36 * 0.36 - 0.48 * 0.48), 1e-14);
+}
+
+// ---- environments used below -----------------------------------------------------------------
+
+// L(l) = a + b (l . e): its irradiance is pi a + (2 pi / 3) b (n . e) and its normalised Phong
+// filtering a + b (N + 1)/(N + 2) (r . e) (both from ∫ c^N c dω = 2 pi / (N + 2)).
+class LinearEnvironment final : public MapFunction {
+ public:
+  Rgb evaluate(const Vec3& d) const override { return Rgb(2.0, 2.0, 2.0) + Rgb(1.0, 0.5, -0.5) * d.dot(axis()); }
+  static Vec3 axis() { return Vec3(0.3, 0.8, -0.52).normalized(); }
+  static Rgb filtered(const PrefilterLobe& lobe, const Vec3& a) {
+    const double c = a.dot(axis());
+    if (lobe.kind() == LobeKind::Irradiance) return kPi * Rgb(2, 2, 2) + kTwoPi / 3.0 * Rgb(1.0, 0.5, -0.5) * c;
+    const double n = lobe.phongExponent();
+    return Rgb(2, 2, 2) + Rgb(1.0, 0.5, -0.5) * c * (n + 1.0) / (n + 2.0);
+  }
+};
+
+const Environment& furnace() {
+  static const Environment environment = bakeEnvironment(ConstantEnvironment(), ParameterizationKind::LatLong, 32, "furnace", 4);
+  return environment;
+}
+
+const Environment& sky() {
+  static const Environment environment = bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, 32, "sky", 16);
+  return environment;
+}
+
+Image referenceImage(const Environment& environment, const PrefilterLobe& lobe, ParameterizationKind kind, int resolution) {
+  PrefilterOptions options;
+  options.parameterization = kind;
+  options.resolution = resolution;
+  options.method = PrefilterMethod::Reference;
+  return prefilter(environment, lobe, options).levels[0];
+}
+
+// ---- furnace ---------------------------------------------------------------------------------
+
+TEST(Prefilter, FurnaceGivesTheLobeMassForEveryLobeOutputAndMethod) {
+  const std::vector<PrefilterLobe> lobes{PrefilterLobe::mirror(), PrefilterLobe::irradiance(), PrefilterLobe::phong(10),
+                                         PrefilterLobe::phong(100), PrefilterLobe::blinn(40), PrefilterLobe::ggx(0.5)};
+  for (const auto& lobe : lobes) {
+    std::vector<PrefilterMethod> methods{PrefilterMethod::Auto, PrefilterMethod::Reference};
+    if (!lobe.isMirror()) {
+      for (auto m : {PrefilterMethod::SphericalHarmonics, PrefilterMethod::Importance, PrefilterMethod::Direct}) methods.push_back(m);
+    }
+    for (const auto kind : kAllKinds) {
+      for (const auto method : methods) {
+        PrefilterOptions options;
+        options.parameterization = kind;
+        options.resolution = smallResolution(kind);
+        options.method = method;
+        options.mips = true;
+        const PrefilteredMap map = prefilter(furnace(), lobe, options);
+        ASSERT_EQ(map.levels.size(), static_cast<std::size_t>(environmentMipLevels(options.resolution)));
+        for (std::size_t level = 0; level < map.levels.size(); ++level) {
+          const auto levelMap = makeParameterization(kind, std::max(1, options.resolution >> level));
+          double worst = 0.0;
+          for (int y = 0; y < levelMap->height(); ++y)
+            for (int x = 0; x < levelMap->width(); ++x) {
+              if (levelMap->texelCoverage(x, y) == 0.0 && kind == ParameterizationKind::Cube) continue;
+              const Rgba v = map.levels[level].at(x, y);
+              worst = std::max(worst, (v.head<3>() / lobe.mass() - 1.0).abs().maxCoeff());
+            }
+          EXPECT_LT(worst, 1e-3) << lobe.name() << " " << toString(kind) << " " << toString(method) << " level " << level;
+        }
+      }
+    }
+  }
+}
+
+// ---- closed forms ----------------------------------------------------------------------------
+
+TEST(Prefilter, LinearEnvironmentMatchesItsClosedFormForEveryMethod) {
+  const Environment environment = bakeEnvironment(LinearEnvironment(), ParameterizationKind::LatLong, 32, "linear", 16);
+  for (const auto& lobe : {PrefilterLobe::irradiance(), PrefilterLobe::phong(4), PrefilterLobe::phong(60)}) {
+    for (auto method : {PrefilterMethod::Reference, PrefilterMethod::SphericalHarmonics, PrefilterMethod::Importance,
+                        PrefilterMethod::Direct, PrefilterMethod::Auto}) {
+      PrefilterOptions options;
+      options.parameterization = ParameterizationKind::Paraboloid;
+      options.resolution = 12;
+      options.method = method;
+      options.maxError = 0.002;
+      const PrefilteredMap map = prefilter(environment, lobe, options);
+      const ParaboloidMap paraboloid(12);
+      double worst = 0.0;
+      for (int y = 1; y < 11; ++y)
+        for (int x = 0; x < 24; ++x) {
+          if (x % 12 == 0 || x % 12 == 11) continue;  // the ring: border texels (alignParaboloidBorder)
+          const Vec3 d = *paraboloid.getDirectionFor(Vec2(x + 0.5, y + 0.5));
+          const Rgb expected = LinearEnvironment::filtered(lobe, d);
+          worst = std::max(worst, (map.levels[0].at(x, y).head<3>() - expected).matrix().norm() / expected.matrix().norm());
+        }
+      // Filtered importance sampling reads bilinear mip levels: a biased method, allowed 1 %.
+      EXPECT_LT(worst, method == PrefilterMethod::Importance ? 0.01 : 0.004) << lobe.name() << " " << toString(method) << " "
+                                                                                << map.summary.briefReport();
+    }
+  }
+}
+
+TEST(Prefilter, FittedLobeModelsSumTheirPhongTermsPerChannel) {
+  // Two lobes per channel, different exponents per channel. With L = a + b (l . e),
+  // phong:n gives a + b (n+1)/(n+2) (r . e), so channel c of the model's prefiltered form is
+  // Σ_k C_kc [(n_kc + 2)/(n_kc + 1) a_c + b_c (r . e)].
+  LobeModel model;
+  const double weights[3][2] = {{0.3, 0.5}, {0.2, 0.45}, {0.1, 0.6}}, exponents[3][2] = {{12, 300}, {30, 80}, {5, 40}};
+  for (int c = 0; c < 3; ++c) {
+    LobeChannel channel;
+    channel.name = std::string(1, "RGB"[c]);
+    channel.diffuse = 0.1;
+    for (int k = 0; k < 2; ++k) channel.lobes.push_back({{weights[c][k]}, {exponents[c][k]}});
+    model.channels.push_back(channel);
+  }
+  const Environment environment = bakeEnvironment(LinearEnvironment(), ParameterizationKind::LatLong, 32, "linear", 16);
+  PrefilterOptions options;
+  options.parameterization = ParameterizationKind::LatLong;
+  options.resolution = 8;
+  options.maxError = 0.002;
+  const PrefilteredMap map = prefilterLobeModel(environment, model, "lobes:test.json", options);
+  EXPECT_EQ(map.summary.lobe, "lobes:test.json");
+  EXPECT_LE(map.summary.errorEstimate, 0.002);
+  const Rgb a(2, 2, 2), b(1.0, 0.5, -0.5);
+  double worst = 0.0, sum = 0.0, weight = 0.0;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 16; ++x) {
+      const double c = map.map->getDirectionFor(Vec2(x + 0.5, y + 0.5))->dot(LinearEnvironment::axis());
+      Rgb expected = Rgb::Zero();
+      for (int ch = 0; ch < 3; ++ch)
+        for (int k = 0; k < 2; ++k) {
+          const double n = exponents[ch][k];
+          expected[ch] += weights[ch][k] * ((n + 2.0) / (n + 1.0) * a[ch] + b[ch] * c);
+        }
+      const double e = (map.levels[0].at(x, y).head<3>() - expected).matrix().norm() / expected.matrix().norm();
+      const double omega = map.map->texelSolidAngle(x, y);
+      worst = std::max(worst, e), sum += omega * e * e, weight += omega;
+    }
+  EXPECT_LT(std::sqrt(sum / weight), 0.002);  // the bound each Phong term was made to
+  EXPECT_LT(worst, 0.006);
+  // Lobes that vary with elevation need a stack of maps: refused.
+  model.elevation = LobeElevation::Varying;
+  for (auto& channel : model.channels)
+    for (auto& lobe : channel.lobes) lobe.weight.assign(3, lobe.weight[0]), lobe.exponent.assign(3, lobe.exponent[0]);
+  Error::Kind kind{};
+  const std::string message = errorOf([&] { prefilterLobeModel(environment, model, "varying.json", options); }, &kind);
+  EXPECT_EQ(kind, Error::Kind::InvalidArgument);
+  EXPECT_NE(message.find("vary with elevation"), std::string::npos) << message;
+}
+
+// ---- fast methods against the reference ------------------------------------------------------
+
+struct Measured {
+  PrefilterSummary summary;
+  PrefilterError error;
+};
+
+Measured measure(const Environment& environment, const PrefilterLobe& lobe, ParameterizationKind kind, int resolution,
+                 PrefilterMethod method, double maxError, const Image& reference) {
+  PrefilterOptions options;
+  options.parameterization = kind;
+  options.resolution = resolution;
+  options.method = method;
+  options.maxError = maxError;
+  const PrefilteredMap map = prefilter(environment, lobe, options);
+  const auto param = makeParameterization(kind, resolution);
+  return {map.summary, prefilterError(map.levels[0], reference, *param, prefilterErrorFloor(environment, lobe))};
+}
+
+TEST(Prefilter, FastMethodsReportTheErrorTheyHaveOnTheSky) {
+  // Each fast method, asked for 2 % on the sky with its sun, estimates its error before it runs;
+  // the map it makes is then compared with the reference over every texel.
+  for (const auto& lobe : {PrefilterLobe::irradiance(), PrefilterLobe::phong(10), PrefilterLobe::phong(100)}) {
+    for (auto kind : {ParameterizationKind::Paraboloid, ParameterizationKind::Sphere}) {
+      const int resolution = 16;
+      const Image reference = referenceImage(sky(), lobe, kind, resolution);
+      for (auto method : {PrefilterMethod::SphericalHarmonics, PrefilterMethod::Importance, PrefilterMethod::Direct,
+                          PrefilterMethod::Auto}) {
+        const Measured m = measure(sky(), lobe, kind, resolution, method, 0.02, reference);
+        const double estimate = m.summary.errorEstimate;
+        SCOPED_TRACE(lobe.name() + " " + std::string(toString(kind)) + " " + m.summary.briefReport() +
+                     " measured rms " + std::to_string(m.error.rms));
+        ASSERT_TRUE(m.summary.errorEstimated || m.summary.method == PrefilterMethod::Reference);
+        if (m.summary.metTarget) {
+          EXPECT_LT(m.error.rms, 0.02);
+        }
+        // The estimate is the error measured: within a factor of 2 (or both tiny).
+        EXPECT_LT(m.error.rms, 2.0 * estimate + 1e-3);
+        EXPECT_LT(estimate, 2.0 * m.error.rms + 1e-3);
+      }
+    }
+  }
+}
+
+// ---- seams -----------------------------------------------------------------------------------
+
+// The jump of bilinear lookups across a seam, against the spread of the texels each lookup
+// interpolates (the scale of bilinear interpolation's own error there).
+struct SeamJump {
+  double jump = 0.0, spread = 0.0;
+};
+
+double texelSpread(const Image& image, const Parameterization& map, const Vec3& d) {
+  const MapAddress a = map.getAddressFor(d);
+  const TexelRect r = map.region(a.region);
+  const int x0 = static_cast<int>(std::floor(a.pixel.x() - 0.5)), y0 = static_cast<int>(std::floor(a.pixel.y() - 0.5));
+  double lo = 1e300, hi = -1e300;
+  for (int dy = 0; dy < 2; ++dy)
+    for (int dx = 0; dx < 2; ++dx) {
+      const int x = std::clamp(x0 + dx, r.x0, r.x0 + r.width - 1), y = std::clamp(y0 + dy, r.y0, r.y0 + r.height - 1);
+      const double v = image.at(x, y).head<3>().matrix().norm();
+      lo = std::min(lo, v), hi = std::max(hi, v);
+    }
+  return hi - lo;
+}
+
+SeamJump seamAcross(const Image& image, const Parameterization& map, const Vec3& onSeam, const Vec3& normal) {
+  const double eps = 1e-7;
+  const Vec3 a = (onSeam + eps * normal).normalized(), b = (onSeam - eps * normal).normalized();
+  SeamJump s;
+  s.jump = (sampleBilinear(image, map, a).head<3>() - sampleBilinear(image, map, b).head<3>()).matrix().norm();
+  s.spread = std::max(texelSpread(image, map, a), texelSpread(image, map, b));
+  return s;
+}
+
+TEST(Prefilter, NoSeamsAtCubeEdgesOrTheParaboloidEquatorAtAnyLevel) {
+  const auto lobe = PrefilterLobe::phong(20);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (auto kind : {ParameterizationKind::Cube, ParameterizationKind::Paraboloid}) {
+    PrefilterOptions options;
+    options.parameterization = kind;
+    options.resolution = 32;
+    options.mips = true;
+    const PrefilteredMap map = prefilter(sky(), lobe, options);
+    for (std::size_t level = 0; level < map.levels.size(); ++level) {
+      const int resolution = std::max(1, options.resolution >> level);
+      const auto levelMap = makeParameterization(kind, resolution);
+      double worstRatio = 0.0, worstJump = 0.0, scale = 0.0;
+      for (int i = 0; i < 2000; ++i) {
+        Vec3 onSeam, normal;
+        if (kind == ParameterizationKind::Cube) {
+          // A point on a random cube edge: two coordinates +-1 (before normalising), one free.
+          const int free = i % 3;
+          Vec3 p;
+          for (int k = 0; k < 3; ++k) p[k] = k == free ? u(rng) : (u(rng) < 0 ? -1.0 : 1.0);
+          onSeam = p.normalized();
+          // Across the edge: from one face's axis towards the other's.
+          Vec3 n = Vec3::Zero();
+          n[(free + 1) % 3] = p[(free + 1) % 3];
+          n[(free + 2) % 3] = -p[(free + 2) % 3];
+          normal = (n - n.dot(onSeam) * onSeam).normalized();
+        } else {
+          const double phi = kPi * u(rng);
+          onSeam = Vec3(std::cos(phi), std::sin(phi), 0.0);
+          normal = Vec3::UnitZ();
+        }
+        const SeamJump s = seamAcross(map.levels[level], *levelMap, onSeam, normal);
+        worstJump = std::max(worstJump, s.jump);
+        worstRatio = std::max(worstRatio, s.jump / std::max(s.spread, 1e-9));
+        scale = std::max(scale, sampleBilinear(map.levels[level], *levelMap, onSeam).head<3>().matrix().norm());
+      }
+      SCOPED_TRACE(std::string(toString(kind)) + " level " + std::to_string(level) + " jump " + std::to_string(worstJump) +
+                   " ratio " + std::to_string(worstRatio));
+      if (kind == ParameterizationKind::Cube) {
+        EXPECT_LT(worstJump, 1e-5 * scale);  // edge fixup: both sides read the same texels
+      } else if (resolution >= 4) {
+        // The border holds the other hemisphere, so the halves agree to first order: what is left
+        // is second order, a fraction of the texel-to-texel spread bilinear interpolation itself
+        // smooths over, halving with each doubling of the resolution (0.15 at 32, 0.24 at 16, 0.57
+        // at 8 texels here, in the sun's halo). Without the border it would be one texel's change.
+        EXPECT_LT(worstRatio, 0.75);
+      }
+    }
+  }
+}
+
+TEST(Prefilter, ParaboloidEquatorJumpIsSecondOrder) {
+  // The jump across the equator shrinks like bilinear interpolation's own error: by about 4 with
+  // each doubling of the resolution (a first-order seam would only halve).
+  const auto lobe = PrefilterLobe::phong(20);
+  double previous = 0.0;
+  for (int resolution : {16, 32, 64}) {
+    PrefilterOptions options;
+    options.parameterization = ParameterizationKind::Paraboloid;
+    options.resolution = resolution;
+    const PrefilteredMap map = prefilter(sky(), lobe, options);
+    double worst = 0.0;
+    for (int i = 0; i < 4000; ++i) {
+      const double phi = kTwoPi * i / 4000.0;
+      worst = std::max(worst, seamAcross(map.levels[0], *map.map, Vec3(std::cos(phi), std::sin(phi), 0.0), Vec3::UnitZ()).jump);
+    }
+    if (previous > 0.0) {
+      EXPECT_LT(worst, previous / 3.0) << resolution;
+    }
+    previous = worst;
+  }
+}
+
+// ---- mips ------------------------------------------------------------------------------------
+
+TEST(EnvironmentMips, LevelsKeepTheSolidAngleIntegral) {
+  // Solid-angle weighting keeps ∫ L dω from level to level (exactly where texels nest).
+  for (auto kind : {ParameterizationKind::LatLong, ParameterizationKind::Cube, ParameterizationKind::Sphere}) {
+    const Environment environment = bakeEnvironment(SkyEnvironment(), kind, 32, "sky", 4);
+    const auto chain = environmentMipChain(environment.image, *environment.map);
+    ASSERT_EQ(chain.size(), 6u);
+    auto integral = [&](const Image& image, int resolution) {
+      const auto map = makeParameterization(kind, resolution);
+      Rgb sum = Rgb::Zero();
+      for (int y = 0; y < map->height(); ++y)
+        for (int x = 0; x < map->width(); ++x) sum += mipTexelWeight(*map, x, y) * image.at(x, y).head<3>();
+      return sum;
+    };
+    const Rgb base = integral(chain[0], 32);
+    for (int level = 1; level < 6; ++level) {
+      const Rgb value = integral(chain[level], 32 >> level);
+      // Cube edge fixup moves a little energy between edge texels of unequal solid angle.
+      const double tolerance = kind == ParameterizationKind::Cube ? 2e-3 : 1e-5;
+      EXPECT_LT(((value - base) / base).abs().maxCoeff(), tolerance) << toString(kind) << " level " << level;
+    }
+  }
+}
+
+// ---- bad environments ------------------------------------------------------------------------
+
+TEST(Environment, BadEnvironmentsGetClearErrors) {
+  test::TempDir dir;
+  Image image(8, 4, Rgba(1, 1, 1, 1));
+  image.set(3, 2, Rgba(std::nan(""), 0, 0, 1));
+  Error::Kind kind{};
+  std::string message = errorOf([&] { makeEnvironment(image, ParameterizationKind::LatLong, "nan.exr"); }, &kind);
+  EXPECT_EQ(kind, Error::Kind::InvalidInput);
+  EXPECT_NE(message.find("texel (3, 2) is NaN"), std::string::npos) << message;
+  image.set(3, 2, Rgba(INFINITY, 0, 0, 1));
+  message = errorOf([&] { makeEnvironment(image, ParameterizationKind::LatLong, "inf.exr"); }, &kind);
+  EXPECT_NE(message.find("infinite"), std::string::npos) << message;
+
+  // Wrong aspect ratio, on disk (plain image, no metadata), and 1 x 1.
+  writeImage(Image(30, 20, Rgba(1, 1, 1, 1)), dir / "odd.exr");
+  message = errorOf([&] { loadEnvironment(dir / "odd.exr"); }, &kind);
+  EXPECT_EQ(kind, Error::Kind::InvalidInput);
+  EXPECT_NE(message.find("30 x 20"), std::string::npos) << message;
+  EXPECT_NE(message.find("2:1"), std::string::npos) << message;
+  writeImage(Image(1, 1, Rgba(1, 1, 1, 1)), dir / "dot.exr");
+  message = errorOf([&] { loadEnvironment(dir / "dot.exr"); }, &kind);
+  EXPECT_EQ(kind, Error::Kind::InvalidInput);
+  EXPECT_NE(message.find("too small"), std::string::npos) << message;
+  message = errorOf([&] { makeEnvironment(Image(16, 16), ParameterizationKind::LatLong, "square"); }, &kind);
+  EXPECT_NE(message.find("2:1"), std::string::npos) << message;
+
+  // Unreadable: missing, and garbage bytes.
+  message = errorOf([&] { loadEnvironment(dir / "missing.exr"); }, &kind);
+  EXPECT_EQ(kind, Error::Kind::Io);
+  std::ofstream(dir / "garbage.exr") << "not an image at all";
+  message = errorOf([&] { loadEnvironment(dir / "garbage.exr"); }, &kind);
+  EXPECT_EQ(kind, Error::Kind::Io);
+  EXPECT_NE(message.find("garbage.exr"), std::string::npos) << message;
+
+  // Detection: 2:1 lat-long, 4:3 cube, square needs --from; metadata wins over the aspect ratio.
+  writeImage(Image(16, 8, Rgba(1, 1, 1, 1)), dir / "ll.exr");
+  EXPECT_EQ(loadEnvironment(dir / "ll.exr").kind(), ParameterizationKind::LatLong);
+  writeImage(Image(16, 12, Rgba(1, 1, 1, 1)), dir / "cross.exr");
+  EXPECT_EQ(loadEnvironment(dir / "cross.exr").kind(), ParameterizationKind::Cube);
+  writeImage(Image(16, 16, Rgba(1, 1, 1, 1)), dir / "ball.exr");
+  EXPECT_NE(errorOf([&] { loadEnvironment(dir / "ball.exr"); }).find("--from"), std::string::npos);
+  EXPECT_EQ(loadEnvironment(dir / "ball.exr", {ParameterizationKind::Sphere}).kind(), ParameterizationKind::Sphere);
+  MapInfo info;
+  info.parameterization = ParameterizationKind::Paraboloid;
+  info.resolution = 8;
+  info.conventionVersion = 1;
+  writeMap(Image(16, 8, Rgba(1, 1, 1, 1)), info, dir / "para.exr");
+  EXPECT_EQ(loadEnvironment(dir / "para.exr").kind(), ParameterizationKind::Paraboloid);
+  EXPECT_EQ(errorOf([&] { loadEnvironment(dir / "para.exr", {ParameterizationKind::LatLong}); }, &kind).empty(), false);
+  EXPECT_EQ(kind, Error::Kind::InvalidArgument);
+}
+
+TEST(Environment, SixFacesMakeACube) {
+  test::TempDir dir;
+  const Environment cube = bakeEnvironment(ColoredCubeEnvironment(), ParameterizationKind::Cube, 8, "cube", 4);
+  MapInfo info;
+  info.parameterization = ParameterizationKind::Cube;
+  info.resolution = 8;
+  info.conventionVersion = 1;
+  writeMap(cube.image, info, dir / "faces.exr", CubeLayout::Faces);
+  const Environment read = loadEnvironment(dir / "faces.exr");
+  EXPECT_EQ(read.kind(), ParameterizationKind::Cube);
+  for (const Vec3& d : std::vector<Vec3>{Vec3::UnitX(), -Vec3::UnitX(), Vec3::UnitY(), -Vec3::UnitY(), Vec3::UnitZ(), -Vec3::UnitZ()}) {
+    EXPECT_LT((read.radiance(d) - ColoredCubeEnvironment().evaluate(d)).abs().maxCoeff(), 1e-6) << d.transpose();
+  }
+}
+
+// ---- mirror, metadata ------------------------------------------------------------------------
+
+TEST(Prefilter, MirrorSphereMapOfTheColouredCubeSeesEachFace) {
+  // Seed 002 Fig. 1: a sphere map from the centre of a coloured cube; the view looks down -z, so
+  // the centre reflects +z (blue) and the rim -z (yellow).
+  const Environment cube = bakeEnvironment(ColoredCubeEnvironment(), ParameterizationKind::Cube, 32, "cube", 4);
+  PrefilterOptions options;
+  options.resolution = 64;
+  const PrefilteredMap map = prefilter(cube, PrefilterLobe::mirror(), options);
+  const SphereMap sphere(64);
+  for (const Vec3& d : std::vector<Vec3>{Vec3::UnitX(), -Vec3::UnitX(), Vec3::UnitY(), -Vec3::UnitY(), Vec3::UnitZ(),
+                                        Vec3(0.1, 0.1, -1).normalized()}) {
+    EXPECT_LT((sampleBilinear(map.levels[0], sphere, d).head<3>() - ColoredCubeEnvironment().evaluate(d)).abs().maxCoeff(), 0.02)
+        << d.transpose();
+  }
+  // A view along +x: the centre reflects +x (red).
+  options.view = Vec3::UnitX();
+  const PrefilteredMap side = prefilter(cube, PrefilterLobe::mirror(), options);
+  EXPECT_LT((side.levels[0].at(32, 32).head<3>() - Rgb(1, 0, 0)).abs().maxCoeff(), 1e-6);
+}
+
+TEST(Prefilter, WrittenMapsRecordLobeMethodBoundAndSource) {
+  test::TempDir dir;
+  PrefilterOptions options;
+  options.parameterization = ParameterizationKind::Cube;
+  options.resolution = 8;
+  options.mips = true;
+  const PrefilteredMap map = prefilter(sky(), PrefilterLobe::phong(30), options);
+  const auto written = writePrefilteredMap(map, dir / "glossy.exr", {{"environment", {{"file", "sky.exr"}, {"lobe", "phong:30"}}}});
+  ASSERT_EQ(written.files.size(), 4u);
+  for (int level = 0; level < 4; ++level) {
+    const MapFile file = readMap(mipLevelPath(dir / "glossy.exr", level));
+    EXPECT_EQ(file.info.resolution, 8 >> level);
+    const auto& prefilterInfo = file.info.spec["prefilter"];
+    EXPECT_EQ(prefilterInfo["lobe"], "phong:30");
+    EXPECT_EQ(prefilterInfo["method"], std::string(toString(map.summary.method)));
+    EXPECT_DOUBLE_EQ(prefilterInfo["max_error"].get<double>(), 0.01);
+    EXPECT_EQ(prefilterInfo["mip_level"], level);
+    EXPECT_EQ(file.info.spec["environment"]["file"], "sky.exr");
+  }
+}
+
+}  // namespace
+}  // namespace brdfbake

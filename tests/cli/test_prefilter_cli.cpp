@@ -1,0 +1,183 @@
+// `brdfbake prefilter` and prefiltered maps in specs, as a user meets them: outputs checked against
+// the library's reference sum, metadata, exit codes for bad flags and bad environments.
+#include <brdfbake/bake/environment.hpp>
+#include <brdfbake/bake/prefilter.hpp>
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/fit/fit_file.hpp>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <OpenImageIO/imageio.h>
+
+#include <fstream>
+
+#include "test_support.hpp"
+
+namespace brdfbake {
+namespace {
+namespace fs = std::filesystem;
+using test::runCli;
+
+std::string q(const fs::path& p) { return std::string("'").append(p.string()).append("'"); }
+
+const std::string kSky = test::sourcePath("data_samples/environments/sky_latlong.exr");
+const std::string kFurnace = test::sourcePath("data_samples/environments/furnace_latlong.exr");
+
+Rgb sampleMap(const fs::path& map, const Vec3& d) {
+  std::ostringstream dir;
+  dir.precision(17);
+  dir << d.x() << "," << d.y() << "," << d.z();
+  const auto result = runCli("sample " + q(map) + " --json --dir " + dir.str());
+  EXPECT_EQ(result.exitCode, 0) << result.output;
+  const auto value = nlohmann::json::parse(result.output)["value"];
+  return {value[0].get<double>(), value[1].get<double>(), value[2].get<double>()};
+}
+
+TEST(PrefilterCli, GlossyParaboloidWithMipsMatchesTheReferenceAndRecordsItself) {
+  test::TempDir dir;
+  const fs::path out = dir / "glossy.exr";
+  const auto result = runCli("prefilter " + q(kSky) + " --lobe phong:50 --to paraboloid --resolution 32 --mips --json -o " + q(out));
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  const auto report = nlohmann::json::parse(result.output);
+  EXPECT_EQ(report["lobe"], "phong:50");
+  EXPECT_TRUE(report["error_estimated"].get<bool>());
+  EXPECT_LT(report["error_estimate"].get<double>(), 0.01);
+  EXPECT_GT(report["filter_seconds"].get<double>(), 0.0);
+  EXPECT_GT(report["write_seconds"].get<double>(), 0.0);
+  EXPECT_EQ(report["environment"]["parameterization"], "latlong");  // from the 2:1 aspect ratio
+  ASSERT_EQ(report["files"].size(), 6u);                            // 32, 16, 8, 4, 2, 1 texels
+  EXPECT_TRUE(fs::exists(dir / "glossy_mip5.exr"));
+
+  // The map against the reference sum at texel centres of the front hemisphere (texel (8, 8) etc).
+  const Environment sky = loadEnvironment(kSky);
+  const auto lobe = PrefilterLobe::phong(50);
+  std::vector<Vec3> axes;
+  const auto map = makeParameterization(ParameterizationKind::Paraboloid, 32);
+  for (const Vec2& p : {Vec2(8.5, 8.5), Vec2(16.5, 16.5), Vec2(20.5, 10.5), Vec2(40.5, 12.5), Vec2(50.5, 20.5)}) axes.push_back(*map->getDirectionFor(p));
+  const auto reference = prefilterReferenceAt(sky, lobe, axes);
+  for (std::size_t i = 0; i < axes.size(); ++i) {
+    const Rgb value = sampleMap(out, axes[i]);
+    EXPECT_LT((value - reference[i]).matrix().norm() / reference[i].matrix().norm(), 0.03) << axes[i].transpose();
+  }
+
+  const auto info = runCli("info " + q(dir / "glossy_mip2.exr") + " --json");
+  ASSERT_EQ(info.exitCode, 0) << info.output;
+  const auto metadata = nlohmann::json::parse(info.output)["metadata"];
+  EXPECT_EQ(metadata["resolution"], 8);
+  EXPECT_EQ(metadata["spec"]["environment"]["file"], kSky);
+  EXPECT_EQ(metadata["spec"]["prefilter"]["lobe"], "phong:50");
+  EXPECT_EQ(metadata["spec"]["prefilter"]["max_error"], 0.01);
+  EXPECT_EQ(metadata["spec"]["prefilter"]["mip_level"], 2);
+}
+
+TEST(PrefilterCli, FurnaceIrradianceIsPi) {
+  test::TempDir dir;
+  for (const char* to : {"sphere", "cube", "latlong"}) {
+    const fs::path out = dir / (std::string("furnace_") + to + ".exr");
+    const auto result = runCli("prefilter " + q(kFurnace) + " --lobe irradiance --to " + to + " --resolution 8 --quiet -o " + q(out));
+    ASSERT_EQ(result.exitCode, 0) << result.output;
+    EXPECT_TRUE(result.output.empty()) << result.output;
+    for (const Vec3& d : {Vec3(0, 0, 1), Vec3(0.3, -0.8, 0.2).normalized(), Vec3(1, 1, 1).normalized()}) {
+      EXPECT_NEAR(sampleMap(out, d)[1], kPi, 1e-3 * kPi) << to;
+    }
+  }
+}
+
+TEST(PrefilterCli, SpecsBakeEnvironmentMaps) {
+  test::TempDir dir;
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/prefilter_sky.json")) + " -o " + q(dir.path()) + " --json");
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  const auto report = nlohmann::json::parse(result.output);
+  ASSERT_EQ(report["maps"].size(), 4u);
+  for (const auto& map : report["maps"]) {
+    EXPECT_TRUE(fs::exists(map["output"].get<std::string>())) << map.dump();
+    EXPECT_EQ(map["bake_path"].get<std::string>().rfind("prefilter:", 0), 0u);
+    EXPECT_LE(map["prefilter"]["error_estimate"].is_null() ? 0.0 : map["prefilter"]["error_estimate"].get<double>(), 0.01);
+  }
+  // Mirror sphere map of the coloured cube: the centre reflects +z, the blue face.
+  const Rgb centre = sampleMap(dir / "colored_cube_mirror_sphere.exr", Vec3(0, 0, 1));
+  EXPECT_LT((centre - Rgb(0, 0, 1)).abs().maxCoeff(), 1e-3) << centre.transpose();
+
+  // Environment and material together: exit 2, the JSON path named, nothing written.
+  const fs::path bad = dir / "bad.json";
+  std::ofstream(bad) << R"({"maps": [{"output": "x.exr", "parameterization": "sphere", "resolution": 8,
+      "environment": {"file": ")" << kSky << R"(", "lobe": "phong:10"},
+      "material": {"model": "phong", "exponent": 5}}]})";
+  const auto refused = runCli("bake " + q(bad));
+  EXPECT_EQ(refused.exitCode, 2) << refused.output;
+  EXPECT_NE(refused.output.find("maps[0].material"), std::string::npos) << refused.output;
+  std::ofstream(bad) << R"({"maps": [{"output": "x.exr", "parameterization": "sphere", "resolution": 8,
+      "environment": {"file": ")" << kSky << R"(", "lobe": "phong:-1"}}]})";
+  const auto badLobe = runCli("bake " + q(bad));
+  EXPECT_EQ(badLobe.exitCode, 2) << badLobe.output;
+  EXPECT_NE(badLobe.output.find("maps[0].environment.lobe"), std::string::npos) << badLobe.output;
+  EXPECT_FALSE(fs::exists(dir / "x.exr"));
+}
+
+TEST(PrefilterCli, FittedLobesFromAFitFile) {
+  test::TempDir dir;
+  FitFile fit;
+  for (const char* name : {"R", "G", "B"}) {
+    LobeChannel channel;
+    channel.name = name;
+    channel.lobes.push_back({{0.5}, {40.0}});
+    fit.fit.model.channels.push_back(channel);
+  }
+  writeFitFile(dir / "fit.json", fit);
+  const fs::path out = dir / "fitted.exr";
+  const auto result = runCli("prefilter " + q(kFurnace) + " --lobe lobes:" + q(dir / "fit.json") + " --to cube --resolution 4 --json -o " + q(out));
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  // Furnace: C (n + 2)/(n + 1) per channel.
+  EXPECT_NEAR(sampleMap(out, Vec3(0.2, 0.3, -1).normalized())[0], 0.5 * 42.0 / 41.0, 1e-3);
+  // A varying model is refused before any work.
+  fit.fit.model.elevation = LobeElevation::Varying;
+  for (auto& channel : fit.fit.model.channels) channel.lobes[0] = {{0.5, 0.5, 0.5}, {40.0, 40.0, 40.0}};
+  writeFitFile(dir / "varying.json", fit);
+  const auto varying = runCli("prefilter " + q(kFurnace) + " --lobe lobes:" + q(dir / "varying.json") + " --to cube -o " + q(dir / "v.exr"));
+  EXPECT_EQ(varying.exitCode, 2) << varying.output;
+  EXPECT_NE(varying.output.find("vary with elevation"), std::string::npos) << varying.output;
+}
+
+TEST(PrefilterCli, BadFlagsExitTwoAndBadEnvironmentsAreNamed) {
+  test::TempDir dir;
+  const std::string out = " -o " + q(dir / "out.exr");
+  for (const std::string& flags : std::vector<std::string>{"--lobe phong:abc --to sphere", "--lobe cook --to sphere", "--lobe phong:10 --to nowhere",
+                                   "--lobe phong:10 --to sphere --method bogus", "--lobe phong:10 --to sphere --max-error 2",
+                                   "--lobe phong:10 --to cube --view 1,0,0", "--lobe phong:10 --to sphere --resolution 0",
+                                   "--lobe mirror --to sphere --method sh"}) {
+    const auto result = runCli("prefilter " + q(kSky) + " " + flags + out);
+    EXPECT_EQ(result.exitCode, 2) << flags << ": " << result.output;
+  }
+  EXPECT_EQ(runCli("prefilter " + q(kSky) + " --lobe phong:10 --to sphere").exitCode, 2);  // no -o
+  EXPECT_FALSE(fs::exists(dir / "out.exr"));
+
+  // Unreadable: exit 3 naming the file.
+  const auto missing = runCli("prefilter " + q(dir / "missing.exr") + " --lobe phong:10 --to sphere" + out);
+  EXPECT_EQ(missing.exitCode, 3) << missing.output;
+  EXPECT_NE(missing.output.find("missing.exr"), std::string::npos) << missing.output;
+  // Wrong aspect ratio, and a NaN texel (written with OpenImageIO: brdfbake refuses to write one).
+  auto writeExr = [&](const fs::path& path, int width, int height, bool nan) {
+    std::vector<float> pixels(static_cast<std::size_t>(width) * height * 3, 1.0f);
+    if (nan) pixels[3 * (2 * width + 5)] = std::nanf("");
+    auto image = OIIO::ImageOutput::create(path.string());
+    ASSERT_TRUE(image && image->open(path.string(), OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::FLOAT)));
+    ASSERT_TRUE(image->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) && image->close());
+  };
+  writeExr(dir / "odd.exr", 30, 20, false);
+  const auto odd = runCli("prefilter " + q(dir / "odd.exr") + " --lobe phong:10 --to sphere" + out);
+  EXPECT_EQ(odd.exitCode, 2) << odd.output;
+  EXPECT_NE(odd.output.find("30 x 20"), std::string::npos) << odd.output;
+  writeExr(dir / "nan.exr", 16, 8, true);
+  const auto nan = runCli("prefilter " + q(dir / "nan.exr") + " --lobe phong:10 --to sphere" + out);
+  EXPECT_EQ(nan.exitCode, 2) << nan.output;
+  EXPECT_NE(nan.output.find("texel (5, 2) is NaN"), std::string::npos) << nan.output;
+  EXPECT_FALSE(fs::exists(dir / "out.exr"));
+
+  const auto help = runCli("prefilter --help");
+  EXPECT_EQ(help.exitCode, 0);
+  EXPECT_NE(help.output.find("irradiance"), std::string::npos);
+  EXPECT_NE(help.output.find("--max-error"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace brdfbake
