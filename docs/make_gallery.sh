@@ -8,7 +8,7 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 out=docs/images
 
-for spec in phong_eye phong_diffuse blinn_phong copper colorgram gooch silhouette; do
+for spec in phong_eye phong_diffuse blinn_phong copper colorgram gooch silhouette measured_lobes prefilter_sky; do
   "$cli" bake "data_samples/specs/$spec.json" -o "$work" --quiet
 done
 preview() { "$cli" preview "$work/$1" -o "$out/gallery_$2.png" --size 320 "${@:3}" > /dev/null; }
@@ -19,6 +19,8 @@ preview colorgram.exr colorgram --object torus
 preview gooch.png gooch --object teapot --from sphere
 preview silhouette.exr silhouette --object torus
 preview phong_diffuse.exr phong_per_vertex --per-vertex --segments 8
+preview measured_lobes_reflectance.exr measured_lobes --object teapot --exposure -3
+preview sky_phong100_paraboloid.exr sky_phong100 --object teapot --view 0.3,0.2,1
 
 # Speed against accuracy, one chart per model family.
 "$cli" chart data_samples/specs/phong_eye.json -o "$work/phong.png" --resolutions 32,64,128,256,512 --samples 1,4,16 \
