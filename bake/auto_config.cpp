@@ -6,18 +6,23 @@
 namespace brdfbake {
 
 long long MapConfiguration::cost() const {
+  if (profile) return static_cast<long long>(resolution) * samplesPerTexel;
   const auto map = makeParameterization(parameterization, resolution);
   return static_cast<long long>(map->width()) * map->height() * samplesPerTexel;
 }
 
 std::string MapConfiguration::describe() const {
   std::ostringstream out;
+  if (profile) {
+    out << "profile " << resolution << " texels, " << samplesPerTexel << " samples/texel";
+    return out.str();
+  }
   out << toString(parameterization) << " " << resolution << "^2, " << samplesPerTexel << " samples/texel";
   return out.str();
 }
 
 void AutoOptions::validate() const {
-  require(!parameterizations.empty() && !resolutions.empty() && !samplesPerTexel.empty(),
+  require((!parameterizations.empty() || allowProfile) && !resolutions.empty() && !samplesPerTexel.empty(),
           "auto selection needs at least one candidate of each kind");
   require(maxError > 0.0 && maxError < 1.0, "max_error must be in (0, 1), got " + std::to_string(maxError));
   for (int r : resolutions) require(r >= 1, "candidate resolutions must be >= 1");
@@ -28,12 +33,22 @@ double autoErrorMeasure(const ErrorStats& stats, ParameterizationKind kind) {
   return kind == ParameterizationKind::Sphere ? stats.visibleRms : stats.rms;
 }
 
+double autoErrorMeasure(const ErrorStats& stats, const MapConfiguration& configuration, const Vec3& profileAxis) {
+  if (!configuration.profile) return autoErrorMeasure(stats, configuration.parameterization);
+  return (profileAxis - Vec3::UnitZ()).norm() < 1e-12 ? stats.visibleRms : stats.rms;
+}
+
 AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& options) {
   options.validate();
   std::vector<MapConfiguration> candidates;
   for (auto kind : options.parameterizations)
     for (int resolution : options.resolutions)
       for (int spt : options.samplesPerTexel) candidates.push_back({kind, resolution, spt});
+  const std::optional<Vec3> axis = options.allowProfile ? function.symmetryAxis() : std::nullopt;
+  if (axis) {
+    for (int resolution : options.resolutions)
+      for (int spt : options.samplesPerTexel) candidates.push_back({ParameterizationKind::Sphere, resolution, spt, true});
+  }
   // Cheapest first; ties go to fewer samples (sharper texels), then the order given.
   std::stable_sort(candidates.begin(), candidates.end(), [](const MapConfiguration& a, const MapConfiguration& b) {
     return a.cost() != b.cost() ? a.cost() < b.cost() : a.samplesPerTexel < b.samplesPerTexel;
@@ -42,6 +57,21 @@ AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& o
   double best = std::numeric_limits<double>::infinity();
   MapConfiguration bestConfiguration;
   for (const auto& candidate : candidates) {
+    if (candidate.profile) {
+      RadialProfile profile = bakeRadialProfile(function, *axis, candidate.resolution, candidate.samplesPerTexel, options.bake);
+      const double error = autoErrorMeasure(measureProfileError(profile, function, options.error), candidate, *axis);
+      ++result.tried;
+      if (error <= options.maxError) {
+        result.chosen = candidate;
+        result.error = error;
+        result.image = profile.toImage();
+        result.profile = std::move(profile);
+        return result;
+      }
+      result.rejected.emplace_back(candidate, error);
+      if (error < best) best = error, bestConfiguration = candidate;
+      continue;
+    }
     const auto map = makeParameterization(candidate.parameterization, candidate.resolution);
     BakeOptions bakeOptions = options.bake;
     bakeOptions.samplesPerTexel = candidate.samplesPerTexel;

@@ -28,6 +28,10 @@ MapInfo MapInfo::fromJson(const nlohmann::json& metadata) {
   MapInfo info;
   const auto p = metadata.find("parameterization");
   if (p == metadata.end() || !p->is_string()) throw missing("parameterization");
+  if (*p == "profile") {
+    throw Error(Error::Kind::InvalidInput, "a 1-D radial profile, not a 2-D map: look it up at u = |r - axis| / 2 "
+                                           "(its metadata, shown by brdfbake info, gives the axis)");
+  }
   info.parameterization = parseParameterizationKind(p->get<std::string>());
   const auto r = metadata.find("resolution");
   if (r == metadata.end() || !r->is_number_integer() || r->get<int>() < 1) throw missing("resolution");

@@ -43,6 +43,24 @@ std::optional<std::vector<RadialLobe>> MaterialMapFunction::radialLobes() const 
   return all;
 }
 
+std::optional<Vec3> MapFunction::symmetryAxis() const {
+  const auto lobes = radialLobes();
+  if (!lobes || lobes->empty()) return std::nullopt;
+  const Vec3 axis = lobes->front().axis.normalized();
+  for (const auto& lobe : *lobes) {
+    if ((lobe.axis.normalized() - axis).norm() > 1e-12) return std::nullopt;
+  }
+  return axis;
+}
+
+std::optional<Vec3> MaterialMapFunction::symmetryAxis() const {
+  if (!material_->usesLights()) {
+    if (material_->unlitSymmetricAboutView()) return view_;
+    return std::nullopt;
+  }
+  return MapFunction::symmetryAxis();
+}
+
 Rgb ImageMapFunction::evaluate(const Vec3& direction) const {
   return sampleBilinear(image_, map_, direction).head<3>();
 }

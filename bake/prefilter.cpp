@@ -1,4 +1,5 @@
 #include <brdfbake/bake/baker.hpp>
+#include <brdfbake/bake/env_accuracy.hpp>
 #include <brdfbake/bake/env_mips.hpp>
 #include <brdfbake/bake/prefilter.hpp>
 #include <brdfbake/brdf/material.hpp>
@@ -539,6 +540,8 @@ void PrefilterOptions::validate() const {
   require(directTexelsPerWidth == 0.0 || method == PrefilterMethod::Direct, "direct texels per width need the direct method");
   require(probes >= 16 && probes <= 1 << 20, "probes must be in [16, 2^20], got " + std::to_string(probes));
   require(mirrorSamples >= 1 && mirrorSamples <= 4096, "mirror samples must be in [1, 4096]");
+  require(elevations >= 2 && elevations <= 64,
+          "elevations (maps in a varying lobe model's stack) must be in [2, 64], got " + std::to_string(elevations));
   require(threads >= 0, "threads must be >= 0 (0 = all cores), got " + std::to_string(threads));
   require(maxTexels > 0, "maxTexels must be > 0");
 }
@@ -823,23 +826,13 @@ PrefilteredMap prefilterLobeModel(const Environment& environment, const LobeMode
                                   const PrefilterOptions& options) {
   model.validate();
   if (model.elevation != LobeElevation::Constant) {
-    throw Error(Error::Kind::InvalidArgument, name + ": lobes that vary with elevation need a stack of maps over elevation; "
-                                                     "only constant lobe models prefilter into one map");
+    throw Error(Error::Kind::InvalidArgument, name + ": lobes that vary with elevation need a stack of maps over elevation "
+                                                     "(prefilterLobeModelStack); only constant lobe models prefilter into one map");
   }
   options.validate();
   const auto start = Clock::now();
-  const Eigen::Matrix<double, 3, Eigen::Dynamic> toRgb = model.rgbWeights();
-  // RGB weight of each distinct exponent: Σ over channels c and lobes k with n_kc = n of
-  // C_kc (n + 2)/(n + 1) times channel c's RGB column.
-  std::map<double, Rgb> terms;
-  for (std::size_t c = 0; c < model.channelCount(); ++c) {
-    for (const Lobe& lobe : model.channels[c].lobes) {
-      const double n = lobe.exponent[0], weight = lobe.weight[0];
-      if (weight == 0.0) continue;
-      auto [it, inserted] = terms.try_emplace(n, Rgb::Zero());
-      it->second += weight * (n + 2.0) / (n + 1.0) * toRgb.col(static_cast<Eigen::Index>(c)).array();
-    }
-  }
+  // RGB weight of each distinct exponent (env_accuracy.hpp).
+  const std::vector<std::pair<double, Rgb>> terms = prefilterLobeModelTerms(model);
   PrefilterOptions run = options;
   run.mips = false;
   PrefilteredMap result;
@@ -903,15 +896,17 @@ MapWriteReport writePrefilteredMap(const PrefilteredMap& map, const std::filesys
     info.conventionVersion = kConventionVersion;
     info.spec = spec;
     const PrefilterSummary& s = map.summary;
-    info.spec["prefilter"] = {{"lobe", s.lobe},
-                              {"method", std::string(toString(s.method))},
-                              {"detail", s.detail},
-                              {"max_error", s.maxError},
-                              {"error_metric", "rms_relative"},
-                              {"error_estimate", s.errorEstimated ? nlohmann::json(s.errorEstimate) : nlohmann::json(nullptr)},
-                              {"exact", !s.errorEstimated && (s.method == PrefilterMethod::Reference || s.method == PrefilterMethod::Resample)},
-                              {"mip_level", level},
-                              {"mip_levels", count}};
+    nlohmann::json& prefilterInfo = info.spec["prefilter"];
+    if (!prefilterInfo.is_object()) prefilterInfo = nlohmann::json::object();
+    prefilterInfo.update(nlohmann::json{{"lobe", s.lobe},
+                                        {"method", std::string(toString(s.method))},
+                                        {"detail", s.detail},
+                                        {"max_error", s.maxError},
+                                        {"error_metric", "rms_relative"},
+                                        {"error_estimate", s.errorEstimated ? nlohmann::json(s.errorEstimate) : nlohmann::json(nullptr)},
+                                        {"exact", !s.errorEstimated && (s.method == PrefilterMethod::Reference || s.method == PrefilterMethod::Resample)},
+                                        {"mip_level", level},
+                                        {"mip_levels", count}});
     const MapWriteReport written = writeMap(map.levels[level], info, mipLevelPath(path, level), layout, options);
     report.files.insert(report.files.end(), written.files.begin(), written.files.end());
     if (level == 0) report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());

@@ -7,7 +7,8 @@
 // radiance ~2000) as a 1024 x 512 lat-long image (256 x 128 with --quick). For normalised Phong
 // exponents 1, 10, 100, 1000, into a 256^2-per-hemisphere paraboloid map and a 256^2 sphere map,
 // every method at several settings makes the whole map (timed, wall clock) and is compared with
-// the reference on a random subset of output texels (--subset, default 256): the reference over
+// the reference on a random subset of output texels (--subset, default 256; prefilterTexelSubset
+// and prefilterPointsError of env_accuracy.hpp, which `brdfbake chart` shares): the reference over
 // all 131 072 (paraboloid) or 65 536 (sphere) texels would take minutes to hours, so its time is
 // the subset's time scaled to the whole map. Error: RMS relative error per texel (weighted by
 // the texels' solid angles) and its maximum, as docs/prefilter.md defines them.
@@ -22,6 +23,7 @@
 // docs/images/prefilter_speed_error.png unless --chart says otherwise; a markdown table of every
 // point goes to stdout.
 #include <brdfbake/bake/cube_map.hpp>
+#include <brdfbake/bake/env_accuracy.hpp>
 #include <brdfbake/bake/environment.hpp>
 #include <brdfbake/bake/image_io.hpp>
 #include <brdfbake/bake/prefilter.hpp>
@@ -55,42 +57,6 @@ struct Row {
   bool extrapolated = false;
 };
 
-// Texels of a map to compare on, with their axes and solid angles.
-struct Subset {
-  std::vector<std::array<int, 2>> texels;
-  std::vector<Vec3> axes;
-  std::vector<double> weights;
-};
-
-Subset pickSubset(const Parameterization& map, const PrefilterLobe& lobe, const PrefilterOptions& options, int count, unsigned seed) {
-  std::mt19937 rng(seed);
-  Subset s;
-  while (static_cast<int>(s.texels.size()) < count) {
-    const int x = static_cast<int>(rng() % map.width()), y = static_cast<int>(rng() % map.height());
-    const double omega = map.texelSolidAngle(x, y);
-    if (!(omega > 0.0)) continue;
-    const auto d = map.getDirectionFor(Vec2(x + 0.5, y + 0.5));
-    if (!d) continue;
-    s.texels.push_back({x, y});
-    s.axes.push_back(prefilterAxis(*d, lobe, options));
-    s.weights.push_back(omega);
-  }
-  return s;
-}
-
-void compare(const std::vector<Rgb>& values, const std::vector<Rgb>& reference, const std::vector<double>& weights, double floor,
-             double& rms, double& max) {
-  double sum = 0.0, weight = 0.0;
-  max = 0.0;
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    const double e = (values[i] - reference[i]).matrix().norm() / std::max(reference[i].matrix().norm(), floor);
-    sum += weights[i] * e * e;
-    weight += weights[i];
-    max = std::max(max, e);
-  }
-  rms = std::sqrt(sum / weight);
-}
-
 std::string format(double value, int precision = 3) {
   std::ostringstream out;
   out << std::setprecision(precision) << value;
@@ -98,7 +64,7 @@ std::string format(double value, int precision = 3) {
 }
 
 // The whole map by one configuration, timed, compared on the subset.
-Row run(const Environment& environment, const PrefilterLobe& lobe, PrefilterOptions options, const Subset& subset,
+Row run(const Environment& environment, const PrefilterLobe& lobe, PrefilterOptions options, const PrefilterCheckPoints& subset,
         const std::vector<Rgb>& reference, double floor, const std::string& group) {
   const auto start = Clock::now();
   const PrefilteredMap map = prefilter(environment, lobe, options);
@@ -110,9 +76,9 @@ Row run(const Environment& environment, const PrefilterLobe& lobe, PrefilterOpti
   row.detail = map.summary.detail;
   if (options.method == PrefilterMethod::Auto) row.detail = std::string(toString(map.summary.method)) + ": " + row.detail;
   if (map.summary.errorEstimated) row.estimate = map.summary.errorEstimate;
-  std::vector<Rgb> values;
-  for (const auto& t : subset.texels) values.push_back(map.levels[0].at(t[0], t[1]).head<3>());
-  compare(values, reference, subset.weights, floor, row.rms, row.max);
+  const PrefilterError error = prefilterPointsError(prefilterValuesAt(map.levels[0], *map.map, subset), reference, subset.weights, floor);
+  row.rms = error.rms;
+  row.max = error.max;
   return row;
 }
 
@@ -151,7 +117,7 @@ void ggxComparison(const Environment& environment, int faceSize, int subsetSize,
     options.parameterization = ParameterizationKind::Cube;
     options.resolution = faceSize;
     options.threads = threads;
-    const Subset subset = pickSubset(cube, lobe, options, subsetSize, 11);
+    const PrefilterCheckPoints subset = prefilterTexelSubset(cube, lobe, options, subsetSize, 11);
     auto referenceStart = Clock::now();
     const auto reference = prefilterReferenceAt(environment, lobe, subset.axes, threads);
     Row ref;
@@ -206,7 +172,9 @@ void ggxComparison(const Environment& environment, int faceSize, int subsetSize,
     Row row;
     row.group = group, row.tool = "cmgen", row.method = "cmgen", row.detail = "roughnessFilter, 1024 samples, half-float faces";
     row.seconds = seconds;
-    compare(values, cmgenReference, weights, floor, row.rms, row.max);
+    const PrefilterError error = prefilterPointsError(values, cmgenReference, weights, floor);
+    row.rms = error.rms;
+    row.max = error.max;
     rows.push_back(row);
   }
   std::error_code ec;
@@ -314,7 +282,7 @@ int main(int argc, char** argv) {
         options.resolution = outputResolution;
         options.threads = threads;
         const auto map = makeParameterization(kind, outputResolution);
-        const Subset subset = pickSubset(*map, lobe, options, subsetSize, 7);
+        const PrefilterCheckPoints subset = prefilterTexelSubset(*map, lobe, options, subsetSize, 7);
         start = Clock::now();
         const auto reference = prefilterReferenceAt(sky, lobe, subset.axes, threads);
         Row ref;

@@ -84,6 +84,23 @@ double LobeModel::exponent(std::size_t channel, std::size_t lobe, double u) cons
   return elevationBlend(l.exponent.data(), static_cast<int>(l.exponent.size()), elevationCoordinate(u));
 }
 
+LobeModel LobeModel::atElevation(double u) const {
+  if (elevation == LobeElevation::Constant) return *this;
+  const double t = elevationCoordinate(u);
+  auto frozen = [t](const std::vector<double>& values) {
+    if (std::all_of(values.begin(), values.end(), [&](double v) { return v == values.front(); })) return values.front();
+    return elevationBlend(values.data(), static_cast<int>(values.size()), t);
+  };
+  LobeModel result = *this;
+  result.elevation = LobeElevation::Constant;
+  for (auto& channel : result.channels)
+    for (auto& lobe : channel.lobes) {
+      lobe.weight = {frozen(lobe.weight)};
+      lobe.exponent = {frozen(lobe.exponent)};
+    }
+  return result;
+}
+
 namespace {
 // Evaluates lobeBrdf for one channel from its stored coefficients.
 double channelBrdf(const LobeModel& model, const LobeChannel& channel, double u, double cosToMirror) {

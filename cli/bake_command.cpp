@@ -3,6 +3,8 @@
 #include <brdfbake/bake/environment.hpp>
 #include <brdfbake/bake/map_file.hpp>
 #include <brdfbake/bake/prefilter.hpp>
+#include <brdfbake/bake/prefilter_stack.hpp>
+#include <brdfbake/bake/radial_profile.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/version.hpp>
 #include <brdfbake/importers/spec.hpp>
@@ -46,31 +48,111 @@ nlohmann::json bakeEnvironmentMap(const MapSpec& map, const Environment& environ
   options.mirrorSamples = map.samplesPerTexel;
   options.threads = args.threads;
   options.allowLarge = args.allowLarge;
+  options.elevations = e.elevations;
   ProgressBar bar(map.jsonPath + " " + map.output.filename().string(), !args.quiet && !args.json);
   options.progress = bar.callback();
-  const PrefilteredMap result =
-      e.lobeModel ? prefilterLobeModel(environment, *e.lobeModel, e.lobe, options)
-                  : prefilter(environment, PrefilterLobe::parse(e.lobe, specFolder.empty() ? fs::path(".") : specFolder), options);
-  const auto writeStart = std::chrono::steady_clock::now();
-  const MapWriteReport written =
-      writePrefilteredMap(result, map.output, map.raw, map.cubeLayout, {{fs::path(args.spec), e.file}});
+  const WriteOptions writeOptions{{fs::path(args.spec), e.file}};
+  // One map, a stack over elevation (varying lobe models) or a Fresnel decomposition (three files).
+  PrefilterSummary summary;
+  std::shared_ptr<const Parameterization> parameterization;
+  MapWriteReport written;
+  nlohmann::json extra = nlohmann::json::object();
+  std::string irradianceReport;  // the Fresnel decomposition's second map
+  auto writeStart = std::chrono::steady_clock::now();
+  if (e.lobeModel && e.lobeModel->elevation == LobeElevation::Varying) {
+    const PrefilteredStack stack = prefilterLobeModelStack(environment, *e.lobeModel, e.lobe, options);
+    summary = stack.summary;
+    parameterization = stack.slices.front().map;
+    writeStart = std::chrono::steady_clock::now();
+    written = writePrefilteredStack(stack, map.output, map.raw, map.cubeLayout, writeOptions);
+    extra["elevations"] = {{"slices", stack.slices.size()}, {"cos_theta", stack.cosines}, {"t", stack.coordinates}};
+  } else if (e.fresnel) {
+    const PrefilterLobe lobe = PrefilterLobe::parse(e.lobe, specFolder.empty() ? fs::path(".") : specFolder);
+    const FresnelDecomposition decomposition =
+        prefilterFresnelDecomposition(environment, lobe, *e.fresnel, e.combine, options, map.resolution);
+    summary = decomposition.specular.summary;
+    parameterization = decomposition.specular.map;
+    writeStart = std::chrono::steady_clock::now();
+    written = writeFresnelDecomposition(decomposition, map.output, map.raw, map.cubeLayout, writeOptions);
+    irradianceReport = decomposition.irradiance.summary.briefReport();
+    extra["fresnel"] = {{"combine", std::string(toString(e.combine))},
+                        {"irradiance", fresnelIrradiancePath(map.output).string()},
+                        {"profile", fresnelProfilePath(map.output).string()},
+                        {"irradiance_prefilter", decomposition.irradiance.summary.toJson()}};
+  } else {
+    const PrefilteredMap result =
+        e.lobeModel ? prefilterLobeModel(environment, *e.lobeModel, e.lobe, options)
+                    : prefilter(environment, PrefilterLobe::parse(e.lobe, specFolder.empty() ? fs::path(".") : specFolder), options);
+    summary = result.summary;
+    parameterization = result.map;
+    writeStart = std::chrono::steady_clock::now();
+    written = writePrefilteredMap(result, map.output, map.raw, map.cubeLayout, writeOptions);
+  }
   const double writeSeconds = secondsSince(writeStart);
   nlohmann::json entry = {{"output", map.output.string()},
                           {"files", nlohmann::json::array()},
                           {"parameterization", std::string(toString(map.parameterization))},
                           {"resolution", map.resolution},
-                          {"width", result.map->width()},
-                          {"height", result.map->height()},
-                          {"bake_path", "prefilter:" + std::string(toString(result.summary.method))},
-                          {"bake_seconds", result.summary.seconds},
+                          {"width", parameterization->width()},
+                          {"height", parameterization->height()},
+                          {"bake_path", "prefilter:" + std::string(toString(summary.method))},
+                          {"bake_seconds", summary.seconds},
                           {"write_seconds", writeSeconds},
-                          {"prefilter", result.summary.toJson()},
+                          {"prefilter", summary.toJson()},
                           {"notes", written.notes}};
+  entry.update(extra);
   for (const auto& file : written.files) entry["files"].push_back(file.string());
   if (!args.json && !args.quiet) {
-    std::cout << "wrote " << map.output.string() << " (" << toString(map.parameterization) << " " << result.map->width() << "x"
-              << result.map->height() << "): " << result.summary.briefReport() << "; write " << writeSeconds << " s\n";
-    for (const auto& note : result.summary.notes) std::cout << "  note: " << note << "\n";
+    const std::string what = extra.contains("elevations") ? elevationSlicePath(map.output, 0).string() + " ..." : map.output.string();
+    std::cout << "wrote " << what << " (" << toString(map.parameterization) << " " << parameterization->width() << "x"
+              << parameterization->height() << "): " << summary.briefReport() << "; write " << writeSeconds << " s\n";
+    if (written.files.size() > 1) std::cout << "  " << written.files.size() << " files in all\n";
+    if (!irradianceReport.empty()) std::cout << "  irradiance map: " << irradianceReport << "\n";
+    for (const auto& note : summary.notes) std::cout << "  note: " << note << "\n";
+    for (const auto& note : written.notes) std::cout << "  note: " << note << "\n";
+  }
+  return entry;
+}
+
+void printAutoChoice(const nlohmann::json& autoReport, double maxError) {
+  if (autoReport.is_null()) return;
+  std::cout << "  auto: chose " << autoReport["chosen"].get<std::string>() << ", measured error "
+            << autoReport["measured_error"].get<double>() << " <= " << maxError << " ("
+            << autoReport["configurations_tried"].get<int>() << " configurations tried, cheapest first)\n";
+}
+
+// A 1-D radial profile ("parameterization": "profile", or chosen by "auto"): written as an N x 1
+// image whose metadata says how to look it up (bake/radial_profile.hpp).
+nlohmann::json writeProfile(const RadialProfile& profile, const MapSpec& map, const BakeSummary& summary,
+                            const nlohmann::json& autoReport, const BakeArgs& args) {
+  Image image = profile.toImage();
+  image.metadata["convention_version"] = kConventionVersion;
+  image.metadata["spec"] = map.raw;
+  if (!autoReport.is_null()) image.metadata["spec"]["auto"] = autoReport;
+  const auto writeStart = std::chrono::steady_clock::now();
+  const WriteReport written = writeImage(image, map.output, {{fs::path(args.spec)}});
+  const double writeSeconds = secondsSince(writeStart);
+  const Vec3& axis = profile.axis();
+  nlohmann::json entry = {{"output", map.output.string()},
+                          {"files", {map.output.string()}},
+                          {"parameterization", "profile"},
+                          {"resolution", profile.resolution()},
+                          {"width", profile.resolution()},
+                          {"height", 1},
+                          {"axis", {axis.x(), axis.y(), axis.z()}},
+                          {"samples_per_texel", map.samplesPerTexel},
+                          {"bake_path", summary.path},
+                          {"bake_seconds", summary.seconds},
+                          {"write_seconds", writeSeconds},
+                          {"notes", written.notes}};
+  if (!autoReport.is_null()) entry["auto"] = autoReport;
+  if (!args.json && !args.quiet) {
+    std::cout << "wrote " << map.output.string() << " (1-D radial profile, " << profile.resolution() << " texels about ("
+              << axis.x() << ", " << axis.y() << ", " << axis.z() << "), " << summary.path << "): bake " << summary.seconds
+              << " s, write " << writeSeconds << " s\n";
+    std::cout << "  lookup: u = |r - axis| / 2, texel i at u = (i + 0.5) / " << profile.resolution()
+              << " (about the view: u = the sphere-map radius)\n";
+    printAutoChoice(autoReport, map.autoSelect.maxError);
     for (const auto& note : written.notes) std::cout << "  note: " << note << "\n";
   }
   return entry;
@@ -121,7 +203,14 @@ int runBake(const BakeArgs& args) {
     BakeSummary summary;
     Image image;
     nlohmann::json autoReport;
-    if (map.anyAuto()) {
+    std::optional<RadialProfile> profile;
+    if (map.profile && !map.anyAuto()) {
+      const auto start = std::chrono::steady_clock::now();
+      options.samplesPerTexel = map.samplesPerTexel;
+      profile = bakeRadialProfile(*function, *function->symmetryAxis(), map.resolution, map.samplesPerTexel, options);
+      summary.path = "profile";
+      summary.seconds = secondsSince(start);
+    } else if (map.anyAuto()) {
       // The cheapest configuration meeting max_error (each candidate baked and measured).
       AutoOptions autoOptions = map.autoOptions();
       autoOptions.bake = options;
@@ -134,10 +223,12 @@ int runBake(const BakeArgs& args) {
       map.resolution = chosen.chosen.resolution;
       map.samplesPerTexel = chosen.chosen.samplesPerTexel;
       image = std::move(chosen.image);
+      profile = std::move(chosen.profile);
       autoReport = {{"chosen", chosen.chosen.describe()},
                     {"measured_error", chosen.error},
                     {"max_error", map.autoSelect.maxError},
-                    {"error_measure", map.parameterization == ParameterizationKind::Sphere
+                    {"error_measure", map.parameterization == ParameterizationKind::Sphere ||
+                                              (profile && (profile->axis() - Vec3::UnitZ()).norm() < 1e-12)
                                           ? "RMS over a visible sphere's lookups, relative to the peak"
                                           : "RMS over directions uniform on the sphere, relative to the peak"},
                     {"configurations_tried", chosen.tried}};
@@ -148,6 +239,10 @@ int runBake(const BakeArgs& args) {
     } else {
       options.samplesPerTexel = map.samplesPerTexel;
       image = bake(*makeParameterization(map.parameterization, map.resolution), *function, options, &summary);
+    }
+    if (profile) {
+      report["maps"].push_back(writeProfile(*profile, map, summary, autoReport, args));
+      continue;
     }
     const auto parameterization = makeParameterization(map.parameterization, map.resolution);
 
@@ -184,11 +279,7 @@ int runBake(const BakeArgs& args) {
                 << parameterization->width() << "x" << parameterization->height() << ", " << map.samplesPerTexel
                 << " samples/texel, " << summary.path << "): bake " << summary.seconds << " s, write "
                 << writeSeconds << " s\n";
-      if (!autoReport.is_null()) {
-        std::cout << "  auto: chose " << autoReport["chosen"].get<std::string>() << ", measured error "
-                  << autoReport["measured_error"].get<double>() << " <= " << map.autoSelect.maxError << " ("
-                  << autoReport["configurations_tried"].get<int>() << " configurations tried, cheapest first)\n";
-      }
+      printAutoChoice(autoReport, map.autoSelect.maxError);
       for (const auto& note : written.notes) std::cout << "  note: " << note << "\n";
     }
   }

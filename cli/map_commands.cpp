@@ -66,7 +66,13 @@ Command addInfoCommand(CLI::App& app) {
     const Image image = readImage(args->map);
     nlohmann::json info = {{"file", args->map}, {"width", image.width()}, {"height", image.height()},
                            {"channels", "RGBA"}, {"brdfbake", !image.metadata.empty()}};
-    if (!image.metadata.empty()) {
+    const bool profile = image.metadata.value("parameterization", "") == "profile";
+    if (profile) {
+      info["parameterization"] = "profile";
+      info["resolution"] = image.metadata.value("resolution", 0);
+      info["convention_version"] = image.metadata.value("convention_version", 0);
+      info["metadata"] = image.metadata;
+    } else if (!image.metadata.empty()) {
       const MapInfo map = MapInfo::fromJson(image.metadata);
       info["parameterization"] = std::string(toString(map.parameterization));
       info["resolution"] = map.resolution;
@@ -84,6 +90,10 @@ Command addInfoCommand(CLI::App& app) {
     }
     std::cout << "  parameterization: " << info["parameterization"].get<std::string>() << ", resolution "
               << info["resolution"] << " (convention v" << info["convention_version"] << ")\n";
+    if (profile) {
+      std::cout << "  1-D radial profile about " << image.metadata.value("axis", nlohmann::json::array()).dump() << ": "
+                << image.metadata.value("coordinate", "") << "\n";
+    }
     if (image.metadata.contains("face")) std::cout << "  cube face " << image.metadata["face"].get<std::string>() << "\n";
     std::cout << "  spec: " << image.metadata.value("spec", nlohmann::json::object()).dump() << "\n";
     return 0;

@@ -2,6 +2,7 @@
 #include <brdfbake/bake/env_mips.hpp>
 #include <brdfbake/bake/environment.hpp>
 #include <brdfbake/bake/prefilter.hpp>
+#include <brdfbake/bake/prefilter_stack.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 
@@ -28,8 +29,20 @@ Lobes (each texel holds the integral of the lobe times the environment about its
   phong:N        (N+1)/(2pi) max(0, r.l)^N, normalised (a constant L = 1 gives 1)
   blinn:N        Blinn-Phong exponent N as phong:N/4 (the classic N' = 4n conversion)
   ggx:R          GGX split-sum lobe with n = v = r (as Filament), perceptual roughness R
-  lobes:FIT.json the fitted lobes of `brdfbake fit` (constant models), prefiltered as Kautz & McCool's
-                 sum of C_k (n_k+2)/(2pi) max(0, r.l)^n_k per channel (no diffuse term, no cosine)
+  lobes:FIT.json the fitted lobes of `brdfbake fit`, prefiltered as Kautz & McCool's sum of
+                 C_k (n_k+2)/(2pi) max(0, r.l)^n_k per channel (no diffuse term, no cosine)
+
+Fitted lobes that vary with the view elevation make a stack of --elevations K maps (default 8),
+STEM_elev0.EXT ... STEM_elev{K-1}.EXT (nothing at OUT itself): slice j holds the model frozen at
+t = j/(K-1), t = ln(cos / min_cos) / ln(max_cos / min_cos) the model's own elevation coordinate
+(0 at the most grazing fitted view). A renderer clamps t to [0, 1] and interpolates linearly in t
+between neighbouring slices; each slice's metadata records its elevation.
+
+--fresnel-ior ETA makes the Fresnel decomposition (seed 002 section 3.1.1) from a specular lobe:
+OUT is the specular map L_m, STEM_irradiance.EXT the irradiance map E, STEM_fresnel.EXT the 1-D
+texture F(cos theta) of a dielectric of index ETA (--resolution texels, texel i at cos theta =
+(i + 0.5)/N). A renderer computes L = F L_m + k_d E / pi (--combine add, the default) or
+F L_m + (1 - F) k_d E / pi (--combine mix), F = F(n.v); the maps' metadata says which.
 
 Methods: reference is the exact sum over every input texel (slow: the ground truth); sh
 (spherical harmonics), importance (filtered importance sampling from the environment's mips)
@@ -46,12 +59,16 @@ Examples:
   brdfbake prefilter data_samples/environments/sky_latlong.exr --lobe phong:100 --to paraboloid \
       --resolution 128 --mips -o out/sky_phong100.exr
   brdfbake prefilter data_samples/environments/sky_latlong.exr --lobe irradiance --to sphere -o out/sky_irr.exr
-  brdfbake prefilter sky.hdr --lobe ggx:0.4 --to cube --faces --json -o out/sky_ggx.exr)";
+  brdfbake prefilter sky.hdr --lobe ggx:0.4 --to cube --faces --json -o out/sky_ggx.exr
+  brdfbake prefilter data_samples/environments/sky_latlong.exr --lobe lobes:data_samples/fits/synthetic_varying.json \
+      --to paraboloid --resolution 64 --elevations 8 -o out/sky_varying.exr
+  brdfbake prefilter data_samples/environments/sky_latlong.exr --lobe mirror --fresnel-ior 1.5 --combine mix \
+      --to sphere -o out/sky_coat.exr)";
 
 struct PrefilterArgs {
-  std::string environment, lobe, to, from, method = "auto", output, view, up;
-  int resolution = 256, threads = 0, samples = 16;
-  double maxError = 0.01;
+  std::string environment, lobe, to, from, method = "auto", output, view, up, combine;
+  int resolution = 256, threads = 0, samples = 16, elevations = 0;  // elevations 0: not given (8)
+  double maxError = 0.01, fresnelIor = 0.0;                         // fresnelIor 0: no decomposition
   bool mips = false, json = false, quiet = false, faces = false, allowLarge = false;
 };
 
@@ -71,14 +88,23 @@ int runPrefilter(const PrefilterArgs& args) {
     const fs::path file = args.lobe.substr(6);
     if (file.empty()) throw Error(Error::Kind::InvalidArgument, "--lobe lobes:FILE needs the fit.json written by brdfbake fit");
     model = readFitFile(file).fit.model;
-    if (model->elevation != LobeElevation::Constant) {
-      throw Error(Error::Kind::InvalidArgument, file.string() + ": lobes that vary with elevation need a stack of maps over "
-                                                                "elevation; only constant lobe models prefilter into one map");
-    }
     inputs.push_back(file);
   } else {
     lobe = PrefilterLobe::parse(args.lobe, fs::current_path());
     lobeName = lobe->name();
+  }
+  const bool stack = model && model->elevation == LobeElevation::Varying;
+  if (args.elevations != 0 && !stack) {
+    throw Error(Error::Kind::InvalidArgument, "--elevations: only lobe models that vary with elevation (--lobe lobes:FIT.json "
+                                              "with a varying model) make a stack of maps over elevation");
+  }
+  const bool fresnel = args.fresnelIor != 0.0;
+  if (fresnel && (!lobe || lobe->indexedByNormal())) {
+    throw Error(Error::Kind::InvalidArgument, "--fresnel-ior: the Fresnel decomposition needs a specular lobe (mirror, phong:N, "
+                                              "blinn:N, ggx:R) for its specular map; the irradiance map is made with it");
+  }
+  if (!args.combine.empty() && !fresnel) {
+    throw Error(Error::Kind::InvalidArgument, "--combine: needs --fresnel-ior (how the Fresnel decomposition is combined)");
   }
   PrefilterOptions options;
   options.parameterization = parseParameterizationKind(args.to);
@@ -89,6 +115,7 @@ int runPrefilter(const PrefilterArgs& args) {
   options.threads = args.threads;
   options.mirrorSamples = args.samples;
   options.allowLarge = args.allowLarge;
+  if (args.elevations != 0) options.elevations = args.elevations;
   if (!args.view.empty() || !args.up.empty()) {
     if (options.parameterization != ParameterizationKind::Sphere) {
       throw Error(Error::Kind::InvalidArgument, "--view/--up: only sphere maps have a view (the others live in the environment's frame)");
@@ -97,8 +124,19 @@ int runPrefilter(const PrefilterArgs& args) {
     if (!args.up.empty()) options.up = parseVector(args.up, "--up");
   }
   options.validate();
-  if (samePath(args.environment, args.output)) {
-    throw Error(Error::Kind::InvalidArgument, args.output + ": output would overwrite the environment");
+  const FresnelCombine combine = args.combine.empty() ? FresnelCombine::Add : parseFresnelCombine(args.combine);
+  const std::optional<FresnelTerm> fresnelTerm =
+      fresnel ? std::optional(FresnelTerm::dielectric(Rgb::Constant(args.fresnelIor))) : std::nullopt;
+  std::vector<fs::path> outputs{args.output};
+  if (stack) {
+    outputs.clear();
+    for (int j = 0; j < options.elevations; ++j) outputs.push_back(elevationSlicePath(args.output, j));
+  }
+  if (fresnel) outputs.insert(outputs.end(), {fresnelIrradiancePath(args.output), fresnelProfilePath(args.output)});
+  for (const fs::path& output : outputs) {
+    if (samePath(args.environment, output)) {
+      throw Error(Error::Kind::InvalidArgument, output.string() + ": output would overwrite the environment");
+    }
   }
 
   EnvironmentLoadOptions load;
@@ -107,7 +145,21 @@ int runPrefilter(const PrefilterArgs& args) {
 
   ProgressBar bar("prefilter " + lobeName, !args.quiet && !args.json);
   options.progress = bar.callback();
-  const PrefilteredMap map = model ? prefilterLobeModel(environment, *model, lobeName, options) : prefilter(environment, *lobe, options);
+  // One map, a stack over elevation, or a Fresnel decomposition.
+  std::optional<PrefilteredStack> slices;
+  std::optional<FresnelDecomposition> decomposition;
+  PrefilteredMap map;
+  if (stack) {
+    slices = prefilterLobeModelStack(environment, *model, lobeName, options);
+    map.summary = slices->summary;
+    map.map = slices->slices.front().map;
+  } else if (fresnel) {
+    decomposition = prefilterFresnelDecomposition(environment, *lobe, *fresnelTerm, combine, options, options.resolution);
+    map.summary = decomposition->specular.summary;
+    map.map = decomposition->specular.map;
+  } else {
+    map = model ? prefilterLobeModel(environment, *model, lobeName, options) : prefilter(environment, *lobe, options);
+  }
 
   nlohmann::json source = {{"file", args.environment},
                            {"lobe", lobeName},
@@ -118,9 +170,21 @@ int runPrefilter(const PrefilterArgs& args) {
     source["view"] = {options.view.x(), options.view.y(), options.view.z()};
   }
   const auto writeStart = std::chrono::steady_clock::now();
-  const MapWriteReport written = writePrefilteredMap(map, args.output, {{"environment", source}},
-                                                     args.faces ? CubeLayout::Faces : CubeLayout::Cross, {inputs});
+  const CubeLayout layout = args.faces ? CubeLayout::Faces : CubeLayout::Cross;
+  const nlohmann::json spec = {{"environment", source}};
+  const MapWriteReport written = slices          ? writePrefilteredStack(*slices, args.output, spec, layout, {inputs})
+                                 : decomposition ? writeFresnelDecomposition(*decomposition, args.output, spec, layout, {inputs})
+                                                 : writePrefilteredMap(map, args.output, spec, layout, {inputs});
   const double writeSeconds = secondsSince(writeStart);
+  nlohmann::json extra = nlohmann::json::object();
+  if (slices) extra["elevations"] = {{"slices", slices->slices.size()}, {"cos_theta", slices->cosines}, {"t", slices->coordinates}};
+  if (decomposition) {
+    extra["fresnel"] = {{"combine", std::string(toString(combine))},
+                        {"ior", args.fresnelIor},
+                        {"irradiance", fresnelIrradiancePath(args.output).string()},
+                        {"profile", fresnelProfilePath(args.output).string()},
+                        {"irradiance_prefilter", decomposition->irradiance.summary.toJson()}};
+  }
 
   const PrefilterSummary& s = map.summary;
   if (args.json) {
@@ -134,20 +198,28 @@ int runPrefilter(const PrefilterArgs& args) {
     report["width"] = map.map->width();
     report["height"] = map.map->height();
     report["write_seconds"] = writeSeconds;
+    report.update(extra);
     for (const auto& note : written.notes) report["notes"].push_back(note);
     std::cout << report.dump(2) << "\n";
     return 0;
   }
   if (!args.quiet) {
-    std::cout << "wrote " << args.output << " (" << toString(options.parameterization) << " " << map.map->width() << "x"
+    std::cout << "wrote " << (slices ? elevationSlicePath(args.output, 0).string() + " ..." : args.output) << " (" << toString(options.parameterization) << " " << map.map->width() << "x"
               << map.map->height() << "): " << s.briefReport() << "; write " << writeSeconds << " s\n";
-    if (written.files.size() > 1) std::cout << "  " << written.files.size() - 1 << " more files (mip levels or cube faces)\n";
+    if (written.files.size() > 1) {
+      std::cout << "  " << written.files.size() - 1 << " more files (" << (slices ? "elevation slices, " : "")
+                << (decomposition ? "irradiance map and Fresnel profile, " : "") << "mip levels or cube faces)\n";
+    }
+    if (decomposition) std::cout << "  irradiance map: " << decomposition->irradiance.summary.briefReport() << "\n";
     for (const auto& note : s.notes) std::cout << "  note: " << note << "\n";
     for (const auto& note : written.notes) std::cout << "  note: " << note << "\n";
   }
-  if (!s.metTarget) {
-    std::cerr << "brdfbake: warning: the estimated error " << 100.0 * s.errorEstimate << " % exceeds --max-error "
-              << 100.0 * s.maxError << " %\n";
+  const PrefilterSummary* irradiance = decomposition ? &decomposition->irradiance.summary : nullptr;
+  for (const PrefilterSummary* summary : {&s, irradiance}) {
+    if (summary && !summary->metTarget) {
+      std::cerr << "brdfbake: warning: the estimated error " << 100.0 * summary->errorEstimate << " % of " << summary->lobe
+                << " exceeds --max-error " << 100.0 * summary->maxError << " %\n";
+    }
   }
   return 0;
 }
@@ -178,6 +250,15 @@ Command addPrefilterCommand(CLI::App& app) {
   command->add_option("--up", args->up, "Sphere maps: up vector X,Y,Z (default 0,1,0)");
   command->add_option("--samples", args->samples, "Mirror lobe: footprint samples per texel")->default_val(16)->check(CLI::Range(1, 4096));
   command->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->default_val(0)->check(CLI::NonNegativeNumber);
+  command->add_option("--elevations", args->elevations,
+                      "Lobe models varying with elevation: maps in the stack STEM_elev0.EXT ... (default 8)")
+      ->check(CLI::Range(2, 64));
+  command->add_option("--fresnel-ior", args->fresnelIor,
+                      "Fresnel decomposition: also write STEM_irradiance.EXT and the 1-D Fresnel profile STEM_fresnel.EXT "
+                      "of a dielectric of this index")
+      ->check(CLI::PositiveNumber);
+  command->add_option("--combine", args->combine, "Fresnel decomposition: add (F L_m + k_d E/pi) | mix (F L_m + (1-F) k_d E/pi)")
+      ->check(CLI::IsMember({"add", "mix"}));
   command->add_flag("--faces", args->faces, "Write a cube map as six files STEM_posx.EXT ... instead of a cross");
   command->add_flag("--allow-large", args->allowLarge, "Allow maps over 8192^2 texels (1 GiB of float RGBA)");
   command->add_option("-o,--output", args->output, "Output map (.exr, .hdr, .tif, .png)")->required();

@@ -306,27 +306,6 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
   }
 }
 
-nlohmann::json readJsonDocument(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(Error::Kind::Io, path.string() + ": cannot open");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
-  try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    const std::size_t offset = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
-    int line = 1, column = 1;
-    for (std::size_t i = 0; i < offset; ++i) {
-      if (text[i] == '\n') ++line, column = 1;
-      else ++column;
-    }
-    std::string message = e.what();
-    if (const auto pos = message.find("syntax error"); pos != std::string::npos) message = message.substr(pos);
-    throw Error(Error::Kind::InvalidInput,
-                path.string() + ":" + std::to_string(line) + ":" + std::to_string(column) + ": invalid JSON: " + message);
-  }
-}
 
 FitFile readFitFile(const fs::path& path) { return fitFileFromJson(readJsonDocument(path), path.string()); }
 

@@ -30,8 +30,8 @@ DirectionalLight parseLight(const nlohmann::json& value, const std::string& path
   return result;
 }
 
-// "environment": {"file", "lobe", "method", "max_error", "mips", "from", "view", "up"} in place of
-// "material" and "lights".
+// "environment": {"file", "lobe", "method", "max_error", "mips", "from", "view", "up", "elevations",
+// "fresnel", "combine"} in place of "material" and "lights".
 void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& baseDirectory) {
   for (const char* key : {"material", "lights"}) {
     if (map.has(key)) throw specError(map.child(key), "an environment map takes its values from \"environment\"; remove it");
@@ -47,16 +47,13 @@ void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& b
   if (file.empty()) throw specError(env.child("file"), "must not be empty");
   e.file = fs::path(file).is_absolute() ? fs::path(file) : baseDirectory / file;
   e.lobe = env.string("lobe");
+  bool normalLobe = false;  // irradiance: indexed by the normal
   try {
     if (e.lobe.rfind("lobes:", 0) == 0) {  // a fitted lobe model (docs/fitting.md)
       const fs::path fit(e.lobe.substr(6));
-      auto model = std::make_shared<LobeModel>(readFitFile(fit.is_absolute() ? fit : baseDirectory / fit).fit.model);
-      if (model->elevation != LobeElevation::Constant) {
-        throw Error(Error::Kind::InvalidInput, "lobes that vary with elevation need a stack of maps; only constant models prefilter into one map");
-      }
-      e.lobeModel = std::move(model);
+      e.lobeModel = std::make_shared<LobeModel>(readFitFile(fit.is_absolute() ? fit : baseDirectory / fit).fit.model);
     } else {
-      PrefilterLobe::parse(e.lobe, baseDirectory);
+      normalLobe = PrefilterLobe::parse(e.lobe, baseDirectory).indexedByNormal();
     }
   } catch (const Error& error) {
     throw specError(env.child("lobe"), error.what());
@@ -87,6 +84,29 @@ void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& b
     }
     (std::string(key) == "view" ? e.view : e.up) = env.direction(key);
   }
+  const bool varying = e.lobeModel && e.lobeModel->elevation == LobeElevation::Varying;
+  if (env.has("elevations")) {
+    if (!varying) {
+      throw specError(env.child("elevations"), "only lobe models that vary with elevation (lobes:FIT.json with a varying "
+                                               "model) make a stack of maps over elevation");
+    }
+    e.elevations = env.integer("elevations", 2, 64);
+  }
+  if (env.has("fresnel")) {
+    if (e.lobeModel || normalLobe) {
+      throw specError(env.child("fresnel"), "a Fresnel decomposition needs a specular lobe (mirror, phong:N, blinn:N, "
+                                            "ggx:R) for its specular map; the irradiance map is made with it");
+    }
+    e.fresnel = materials::parseFresnelTerm(env, "fresnel");
+  }
+  if (const auto combine = env.optionalString("combine")) {
+    if (!e.fresnel) throw specError(env.child("combine"), "needs \"fresnel\" (how the Fresnel decomposition is combined)");
+    try {
+      e.combine = parseFresnelCombine(*combine);
+    } catch (const Error& error) {
+      throw specError(env.child("combine"), error.what());
+    }
+  }
   env.finish();
   spec.environment = e;
 }
@@ -109,11 +129,13 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
   const std::string kind = map.string("parameterization");
   if (kind == "auto") {
     spec.autoSelect.parameterization = true;
+  } else if (kind == "profile") {
+    spec.profile = true;
   } else {
     try {
       spec.parameterization = parseParameterizationKind(kind);
     } catch (const Error& e) {
-      throw specError(map.child("parameterization"), std::string(e.what()) + " or auto");
+      throw specError(map.child("parameterization"), std::string(e.what()) + ", profile or auto");
     }
   }
   auto isAuto = [&](const char* key) {
@@ -165,6 +187,7 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
   }
 
   if (map.has("environment")) {  // a prefiltered environment map instead of a material (docs/prefilter.md)
+    if (spec.profile) throw specError(map.child("parameterization"), "environment maps cannot be profiles");
     parseEnvironmentMap(map, spec, baseDirectory);
     map.finish();
     return spec;
@@ -202,8 +225,15 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
                               " map is indexed by reflected direction only; fix the view with \"view\": [x, y, z]"
                               " or use a sphere map");
   }
+  if (spec.profile && !spec.makeFunction()->symmetryAxis()) {
+    throw specError(map.child("parameterization"),
+                    "a profile needs a map radially symmetric about one axis: reflectance-mode and Fresnel materials, "
+                    "silhouettes, untwisted colorgrams, or lobes (Phong, fitted) about one light; " +
+                        std::string(spec.material->model()) + " here is not");
+  }
   materials::parseMapExtras(map, spec);     // "mips", "profile_output"
-  if (!spec.anyAuto()) materials::checkMaterialSampling(spec);   // narrow highlights the map's samples would miss
+  if (spec.profile && spec.mips) throw specError(map.child("mips"), "a profile has no mip levels of its own");
+  if (!spec.anyAuto() && !spec.profile) materials::checkMaterialSampling(spec);   // narrow highlights the map's samples would miss
   map.finish();
   return spec;
 }
@@ -213,7 +243,10 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
 AutoOptions MapSpec::autoOptions() const {
   AutoOptions options;
   options.maxError = autoSelect.maxError;
-  if (autoSelect.parameterization) {
+  options.allowProfile = autoSelect.parameterization || profile;
+  if (profile) {
+    options.parameterizations.clear();   // profiles only
+  } else if (autoSelect.parameterization) {
     options.parameterizations = viewNeed == ViewNeed::Free
                                     ? std::vector{ParameterizationKind::Paraboloid, ParameterizationKind::Cube, ParameterizationKind::LatLong}
                                     : std::vector{ParameterizationKind::Sphere, ParameterizationKind::Paraboloid,
@@ -258,27 +291,7 @@ BakeSpec parseBakeSpec(const nlohmann::json& document, const fs::path& baseDirec
 }
 
 BakeSpec loadBakeSpec(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error(Error::Kind::Io, file.string() + ": cannot open spec");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
-  nlohmann::json document;
-  try {
-    document = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    // Report line and column of the byte where parsing stopped.
-    const std::size_t offset = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
-    int line = 1, column = 1;
-    for (std::size_t i = 0; i < offset; ++i) {
-      if (text[i] == '\n') ++line, column = 1;
-      else ++column;
-    }
-    std::string message = e.what();
-    if (const auto pos = message.find("syntax error"); pos != std::string::npos) message = message.substr(pos);
-    throw Error(Error::Kind::InvalidInput,
-                file.string() + ":" + std::to_string(line) + ":" + std::to_string(column) + ": invalid JSON: " + message);
-  }
+  const nlohmann::json document = readJsonDocument(file);
   BakeSpec spec = parseBakeSpec(document, file.parent_path().empty() ? fs::path(".") : file.parent_path(), file.string());
   spec.file = file;
   return spec;

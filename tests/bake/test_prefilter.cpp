@@ -8,6 +8,7 @@
 #include <brdfbake/bake/map_file.hpp>
 #include <brdfbake/bake/paraboloid_map.hpp>
 #include <brdfbake/bake/prefilter.hpp>
+#include <brdfbake/bake/prefilter_stack.hpp>
 #include <brdfbake/bake/sh.hpp>
 #include <brdfbake/bake/sphere_map.hpp>
 #include <brdfbake/core/error.hpp>
@@ -305,6 +306,296 @@ TEST(Prefilter, FittedLobeModelsSumTheirPhongTermsPerChannel) {
   const std::string message = errorOf([&] { prefilterLobeModel(environment, model, "varying.json", options); }, &kind);
   EXPECT_EQ(kind, Error::Kind::InvalidArgument);
   EXPECT_NE(message.find("vary with elevation"), std::string::npos) << message;
+  EXPECT_NE(message.find("prefilterLobeModelStack"), std::string::npos) << message;
+}
+
+// ---- stacks over elevation (varying lobe models) ------------------------------------------------
+
+// A varying model: two lobes per channel, weights and exponents changing with elevation (different
+// per channel), over the elevation range [0.2, 0.9].
+LobeModel varyingModel() {
+  LobeModel model;
+  model.elevation = LobeElevation::Varying;
+  model.minCos = 0.2;
+  model.maxCos = 0.9;
+  const double weights[3][2][3] = {{{0.8, 0.3, 0.1}, {0.05, 0.1, 0.2}},
+                                   {{0.6, 0.35, 0.15}, {0.1, 0.1, 0.1}},
+                                   {{0.4, 0.4, 0.3}, {0.2, 0.12, 0.05}}};
+  const double exponents[3][2][3] = {{{200, 80, 30}, {4, 6, 9}}, {{150, 90, 40}, {3, 3, 3}}, {{100, 60, 50}, {8, 5, 2}}};
+  for (int c = 0; c < 3; ++c) {
+    LobeChannel channel;
+    channel.name = std::string(1, "RGB"[c]);
+    channel.diffuse = 0.1;
+    for (int k = 0; k < 2; ++k) {
+      channel.lobes.push_back({{weights[c][k][0], weights[c][k][1], weights[c][k][2]},
+                               {exponents[c][k][0], exponents[c][k][1], exponents[c][k][2]}});
+    }
+    model.channels.push_back(channel);
+  }
+  return model;
+}
+
+double largestRelativeDifference(const Image& a, const Image& b) {
+  EXPECT_EQ(a.width(), b.width());
+  EXPECT_EQ(a.height(), b.height());
+  double worst = 0.0;
+  for (int y = 0; y < a.height(); ++y)
+    for (int x = 0; x < a.width(); ++x) {
+      const Rgb va = a.at(x, y).head<3>(), vb = b.at(x, y).head<3>();
+      worst = std::max(worst, (va - vb).abs().maxCoeff() / std::max(1e-12, vb.abs().maxCoeff()));
+    }
+  return worst;
+}
+
+TEST(PrefilterStack, SlicesAreUniformInTheModelsElevationCoordinate) {
+  const LobeModel model = varyingModel();
+  const std::vector<double> cosines = elevationSliceCosines(model, 5);
+  ASSERT_EQ(cosines.size(), 5u);
+  EXPECT_EQ(cosines.front(), 0.2);  // the most grazing fitted view
+  EXPECT_EQ(cosines.back(), 0.9);   // the most normal one
+  for (int j = 0; j < 5; ++j) EXPECT_NEAR(model.elevationCoordinate(cosines[j]), j / 4.0, 1e-12) << j;
+  // The frozen model holds C_k(u) and n_k(u).
+  const LobeModel frozen = model.atElevation(0.5);
+  EXPECT_EQ(frozen.elevation, LobeElevation::Constant);
+  EXPECT_NO_THROW(frozen.validate());
+  for (std::size_t c = 0; c < 3; ++c)
+    for (std::size_t k = 0; k < 2; ++k) {
+      EXPECT_NEAR(frozen.channels[c].lobes[k].weight[0], model.weight(c, k, 0.5), 1e-14);
+      EXPECT_NEAR(frozen.channels[c].lobes[k].exponent[0], model.exponent(c, k, 0.5), 1e-11);
+    }
+  EXPECT_EQ(frozen.channels[1].lobes[1].exponent[0], 3.0);  // equal values stay exact
+}
+
+TEST(PrefilterStack, ConstantParametersGiveIdenticalSlicesEqualToTheConstantMap) {
+  LobeModel constant = varyingModel().atElevation(0.4);
+  LobeModel varying = constant;
+  varying.elevation = LobeElevation::Varying;
+  varying.minCos = 0.2, varying.maxCos = 0.9;
+  for (auto& channel : varying.channels)
+    for (auto& lobe : channel.lobes) lobe.weight.assign(3, lobe.weight[0]), lobe.exponent.assign(3, lobe.exponent[0]);
+  PrefilterOptions options;
+  options.parameterization = ParameterizationKind::Paraboloid;
+  options.resolution = 8;
+  options.elevations = 4;
+  const PrefilteredStack stack = prefilterLobeModelStack(sky(), varying, "lobes:v.json", options);
+  ASSERT_EQ(stack.slices.size(), 4u);
+  const PrefilteredMap single = prefilterLobeModel(sky(), constant, "lobes:c.json", options);
+  for (const auto& slice : stack.slices) {
+    EXPECT_EQ(largestRelativeDifference(slice.levels[0], single.levels[0]), 0.0);
+  }
+  EXPECT_EQ(stack.summary.lobe, "lobes:v.json");
+  EXPECT_LE(stack.summary.errorEstimate, 0.01);
+}
+
+TEST(PrefilterStack, FurnaceGivesEachSlicesNormalisation) {
+  // L = 1: slice j holds per channel Σ_k C_k(u_j) (n_k(u_j) + 2)/(n_k(u_j) + 1) (docs/prefilter.md).
+  const LobeModel model = varyingModel();
+  for (const auto kind : kAllKinds) {
+    PrefilterOptions options;
+    options.parameterization = kind;
+    options.resolution = smallResolution(kind);
+    options.elevations = 3;
+    options.mips = true;
+    const PrefilteredStack stack = prefilterLobeModelStack(furnace(), model, "lobes:varying.json", options);
+    ASSERT_EQ(stack.slices.size(), 3u);
+    std::vector<Rgb> normalisations;
+    for (std::size_t j = 0; j < 3; ++j) {
+      Rgb expected = Rgb::Zero();
+      for (std::size_t c = 0; c < 3; ++c)
+        for (std::size_t k = 0; k < 2; ++k) {
+          const double n = model.exponent(c, k, stack.cosines[j]);
+          expected[static_cast<Eigen::Index>(c)] += model.weight(c, k, stack.cosines[j]) * (n + 2.0) / (n + 1.0);
+        }
+      const PrefilteredMap& slice = stack.slices[j];
+      ASSERT_EQ(slice.levels.size(), static_cast<std::size_t>(environmentMipLevels(options.resolution)));
+      double worst = 0.0;
+      for (int y = 0; y < slice.map->height(); ++y)
+        for (int x = 0; x < slice.map->width(); ++x) {
+          if (slice.map->texelCoverage(x, y) == 0.0 && kind == ParameterizationKind::Cube) continue;
+          worst = std::max(worst, (slice.levels[0].at(x, y).head<3>() / expected - 1.0).abs().maxCoeff());
+        }
+      EXPECT_LT(worst, 1e-3) << toString(kind) << " slice " << j;
+      normalisations.push_back(expected);
+    }
+    // The slices differ: the lobes sharpen and grow towards grazing.
+    EXPECT_GT(normalisations[0][0], 2.0 * normalisations[2][0]);
+  }
+}
+
+TEST(PrefilterStack, EachSliceIsTheModelFrozenAtItsElevation) {
+  const LobeModel model = varyingModel();
+  PrefilterOptions options;
+  options.parameterization = ParameterizationKind::LatLong;
+  options.resolution = 8;
+  options.elevations = 3;
+  const PrefilteredStack stack = prefilterLobeModelStack(sky(), model, "lobes:varying.json", options);
+  ASSERT_EQ(stack.slices.size(), 3u);
+  for (std::size_t j = 0; j < 3; ++j) {
+    const PrefilteredMap frozen = prefilterLobeModel(sky(), model.atElevation(stack.cosines[j]), "frozen", options);
+    EXPECT_EQ(largestRelativeDifference(stack.slices[j].levels[0], frozen.levels[0]), 0.0) << j;
+  }
+  EXPECT_GT(largestRelativeDifference(stack.slices[0].levels[0], stack.slices[2].levels[0]), 0.5);
+
+  // Written: STEM_elevJ.EXT, each recording its elevation; nothing at STEM.EXT.
+  test::TempDir dir;
+  const auto written = writePrefilteredStack(stack, dir / "stack.exr", {{"environment", {{"file", "sky.exr"}}}});
+  ASSERT_EQ(written.files.size(), 3u);
+  EXPECT_FALSE(std::filesystem::exists(dir / "stack.exr"));
+  for (int j = 0; j < 3; ++j) {
+    const MapFile file = readMap(dir / ("stack_elev" + std::to_string(j) + ".exr"));
+    const auto& elevation = file.info.spec["prefilter"]["elevation"];
+    EXPECT_EQ(elevation["slice"], j);
+    EXPECT_EQ(elevation["slices"], 3);
+    EXPECT_DOUBLE_EQ(elevation["cos_theta"].get<double>(), stack.cosines[static_cast<std::size_t>(j)]);
+    EXPECT_DOUBLE_EQ(elevation["t"].get<double>(), j / 2.0);
+    EXPECT_DOUBLE_EQ(elevation["min_cos"].get<double>(), 0.2);
+    EXPECT_NE(elevation["interpolation"].get<std::string>().find("linearly in t"), std::string::npos);
+    EXPECT_EQ(file.info.spec["prefilter"]["lobe"], "lobes:varying.json");
+    EXPECT_EQ(file.info.spec["environment"]["file"], "sky.exr");
+    EXPECT_LT(largestRelativeDifference(file.image, stack.slices[static_cast<std::size_t>(j)].levels[0]), 1e-6);
+  }
+}
+
+TEST(PrefilterStack, LinearInterpolationInTBetweenEightSlicesIsClose) {
+  // Halfway between slices (t = (j + 0.5)/7), the mean of the two neighbours against the model
+  // frozen there: the error of the documented interpolation with the default 8 slices (each map
+  // to 0.1 %; docs/prefilter.md has the figures for 2 to 16 slices).
+  const LobeModel model = varyingModel();
+  PrefilterOptions options;
+  options.parameterization = ParameterizationKind::LatLong;
+  options.resolution = 8;
+  options.maxError = 0.001;
+  const PrefilteredStack stack = prefilterLobeModelStack(sky(), model, "lobes:varying.json", options);
+  ASSERT_EQ(stack.slices.size(), 8u);
+  const auto map = makeParameterization(ParameterizationKind::LatLong, 8);
+  double worst = 0.0;
+  for (int j : {0, 3, 6}) {
+    const double t = (j + 0.5) / 7.0;
+    const double u = model.minCos * std::pow(model.maxCos / model.minCos, t);
+    const Image exact = prefilterLobeModel(sky(), model.atElevation(u), "mid", options).levels[0];
+    Image blended = exact;
+    for (int y = 0; y < 8; ++y)
+      for (int x = 0; x < 16; ++x) blended.set(x, y, 0.5 * (stack.slices[j].levels[0].at(x, y) + stack.slices[j + 1].levels[0].at(x, y)));
+    const PrefilterError error = prefilterError(blended, exact, *map, 1e-3);
+    worst = std::max(worst, error.rms);
+  }
+  EXPECT_LT(worst, 0.02);
+  EXPECT_GT(worst, 1e-4);  // not trivially equal: the lobes change between slices
+}
+
+TEST(PrefilterStack, BadSliceCountsAndConstantModelsAreRefused) {
+  PrefilterOptions options;
+  options.parameterization = ParameterizationKind::LatLong;
+  options.resolution = 4;
+  for (int bad : {-1, 0, 1, 65}) {
+    options.elevations = bad;
+    Error::Kind kind{};
+    const std::string message = errorOf([&] { prefilterLobeModelStack(furnace(), varyingModel(), "v", options); }, &kind);
+    EXPECT_EQ(kind, Error::Kind::InvalidArgument) << bad;
+    EXPECT_NE(message.find("elevations"), std::string::npos) << message;
+    EXPECT_NE(message.find("[2, 64]"), std::string::npos) << message;
+  }
+  options.elevations = 2;
+  const std::string message = errorOf([&] { prefilterLobeModelStack(furnace(), varyingModel().atElevation(0.5), "c", options); });
+  EXPECT_NE(message.find("constant lobe model prefilters into one map"), std::string::npos) << message;
+}
+
+// ---- Fresnel decomposition ---------------------------------------------------------------------
+
+TEST(FresnelDecomposition, RecombinedOutputsMatchABruteForceSum) {
+  // A sphere map (view +z): texel r holds the specular value at r and the irradiance at
+  // n = normalize(r + v); the renderer reads F at c = n.v from the profile (linear lookup) and
+  // combines. Against the reference sums at r and n and the dielectric formula at c.
+  test::TempDir dir;
+  PrefilterOptions options;
+  options.parameterization = ParameterizationKind::Sphere;
+  options.resolution = 64;
+  options.method = PrefilterMethod::Reference;
+  const FresnelTerm fresnel = FresnelTerm::dielectric(Rgb::Constant(1.5));
+  const PrefilterLobe lobe = PrefilterLobe::phong(20);
+  const Rgb albedo(0.5, 0.3, 0.2);
+  for (const auto combine : {FresnelCombine::Mix, FresnelCombine::Add}) {
+    const auto decomposition = prefilterFresnelDecomposition(sky(), lobe, fresnel, combine, options, 64);
+    const std::filesystem::path out = dir / (std::string("coat_") + std::string(toString(combine)) + ".exr");
+    const auto written = writeFresnelDecomposition(decomposition, out, {{"environment", {{"file", "sky.exr"}}}});
+    ASSERT_EQ(written.files.size(), 3u);
+    const MapFile specular = readMap(out), irradiance = readMap(fresnelIrradiancePath(out));
+    const Image profile = readImage(fresnelProfilePath(out));
+    ASSERT_EQ(profile.width(), 64);
+    ASSERT_EQ(profile.height(), 1);
+    // The profile: texel i holds F at cos theta = (i + 0.5)/64.
+    for (int i = 0; i < 64; ++i) {
+      EXPECT_NEAR(profile.at(i, 0)[1], fresnelDielectric((i + 0.5) / 64.0, 1.5), 1e-6) << i;
+    }
+    // Metadata tells how to combine.
+    for (const auto* file : {&specular, &irradiance}) {
+      const auto& info = file->info.spec["prefilter"]["fresnel"];
+      EXPECT_EQ(info["combine"], std::string(toString(combine)));
+      EXPECT_EQ(info["irradiance"], fresnelIrradiancePath(out).filename().string());
+      EXPECT_EQ(info["profile"], fresnelProfilePath(out).filename().string());
+      EXPECT_EQ(info["profile_size"], 64);
+      EXPECT_NEAR(info["f0"][0].get<double>(), 0.04, 1e-12);
+    }
+    EXPECT_EQ(specular.info.spec["prefilter"]["fresnel"]["role"], "specular");
+    EXPECT_EQ(irradiance.info.spec["prefilter"]["fresnel"]["role"], "irradiance");
+    EXPECT_EQ(irradiance.info.spec["prefilter"]["lobe"], "irradiance");
+    EXPECT_EQ(specular.info.spec["prefilter"]["lobe"], "phong:20");
+
+    const SphereMap sphere(64);
+    std::vector<Vec2> texels{{32.5, 32.5}, {40.5, 20.5}, {10.5, 30.5}, {55.5, 45.5}, {33.5, 60.5}, {3.5, 33.5}};
+    std::vector<Vec3> rs, ns;
+    for (const Vec2& p : texels) {
+      const Vec3 r = *sphere.getDirectionFor(p);
+      rs.push_back(r);
+      ns.push_back((r + Vec3::UnitZ()).normalized());
+    }
+    const auto lm = prefilterReferenceAt(sky(), lobe, rs), e = prefilterReferenceAt(sky(), PrefilterLobe::irradiance(), ns);
+    for (std::size_t i = 0; i < texels.size(); ++i) {
+      const double c = ns[i].z();
+      const Rgb exact = combineFresnelDecomposition(combine, Rgb::Constant(fresnelDielectric(c, 1.5)), lm[i], e[i], albedo);
+      // What a renderer does: the maps at the texel, F by a linear lookup at s = c.
+      const double s = std::clamp(c * 64.0 - 0.5, 0.0, 63.0);
+      const int i0 = std::min(62, static_cast<int>(s));
+      const Rgb f = (1.0 - (s - i0)) * profile.at(i0, 0).head<3>() + (s - i0) * profile.at(i0 + 1, 0).head<3>();
+      const int x = static_cast<int>(texels[i].x()), y = static_cast<int>(texels[i].y());
+      const Rgb rendered = combineFresnelDecomposition(combine, f, specular.image.at(x, y).head<3>(),
+                                                       irradiance.image.at(x, y).head<3>(), albedo);
+      EXPECT_LT((rendered - exact).abs().maxCoeff() / exact.abs().maxCoeff(), 1e-3)
+          << toString(combine) << " texel " << texels[i].transpose() << ": " << rendered.transpose() << " vs " << exact.transpose();
+    }
+  }
+}
+
+TEST(FresnelDecomposition, FurnaceMixWithWhiteAlbedoIsOne) {
+  // L = 1, k_d = 1: F x 1 + (1 - F) x pi / pi = 1 at every texel and angle (a white coated furnace).
+  PrefilterOptions options;
+  options.parameterization = ParameterizationKind::Cube;
+  options.resolution = 8;
+  const auto d = prefilterFresnelDecomposition(furnace(), PrefilterLobe::mirror(), FresnelTerm::dielectric(Rgb(1.3, 1.5, 2.4)),
+                                               FresnelCombine::Mix, options, 16);
+  ASSERT_EQ(d.profile.size(), 16u);
+  double worst = 0.0;
+  for (int y = 0; y < d.specular.map->height(); ++y)
+    for (int x = 0; x < d.specular.map->width(); ++x) {
+      if (d.specular.map->texelCoverage(x, y) == 0.0) continue;
+      for (const Rgb& f : d.profile) {
+        const Rgb l = combineFresnelDecomposition(FresnelCombine::Mix, f, d.specular.levels[0].at(x, y).head<3>(),
+                                                  d.irradiance.levels[0].at(x, y).head<3>(), Rgb::Ones());
+        worst = std::max(worst, (l - 1.0).abs().maxCoeff());
+      }
+    }
+  EXPECT_LT(worst, 1e-3);
+  EXPECT_NEAR(d.profile[15][2], fresnelDielectric(15.5 / 16.0, 2.4), 1e-15);
+  // Refused: an irradiance "specular" lobe, a profile of no texels.
+  Error::Kind kind{};
+  EXPECT_NE(errorOf([&] { prefilterFresnelDecomposition(furnace(), PrefilterLobe::irradiance(), d.fresnel, FresnelCombine::Add, options, 8); },
+                    &kind)
+                .find("specular lobe"),
+            std::string::npos);
+  EXPECT_EQ(kind, Error::Kind::InvalidArgument);
+  EXPECT_NE(errorOf([&] { prefilterFresnelDecomposition(furnace(), PrefilterLobe::mirror(), d.fresnel, FresnelCombine::Add, options, 0); })
+                .find("1 to 65536 texels"),
+            std::string::npos);
 }
 
 // ---- fast methods against the reference ------------------------------------------------------

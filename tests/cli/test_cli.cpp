@@ -1,5 +1,6 @@
 // The command line as a user meets it: acceptance checks from the issue, exit codes, no output
 // on bad input, machine-readable output.
+#include <brdfbake/bake/image_io.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
 #include <gtest/gtest.h>
@@ -190,15 +191,53 @@ TEST(Cli, AutoPicksAConfigurationAndRecordsIt) {
   test::TempDir dir;
   std::ofstream(dir / "a.json") << R"({"maps": [{"output": "a.exr", "parameterization": "auto", "resolution": "auto",
       "samples_per_texel": "auto", "max_error": 0.005, "view": "free",
-      "material": {"model": "phong", "exponent": 40}, "lights": [{"direction": [1, 1, 1]}]}]})";
+      "material": {"model": "phong", "exponent": 40}, "lights": [{"direction": [1, 1, 1]}, {"direction": [-1, 0, 1]}]}]})";
   const auto result = runCli("bake " + q(dir / "a.json") + " --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto report = nlohmann::json::parse(result.output)["maps"][0];
-  EXPECT_NE(report["parameterization"], "sphere");  // a free view rules out sphere maps
+  EXPECT_NE(report["parameterization"], "sphere");   // a free view rules out sphere maps
+  EXPECT_NE(report["parameterization"], "profile");  // two lobes about two axes: no symmetry
   EXPECT_LE(report["auto"]["measured_error"].get<double>(), 0.005);
   const auto info = nlohmann::json::parse(runCli("info " + q(dir / "a.exr") + " --json").output);
   EXPECT_EQ(info["metadata"]["spec"]["auto"]["chosen"], report["auto"]["chosen"]);
   EXPECT_LE(info["metadata"]["spec"]["auto"]["measured_error"].get<double>(), 0.005);
+}
+
+// A map radially symmetric about one axis needs only its 1-D profile: auto picks one, and
+// "parameterization": "profile" asks for one; the profile's lookups match the exact model.
+TEST(Cli, RadiallySymmetricMapsAreBakedAsProfiles) {
+  test::TempDir dir;
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/profile.json")) + " -o " + q(dir.path()) + " --json");
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  const auto maps = nlohmann::json::parse(result.output)["maps"];
+  ASSERT_EQ(maps.size(), 2u);
+  EXPECT_EQ(maps[0]["parameterization"], "profile");
+  EXPECT_LE(maps[0]["auto"]["measured_error"].get<double>(), 0.002);
+  EXPECT_GT(maps[0]["auto"]["next_cheaper"]["measured_error"].get<double>(), 0.002);
+  EXPECT_EQ(maps[0]["height"], 1);
+  EXPECT_EQ(maps[1]["parameterization"], "profile");
+  EXPECT_EQ(maps[1]["width"], 256);
+  const auto info = nlohmann::json::parse(runCli("info " + q(dir / "phong_eye_profile.exr") + " --json").output);
+  EXPECT_EQ(info["parameterization"], "profile");
+  EXPECT_EQ(info["metadata"]["axis"], nlohmann::json({0.0, 0.0, 1.0}));
+  EXPECT_EQ(info["metadata"]["spec"]["material"]["exponent"], 50);
+  // Texel i holds Phong's lobe about the view at u = (i + 0.5) / 256: cos = 1 - 2 u^2.
+  const Image profile = readImage(dir / "phong_eye_profile.exr");
+  for (int i = 0; i < 256; i += 5) {
+    const double u = (i + 0.5) / 256.0;
+    EXPECT_NEAR(profile.at(i, 0)[0], std::pow(std::max(0.0, 1.0 - 2.0 * u * u), 50.0), 0.01) << i;
+  }
+  // A profile is not a 2-D map: sample says so instead of misreading it.
+  const auto sample = runCli("sample " + q(dir / "phong_eye_profile.exr") + " --dir 0,0,1");
+  EXPECT_NE(sample.exitCode, 0);
+  EXPECT_NE(sample.output.find("1-D radial profile"), std::string::npos) << sample.output;
+  // Asking for a profile of a map that is not symmetric names the JSON path and writes nothing.
+  std::ofstream(dir / "bad.json") << R"({"maps": [{"output": "g.exr", "parameterization": "profile",
+      "material": {"model": "phong", "exponent": 20}, "lights": [{"direction": [1, 0, 1]}, {"direction": "eye"}]}]})";
+  const auto bad = runCli("bake " + q(dir / "bad.json"));
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.output.find("maps[0].parameterization: a profile needs a map radially symmetric"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(dir / "g.exr"));
 }
 
 TEST(Cli, InterpolationChartsBothSchemesAndTheSeedLine) {

@@ -1,7 +1,9 @@
 // `brdfbake prefilter` and prefiltered maps in specs, as a user meets them: outputs checked against
 // the library's reference sum, metadata, exit codes for bad flags and bad environments.
 #include <brdfbake/bake/environment.hpp>
+#include <brdfbake/bake/image_io.hpp>
 #include <brdfbake/bake/prefilter.hpp>
+#include <brdfbake/brdf/fresnel.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <gtest/gtest.h>
@@ -129,13 +131,121 @@ TEST(PrefilterCli, FittedLobesFromAFitFile) {
   ASSERT_EQ(result.exitCode, 0) << result.output;
   // Furnace: C (n + 2)/(n + 1) per channel.
   EXPECT_NEAR(sampleMap(out, Vec3(0.2, 0.3, -1).normalized())[0], 0.5 * 42.0 / 41.0, 1e-3);
-  // A varying model is refused before any work.
+  // --elevations is for varying models only.
+  const auto constantStack = runCli("prefilter " + q(kFurnace) + " --lobe lobes:" + q(dir / "fit.json") +
+                                    " --to cube --resolution 4 --elevations 4 -o " + q(dir / "c.exr"));
+  EXPECT_EQ(constantStack.exitCode, 2) << constantStack.output;
+  EXPECT_NE(constantStack.output.find("--elevations"), std::string::npos) << constantStack.output;
+
+  // A varying model makes a stack of maps over elevation: STEM_elev0.EXT ..., each recording its
+  // elevation; on the furnace slice j holds C(u_j) (n(u_j) + 2)/(n(u_j) + 1).
   fit.fit.model.elevation = LobeElevation::Varying;
-  for (auto& channel : fit.fit.model.channels) channel.lobes[0] = {{0.5, 0.5, 0.5}, {40.0, 40.0, 40.0}};
+  fit.fit.model.minCos = 0.25;
+  for (auto& channel : fit.fit.model.channels) channel.lobes[0] = {{0.5, 0.3, 0.2}, {40.0, 20.0, 10.0}};
   writeFitFile(dir / "varying.json", fit);
-  const auto varying = runCli("prefilter " + q(kFurnace) + " --lobe lobes:" + q(dir / "varying.json") + " --to cube -o " + q(dir / "v.exr"));
-  EXPECT_EQ(varying.exitCode, 2) << varying.output;
-  EXPECT_NE(varying.output.find("vary with elevation"), std::string::npos) << varying.output;
+  const fs::path stack = dir / "v.exr";
+  const auto varying = runCli("prefilter " + q(kFurnace) + " --lobe lobes:" + q(dir / "varying.json") +
+                              " --to latlong --resolution 4 --elevations 3 --json -o " + q(stack));
+  ASSERT_EQ(varying.exitCode, 0) << varying.output;
+  const auto report = nlohmann::json::parse(varying.output);
+  ASSERT_EQ(report["files"].size(), 3u);
+  ASSERT_EQ(report["elevations"]["slices"], 3);
+  EXPECT_FALSE(fs::exists(stack));
+  for (int j = 0; j < 3; ++j) {
+    const fs::path slice = dir / ("v_elev" + std::to_string(j) + ".exr");
+    const double u = report["elevations"]["cos_theta"][j].get<double>();
+    EXPECT_NEAR(u, 0.25 * std::pow(4.0, j / 2.0), 1e-12);
+    const double c = fit.fit.model.weight(0, 0, u), n = fit.fit.model.exponent(0, 0, u);
+    EXPECT_NEAR(sampleMap(slice, Vec3(0.2, 0.3, -1).normalized())[0], c * (n + 2.0) / (n + 1.0), 1e-3) << j;
+    const auto info = runCli("info " + q(slice) + " --json");
+    ASSERT_EQ(info.exitCode, 0) << info.output;
+    const auto elevation = nlohmann::json::parse(info.output)["metadata"]["spec"]["prefilter"]["elevation"];
+    EXPECT_EQ(elevation["slice"], j);
+    EXPECT_NEAR(elevation["cos_theta"].get<double>(), u, 1e-15);
+  }
+  // Bad slice counts: exit 2 naming the flag.
+  for (const char* bad : {"1", "0", "65", "x"}) {
+    const auto refused = runCli("prefilter " + q(kFurnace) + " --lobe lobes:" + q(dir / "varying.json") + " --to cube --elevations " +
+                                bad + " -o " + q(dir / "w.exr"));
+    EXPECT_EQ(refused.exitCode, 2) << bad << ": " << refused.output;
+    EXPECT_NE(refused.output.find("--elevations"), std::string::npos) << refused.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "w_elev0.exr"));
+}
+
+TEST(PrefilterCli, FresnelDecompositionWritesThreeFilesAndSaysHowToCombineThem) {
+  test::TempDir dir;
+  const fs::path out = dir / "coat.exr";
+  const auto result = runCli("prefilter " + q(kFurnace) + " --lobe mirror --fresnel-ior 1.5 --combine mix --to latlong --resolution 8 --json -o " +
+                             q(out));
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  const auto report = nlohmann::json::parse(result.output);
+  ASSERT_EQ(report["files"].size(), 3u);
+  EXPECT_EQ(report["fresnel"]["combine"], "mix");
+  EXPECT_EQ(report["fresnel"]["irradiance_prefilter"]["lobe"], "irradiance");
+  // Furnace: specular 1, irradiance pi; the profile is the dielectric formula at texel centres.
+  const Vec3 d = Vec3(0.3, -0.8, 0.2).normalized();
+  EXPECT_NEAR(sampleMap(out, d)[0], 1.0, 1e-3);
+  EXPECT_NEAR(sampleMap(dir / "coat_irradiance.exr", d)[0], kPi, 1e-3 * kPi);
+  const Image profile = readImage(dir / "coat_fresnel.exr");
+  ASSERT_EQ(profile.width(), 8);
+  for (int i = 0; i < 8; ++i) EXPECT_NEAR(profile.at(i, 0)[0], fresnelDielectric((i + 0.5) / 8.0, 1.5), 1e-6) << i;
+  for (const char* file : {"coat.exr", "coat_irradiance.exr"}) {
+    const auto info = runCli("info " + q(dir / file) + " --json");
+    ASSERT_EQ(info.exitCode, 0) << info.output;
+    const auto fresnel = nlohmann::json::parse(info.output)["metadata"]["spec"]["prefilter"]["fresnel"];
+    EXPECT_EQ(fresnel["combine"], "mix") << file;
+    EXPECT_EQ(fresnel["profile"], "coat_fresnel.exr") << file;
+    EXPECT_NE(fresnel["formula"].get<std::string>().find("(1 - F(n.v))"), std::string::npos) << file;
+  }
+  // Refused: an irradiance lobe, --combine alone, a bad combine, a non-positive index.
+  for (const std::string& flags : std::vector<std::string>{"--lobe irradiance --fresnel-ior 1.5", "--lobe mirror --combine mix",
+                                                           "--lobe mirror --fresnel-ior 1.5 --combine over",
+                                                           "--lobe mirror --fresnel-ior -2"}) {
+    const auto refused = runCli("prefilter " + q(kFurnace) + " " + flags + " --to cube -o " + q(dir / "bad.exr"));
+    EXPECT_EQ(refused.exitCode, 2) << flags << ": " << refused.output;
+    EXPECT_TRUE(refused.output.find("--fresnel-ior") != std::string::npos || refused.output.find("--combine") != std::string::npos)
+        << refused.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "bad.exr"));
+  EXPECT_FALSE(fs::exists(dir / "bad_irradiance.exr"));
+}
+
+TEST(PrefilterCli, SpecsMakeStacksAndFresnelDecompositions) {
+  test::TempDir dir;
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/prefilter_decomposition.json")) + " -o " + q(dir.path()) +
+                             " --json");
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  const auto report = nlohmann::json::parse(result.output);
+  ASSERT_EQ(report["maps"].size(), 2u);
+  for (const auto& map : report["maps"]) {
+    for (const auto& file : map["files"]) EXPECT_TRUE(fs::exists(file.get<std::string>())) << file;
+  }
+  EXPECT_EQ(report["maps"][0]["elevations"]["slices"], 8);
+  EXPECT_EQ(report["maps"][0]["files"].size(), 8u);
+  EXPECT_EQ(report["maps"][1]["fresnel"]["combine"], "mix");
+  EXPECT_EQ(report["maps"][1]["files"].size(), 3u);
+
+  // Bad keys name their JSON path; nothing is written.
+  const fs::path bad = dir / "bad.json";
+  const std::string fit = test::sourcePath("data_samples/fits/synthetic_varying.json");
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {R"("lobe": "lobes:)" + fit + R"(", "elevations": 1)", "maps[0].environment.elevations: must be in [2, 64]"},
+      {R"("lobe": "lobes:)" + fit + R"(", "elevations": 4.5)", "maps[0].environment.elevations: must be an integer"},
+      {R"("lobe": "phong:10", "elevations": 4)", "maps[0].environment.elevations: only lobe models that vary"},
+      {R"("lobe": "irradiance", "fresnel": {"ior": 1.5})", "maps[0].environment.fresnel: a Fresnel decomposition needs a specular lobe"},
+      {R"("lobe": "mirror", "combine": "mix")", "maps[0].environment.combine: needs \"fresnel\""},
+      {R"("lobe": "mirror", "fresnel": {"ior": 1.5}, "combine": "over")", "maps[0].environment.combine"},
+      {R"("lobe": "mirror", "fresnel": {"ior": -1.5})", "maps[0].environment.fresnel.ior"}};
+  for (const auto& [keys, expected] : cases) {
+    std::ofstream(bad) << R"({"maps": [{"output": "x.exr", "parameterization": "sphere", "resolution": 8,
+        "environment": {"file": ")" << kSky << R"(", )" << keys << "}}]}";
+    const auto refused = runCli("bake " + q(bad));
+    EXPECT_EQ(refused.exitCode, 2) << keys << ": " << refused.output;
+    EXPECT_NE(refused.output.find(expected), std::string::npos) << keys << ": " << refused.output;
+  }
+  EXPECT_FALSE(fs::exists(dir / "x.exr"));
+  EXPECT_FALSE(fs::exists(dir / "x_elev0.exr"));
 }
 
 TEST(PrefilterCli, BadFlagsExitTwoAndBadEnvironmentsAreNamed) {

@@ -4,6 +4,9 @@
 
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/baker.hpp>
+#include <brdfbake/bake/radial_profile.hpp>
+
+#include <optional>
 
 #include <string>
 #include <vector>
@@ -15,15 +18,22 @@ struct MapConfiguration {
   ParameterizationKind parameterization = ParameterizationKind::Sphere;
   int resolution = 0;
   int samplesPerTexel = 0;
+  /// A 1-D radial profile of `resolution` texels instead of a 2-D map (bake/radial_profile.hpp);
+  /// `parameterization` is then ignored.
+  bool profile = false;
   /// Cost: texels x samples per texel (memory and bake time both follow it).
   long long cost() const;
-  std::string describe() const;  ///< "sphere 64^2, 4 samples/texel"
+  std::string describe() const;  ///< "sphere 64^2, 4 samples/texel" or "profile 64 texels, 4 samples/texel"
 };
 
 struct AutoOptions {
   std::vector<ParameterizationKind> parameterizations{ParameterizationKind::Sphere};
   std::vector<int> resolutions{16, 32, 64, 128, 256, 512, 1024, 2048};
   std::vector<int> samplesPerTexel{1, 4, 16, 64};
+  /// Also try 1-D radial profiles (each resolution x samples) when the function has a symmetry
+  /// axis (MapFunction::symmetryAxis): a radially symmetric map needs only its profile. With no
+  /// parameterizations, only profiles are tried.
+  bool allowProfile = false;
   /// Target: RMS lookup error relative to the peak (ErrorStats::rms, or visibleRms for sphere
   /// maps: the directions a renderer looks up), in (0, 1).
   double maxError = 0.01;
@@ -36,14 +46,17 @@ struct AutoOptions {
 struct AutoResult {
   MapConfiguration chosen;
   double error = 0.0;      ///< its measured error
-  Image image;             ///< the chosen map, baked
+  Image image;             ///< the chosen map, baked (a profile: N x 1, RadialProfile::toImage)
+  std::optional<RadialProfile> profile;  ///< set when a profile was chosen
   int tried = 0;           ///< configurations baked and measured, the chosen one included
   /// The errors of the cheaper configurations tried (all above maxError).
   std::vector<std::pair<MapConfiguration, double>> rejected;
 };
 
-/// The error measure AutoOptions::maxError bounds, for one measurement.
+/// The error measure AutoOptions::maxError bounds, for one measurement: visibleRms for sphere maps
+/// and for profiles about the view (+z), rms otherwise.
 double autoErrorMeasure(const ErrorStats& stats, ParameterizationKind kind);
+double autoErrorMeasure(const ErrorStats& stats, const MapConfiguration& configuration, const Vec3& profileAxis);
 
 /// Tries every combination of the options' parameterizations, resolutions and samples in order of
 /// increasing cost, and returns the first (so the cheapest) whose measured error meets maxError;

@@ -20,6 +20,10 @@ class MapFunction {
   /// If evaluate() is exactly a sum of radial lobes, those lobes: the baker then tabulates each
   /// profile once instead of evaluating the model per sample.
   virtual std::optional<std::vector<RadialLobe>> radialLobes() const { return std::nullopt; }
+  /// If evaluate(d) depends on d only through its angle to one axis, that axis (then a 1-D
+  /// radial profile holds the whole map: bake/radial_profile.hpp). The default: the common axis
+  /// of radialLobes(), if they share one.
+  virtual std::optional<Vec3> symmetryAxis() const;
 };
 
 /// A directional light in the map's frame. `direction` points towards the light.
@@ -38,6 +42,8 @@ class MaterialMapFunction final : public MapFunction {
                       const Vec3& view);
   Rgb evaluate(const Vec3& direction) const override;
   std::optional<std::vector<RadialLobe>> radialLobes() const override;
+  /// The view, for unlit materials whose value depends on n.v only; else as MapFunction's.
+  std::optional<Vec3> symmetryAxis() const override;
 
  private:
   std::shared_ptr<const Material> material_;

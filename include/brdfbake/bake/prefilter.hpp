@@ -88,6 +88,9 @@ struct PrefilterOptions {
   unsigned seed = 1;
   /// Footprint samples per texel for the mirror lobe (as BakeOptions::samplesPerTexel).
   int mirrorSamples = 16;
+  /// Varying lobe models only (prefilterLobeModelStack, prefilter_stack.hpp): the number of maps
+  /// in the stack over view elevation, in [2, 64].
+  int elevations = 8;
   /// Worker threads; 0 uses every core.
   int threads = 0;
   /// Largest output (level 0) without allowLarge, in texels (8192^2 = 1 GiB of float RGBA).
@@ -152,7 +155,8 @@ PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lo
 /// k_d x irradiance and multiplies by n.r as seed 002 Eq. 19 does. One prefilter() run per distinct
 /// exponent, each to `options` (its method and bound); the sum's relative error is at most the
 /// largest run's, which the summary reports. Only constant models make one map: varying models
-/// (lobes that change with elevation) throw Error(InvalidArgument). `name` is what metadata records.
+/// (lobes that change with elevation) throw Error(InvalidArgument); prefilterLobeModelStack
+/// (prefilter_stack.hpp) makes their stack of maps over elevation. `name` is what metadata records.
 PrefilteredMap prefilterLobeModel(const Environment& environment, const LobeModel& model, const std::string& name,
                                   const PrefilterOptions& options = {});
 
@@ -179,7 +183,8 @@ PrefilterError prefilterError(const Image& result, const Image& reference, const
 
 /// Writes every level: level 0 at `path`, level k at mipLevelPath(path, k), each a map
 /// (writeMap) whose MapInfo::spec is `spec` plus "prefilter": {lobe, method, detail, max_error,
-/// error_estimate, error_metric, mip_level, mip_levels}.
+/// error_estimate, error_metric, mip_level, mip_levels}. Keys of an object `spec["prefilter"]`
+/// are kept (prefilter_stack.hpp adds "elevation" and "fresnel" there).
 MapWriteReport writePrefilteredMap(const PrefilteredMap& map, const std::filesystem::path& path, nlohmann::json spec,
                                    CubeLayout layout = CubeLayout::Cross, const WriteOptions& options = {});
 

@@ -117,6 +117,7 @@ class CookTorranceMaterial final : public Material {
   Rgb unlit(const ShadingGeometry& g) const override;
   bool usesLights() const override { return params_.mode == CookTorranceMode::Lighting; }
   bool viewIndependent() const override { return false; }
+  bool unlitSymmetricAboutView() const override { return true; }  // reflectance(N.V); 0 in lighting mode
 
   /// The BRDF s R_s + d R_d (1/sr) for unit vectors n, v, l. 0 if N.L <= 0 or N.V < 0; finite at
   /// N.V = 0 (see cookTorranceGOverNlNv).

@@ -173,6 +173,7 @@ class FresnelMaterial final : public Material {
   Rgb unlit(const ShadingGeometry& g) const override { return fresnel_(g.normal.dot(g.view)); }
   bool usesLights() const override { return false; }
   bool viewIndependent() const override { return false; }
+  bool unlitSymmetricAboutView() const override { return true; }
   const FresnelTerm& fresnel() const { return fresnel_; }
   FresnelCombine combine() const { return combine_; }
 

@@ -182,6 +182,10 @@ struct LobeModel {
   /// C_k(u) and n_k(u) of a lobe (u is clamped).
   double weight(std::size_t channel, std::size_t lobe, double u) const;
   double exponent(std::size_t channel, std::size_t lobe, double u) const;
+  /// The model frozen at view cosine u: a Constant model with C_k(u) and n_k(u) of every lobe and
+  /// the same channels, diffuse terms and wavelengths (a Constant model is returned unchanged).
+  /// A parameter whose three values are equal keeps that value exactly (no exp(log) rounding).
+  LobeModel atElevation(double u) const;
 
   /// The BRDF (1/sr) of one channel for light `wi` and view `wo` (unit, local frame, z = normal);
   /// 0 when either is at or below the horizon (z <= 0).
@@ -229,6 +233,7 @@ class LobeMaterial final : public Material {
   Rgb unlit(const ShadingGeometry& g) const override;
   bool usesLights() const override { return mode_ != LobeMaterialMode::Reflectance; }
   bool viewIndependent() const override;
+  bool unlitSymmetricAboutView() const override { return true; }  // mirrorRgb(N.V); 0 unless reflectance mode
   std::optional<std::vector<RadialLobe>> radialLobes(const Vec3& light, const Vec3& view) const override;
 
   /// The BRDF in linear sRGB (1/sr) for unit normal, view and light: 0 when n.l <= 0 or n.v <= 0.

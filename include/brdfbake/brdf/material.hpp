@@ -50,6 +50,9 @@ class Material {
   /// True if the value depends on the geometry only through the reflected direction, so a map
   /// indexed by reflected direction is valid for every view.
   virtual bool viewIndependent() const = 0;
+  /// True if unlit(g) depends on g only through n.v (so a map of it is radially symmetric about the
+  /// view, and its 1-D profile is enough: bake/radial_profile.hpp).
+  virtual bool unlitSymmetricAboutView() const { return false; }
   /// If shade(g, light) is exactly a sum of radial lobes about fixed axes as a function of the
   /// reflected direction (for this light and view), those lobes; otherwise nullopt.
   virtual std::optional<std::vector<RadialLobe>> radialLobes(const Vec3& light, const Vec3& view) const {

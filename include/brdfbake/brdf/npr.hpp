@@ -91,6 +91,7 @@ class ColorgramMaterial final : public Material {
   Rgb unlit(const ShadingGeometry& g) const override;
   bool usesLights() const override { return false; }
   bool viewIndependent() const override { return false; }
+  bool unlitSymmetricAboutView() const override { return twist_ == 0.0; }
 
   const ColorGradient& gradient() const { return gradient_; }
   double twist() const { return twist_; }
@@ -161,6 +162,7 @@ class SilhouetteMaterial final : public Material {
   Rgb unlit(const ShadingGeometry& g) const override;
   bool usesLights() const override { return false; }
   bool viewIndependent() const override { return false; }
+  bool unlitSymmetricAboutView() const override { return true; }
 
   double width() const { return width_; }
   const Rgb& color() const { return color_; }

@@ -25,6 +25,8 @@
 
 #include <brdfbake/fit/lobe_fit.hpp>
 
+#include <brdfbake/importers/json_reader.hpp>  // readJsonDocument
+
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -72,10 +74,6 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
 /// Writes the document (2-space indented), atomically: a temporary file in the same folder renamed
 /// over `path`. Throws Error(Io) if it cannot.
 void writeFitFile(const std::filesystem::path& path, const FitFile& file);
-
-/// Reads a JSON file: Error(Io) if unreadable, Error(InvalidInput) "<file>:<line>:<column>: invalid
-/// JSON: ..." for syntax errors.
-nlohmann::json readJsonDocument(const std::filesystem::path& path);
 
 /// Reads a fit file. Throws Error(Io) if unreadable, Error(InvalidInput) with line and column for
 /// JSON syntax errors, and the errors of fitFileFromJson (labelled with the file name).

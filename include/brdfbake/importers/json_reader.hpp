@@ -8,12 +8,17 @@
 
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 namespace brdfbake {
+
+/// Reads a whole JSON file. Throws Error(Io) "<file>: cannot open", and Error(InvalidInput)
+/// "<file>:<line>:<column>: invalid JSON: ..." for syntax errors.
+nlohmann::json readJsonDocument(const std::filesystem::path& path);
 
 /// Error(InvalidInput) with message "<path>: <message>".
 Error specError(const std::string& path, const std::string& message);

@@ -8,6 +8,7 @@
 #include <brdfbake/bake/map_function.hpp>
 #include <brdfbake/bake/parameterization.hpp>
 #include <brdfbake/bake/prefilter.hpp>
+#include <brdfbake/bake/prefilter_stack.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -31,6 +32,14 @@ struct EnvironmentMapSpec {
   bool mips = false;                             ///< "mips": also write STEM_mipK.EXT
   std::optional<ParameterizationKind> from;      ///< "from": parameterization of a plain image
   Vec3 view = Vec3::UnitZ(), up = Vec3::UnitY();  ///< "view", "up": sphere maps only
+  /// "elevations" (varying lobe models only, in [2, 64], default 8): maps in the stack over view
+  /// elevation, written as STEM_elev0.EXT ... (prefilter_stack.hpp).
+  int elevations = 8;
+  /// "fresnel" (a specular lobe only): the Fresnel term as the fresnel material's "fresnel" object;
+  /// then OUTPUT is the specular map, STEM_irradiance.EXT the irradiance map and STEM_fresnel.EXT
+  /// the 1-D profile of `resolution` texels (prefilterFresnelDecomposition).
+  std::optional<FresnelTerm> fresnel;
+  FresnelCombine combine = FresnelCombine::Add;  ///< "combine": "add" (default) | "mix"; needs "fresnel"
 };
 
 /// One entry of "maps", validated.
@@ -38,6 +47,10 @@ struct MapSpec {
   std::string jsonPath;                 ///< "maps[0]", for messages
   std::filesystem::path output;         ///< resolved against the spec's folder
   ParameterizationKind parameterization = ParameterizationKind::Sphere;
+  /// "parameterization": "profile": a 1-D radial profile (bake/radial_profile.hpp) instead of a
+  /// 2-D map, for materials radially symmetric about one axis; eye space as for sphere maps
+  /// (`parameterization` stays Sphere for the view rules).
+  bool profile = false;
   int resolution = 256;
   int samplesPerTexel = 16;
   Vec3 view = Vec3::UnitZ();            ///< view vector in the map frame (+z for sphere maps)

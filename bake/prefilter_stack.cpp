@@ -1,0 +1,220 @@
+// Prefilter requests that make several maps: elevation stacks of varying lobe models and the
+// Fresnel decomposition (prefilter_stack.hpp, docs/prefilter.md).
+#include <brdfbake/bake/env_mips.hpp>
+#include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/bake/prefilter_stack.hpp>
+#include <brdfbake/core/error.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace brdfbake {
+namespace {
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// Folds the summary of one part (a slice, a map of the decomposition) into `into`, labelled.
+void mergeSummary(PrefilterSummary& into, const PrefilterSummary& part, const std::string& label) {
+  if (into.method == PrefilterMethod::Auto || (part.method != PrefilterMethod::Resample && part.method != PrefilterMethod::Reference)) {
+    into.method = part.method;
+  }
+  into.errorEstimated = into.errorEstimated || part.errorEstimated;
+  into.errorEstimate = std::max(into.errorEstimate, part.errorEstimate);
+  into.errorEstimateMax = std::max(into.errorEstimateMax, part.errorEstimateMax);
+  into.metTarget = into.metTarget && part.metTarget;
+  into.estimateSeconds += part.estimateSeconds;
+  into.outputSeconds += part.outputSeconds;
+  into.mipSeconds += part.mipSeconds;
+  into.levels = part.levels;
+  for (auto candidate : part.candidates) {
+    candidate.detail = label + ": " + candidate.detail;
+    into.candidates.push_back(candidate);
+  }
+  for (const auto& note : part.notes) into.notes.push_back(label + ": " + note);
+}
+
+std::filesystem::path besideOutput(const std::filesystem::path& path, const std::string& suffix) {
+  return path.parent_path() / (path.stem().string() + suffix + path.extension().string());
+}
+
+// options.progress over [begin, end) of the whole request.
+std::function<void(double)> progressPart(const std::function<void(double)>& progress, double begin, double end) {
+  if (!progress) return {};
+  return [progress, begin, end](double fraction) { progress(begin + (end - begin) * fraction); };
+}
+
+}  // namespace
+
+// ---- elevation stacks ----------------------------------------------------------------------------
+
+std::vector<double> elevationSliceCosines(const LobeModel& model, int count) {
+  require(count >= 2, "an elevation stack needs at least 2 slices, got " + std::to_string(count));
+  std::vector<double> cosines(static_cast<std::size_t>(count));
+  for (int j = 0; j < count; ++j) {
+    const double t = static_cast<double>(j) / (count - 1);
+    cosines[static_cast<std::size_t>(j)] = j == 0 ? model.minCos
+                                                  : j == count - 1 ? model.maxCos
+                                                                   : model.minCos * std::pow(model.maxCos / model.minCos, t);
+  }
+  return cosines;
+}
+
+PrefilteredStack prefilterLobeModelStack(const Environment& environment, const LobeModel& model, const std::string& name,
+                                         const PrefilterOptions& options) {
+  model.validate();
+  if (model.elevation != LobeElevation::Varying) {
+    throw Error(Error::Kind::InvalidArgument, name + ": a constant lobe model prefilters into one map (prefilterLobeModel); "
+                                                     "stacks over elevation are for lobes that vary with elevation");
+  }
+  options.validate();
+  const auto start = Clock::now();
+  PrefilteredStack stack;
+  stack.minCos = model.minCos;
+  stack.maxCos = model.maxCos;
+  stack.cosines = elevationSliceCosines(model, options.elevations);
+  const int count = options.elevations;
+  PrefilterSummary& summary = stack.summary;
+  summary.lobe = name;
+  summary.maxError = options.maxError;
+  for (int j = 0; j < count; ++j) {
+    const double u = stack.cosines[static_cast<std::size_t>(j)];
+    stack.coordinates.push_back(static_cast<double>(j) / (count - 1));
+    PrefilterOptions slice = options;
+    slice.progress = progressPart(options.progress, static_cast<double>(j) / count, static_cast<double>(j + 1) / count);
+    std::ostringstream label;
+    label.precision(4);
+    label << "elevation " << j << " (cos " << u << ")";
+    try {
+      stack.slices.push_back(prefilterLobeModel(environment, model.atElevation(u), name, slice));
+    } catch (const Error& error) {
+      throw Error(error.kind(), label.str() + ": " + error.what());
+    }
+    mergeSummary(summary, stack.slices.back().summary, label.str());
+  }
+  std::ostringstream detail;
+  detail.precision(4);
+  detail << count << " slices over elevation, cos theta " << model.minCos << " to " << model.maxCos
+         << " (uniform in t = ln(cos / " << model.minCos << ") / ln(" << model.maxCos << " / " << model.minCos << ")) by";
+  for (const auto& slice : stack.slices) detail << (&slice == &stack.slices.front() ? " " : ", ") << toString(slice.summary.method);
+  detail << "; slice 0: " << stack.slices.front().summary.detail;
+  summary.detail = detail.str();
+  summary.seconds = since(start);
+  return stack;
+}
+
+std::filesystem::path elevationSlicePath(const std::filesystem::path& path, int slice) {
+  return besideOutput(path, "_elev" + std::to_string(slice));
+}
+
+MapWriteReport writePrefilteredStack(const PrefilteredStack& stack, const std::filesystem::path& path, nlohmann::json spec,
+                                     CubeLayout layout, const WriteOptions& options) {
+  require(!stack.slices.empty() && stack.slices.size() == stack.cosines.size(), "writePrefilteredStack: nothing to write");
+  if (!spec.is_object()) spec = nlohmann::json::object();
+  if (!spec["prefilter"].is_object()) spec["prefilter"] = nlohmann::json::object();
+  const int count = static_cast<int>(stack.slices.size());
+  std::ostringstream interpolation;
+  interpolation << "t = clamp(ln(n.v / min_cos) / ln(max_cos / min_cos), 0, 1); slice j holds t = j / " << count - 1
+                << "; interpolate linearly in t between slices floor(t * " << count - 1 << ") and the next";
+  MapWriteReport report;
+  for (int j = 0; j < count; ++j) {
+    spec["prefilter"]["elevation"] = {{"slice", j},
+                                      {"slices", count},
+                                      {"cos_theta", stack.cosines[static_cast<std::size_t>(j)]},
+                                      {"t", stack.coordinates[static_cast<std::size_t>(j)]},
+                                      {"min_cos", stack.minCos},
+                                      {"max_cos", stack.maxCos},
+                                      {"interpolation", interpolation.str()}};
+    const MapWriteReport written =
+        writePrefilteredMap(stack.slices[static_cast<std::size_t>(j)], elevationSlicePath(path, j), spec, layout, options);
+    report.files.insert(report.files.end(), written.files.begin(), written.files.end());
+    if (j == 0) report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());
+  }
+  report.notes.push_back(std::to_string(count) + " elevation slices " + elevationSlicePath(path, 0).filename().string() + " ... " +
+                         elevationSlicePath(path, count - 1).filename().string() + ": " + interpolation.str());
+  return report;
+}
+
+// ---- Fresnel decomposition -----------------------------------------------------------------------
+
+FresnelDecomposition prefilterFresnelDecomposition(const Environment& environment, const PrefilterLobe& specular,
+                                                   const FresnelTerm& fresnel, FresnelCombine combine,
+                                                   const PrefilterOptions& options, int profileSize) {
+  if (specular.indexedByNormal()) {
+    throw Error(Error::Kind::InvalidArgument, "a Fresnel decomposition needs a specular lobe (mirror, phong, blinn, ggx) for "
+                                              "its specular map; the irradiance map is made anyway");
+  }
+  require(profileSize >= 1 && profileSize <= 65536,
+          "the Fresnel profile needs 1 to 65536 texels, got " + std::to_string(profileSize));
+  options.validate();
+  FresnelDecomposition result;
+  result.fresnel = fresnel;
+  result.combine = combine;
+  PrefilterOptions part = options;
+  part.progress = progressPart(options.progress, 0.0, 0.5);
+  result.specular = prefilter(environment, specular, part);
+  part.progress = progressPart(options.progress, 0.5, 1.0);
+  result.irradiance = prefilter(environment, PrefilterLobe::irradiance(), part);
+  result.profile = fresnelProfile(fresnel, profileSize);
+  for (const Rgb& f : result.profile) require(f.allFinite(), "the Fresnel profile came out non-finite");
+  return result;
+}
+
+Rgb combineFresnelDecomposition(FresnelCombine combine, const Rgb& fresnel, const Rgb& specular, const Rgb& irradiance,
+                                const Rgb& diffuseAlbedo) {
+  const Rgb diffuse = diffuseAlbedo * irradiance / kPi;
+  return fresnel * specular + (combine == FresnelCombine::Mix ? (1.0 - fresnel) * diffuse : diffuse);
+}
+
+std::filesystem::path fresnelIrradiancePath(const std::filesystem::path& output) { return besideOutput(output, "_irradiance"); }
+std::filesystem::path fresnelProfilePath(const std::filesystem::path& output) { return besideOutput(output, "_fresnel"); }
+
+MapWriteReport writeFresnelDecomposition(const FresnelDecomposition& decomposition, const std::filesystem::path& output,
+                                         nlohmann::json spec, CubeLayout layout, const WriteOptions& options) {
+  const int size = static_cast<int>(decomposition.profile.size());
+  require(size >= 1, "writeFresnelDecomposition: no Fresnel profile");
+  if (!spec.is_object()) spec = nlohmann::json::object();
+  if (!spec["prefilter"].is_object()) spec["prefilter"] = nlohmann::json::object();
+  const std::filesystem::path irradiancePath = fresnelIrradiancePath(output), profilePath = fresnelProfilePath(output);
+  const Rgb f0 = decomposition.fresnel.f0();
+  const bool mix = decomposition.combine == FresnelCombine::Mix;
+  nlohmann::json fresnel = {
+      {"combine", std::string(toString(decomposition.combine))},
+      {"formula", mix ? "L = F(n.v) specular(r) + (1 - F(n.v)) k_d irradiance(n) / pi"
+                      : "L = F(n.v) specular(r) + k_d irradiance(n) / pi"},
+      {"specular", output.filename().string()},
+      {"irradiance", irradiancePath.filename().string()},
+      {"profile", profilePath.filename().string()},
+      {"profile_size", size},
+      {"profile_texels", "texel i holds F at cos theta = n.v = (i + 0.5) / " + std::to_string(size) +
+                             ": a linear lookup at s = n.v returns F"},
+      {"f0", {f0[0], f0[1], f0[2]}}};
+
+  // The profile first (cheapest to fail), then the two maps.
+  Image image(size, 1);
+  for (int i = 0; i < size; ++i) {
+    const Rgb& f = decomposition.profile[static_cast<std::size_t>(i)];
+    image.set(i, 0, Rgba(f[0], f[1], f[2], 1.0));
+  }
+  MapWriteReport report;
+  const WriteReport profileWritten = writeImage(image, profilePath, options);
+  fresnel["role"] = "specular";
+  spec["prefilter"]["fresnel"] = fresnel;
+  const MapWriteReport specular = writePrefilteredMap(decomposition.specular, output, spec, layout, options);
+  fresnel["role"] = "irradiance";
+  spec["prefilter"]["fresnel"] = fresnel;
+  const MapWriteReport irradiance = writePrefilteredMap(decomposition.irradiance, irradiancePath, spec, layout, options);
+  for (const MapWriteReport* part : {&specular, &irradiance}) {
+    report.files.insert(report.files.end(), part->files.begin(), part->files.end());
+    report.notes.insert(report.notes.end(), part->notes.begin(), part->notes.end());
+  }
+  report.files.push_back(profilePath);
+  report.notes.insert(report.notes.end(), profileWritten.notes.begin(), profileWritten.notes.end());
+  report.notes.push_back(profilePath.filename().string() + ": 1-D Fresnel profile, texel i holds F at cos theta = (i + 0.5) / " +
+                         std::to_string(size) + "; combine " + std::string(toString(decomposition.combine)) + ": " +
+                         fresnel["formula"].get<std::string>());
+  return report;
+}
+
+}  // namespace brdfbake

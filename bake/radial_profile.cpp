@@ -1,0 +1,131 @@
+#include <brdfbake/bake/radial_profile.hpp>
+#include <brdfbake/core/error.hpp>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace brdfbake {
+
+RadialProfile::RadialProfile(const Vec3& axis, std::vector<Rgb> texels) : texels_(std::move(texels)) {
+  require(axis.allFinite() && axis.norm() > 0.0, "profile axis must be a finite non-zero vector");
+  require(!texels_.empty(), "a profile needs at least one texel");
+  for (const Rgb& t : texels_) require(t.allFinite(), "profile texels must be finite");
+  axis_ = axis.normalized();
+  const Vec3 helper = std::abs(axis_.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  tangent_ = axis_.cross(helper).normalized();
+  bitangent_ = axis_.cross(tangent_);
+}
+
+double RadialProfile::coordinateFor(const Vec3& direction) const {
+  return std::clamp((direction.normalized() - axis_).norm() / 2.0, 0.0, 1.0);
+}
+
+Vec3 RadialProfile::directionFor(double u, double phi) const {
+  // cos(alpha) = 1 - 2 u^2, sin(alpha) = 2 u sqrt(1 - u^2).
+  u = std::clamp(u, 0.0, 1.0);
+  const double cosAlpha = 1.0 - 2.0 * u * u, sinAlpha = 2.0 * u * std::sqrt(std::max(0.0, 1.0 - u * u));
+  return (cosAlpha * axis_ + sinAlpha * (std::cos(phi) * tangent_ + std::sin(phi) * bitangent_)).normalized();
+}
+
+Rgb RadialProfile::lookup(const Vec3& direction) const {
+  const int n = resolution();
+  const double x = std::clamp(coordinateFor(direction) * n - 0.5, 0.0, static_cast<double>(n - 1));
+  const int i0 = std::min(static_cast<int>(x), n - 1), i1 = std::min(i0 + 1, n - 1);
+  const double f = x - i0;
+  return (1.0 - f) * texels_[static_cast<std::size_t>(i0)] + f * texels_[static_cast<std::size_t>(i1)];
+}
+
+nlohmann::json RadialProfile::toJson() const {
+  return {{"parameterization", "profile"},
+          {"resolution", resolution()},
+          {"axis", {axis_.x(), axis_.y(), axis_.z()}},
+          {"coordinate", "u = |d - axis| / 2 = sin(angle to axis / 2); texel i at u = (i + 0.5) / N; for a sphere map "
+                         "about the view, u is the map radius |(2s - 1, 2t - 1)|"}};
+}
+
+Image RadialProfile::toImage() const {
+  Image image(resolution(), 1);
+  for (int i = 0; i < resolution(); ++i) {
+    const Rgb& t = texels_[static_cast<std::size_t>(i)];
+    image.set(i, 0, Rgba(t[0], t[1], t[2], 1.0));
+  }
+  image.metadata = toJson();
+  return image;
+}
+
+RadialProfile bakeRadialProfile(const MapFunction& function, const Vec3& axis, int resolution, int samplesPerTexel,
+                                const BakeOptions& options) {
+  require(resolution >= 1, "profile resolution must be >= 1");
+  require(samplesPerTexel >= 1, "samples per texel must be >= 1");
+  require(options.threads >= 0, "threads must be >= 0");
+  // A profile with placeholder texels gives the frame; the real texels replace them below.
+  const RadialProfile frame(axis, std::vector<Rgb>(1, Rgb::Zero()));
+  std::vector<Rgb> texels(static_cast<std::size_t>(resolution), Rgb::Zero());
+  const double goldenAngle = kPi * (3.0 - std::sqrt(5.0));
+  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, resolution), [&](const tbb::blocked_range<int>& range) {
+      for (int i = range.begin(); i < range.end(); ++i) {
+        // Equal solid angle per sample: u^2 stratified uniformly over the ring [i/N, (i+1)/N].
+        const double a = static_cast<double>(i) / resolution, b = static_cast<double>(i + 1) / resolution;
+        Rgb sum = Rgb::Zero();
+        for (int k = 0; k < samplesPerTexel; ++k) {
+          const double u2 = a * a + (b * b - a * a) * (k + 0.5) / samplesPerTexel;
+          const double phi = goldenAngle * (static_cast<double>(i) * samplesPerTexel + k);
+          sum += function.evaluate(frame.directionFor(std::sqrt(u2), phi));
+        }
+        texels[static_cast<std::size_t>(i)] = sum / samplesPerTexel;
+      }
+    });
+  });
+  if (options.progress) options.progress(1.0);
+  return RadialProfile(axis, std::move(texels));
+}
+
+ErrorStats measureProfileError(const RadialProfile& profile, const MapFunction& exact, const ErrorOptions& options) {
+  require(options.samples >= 1, "error measurement needs at least one sample");
+  std::mt19937 rng(options.seed);
+  std::normal_distribution<double> gauss;
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  struct Accumulator {
+    double sumSquares = 0.0, worst = 0.0;
+    int count = 0;
+  } uniformSet, visibleSet;
+  double peak = 0.0;
+  // About the view, a profile is looked up through sphere-map coordinates: skip the rim band the
+  // sphere-map measure skips, for a sphere map of the same radial texel size (2N across).
+  const bool aboutView = (profile.axis() - Vec3::UnitZ()).norm() < 1e-12;
+  const double rimCos = aboutView ? std::cos(std::min(kPi, 4.0 * std::sqrt(1.0 / profile.resolution()))) : 2.0;
+  auto add = [&](Accumulator& acc, const Vec3& r) {
+    if (-r.dot(profile.axis()) > rimCos) return;
+    const Rgb truth = exact.evaluate(r);
+    const Rgb error = profile.lookup(r) - truth;
+    peak = std::max(peak, truth.abs().maxCoeff());
+    acc.sumSquares += error.square().sum() / 3.0;
+    acc.worst = std::max(acc.worst, error.abs().maxCoeff());
+    ++acc.count;
+  };
+  while (uniformSet.count < options.samples) {
+    const Vec3 g(gauss(rng), gauss(rng), gauss(rng));
+    if (g.norm() == 0.0) continue;
+    add(uniformSet, g.normalized());
+  }
+  if (aboutView && options.visibleSphere) {
+    // A visible sphere's lookups: uniform over the sphere-map disc, i.e. u^2 uniform.
+    while (visibleSet.count < options.samples) add(visibleSet, profile.directionFor(std::sqrt(uniform(rng)), 2.0 * kPi * uniform(rng)));
+  }
+  ErrorStats stats;
+  stats.peak = peak;
+  const double scale = peak > 0.0 ? 1.0 / peak : 1.0;
+  stats.rms = std::sqrt(uniformSet.sumSquares / uniformSet.count) * scale;
+  stats.max = uniformSet.worst * scale;
+  stats.visibleRms = visibleSet.count > 0 ? std::sqrt(visibleSet.sumSquares / visibleSet.count) * scale : stats.rms;
+  return stats;
+}
+
+}  // namespace brdfbake
