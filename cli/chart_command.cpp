@@ -1,13 +1,21 @@
-// brdfbake chart SPEC.json -o chart.png: bake time against accuracy over parameterization x
-// resolution x samples per texel, with the Pareto front marked.
+// brdfbake chart SPEC.json -o chart.png: time against accuracy with the Pareto front marked, for
+// every map of a spec. Material maps: bake time over parameterization x resolution x samples per
+// texel, bilinear lookups against the exact model. Prefiltered environment maps: prefilter time
+// over parameterization x resolution x method, against the reference prefilter on random output
+// texels (env_accuracy.hpp). docs/charts.md.
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/baker.hpp>
+#include <brdfbake/bake/env_accuracy.hpp>
+#include <brdfbake/bake/environment.hpp>
 #include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/bake/prefilter.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/importers/spec.hpp>
 
+#include <chrono>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "commands.hpp"
@@ -19,13 +27,33 @@ namespace fs = std::filesystem;
 
 namespace {
 
+using Clock = std::chrono::steady_clock;
+
+// Default resolutions: materials bake fast; prefiltering also pays the reference on the subset and
+// every method's error estimate, so environment maps default to smaller maps.
+constexpr const char* kMaterialResolutions = "32,64,128,256,512";
+constexpr const char* kEnvironmentResolutions = "16,32,64";
+
 struct Point {
   std::string map, parameterization;
+  std::string method = "bake";  // "bake" for material maps; auto, sh, direct, importance, reference
+  std::string detail;           // the setting the prefilter chose ("order 16 on a 88x44 grid")
   int resolution = 0, samples = 0;
   long long texels = 0;
   double seconds = 0.0;
-  ErrorStats error;
+  double rms = 0.0, max = 0.0, visibleRms = 0.0;
+  // Environment maps only (-1: none).
+  double estimate = -1.0;          // the prefilter's own error estimate
+  double lookupRms = -1.0, lookupMax = -1.0;
+  double referenceSeconds = -1.0;  // the reference over the whole map, scaled from the subset
+  bool metBound = true;
+  bool environment = false;
   bool pareto = false;
+};
+
+struct Skipped {
+  std::string map, parameterization, method, note;
+  int resolution = 0;
 };
 
 template <class T>
@@ -44,31 +72,53 @@ std::vector<T> parseList(const std::string& text, const std::string& flag, const
   return out;
 }
 
-// Marks the points no other point beats in both time and RMS error.
-void markPareto(std::vector<Point>& points) {
+// The error a point is charted (and its Pareto front taken) by.
+double plotted(const Point& p, bool lookups) { return lookups && p.environment ? p.lookupRms : p.rms; }
+
+// Marks the points no other point beats in both time and charted RMS error.
+void markPareto(std::vector<Point>& points, bool lookups) {
   for (auto& p : points) {
+    const double e = plotted(p, lookups);
     p.pareto = std::none_of(points.begin(), points.end(), [&](const Point& q) {
-      return q.seconds <= p.seconds && q.error.rms <= p.error.rms && (q.seconds < p.seconds || q.error.rms < p.error.rms);
+      const double f = plotted(q, lookups);
+      return q.seconds <= p.seconds && f <= e && (q.seconds < p.seconds || f < e);
     });
   }
+}
+
+std::string optionalNumber(double value) {
+  if (value < 0.0) return "";
+  std::ostringstream out;
+  out << value;
+  return out.str();
 }
 
 void writeCsv(const std::vector<Point>& points, const fs::path& path) {
   const fs::path temporary = path.string() + ".tmp";
   {
     std::ofstream out(temporary);
-    out << "map,parameterization,resolution,samples_per_texel,texels,seconds,rms,max,visible_rms,pareto\n";
+    // The first ten columns are those of material charts before environment maps were charted.
+    out << "map,parameterization,resolution,samples_per_texel,texels,seconds,rms,max,visible_rms,pareto,"
+           "method,detail,estimate,lookup_rms,lookup_max,reference_seconds\n";
     for (const auto& p : points) {
+      std::string detail = p.detail;
+      std::replace(detail.begin(), detail.end(), ',', ';');
       out << p.map << "," << p.parameterization << "," << p.resolution << "," << p.samples << "," << p.texels << ","
-          << p.seconds << "," << p.error.rms << "," << p.error.max << "," << p.error.visibleRms << "," << p.pareto << "\n";
+          << p.seconds << "," << p.rms << "," << p.max << "," << p.visibleRms << "," << p.pareto << "," << p.method << ","
+          << detail << "," << optionalNumber(p.estimate) << "," << optionalNumber(p.lookupRms) << ","
+          << optionalNumber(p.lookupMax) << "," << optionalNumber(p.referenceSeconds) << "\n";
     }
     if (!out) throw Error(Error::Kind::Io, path.string() + ": cannot write");
   }
   fs::rename(temporary, path);
 }
 
-// Plots log-log time against RMS error, one colour per parameterization, the Pareto front as a line.
-void plot(const std::vector<Point>& points, const std::string& title, const fs::path& output) {
+// Log scales cannot show 0 (an exact furnace): plotted errors are floored.
+double plottable(double error) { return std::max(error, 1e-9); }
+
+// Material maps: log-log time against RMS error, one colour per parameterization, labels
+// resolution/samples, the Pareto front as a line.
+std::string materialScript(const std::vector<Point>& points, const std::string& title) {
   std::ostringstream gp;
   gp << "set title '" << title << "'\nset logscale xy\nset grid\nset key outside right\n";
   gp << "set xlabel 'bake time (s)'\nset ylabel 'RMS error (relative to peak)'\nset format x '%g'\nset format y '%g'\n";
@@ -78,7 +128,7 @@ void plot(const std::vector<Point>& points, const std::string& title, const fs::
   for (const auto& kind : kinds) {
     gp << "$" << kind << " << EOD\n";
     for (const auto& p : points)
-      if (p.parameterization == kind) gp << p.seconds << " " << p.error.rms << " \"" << p.resolution << "/" << p.samples << "\"\n";
+      if (p.parameterization == kind) gp << p.seconds << " " << plottable(p.rms) << " \"" << p.resolution << "/" << p.samples << "\"\n";
     gp << "EOD\n";
   }
   std::vector<Point> front;
@@ -86,14 +136,159 @@ void plot(const std::vector<Point>& points, const std::string& title, const fs::
     if (p.pareto) front.push_back(p);
   std::sort(front.begin(), front.end(), [](const Point& a, const Point& b) { return a.seconds < b.seconds; });
   gp << "$pareto << EOD\n";
-  for (const auto& p : front) gp << p.seconds << " " << p.error.rms << "\n";
+  for (const auto& p : front) gp << p.seconds << " " << plottable(p.rms) << "\n";
   gp << "EOD\nplot ";
   for (const auto& kind : kinds) {
     gp << "$" << kind << " using 1:2 with points pt 7 ps 1.2 title '" << kind << "', ";
     gp << "$" << kind << " using 1:2:3 with labels font ',7' offset 0,0.8 notitle, ";
   }
   gp << "$pareto using 1:2 with lines lw 2 lc rgb 'black' title 'Pareto front'\n";
-  renderWithGnuplot(gp.str(), output);
+  return gp.str();
+}
+
+// Environment maps: one colour per method, one point shape per parameterization, labels the
+// resolution, Pareto points ringed and joined.
+std::string environmentScript(const std::vector<Point>& points, const std::string& title, bool lookups) {
+  static const char* colours[] = {"#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#7f7f7f", "#9467bd"};
+  static const int shapes[] = {7, 5, 9, 13, 11};  // filled circle, square, triangle, diamond, inverted triangle
+  std::vector<std::string> methods, kinds;
+  for (const auto& p : points) {
+    if (std::find(methods.begin(), methods.end(), p.method) == methods.end()) methods.push_back(p.method);
+    if (std::find(kinds.begin(), kinds.end(), p.parameterization) == kinds.end()) kinds.push_back(p.parameterization);
+  }
+  std::ostringstream gp;
+  gp << "set title '" << title << "'\nset logscale xy\nset grid\nset key outside right\n";
+  gp << "set xlabel 'prefilter time (s)'\nset ylabel '"
+     << (lookups ? "RMS relative error of bilinear lookups" : "RMS relative error at texels") << " (vs reference)'\n"
+     << "set format x '%g'\nset format y '%g'\n";
+  std::vector<std::string> plots;
+  for (std::size_t m = 0; m < methods.size(); ++m) {
+    for (std::size_t k = 0; k < kinds.size(); ++k) {
+      const std::string block = "$m" + std::to_string(m) + "k" + std::to_string(k);
+      std::ostringstream data;
+      int count = 0;
+      for (const auto& p : points) {
+        if (p.method != methods[m] || p.parameterization != kinds[k]) continue;
+        data << p.seconds << " " << plottable(plotted(p, lookups)) << " \"" << p.resolution << "\"\n";
+        ++count;
+      }
+      if (count == 0) continue;
+      gp << block << " << EOD\n" << data.str() << "EOD\n";
+      plots.push_back(block + " using 1:2 with points pt " + std::to_string(shapes[k % 5]) + " ps 1.3 lc rgb '" +
+                      colours[m % 6] + "' notitle");
+      plots.push_back(block + " using 1:2:3 with labels font ',7' offset 0,0.8 tc rgb '" + colours[m % 6] + "' notitle");
+    }
+  }
+  std::vector<Point> front;
+  for (const auto& p : points)
+    if (p.pareto) front.push_back(p);
+  std::sort(front.begin(), front.end(), [](const Point& a, const Point& b) { return a.seconds < b.seconds; });
+  gp << "$pareto << EOD\n";
+  for (const auto& p : front) gp << p.seconds << " " << plottable(plotted(p, lookups)) << "\n";
+  gp << "EOD\n";
+  // Key entries: methods by colour, parameterizations by shape (points outside any range).
+  for (std::size_t m = 0; m < methods.size(); ++m)
+    plots.push_back("NaN with points pt 7 ps 1.3 lc rgb '" + std::string(colours[m % 6]) + "' title '" + methods[m] + "'");
+  for (std::size_t k = 0; k < kinds.size(); ++k)
+    plots.push_back("NaN with points pt " + std::to_string(shapes[k % 5]) + " ps 1.3 lc rgb 'black' title '" + kinds[k] + "'");
+  plots.push_back("$pareto using 1:2 with points pt 6 ps 2.2 lw 1.5 lc rgb 'black' notitle");
+  plots.push_back("$pareto using 1:2 with lines lw 2 lc rgb 'black' title 'Pareto front'");
+  gp << "plot ";
+  for (std::size_t i = 0; i < plots.size(); ++i) gp << (i ? ", \\\n  " : "") << plots[i];
+  gp << "\n";
+  return gp.str();
+}
+
+std::string percent(double fraction) {
+  std::ostringstream out;
+  out << 100.0 * fraction << " %";
+  return out.str();
+}
+
+struct EnvironmentSweep {
+  std::vector<ParameterizationKind> kinds;
+  std::vector<int> resolutions;
+  std::vector<PrefilterMethod> methods;
+  int subset = 256;
+  double maxError = 0.0;  // 0: the spec's
+  int threads = 0;
+};
+
+// One prefiltered environment map swept over parameterization x resolution x method. Each
+// (parameterization, resolution) pays the reference once, on a random texel subset and on random
+// lookup directions; combinations that fail are skipped with a note.
+std::vector<Point> sweepEnvironment(const MapSpec& map, const Environment& environment, const fs::path& specFolder,
+                                    const EnvironmentSweep& sweep, std::vector<Skipped>& skipped, ProgressBar& bar) {
+  const EnvironmentMapSpec& e = *map.environment;
+  std::optional<PrefilterLobe> lobe;
+  if (!e.lobeModel) lobe = PrefilterLobe::parse(e.lobe, specFolder.empty() ? fs::path(".") : specFolder);
+  // Axes of a lobe model are the reflected directions, as phong's.
+  const PrefilterLobe axisLobe = lobe ? *lobe : PrefilterLobe::phong(1.0);
+  const double floor = lobe ? prefilterErrorFloor(environment, *lobe) : prefilterLobeModelErrorFloor(environment, *e.lobeModel);
+  std::vector<Point> points;
+  const double total = double(sweep.kinds.size() * sweep.resolutions.size() * sweep.methods.size());
+  int done = 0;
+  const auto progress = bar.callback();
+  for (const auto kind : sweep.kinds) {
+    for (const int resolution : sweep.resolutions) {
+      PrefilterOptions options;
+      options.parameterization = kind;
+      options.resolution = resolution;
+      options.view = e.view;
+      options.up = e.up;
+      options.maxError = sweep.maxError > 0.0 ? sweep.maxError : e.maxError;
+      options.mirrorSamples = map.samplesPerTexel;
+      options.threads = sweep.threads;
+      const auto parameterization = makeParameterization(kind, resolution);
+      const PrefilterCheckPoints texels = prefilterTexelSubset(*parameterization, axisLobe, options, sweep.subset, 7);
+      const PrefilterCheckPoints lookups = prefilterLookupSet(*parameterization, axisLobe, options, sweep.subset, 8);
+      std::vector<Vec3> axes = texels.axes;
+      axes.insert(axes.end(), lookups.axes.begin(), lookups.axes.end());
+      const auto referenceStart = Clock::now();
+      const std::vector<Rgb> reference = lobe ? prefilterReferenceAt(environment, *lobe, axes, sweep.threads)
+                                              : prefilterLobeModelReferenceAt(environment, *e.lobeModel, axes, sweep.threads);
+      const double referenceSeconds = std::chrono::duration<double>(Clock::now() - referenceStart).count();
+      const std::vector<Rgb> texelReference(reference.begin(), reference.begin() + static_cast<std::ptrdiff_t>(texels.size()));
+      const std::vector<Rgb> lookupReference(reference.begin() + static_cast<std::ptrdiff_t>(texels.size()), reference.end());
+      const long long mapTexels = static_cast<long long>(parameterization->width()) * parameterization->height();
+      for (const auto method : sweep.methods) {
+        options.method = method;
+        const std::string methodName(toString(method));
+        try {
+          const auto start = Clock::now();
+          const PrefilteredMap result = lobe ? prefilter(environment, *lobe, options)
+                                             : prefilterLobeModel(environment, *e.lobeModel, e.lobe, options);
+          Point p;
+          p.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+          p.environment = true;
+          p.map = map.jsonPath;
+          p.parameterization = std::string(toString(kind));
+          p.resolution = resolution;
+          p.method = methodName;
+          p.detail = result.summary.detail;
+          if (method == PrefilterMethod::Auto && !e.lobeModel) p.detail = std::string(toString(result.summary.method)) + ": " + p.detail;
+          p.texels = mapTexels;
+          const PrefilterError texelError =
+              prefilterPointsError(prefilterValuesAt(result.levels[0], *result.map, texels), texelReference, texels.weights, floor);
+          const PrefilterError lookupError =
+              prefilterPointsError(prefilterValuesAt(result.levels[0], *result.map, lookups), lookupReference, lookups.weights, floor);
+          p.rms = texelError.rms;
+          p.max = texelError.max;
+          p.visibleRms = texelError.rms;
+          p.lookupRms = lookupError.rms;
+          p.lookupMax = lookupError.max;
+          if (result.summary.errorEstimated) p.estimate = result.summary.errorEstimate;
+          p.metBound = result.summary.metTarget;
+          p.referenceSeconds = referenceSeconds * double(mapTexels) / double(axes.size());
+          points.push_back(p);
+        } catch (const Error& error) {
+          skipped.push_back({map.jsonPath, std::string(toString(kind)), methodName, error.what(), resolution});
+        }
+        if (progress) progress(++done / total);
+      }
+    }
+  }
+  return points;
 }
 
 }  // namespace
@@ -101,92 +296,199 @@ void plot(const std::vector<Point>& points, const std::string& title, const fs::
 Command addChartCommand(CLI::App& app) {
   struct Args {
     std::string spec, output, csv;
-    std::string resolutions = "32,64,128,256,512", samples = "1,4,16", parameterizations = "sphere,paraboloid,cube,latlong";
-    int threads = 0, lookups = 20000;
+    std::string resolutions = kMaterialResolutions, samples = "1,4,16", parameterizations = "sphere,paraboloid,cube,latlong";
+    std::string methods = "auto,sh,direct,importance", environmentError = "texel";
+    int threads = 0, lookups = 20000, subset = 256;
+    double maxError = 0.0;
     bool json = false;
   };
   auto args = std::make_shared<Args>();
-  auto* command = app.add_subcommand("chart", "Chart bake time against accuracy for the maps of a spec");
-  command->footer(R"(For each map of the spec, bakes every combination of parameterization x resolution x samples
-per texel, measures the time and the error of bilinear lookups against the exact model (RMS and max
-over directions uniform on the sphere, relative to the peak; for sphere maps also over the reflected
-vectors of a visible sphere), and plots time against RMS error (log-log) with the Pareto front. Sphere
-maps skip the rim (their singular set). Non-sphere maps of view-dependent materials use the spec's
-view, or +z. Several maps: one chart each, NAME_1.png, NAME_2.png, ...
+  auto* command = app.add_subcommand("chart", "Chart bake or prefilter time against accuracy for the maps of a spec");
+  command->footer(R"(Material maps: bakes every combination of parameterization x resolution x samples per texel,
+measures the time and the error of bilinear lookups against the exact model (RMS and max over
+directions uniform on the sphere, relative to the peak; for sphere maps also over the reflected
+vectors of a visible sphere), and plots time against RMS error (log-log) with the Pareto front.
+Sphere maps skip the rim (their singular set). Non-sphere maps of view-dependent materials use the
+spec's view, or +z. Points are labelled resolution/samples. Default resolutions 32,64,128,256,512.
+
+Prefiltered environment maps ("environment" in the spec, docs/prefilter.md): prefilters every
+combination of parameterization x resolution x method (--methods; each named method picks its
+cheapest setting for the bound, the map's max_error or --max-error) and measures the whole
+prefilter's wall-clock time and the RMS and max relative error against the reference prefilter on
+--subset random output texels (solid-angle weighted; every texel if the map has fewer), plus
+bilinear lookups in --subset random directions (lookup_rms). The reference runs once per
+parameterization and resolution. Default resolutions 16,32,64 (--resolutions sets both kinds);
+--samples does not apply. Colour = method, shape = parameterization, label = resolution. A
+combination that fails is skipped with a note. Mirror maps (no integral, no reference) are skipped.
+
+Outputs: one chart per map (several maps: NAME_1.png, NAME_2.png, ...), --csv (one row per point:
+map, parameterization, resolution, samples_per_texel (0 for environments), texels, seconds, rms,
+max, visible_rms, pareto, method (bake for materials), detail, estimate, lookup_rms, lookup_max,
+reference_seconds) and --json (the points; skipped combinations as entries with "skipped": true).
+-o is needed unless --csv or --json is given; the chart needs gnuplot, the CSV and JSON do not.
+docs/charts.md.
 
 Examples:
   brdfbake chart data_samples/specs/phong_eye.json -o phong_chart.png --csv phong_chart.csv
-  brdfbake chart spec.json -o c.svg --resolutions 64,256 --samples 1,16 --parameterizations sphere,cube)");
+  brdfbake chart spec.json -o c.svg --resolutions 64,256 --samples 1,16 --parameterizations sphere,cube
+  brdfbake chart data_samples/specs/prefilter_sky.json -o sky.png --csv sky.csv --methods auto,sh,direct)");
   command->add_option("spec", args->spec, "Spec file")->required();
-  command->add_option("-o,--output", args->output, "Chart (.png or .svg)")->required();
+  command->add_option("-o,--output", args->output, "Chart (.png or .svg); several maps: NAME_1.png, ...");
   command->add_option("--csv", args->csv, "Also write the points as CSV");
-  command->add_option("--resolutions", args->resolutions, "Comma-separated resolutions")->default_str(args->resolutions);
-  command->add_option("--samples", args->samples, "Comma-separated samples per texel")->default_str(args->samples);
+  auto* resolutionsOption = command->add_option("--resolutions", args->resolutions,
+                                                "Comma-separated resolutions (default 32,64,128,256,512 for materials, "
+                                                "16,32,64 for environment maps)");
+  command->add_option("--samples", args->samples, "Comma-separated samples per texel (material maps)")->default_str(args->samples);
   command->add_option("--parameterizations", args->parameterizations, "Comma-separated parameterizations")->default_str(args->parameterizations);
-  command->add_option("--lookups", args->lookups, "Random directions per error measurement")->default_val(20000)->check(CLI::Range(100, 10000000));
+  command->add_option("--methods", args->methods, "Comma-separated prefilter methods (environment maps): auto, sh, direct, importance, reference")
+      ->default_str(args->methods);
+  command->add_option("--max-error", args->maxError, "Environment maps: the bound methods choose their settings for (default: the map's max_error)")
+      ->check(CLI::Range(1e-9, 0.999999));
+  command->add_option("--subset", args->subset, "Environment maps: random output texels (and lookup directions) compared with the reference")
+      ->default_val(256)
+      ->check(CLI::Range(16, 1000000));
+  command->add_option("--environment-error", args->environmentError,
+                      "Environment maps: the error charted and the Pareto front taken on: texel (at texel centres) or lookup (bilinear lookups)")
+      ->default_str(args->environmentError)
+      ->check(CLI::IsMember({"texel", "lookup"}));
+  command->add_option("--lookups", args->lookups, "Material maps: random directions per error measurement")->default_val(20000)->check(CLI::Range(100, 10000000));
   command->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->default_val(0)->check(CLI::NonNegativeNumber);
   command->add_flag("--json", args->json, "Print the points as JSON");
-  return [args] {
+  return [args, resolutionsOption] {
     const auto toInt = [](const std::string& s) {
       std::size_t used = 0;
       const int v = std::stoi(s, &used);
       if (used != s.size() || v < 1) throw std::invalid_argument(s);
       return v;
     };
+    const bool resolutionsGiven = resolutionsOption->count() > 0;
     const auto resolutions = parseList<int>(args->resolutions, "--resolutions", toInt);
+    const auto environmentResolutions =
+        resolutionsGiven ? resolutions : parseList<int>(kEnvironmentResolutions, "--resolutions", toInt);
     const auto samples = parseList<int>(args->samples, "--samples", toInt);
     const auto kinds = parseList<ParameterizationKind>(args->parameterizations, "--parameterizations",
                                                        [](const std::string& s) { return parseParameterizationKind(s); });
+    const auto methods = parseList<PrefilterMethod>(args->methods, "--methods", [](const std::string& s) { return parsePrefilterMethod(s); });
+    if (args->output.empty() && args->csv.empty() && !args->json) {
+      throw Error(Error::Kind::InvalidArgument, "chart: give -o CHART.png, --csv FILE or --json (nothing to write)");
+    }
     const fs::path output = args->output;
-    checkChartPath(output);
+    if (!output.empty()) checkChartPath(output);
+    const bool lookupError = args->environmentError == "lookup";
     const BakeSpec spec = loadBakeSpec(args->spec);
+    const fs::path specFolder = fs::path(args->spec).parent_path();
+
+    // Environments are read (and checked) before any work, as `bake` does.
+    std::vector<std::optional<Environment>> environments(spec.maps.size());
+    for (std::size_t i = 0; i < spec.maps.size(); ++i)
+      if (const auto& e = spec.maps[i].environment) environments[i] = loadEnvironment(e->file, EnvironmentLoadOptions{e->from});
+
     // Warm up the thread pool, so the first point does not carry its start-up.
-    bake(*makeParameterization(ParameterizationKind::Sphere, 8), *spec.maps.front().makeFunction());
+    for (const auto& map : spec.maps) {
+      if (map.environment) continue;
+      bake(*makeParameterization(ParameterizationKind::Sphere, 8), *map.makeFunction());
+      break;
+    }
     nlohmann::json report = nlohmann::json::array();
     std::vector<Point> all;
+    std::vector<Skipped> skipped;
     for (std::size_t m = 0; m < spec.maps.size(); ++m) {
       const MapSpec& map = spec.maps[m];
-      const auto function = map.makeFunction();
       std::vector<Point> points;
-      ProgressBar bar(map.jsonPath, !args->json);
-      const double total = double(kinds.size() * resolutions.size() * samples.size());
-      int done = 0;
-      for (const auto kind : kinds) {
-        for (const int resolution : resolutions) {
-          for (const int spt : samples) {
-            const auto parameterization = makeParameterization(kind, resolution);
-            BakeOptions options;
-            options.samplesPerTexel = spt;
-            options.threads = args->threads;
-            BakeSummary summary;
-            const Image image = bake(*parameterization, *function, options, &summary);
-            ErrorOptions errorOptions;
-            errorOptions.samples = args->lookups;
-            Point p;
-            p.map = map.jsonPath;
-            p.parameterization = std::string(toString(kind));
-            p.resolution = resolution;
-            p.samples = spt;
-            p.texels = static_cast<long long>(parameterization->width()) * parameterization->height();
-            p.seconds = summary.seconds;
-            p.error = measureMapError(image, *parameterization, *function, errorOptions);
-            points.push_back(p);
-            if (auto cb = bar.callback()) cb(++done / total);
+      std::string title;
+      const std::size_t skippedBefore = skipped.size();
+      if (map.environment) {
+        const EnvironmentMapSpec& e = *map.environment;
+        if (!e.lobeModel && PrefilterLobe::parse(e.lobe, specFolder.empty() ? fs::path(".") : specFolder).isMirror()) {
+          skipped.push_back({map.jsonPath, "", "", "the mirror lobe is a resampling with no reference to chart against; map skipped", 0});
+        } else {
+          EnvironmentSweep sweep;
+          sweep.kinds = kinds;
+          sweep.resolutions = environmentResolutions;
+          sweep.methods = methods;
+          sweep.subset = args->subset;
+          sweep.maxError = args->maxError;
+          sweep.threads = args->threads;
+          ProgressBar bar(map.jsonPath, !args->json);
+          points = sweepEnvironment(map, *environments[m], specFolder, sweep, skipped, bar);
+          title = map.jsonPath + ": " + e.lobe + " of " + e.file.filename().string() + ", bound " +
+                  percent(args->maxError > 0.0 ? args->maxError : e.maxError) + " (" + map.output.filename().string() + ")";
+        }
+      } else {
+        const auto function = map.makeFunction();
+        ProgressBar bar(map.jsonPath, !args->json);
+        const auto progress = bar.callback();
+        const double total = double(kinds.size() * resolutions.size() * samples.size());
+        int done = 0;
+        for (const auto kind : kinds) {
+          for (const int resolution : resolutions) {
+            for (const int spt : samples) {
+              const auto parameterization = makeParameterization(kind, resolution);
+              BakeOptions options;
+              options.samplesPerTexel = spt;
+              options.threads = args->threads;
+              BakeSummary summary;
+              const Image image = bake(*parameterization, *function, options, &summary);
+              ErrorOptions errorOptions;
+              errorOptions.samples = args->lookups;
+              Point p;
+              p.map = map.jsonPath;
+              p.parameterization = std::string(toString(kind));
+              p.resolution = resolution;
+              p.samples = spt;
+              p.texels = static_cast<long long>(parameterization->width()) * parameterization->height();
+              p.seconds = summary.seconds;
+              const ErrorStats error = measureMapError(image, *parameterization, *function, errorOptions);
+              p.rms = error.rms;
+              p.max = error.max;
+              p.visibleRms = error.visibleRms;
+              points.push_back(p);
+              if (progress) progress(++done / total);
+            }
           }
         }
+        title = map.jsonPath + ": " + std::string(map.material->model()) + " (" + map.output.filename().string() + ")";
       }
-      markPareto(points);
-      fs::path chart = output;
-      if (spec.maps.size() > 1) chart = output.parent_path() / (output.stem().string() + "_" + std::to_string(m + 1) + output.extension().string());
-      plot(points, map.jsonPath + ": " + std::string(map.material->model()) + " (" + map.output.filename().string() + ")", chart);
+      markPareto(points, lookupError);
+      fs::path chart;
+      if (!output.empty() && !points.empty()) {
+        chart = output;
+        if (spec.maps.size() > 1) chart = output.parent_path() / (output.stem().string() + "_" + std::to_string(m + 1) + output.extension().string());
+        renderWithGnuplot(map.environment ? environmentScript(points, title, lookupError) : materialScript(points, title), chart);
+      }
       for (const auto& p : points) {
-        report.push_back({{"map", p.map}, {"parameterization", p.parameterization}, {"resolution", p.resolution},
-                          {"samples_per_texel", p.samples}, {"texels", p.texels}, {"seconds", p.seconds},
-                          {"rms", p.error.rms}, {"max", p.error.max}, {"visible_rms", p.error.visibleRms},
-                          {"pareto", p.pareto}, {"chart", chart.string()}});
+        nlohmann::json entry = {{"map", p.map}, {"parameterization", p.parameterization}, {"resolution", p.resolution},
+                                {"samples_per_texel", p.samples}, {"texels", p.texels}, {"seconds", p.seconds},
+                                {"rms", p.rms}, {"max", p.max}, {"visible_rms", p.visibleRms},
+                                {"pareto", p.pareto}, {"method", p.method}};
+        if (!chart.empty()) entry["chart"] = chart.string();
+        if (p.environment) {
+          entry["detail"] = p.detail;
+          entry["estimate"] = p.estimate >= 0.0 ? nlohmann::json(p.estimate) : nlohmann::json(nullptr);
+          entry["met_bound"] = p.metBound;
+          entry["lookup_rms"] = p.lookupRms;
+          entry["lookup_max"] = p.lookupMax;
+          entry["reference_seconds"] = p.referenceSeconds;
+        }
+        report.push_back(entry);
+      }
+      for (std::size_t s = skippedBefore; s < skipped.size(); ++s) {
+        const Skipped& k = skipped[s];
+        nlohmann::json entry = {{"map", k.map}, {"skipped", true}, {"note", k.note}};
+        if (!k.method.empty()) {
+          entry["parameterization"] = k.parameterization;
+          entry["resolution"] = k.resolution;
+          entry["method"] = k.method;
+        }
+        report.push_back(entry);
+        if (!args->json) {
+          std::cout << "note: " << k.map;
+          if (!k.method.empty()) std::cout << " " << k.parameterization << " " << k.resolution << " " << k.method << " skipped";
+          std::cout << ": " << k.note << "\n";
+        }
       }
       all.insert(all.end(), points.begin(), points.end());
-      if (!args->json) std::cout << "wrote " << chart.string() << "\n";
+      if (!args->json && !chart.empty()) std::cout << "wrote " << chart.string() << "\n";
     }
     if (!args->csv.empty()) writeCsv(all, args->csv);
     if (args->json) std::cout << report.dump(2) << "\n";

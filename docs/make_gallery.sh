@@ -34,6 +34,13 @@ cat > "$work/ct.json" <<'JSON'
 JSON
 "$cli" chart "$work/ct.json" -o "$out/chart_cook_torrance.png" --resolutions 32,64,128,256 --samples 1,4,16 \
   --parameterizations sphere,paraboloid,cube --csv "$out/chart_cook_torrance.csv" > /dev/null
+# Prefiltering the sky (the first map of data_samples/specs/prefilter_sky.json, Phong 100): every
+# parameterization x the default resolutions 16, 32, 64 x auto, sh, direct, importance.
+cat > "$work/sky.json" <<JSON
+{"maps": [{"output": "sky_phong100_paraboloid.exr", "parameterization": "paraboloid", "resolution": 128,
+  "environment": {"file": "$PWD/data_samples/environments/sky_latlong.exr", "lobe": "phong:100", "max_error": 0.01}}]}
+JSON
+"$cli" chart "$work/sky.json" -o "$out/chart_prefilter_sky.png" --csv "$out/chart_prefilter_sky.csv" > /dev/null
 
 
 # Per-vertex interpolation error, and seed 001's line experiment with one polygon and unit segments.
