@@ -5,16 +5,12 @@
 
 namespace brdfbake {
 
-ErrorStats measureMapError(const Image& image, const Parameterization& map, const MapFunction& exact,
-                           const ErrorOptions& options) {
+ErrorStats measureLookupError(const std::function<Rgb(const Vec3&)>& lookup, const MapFunction& exact,
+                              const ErrorOptions& options, double rimCos, bool visibleSphere) {
   require(options.samples >= 1, "error measurement needs at least one sample");
   std::mt19937 rng(options.seed);
   std::normal_distribution<double> gauss;
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  const bool sphere = map.kind() == ParameterizationKind::Sphere;
-  // Rim exclusion for sphere maps: the angle two rim texels span, 4 sqrt(2/N) (docs/conventions.md).
-  const double rimCos = std::cos(std::min(kPi, 4.0 * std::sqrt(2.0 / map.resolution())));
-
   struct Accumulator {
     double sumSquares = 0.0, worst = 0.0;
     int count = 0;
@@ -22,18 +18,20 @@ ErrorStats measureMapError(const Image& image, const Parameterization& map, cons
   double peak = 0.0;
   auto add = [&](Accumulator& acc, const Vec3& r) {
     const Rgb truth = exact.evaluate(r);
-    const Rgb error = sampleBilinear(image, map, r).head<3>() - truth;
+    const Rgb error = lookup(r) - truth;
     peak = std::max(peak, truth.abs().maxCoeff());
     acc.sumSquares += error.square().sum() / 3.0;
     acc.worst = std::max(acc.worst, error.abs().maxCoeff());
     ++acc.count;
   };
   while (uniformSet.count < options.samples) {
-    const Vec3 r = Vec3(gauss(rng), gauss(rng), gauss(rng)).normalized();
-    if (sphere && -r.z() > rimCos) continue;
+    const Vec3 g(gauss(rng), gauss(rng), gauss(rng));
+    if (g.norm() == 0.0) continue;
+    const Vec3 r = g.normalized();
+    if (-r.z() > rimCos) continue;
     add(uniformSet, r);
   }
-  if (sphere && options.visibleSphere) {
+  if (visibleSphere) {
     while (visibleSet.count < options.samples) {
       const double x = uniform(rng), y = uniform(rng);
       const double rho2 = x * x + y * y;
@@ -51,6 +49,15 @@ ErrorStats measureMapError(const Image& image, const Parameterization& map, cons
   stats.max = uniformSet.worst * scale;
   stats.visibleRms = visibleSet.count > 0 ? std::sqrt(visibleSet.sumSquares / visibleSet.count) * scale : stats.rms;
   return stats;
+}
+
+ErrorStats measureMapError(const Image& image, const Parameterization& map, const MapFunction& exact,
+                           const ErrorOptions& options) {
+  const bool sphere = map.kind() == ParameterizationKind::Sphere;
+  // Rim exclusion for sphere maps: the angle two rim texels span, 4 sqrt(2/N) (docs/conventions.md).
+  const double rimCos = sphere ? std::cos(std::min(kPi, 4.0 * std::sqrt(2.0 / map.resolution()))) : 2.0;
+  return measureLookupError([&](const Vec3& r) -> Rgb { return sampleBilinear(image, map, r).head<3>(); }, exact, options,
+                            rimCos, sphere && options.visibleSphere);
 }
 
 }  // namespace brdfbake

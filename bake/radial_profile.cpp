@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <random>
 
 namespace brdfbake {
 
@@ -88,44 +87,12 @@ RadialProfile bakeRadialProfile(const MapFunction& function, const Vec3& axis, i
 }
 
 ErrorStats measureProfileError(const RadialProfile& profile, const MapFunction& exact, const ErrorOptions& options) {
-  require(options.samples >= 1, "error measurement needs at least one sample");
-  std::mt19937 rng(options.seed);
-  std::normal_distribution<double> gauss;
-  std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  struct Accumulator {
-    double sumSquares = 0.0, worst = 0.0;
-    int count = 0;
-  } uniformSet, visibleSet;
-  double peak = 0.0;
   // About the view, a profile is looked up through sphere-map coordinates: skip the rim band the
   // sphere-map measure skips, for a sphere map of the same radial texel size (2N across).
   const bool aboutView = (profile.axis() - Vec3::UnitZ()).norm() < 1e-12;
   const double rimCos = aboutView ? std::cos(std::min(kPi, 4.0 * std::sqrt(1.0 / profile.resolution()))) : 2.0;
-  auto add = [&](Accumulator& acc, const Vec3& r) {
-    if (-r.dot(profile.axis()) > rimCos) return;
-    const Rgb truth = exact.evaluate(r);
-    const Rgb error = profile.lookup(r) - truth;
-    peak = std::max(peak, truth.abs().maxCoeff());
-    acc.sumSquares += error.square().sum() / 3.0;
-    acc.worst = std::max(acc.worst, error.abs().maxCoeff());
-    ++acc.count;
-  };
-  while (uniformSet.count < options.samples) {
-    const Vec3 g(gauss(rng), gauss(rng), gauss(rng));
-    if (g.norm() == 0.0) continue;
-    add(uniformSet, g.normalized());
-  }
-  if (aboutView && options.visibleSphere) {
-    // A visible sphere's lookups: uniform over the sphere-map disc, i.e. u^2 uniform.
-    while (visibleSet.count < options.samples) add(visibleSet, profile.directionFor(std::sqrt(uniform(rng)), 2.0 * kPi * uniform(rng)));
-  }
-  ErrorStats stats;
-  stats.peak = peak;
-  const double scale = peak > 0.0 ? 1.0 / peak : 1.0;
-  stats.rms = std::sqrt(uniformSet.sumSquares / uniformSet.count) * scale;
-  stats.max = uniformSet.worst * scale;
-  stats.visibleRms = visibleSet.count > 0 ? std::sqrt(visibleSet.sumSquares / visibleSet.count) * scale : stats.rms;
-  return stats;
+  return measureLookupError([&](const Vec3& r) { return profile.lookup(r); }, exact, options, rimCos,
+                            aboutView && options.visibleSphere);
 }
 
 }  // namespace brdfbake

@@ -127,9 +127,12 @@ TEST(RadialProfile, AutoPicksAProfileWhenItIsTheCheapestWayToMeetTheTarget) {
   other.seed = 99;
   EXPECT_LE(measureProfileError(*profile.profile, copper, other).visibleRms, 1.2 * options.maxError);
   // The next cheaper profile misses it; the sphere map that meets it costs far more.
-  ASSERT_FALSE(profile.rejected.empty());
-  EXPECT_TRUE(profile.rejected.back().first.profile);
-  EXPECT_GT(profile.rejected.back().second, options.maxError);
+  int cheaperProfiles = 0;
+  for (const auto& [configuration, error] : profile.rejected) {
+    EXPECT_GT(error, options.maxError) << configuration.describe();
+    cheaperProfiles += configuration.profile ? 1 : 0;
+  }
+  EXPECT_GT(cheaperProfiles, 0) << "the chosen profile was the cheapest candidate: the test would prove nothing";
   EXPECT_LT(profile.chosen.cost() * 16, map.chosen.cost()) << profile.chosen.describe() << " vs " << map.chosen.describe();
 }
 

@@ -5,6 +5,8 @@
 #include <brdfbake/bake/image.hpp>
 #include <brdfbake/bake/map_function.hpp>
 
+#include <functional>
+
 namespace brdfbake {
 
 struct ErrorOptions {
@@ -24,6 +26,13 @@ struct ErrorStats {
   double visibleRms = 0.0;  ///< sphere maps: RMS over the directions of a visible sphere (else = rms)
   double peak = 0.0;        ///< largest |exact value| met, the normaliser
 };
+
+/// Errors of any lookup against the exact function: RMS and max over `options.samples` directions
+/// uniform on the sphere and, with `visibleSphere`, RMS over a visible sphere's lookups (reflected
+/// vectors of normals uniform over the sphere-map disc, view +z). Directions r with -r.z >
+/// `rimCos` are skipped (the sphere-map rim; pass a value > 1 to keep every direction).
+ErrorStats measureLookupError(const std::function<Rgb(const Vec3&)>& lookup, const MapFunction& exact,
+                              const ErrorOptions& options, double rimCos, bool visibleSphere);
 
 /// Measures a baked map. Sphere maps skip directions within 2 texels' worth of angle of -z (the
 /// rim, their singular set; see docs/conventions.md).
