@@ -319,7 +319,8 @@ prefilter's wall-clock time and the RMS and max relative error against the refer
 bilinear lookups in --subset random directions (lookup_rms). The reference runs once per
 parameterization and resolution. Default resolutions 16,32,64 (--resolutions sets both kinds);
 --samples does not apply. Colour = method, shape = parameterization, label = resolution. A
-combination that fails is skipped with a note. Mirror maps (no integral, no reference) are skipped.
+combination that fails is skipped with a note. Mirror maps (no integral, no reference) and fitted lobes
+that vary with elevation (a stack of maps) are skipped.
 
 Outputs: one chart per map (several maps: NAME_1.png, NAME_2.png, ...), --csv (one row per point:
 map, parameterization, resolution, samples_per_texel (0 for environments), texels, seconds, rms,
@@ -401,6 +402,9 @@ Examples:
         const EnvironmentMapSpec& e = *map.environment;
         if (!e.lobeModel && PrefilterLobe::parse(e.lobe, specFolder.empty() ? fs::path(".") : specFolder).isMirror()) {
           skipped.push_back({map.jsonPath, "", "", "the mirror lobe is a resampling with no reference to chart against; map skipped", 0});
+        } else if (e.lobeModel && e.lobeModel->elevation != LobeElevation::Constant) {
+          skipped.push_back({map.jsonPath, "", "", "lobes that vary with elevation prefilter into a stack of maps (one per "
+                                                   "elevation); chart a slice's constant model instead; map skipped", 0});
         } else {
           EnvironmentSweep sweep;
           sweep.kinds = kinds;

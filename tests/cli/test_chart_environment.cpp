@@ -162,6 +162,18 @@ TEST(ChartEnvironment, MirrorMapsAndBadCombinationsAreSkippedWithANote) {
   ASSERT_EQ(text.exitCode, 0) << text.output;
   EXPECT_NE(text.output.find("note: maps[1]"), std::string::npos) << text.output;
 
+  // Fitted lobes that vary with elevation make a stack of maps, not one: skipped with a note.
+  writeSpec(dir / "v.json", kFurnace, "irradiance",
+            R"(, {"output": "v.exr", "parameterization": "sphere", "resolution": 16,
+                  "environment": {"file": ")" + kFurnace + R"(", "lobe": "lobes:)" +
+                test::sourcePath("data_samples/fits/synthetic_varying.json") + R"("}})");
+  const auto varying = runCli("chart " + q(dir / "v.json") + " --json --resolutions 8 --parameterizations latlong --methods sh --subset 16");
+  ASSERT_EQ(varying.exitCode, 0) << varying.output;
+  const auto varyingEntries = nlohmann::json::parse(varying.output);
+  ASSERT_EQ(varyingEntries.size(), 2u);
+  EXPECT_TRUE(varyingEntries[1]["skipped"].get<bool>());
+  EXPECT_NE(varyingEntries[1]["note"].get<std::string>().find("vary with elevation"), std::string::npos);
+
   // A combination the prefilter refuses (a map over the size limit) is skipped, the rest charted.
   writeSpec(dir / "big.json", kFurnace, "phong:10");
   const auto big = runCli("chart " + q(dir / "big.json") + " --json --resolutions 8,10000 --parameterizations latlong --methods sh --subset 16");
