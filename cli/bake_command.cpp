@@ -293,10 +293,13 @@ Command addBakeCommand(CLI::App& app) {
   auto args = std::make_shared<BakeArgs>();
   auto* command = app.add_subcommand("bake", "Bake every map described by a JSON spec");
   command->footer(R"(A spec lists maps; each names its output, parameterization (sphere | paraboloid | cube |
-latlong), resolution, samples_per_texel, material and lights. Relative paths resolve against
-the spec's folder (or -o). The whole spec is validated before anything is baked. Specs for
-every model: data_samples/specs/. Format: docs/spec.md. Models: phong, blinn_phong, cook_torrance,
-fresnel, colorgram, gooch, silhouette, hatching (docs/materials.md).
+latlong | profile | auto), resolution, samples_per_texel, material and lights. Relative paths
+resolve against the spec's folder (or -o). The whole spec is validated before anything is baked.
+Specs for every model: data_samples/specs/. Format: docs/spec.md. Models: phong, blinn_phong,
+cook_torrance, fresnel, colorgram, gooch, silhouette, hatching (docs/materials.md), measured, lobes
+(docs/fitting.md). "environment" in place of a material prefilters an HDR environment
+(docs/prefilter.md). "auto" values with "max_error" let the tool pick the cheapest map that meets
+it, a 1-D radial profile included when the map is radially symmetric.
 
   {"maps": [{"output": "phong_eye.exr", "parameterization": "sphere", "resolution": 256,
              "samples_per_texel": 16,
