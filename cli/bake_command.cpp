@@ -33,6 +33,29 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// The report entry every map shares (`bake --json`): what was written, its size, how long it took.
+struct EntryFacts {
+  std::string parameterization;
+  int resolution = 0, width = 0, height = 0;
+  std::string bakePath;
+  double bakeSeconds = 0.0, writeSeconds = 0.0;
+};
+nlohmann::json reportEntry(const MapSpec& map, const EntryFacts& facts, const std::vector<fs::path>& files,
+                           const std::vector<std::string>& notes) {
+  nlohmann::json entry = {{"output", map.output.string()},
+                          {"files", nlohmann::json::array()},
+                          {"parameterization", facts.parameterization},
+                          {"resolution", facts.resolution},
+                          {"width", facts.width},
+                          {"height", facts.height},
+                          {"bake_path", facts.bakePath},
+                          {"bake_seconds", facts.bakeSeconds},
+                          {"write_seconds", facts.writeSeconds},
+                          {"notes", notes}};
+  for (const auto& file : files) entry["files"].push_back(file.string());
+  return entry;
+}
+
 // A map with "environment" (docs/prefilter.md): prefilter instead of bake; returns its report entry.
 nlohmann::json bakeEnvironmentMap(const MapSpec& map, const Environment& environment, const BakeArgs& args) {
   const EnvironmentMapSpec& e = *map.environment;
@@ -89,19 +112,13 @@ nlohmann::json bakeEnvironmentMap(const MapSpec& map, const Environment& environ
     written = writePrefilteredMap(result, map.output, map.raw, map.cubeLayout, writeOptions);
   }
   const double writeSeconds = secondsSince(writeStart);
-  nlohmann::json entry = {{"output", map.output.string()},
-                          {"files", nlohmann::json::array()},
-                          {"parameterization", std::string(toString(map.parameterization))},
-                          {"resolution", map.resolution},
-                          {"width", parameterization->width()},
-                          {"height", parameterization->height()},
-                          {"bake_path", "prefilter:" + std::string(toString(summary.method))},
-                          {"bake_seconds", summary.seconds},
-                          {"write_seconds", writeSeconds},
-                          {"prefilter", summary.toJson()},
-                          {"notes", written.notes}};
+  nlohmann::json entry = reportEntry(map,
+                                     {std::string(toString(map.parameterization)), map.resolution, parameterization->width(),
+                                      parameterization->height(), "prefilter:" + std::string(toString(summary.method)),
+                                      summary.seconds, writeSeconds},
+                                     written.files, written.notes);
+  entry["prefilter"] = summary.toJson();
   entry.update(extra);
-  for (const auto& file : written.files) entry["files"].push_back(file.string());
   if (!args.json && !args.quiet) {
     const std::string what = extra.contains("elevations") ? elevationSlicePath(map.output, 0).string() + " ..." : map.output.string();
     std::cout << "wrote " << what << " (" << toString(map.parameterization) << " " << parameterization->width() << "x"
@@ -133,18 +150,11 @@ nlohmann::json writeProfile(const RadialProfile& profile, const MapSpec& map, co
   const WriteReport written = writeImage(image, map.output, {{fs::path(args.spec)}});
   const double writeSeconds = secondsSince(writeStart);
   const Vec3& axis = profile.axis();
-  nlohmann::json entry = {{"output", map.output.string()},
-                          {"files", {map.output.string()}},
-                          {"parameterization", "profile"},
-                          {"resolution", profile.resolution()},
-                          {"width", profile.resolution()},
-                          {"height", 1},
-                          {"axis", {axis.x(), axis.y(), axis.z()}},
-                          {"samples_per_texel", map.samplesPerTexel},
-                          {"bake_path", summary.path},
-                          {"bake_seconds", summary.seconds},
-                          {"write_seconds", writeSeconds},
-                          {"notes", written.notes}};
+  nlohmann::json entry = reportEntry(
+      map, {"profile", profile.resolution(), profile.resolution(), 1, summary.path, summary.seconds, writeSeconds},
+      {map.output}, written.notes);
+  entry["axis"] = {axis.x(), axis.y(), axis.z()};
+  entry["samples_per_texel"] = map.samplesPerTexel;
   if (!autoReport.is_null()) entry["auto"] = autoReport;
   if (!args.json && !args.quiet) {
     std::cout << "wrote " << map.output.string() << " (1-D radial profile, " << profile.resolution() << " texels about ("
@@ -260,19 +270,12 @@ int runBake(const BakeArgs& args) {
     written.notes.insert(written.notes.end(), extras.notes.begin(), extras.notes.end());
     const double writeSeconds = secondsSince(writeStart);
 
-    nlohmann::json entry = {{"output", map.output.string()},
-                            {"files", nlohmann::json::array()},
-                            {"parameterization", std::string(toString(map.parameterization))},
-                            {"resolution", map.resolution},
-                            {"width", parameterization->width()},
-                            {"height", parameterization->height()},
-                            {"samples_per_texel", map.samplesPerTexel},
-                            {"bake_path", summary.path},
-                            {"bake_seconds", summary.seconds},
-                            {"write_seconds", writeSeconds},
-                            {"notes", written.notes}};
+    nlohmann::json entry = reportEntry(map,
+                                       {std::string(toString(map.parameterization)), map.resolution, parameterization->width(),
+                                        parameterization->height(), summary.path, summary.seconds, writeSeconds},
+                                       written.files, written.notes);
+    entry["samples_per_texel"] = map.samplesPerTexel;
     if (!autoReport.is_null()) entry["auto"] = autoReport;
-    for (const auto& file : written.files) entry["files"].push_back(file.string());
     report["maps"].push_back(entry);
     if (!args.json && !args.quiet) {
       std::cout << "wrote " << map.output.string() << " (" << toString(map.parameterization) << " "
