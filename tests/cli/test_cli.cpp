@@ -16,13 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::runCli;
 
-// Shell-quotes a path.
-std::string q(const fs::path& p) {
-  std::string quoted = "'";
-  quoted += p.string();
-  quoted += '\'';
-  return quoted;
-}
+using test::q;
 
 double sampleValue(const fs::path& map, const Vec3& d) {
   const auto result = runCli("sample " + q(map) + " --json --dir " + std::to_string(d.x()) + "," + std::to_string(d.y()) + "," + std::to_string(d.z()));

@@ -19,7 +19,7 @@ Vec3 direction(double theta, double phi) {
   return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
 }
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+using test::q;
 
 std::string vec(const Vec3& v) {
   std::ostringstream out;

@@ -20,7 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 using test::runCli;
 
-std::string q(const fs::path& p) { return std::string("'").append(p.string()).append("'"); }
+using test::q;
 
 const std::string kSky = test::sourcePath("data_samples/environments/sky_latlong.exr");
 const std::string kFurnace = test::sourcePath("data_samples/environments/furnace_latlong.exr");

@@ -58,6 +58,9 @@ inline CommandResult run(const std::string& commandLine) {
   return result;
 }
 
+/// A path in single quotes, for runCli's shell command line.
+inline std::string q(const std::filesystem::path& p) { return std::string("'").append(p.string()).append("'"); }
+
 /// Runs the brdfbake CLI with arguments (already shell-quoted as needed).
 inline CommandResult runCli(const std::string& arguments) { return run(std::string(BRDFBAKE_CLI) + " " + arguments); }
 
