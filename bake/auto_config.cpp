@@ -56,9 +56,17 @@ AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& o
   AutoResult result;
   double best = std::numeric_limits<double>::infinity();
   MapConfiguration bestConfiguration;
+  double totalCost = 0.0, doneCost = 0.0;
+  for (const auto& candidate : candidates) totalCost += static_cast<double>(candidate.cost());
   for (const auto& candidate : candidates) {
+    BakeOptions bakeOptions = options.bake;
+    const double cost = static_cast<double>(candidate.cost());
+    bakeOptions.progress = [&options, doneCost, cost, totalCost](double fraction) {
+      if (options.progress) options.progress((doneCost + fraction * cost) / totalCost);
+    };
+    doneCost += cost;
     if (candidate.profile) {
-      RadialProfile profile = bakeRadialProfile(function, *axis, candidate.resolution, candidate.samplesPerTexel, options.bake);
+      RadialProfile profile = bakeRadialProfile(function, *axis, candidate.resolution, candidate.samplesPerTexel, bakeOptions);
       const double error = autoErrorMeasure(measureProfileError(profile, function, options.error), candidate, *axis);
       ++result.tried;
       if (error <= options.maxError) {
@@ -73,7 +81,6 @@ AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& o
       continue;
     }
     const auto map = makeParameterization(candidate.parameterization, candidate.resolution);
-    BakeOptions bakeOptions = options.bake;
     bakeOptions.samplesPerTexel = candidate.samplesPerTexel;
     Image image = bake(*map, function, bakeOptions);
     const double error = autoErrorMeasure(measureMapError(image, *map, function, options.error), candidate.parameterization);

@@ -1,11 +1,14 @@
 #include <brdfbake/bake/image.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/memory_budget.hpp>
 #include <brdfbake/core/version.hpp>
 
 namespace brdfbake {
 
 Image::Image(int width, int height, const Rgba& fill) : width_(width), height_(height) {
   require(width >= 1 && height >= 1, "image size must be at least 1 x 1");
+  requireWithinMemoryBudget(4.0 * sizeof(float) * width * height,
+                            "a " + std::to_string(width) + " x " + std::to_string(height) + " float RGBA image");
   pixels_.resize(static_cast<std::size_t>(width) * height * 4);
   for (std::size_t i = 0; i < pixels_.size(); i += 4) {
     for (int c = 0; c < 4; ++c) pixels_[i + c] = static_cast<float>(fill[c]);

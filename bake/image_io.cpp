@@ -1,5 +1,8 @@
 #include <brdfbake/bake/image_io.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/files.hpp>
+#include <brdfbake/core/json_text.hpp>
+#include <brdfbake/core/memory_budget.hpp>
 
 #include <OpenImageIO/imageio.h>
 #include <unistd.h>
@@ -27,13 +30,6 @@ float linearToSrgb(float v) {
 
 float srgbToLinear(float v) { return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f); }
 
-fs::path temporarySibling(const fs::path& path) {
-  static std::atomic<int> counter{0};
-  const std::string name = "." + path.stem().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-                           std::to_string(counter++) + path.extension().string();
-  return path.parent_path() / name;
-}
-
 void checkFinite(const Image& image, const fs::path& path) {
   for (int y = 0; y < image.height(); ++y) {
     for (int x = 0; x < image.width(); ++x) {
@@ -49,6 +45,21 @@ std::string readMetadataAttribute(const fs::path& path) {
   auto in = OIIO::ImageInput::open(path.string());
   if (!in) return {};
   return in->spec().get_string_attribute(kMetadataAttribute);
+}
+
+// A header can claim any size. Before allocating, the pixel count must be one the file's bytes
+// can encode (no codec we read packs more than kMaxSamplesPerByte samples into a byte; deflate's
+// limit is about 1032 bytes per byte) and the buffers must fit the memory budget.
+constexpr double kMaxSamplesPerByte = 4096.0;
+void checkDecodedSize(int width, int height, int channels, std::uintmax_t fileBytes, const fs::path& path) {
+  const double samples = static_cast<double>(width) * height * channels;
+  const std::string size = std::to_string(width) + " x " + std::to_string(height) + " x " + std::to_string(channels);
+  if (samples > kMaxSamplesPerByte * static_cast<double>(fileBytes) + 65536.0) {
+    throw Error(Error::Kind::InvalidInput, path.string() + ": header says " + size + " samples, more than a " +
+                                               std::to_string(fileBytes) + "-byte file can hold (truncated or corrupt)");
+  }
+  requireWithinMemoryBudget(samples * sizeof(float) + static_cast<double>(width) * height * 4 * sizeof(float),
+                            path.string() + ": reading a " + size + " image");
 }
 
 }  // namespace
@@ -76,11 +87,7 @@ ImageFormat imageFormatFor(const fs::path& path) {
                                                 "' (use .exr, .hdr, .tif, .tiff or .png)");
 }
 
-bool samePath(const fs::path& a, const fs::path& b) {
-  std::error_code ec;
-  if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
-  return fs::weakly_canonical(fs::absolute(a), ec) == fs::weakly_canonical(fs::absolute(b), ec);
-}
+bool samePath(const fs::path& a, const fs::path& b) { return sameFile(a, b); }
 
 WriteReport writeImage(const Image& image, const fs::path& path, const WriteOptions& options) {
   for (const auto& input : options.inputs) {
@@ -91,11 +98,6 @@ WriteReport writeImage(const Image& image, const fs::path& path, const WriteOpti
   }
   const ImageFormat format = imageFormatFor(path);
   checkFinite(image, path);
-  if (!path.parent_path().empty()) {
-    std::error_code ec;
-    fs::create_directories(path.parent_path(), ec);
-    if (ec) throw Error(Error::Kind::Io, path.parent_path().string() + ": cannot create folder: " + ec.message());
-  }
 
   WriteReport report;
   const int channels = format == ImageFormat::RadianceHdr ? 3 : 4;
@@ -126,45 +128,31 @@ WriteReport writeImage(const Image& image, const fs::path& path, const WriteOpti
   }
   if (format == ImageFormat::RadianceHdr) report.notes.push_back("Radiance HDR holds RGB only: alpha (coverage) dropped");
 
-  const fs::path temporary = temporarySibling(path);
+  AtomicOutput output(path);
   {
-    auto out = OIIO::ImageOutput::create(temporary.string());
+    const std::string temporary = output.temporaryPath().string();
+    auto out = OIIO::ImageOutput::create(temporary);
     if (!out) throw Error(Error::Kind::Io, path.string() + ": no image writer: " + OIIO::geterror());
-    if (!out->open(temporary.string(), spec) ||
-        !out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) || !out->close()) {
-      const std::string message = out->geterror();
-      std::error_code ec;
-      fs::remove(temporary, ec);
-      throw Error(Error::Kind::Io, path.string() + ": cannot write: " + message);
+    if (!out->open(temporary, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) || !out->close()) {
+      throw Error(Error::Kind::Io, path.string() + ": cannot write: " + out->geterror());
     }
   }
-  // Formats that drop custom attributes get a sidecar; written before the rename so the pair appears together.
+  // Formats that drop custom attributes get a sidecar; written before the image so the pair appears together.
   const fs::path sidecar = path.string() + ".json";
-  std::error_code ec;
-  if (!metadata.empty() && readMetadataAttribute(temporary) != metadata) {
-    const fs::path sidecarTemporary = temporarySibling(sidecar);
-    std::ofstream(sidecarTemporary) << image.metadata.dump(2) << "\n";
-    fs::rename(sidecarTemporary, sidecar, ec);
-    if (ec) {
-      fs::remove(temporary, ec);
-      throw Error(Error::Kind::Io, sidecar.string() + ": cannot write metadata sidecar: " + ec.message());
-    }
+  if (!metadata.empty() && readMetadataAttribute(output.temporaryPath()) != metadata) {
+    writeFileAtomically(sidecar, image.metadata.dump(2) + "\n");
     report.sidecar = true;
     report.notes.push_back("format drops custom metadata: written to " + sidecar.string());
   } else {
+    std::error_code ec;
     fs::remove(sidecar, ec);  // a stale sidecar from an earlier write would contradict the file
   }
-  fs::rename(temporary, path, ec);
-  if (ec) {
-    fs::remove(temporary, ec);
-    throw Error(Error::Kind::Io, path.string() + ": cannot move the finished file into place: " + ec.message());
-  }
+  output.commit();
   return report;
 }
 
 Image readImage(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw Error(Error::Kind::Io, path.string() + ": no such file");
+  const std::uintmax_t fileBytes = requireInputFile(path, "image");
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);  // keep colours as stored, never premultiplied
   auto in = OIIO::ImageInput::open(path.string(), &config);
@@ -174,6 +162,7 @@ Image readImage(const fs::path& path) {
   if (spec.width < 1 || spec.height < 1 || channels < 1) {
     throw Error(Error::Kind::InvalidInput, path.string() + ": image has no pixels");
   }
+  checkDecodedSize(spec.width, spec.height, channels, fileBytes, path);
   std::vector<float> pixels(static_cast<std::size_t>(spec.width) * spec.height * channels);
   if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data())) {
     throw Error(Error::Kind::Io, path.string() + ": cannot read pixels: " + in->geterror());
@@ -197,16 +186,14 @@ Image readImage(const fs::path& path) {
     }
   }
   std::string metadata = spec.get_string_attribute(kMetadataAttribute);
-  if (metadata.empty()) {
-    std::ifstream sidecar(path.string() + ".json");
-    if (sidecar) metadata.assign(std::istreambuf_iterator<char>(sidecar), {});
+  std::string metadataSource = path.string() + " (brdfbake metadata)";
+  const fs::path sidecar = path.string() + ".json";
+  std::error_code ec;
+  if (metadata.empty() && fs::is_regular_file(sidecar, ec)) {
+    metadata = readTextFile(sidecar, "metadata sidecar");
+    metadataSource = sidecar.string();
   }
-  if (!metadata.empty()) {
-    image.metadata = nlohmann::json::parse(metadata, nullptr, /*allow_exceptions=*/false);
-    if (image.metadata.is_discarded()) {
-      throw Error(Error::Kind::InvalidInput, path.string() + ": brdfbake metadata is not valid JSON");
-    }
-  }
+  if (!metadata.empty()) image.metadata = parseJsonText(metadata, metadataSource);
   return image;
 }
 

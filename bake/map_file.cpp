@@ -57,6 +57,15 @@ MapFile adoptImage(Image image, ParameterizationKind kind, const std::string& la
   return file;
 }
 
+std::vector<FilePlan::Entry> mapOutputFiles(const fs::path& path, const std::string& role, bool cube, CubeLayout layout) {
+  std::vector<FilePlan::Entry> out;
+  for (const auto& file : cube && layout == CubeLayout::Faces ? cubeFacePaths(path) : std::vector{path}) {
+    out.push_back({file, role});
+    out.push_back({file.string() + ".json", role + " (metadata sidecar)"});
+  }
+  return out;
+}
+
 std::vector<fs::path> cubeFacePaths(const fs::path& path) {
   static const char* suffixes[6] = {"_posx", "_negx", "_posy", "_negy", "_posz", "_negz"};
   std::vector<fs::path> paths;

@@ -170,6 +170,37 @@ Rgb combineFresnelDecomposition(FresnelCombine combine, const Rgb& fresnel, cons
 std::filesystem::path fresnelIrradiancePath(const std::filesystem::path& output) { return besideOutput(output, "_irradiance"); }
 std::filesystem::path fresnelProfilePath(const std::filesystem::path& output) { return besideOutput(output, "_fresnel"); }
 
+namespace {
+void addLevels(std::vector<FilePlan::Entry>& out, const std::filesystem::path& file, const PrefilterOutputs& o,
+               const std::string& role) {
+  const int levels = o.mips ? environmentMipLevels(o.resolution) : 1;
+  const bool cube = o.parameterization == ParameterizationKind::Cube;
+  for (int level = 0; level < levels; ++level) {
+    const auto files = mapOutputFiles(mipLevelPath(file, level),
+                                      level == 0 ? role : role + " (mip level " + std::to_string(level) + ")", cube, o.layout);
+    out.insert(out.end(), files.begin(), files.end());
+  }
+}
+}  // namespace
+
+std::vector<FilePlan::Entry> prefilterOutputFiles(const std::filesystem::path& output, const PrefilterOutputs& o,
+                                                  const std::string& role) {
+  std::vector<FilePlan::Entry> out;
+  if (o.elevationSlices > 0) {
+    for (int j = 0; j < o.elevationSlices; ++j) {
+      addLevels(out, elevationSlicePath(output, j), o, role + " (elevation slice " + std::to_string(j) + ")");
+    }
+    return out;
+  }
+  addLevels(out, output, o, role);
+  if (o.fresnel) {
+    addLevels(out, fresnelIrradiancePath(output), o, role + " (Fresnel irradiance map)");
+    const auto profile = mapOutputFiles(fresnelProfilePath(output), role + " (Fresnel profile)");
+    out.insert(out.end(), profile.begin(), profile.end());
+  }
+  return out;
+}
+
 MapWriteReport writeFresnelDecomposition(const FresnelDecomposition& decomposition, const std::filesystem::path& output,
                                          nlohmann::json spec, CubeLayout layout, const WriteOptions& options) {
   const int size = static_cast<int>(decomposition.profile.size());

@@ -6,6 +6,8 @@
 #include <brdfbake/bake/prefilter_stack.hpp>
 #include <brdfbake/bake/radial_profile.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/files.hpp>
+#include <brdfbake/core/memory_budget.hpp>
 #include <brdfbake/core/version.hpp>
 #include <brdfbake/importers/spec.hpp>
 
@@ -168,29 +170,128 @@ nlohmann::json writeProfile(const RadialProfile& profile, const MapSpec& map, co
   return entry;
 }
 
-int runBake(const BakeArgs& args) {
-  BakeSpec spec = loadBakeSpec(args.spec);
-  if (!args.outputDirectory.empty()) {
-    for (auto& map : spec.maps) {
-      const fs::path written = map.raw.at("output").get<std::string>();
-      map.output = fs::path(args.outputDirectory) / (written.is_absolute() ? written.filename() : written);
+// A map baked from a material (and lights); returns its report entry.
+nlohmann::json bakeMaterialMap(const MapSpec& specified, BakeOptions options, const BakeArgs& args) {
+  MapSpec map = specified;
+  const auto function = map.makeFunction();
+  ProgressBar bar(map.jsonPath + " " + map.output.filename().string(), !args.quiet && !args.json);
+  options.progress = bar.callback();
+  BakeSummary summary;
+  Image image;
+  nlohmann::json autoReport;
+  std::optional<RadialProfile> profile;
+  if (map.profile && !map.anyAuto()) {
+    const auto start = std::chrono::steady_clock::now();
+    options.samplesPerTexel = map.samplesPerTexel;
+    profile = bakeRadialProfile(*function, *function->symmetryAxis(), map.resolution, map.samplesPerTexel, options);
+    summary.path = "profile";
+    summary.seconds = secondsSince(start);
+  } else if (map.anyAuto()) {
+    // The cheapest configuration meeting max_error (each candidate baked and measured).
+    AutoOptions autoOptions = map.autoOptions();
+    autoOptions.bake = options;
+    autoOptions.bake.progress = {};
+    autoOptions.progress = options.progress;
+    const auto start = std::chrono::steady_clock::now();
+    AutoResult chosen = chooseConfiguration(*function, autoOptions);
+    summary.path = "auto";
+    summary.seconds = secondsSince(start);
+    map.parameterization = chosen.chosen.parameterization;
+    map.resolution = chosen.chosen.resolution;
+    map.samplesPerTexel = chosen.chosen.samplesPerTexel;
+    image = std::move(chosen.image);
+    profile = std::move(chosen.profile);
+    autoReport = {{"chosen", chosen.chosen.describe()},
+                  {"measured_error", chosen.error},
+                  {"max_error", map.autoSelect.maxError},
+                  {"error_measure", map.parameterization == ParameterizationKind::Sphere ||
+                                            (profile && (profile->axis() - Vec3::UnitZ()).norm() < 1e-12)
+                                        ? "RMS over a visible sphere's lookups, relative to the peak"
+                                        : "RMS over directions uniform on the sphere, relative to the peak"},
+                  {"configurations_tried", chosen.tried}};
+    if (!chosen.rejected.empty()) {
+      autoReport["next_cheaper"] = {{"configuration", chosen.rejected.back().first.describe()},
+                                    {"measured_error", chosen.rejected.back().second}};
     }
+  } else {
+    options.samplesPerTexel = map.samplesPerTexel;
+    image = bake(*makeParameterization(map.parameterization, map.resolution), *function, options, &summary);
   }
-  BakeOptions options;
-  options.threads = args.threads;
-  options.allowLarge = args.allowLarge;
-  // Refuse oversize maps before any work, so a spec either bakes whole or writes nothing.
+  if (profile) {
+    return writeProfile(*profile, map, summary, autoReport, args);
+  }
+  const auto parameterization = makeParameterization(map.parameterization, map.resolution);
+
+  MapInfo info;
+  info.parameterization = map.parameterization;
+  info.resolution = map.resolution;
+  info.conventionVersion = kConventionVersion;
+  info.spec = map.raw;
+  if (!autoReport.is_null()) info.spec["auto"] = autoReport;
+  const auto writeStart = std::chrono::steady_clock::now();
+  MapWriteReport written = writeMap(image, info, map.output, map.cubeLayout, {{fs::path(args.spec)}});
+  // Extra files the spec asks for: silhouette mip levels ("mips"), the 1-D Fresnel profile ("profile_output").
+  const MapWriteReport extras = writeMapExtras(map, options, {{fs::path(args.spec)}});
+  written.files.insert(written.files.end(), extras.files.begin(), extras.files.end());
+  written.notes.insert(written.notes.end(), extras.notes.begin(), extras.notes.end());
+  const double writeSeconds = secondsSince(writeStart);
+
+  nlohmann::json entry = reportEntry(map,
+                                     {std::string(toString(map.parameterization)), map.resolution, parameterization->width(),
+                                      parameterization->height(), summary.path, summary.seconds, writeSeconds},
+                                     written.files, written.notes);
+  entry["samples_per_texel"] = map.samplesPerTexel;
+  if (!autoReport.is_null()) entry["auto"] = autoReport;
+  if (!args.json && !args.quiet) {
+    std::cout << "wrote " << map.output.string() << " (" << toString(map.parameterization) << " "
+              << parameterization->width() << "x" << parameterization->height() << ", " << map.samplesPerTexel
+              << " samples/texel, " << summary.path << "): bake " << summary.seconds << " s, write "
+              << writeSeconds << " s\n";
+    printAutoChoice(autoReport, map.autoSelect.maxError);
+    for (const auto& note : written.notes) std::cout << "  note: " << note << "\n";
+  }
+  return entry;
+}
+
+// Outputs go under -o DIR, or the spec's folder; an absolute output path keeps its file name only
+// with -o.
+void placeOutputs(BakeSpec& spec, const BakeArgs& args) {
+  if (args.outputDirectory.empty()) return;
+  for (auto& map : spec.maps) {
+    const fs::path written = map.raw.at("output").get<std::string>();
+    map.output = fs::path(args.outputDirectory) / (written.is_absolute() ? written.filename() : written);
+  }
+}
+
+// Refuses oversize maps before any work, so a spec either bakes whole or writes nothing.
+void checkMapSizes(const BakeSpec& spec, const BakeOptions& options, const std::string& label) {
   for (const auto& map : spec.maps) {
     if (map.anyAuto()) continue;  // auto candidates stay far below the limit
     const auto parameterization = makeParameterization(map.parameterization, map.resolution);
     const long long texels = static_cast<long long>(parameterization->width()) * parameterization->height();
+    const std::string size = std::to_string(parameterization->width()) + " x " + std::to_string(parameterization->height());
     if (texels > options.maxTexels && !options.allowLarge) {
-      const double gib = static_cast<double>(texels) * 16.0 / (1u << 30);
-      throw Error(Error::Kind::Resource, args.spec + ": " + map.jsonPath + ": a " + std::to_string(parameterization->width()) +
-                                             " x " + std::to_string(parameterization->height()) + " map needs " +
-                                             std::to_string(gib) + " GiB; lower its resolution or pass --allow-large");
+      throw Error(Error::Kind::Resource, label + ": " + map.jsonPath + ": a " + size + " map needs " +
+                                             formatBytes(static_cast<double>(texels) * 16.0) +
+                                             "; lower its resolution or pass --allow-large");
     }
+    requireWithinMemoryBudget(static_cast<double>(texels) * 16.0, label + ": " + map.jsonPath + ": a " + size + " map");
   }
+}
+
+int runBake(const BakeArgs& args) {
+  BakeSpec spec = loadBakeSpec(args.spec);
+  placeOutputs(spec, args);
+  const fs::path specFolder = fs::path(args.spec).parent_path();
+  const fs::path outputFolder = !args.outputDirectory.empty() ? fs::path(args.outputDirectory)
+                                : specFolder.empty()         ? fs::path(".")
+                                                             : specFolder;
+  // Every file the spec reads and writes, checked against each other before any work.
+  planSpecFiles(spec, args.spec, outputFolder).check();
+  BakeOptions options;
+  options.threads = args.threads;
+  options.allowLarge = args.allowLarge;
+  checkMapSizes(spec, options, args.spec);
 
   // Environments of prefiltered maps are read (and checked) before any work, too.
   std::vector<std::optional<Environment>> environments(spec.maps.size());
@@ -200,95 +301,39 @@ int runBake(const BakeArgs& args) {
     }
   }
 
+  // A map that fails while baking does not stop the others; each map's status is reported and the
+  // first failure decides the exit status.
   nlohmann::json report = {{"spec", args.spec}, {"maps", nlohmann::json::array()}};
-  for (const auto& specified : spec.maps) {
-    if (specified.environment) {
-      report["maps"].push_back(bakeEnvironmentMap(specified, *environments[&specified - spec.maps.data()], args));
-      continue;
-    }
-    MapSpec map = specified;
-    const auto function = map.makeFunction();
-    ProgressBar bar(map.jsonPath + " " + map.output.filename().string(), !args.quiet && !args.json);
-    options.progress = bar.callback();
-    BakeSummary summary;
-    Image image;
-    nlohmann::json autoReport;
-    std::optional<RadialProfile> profile;
-    if (map.profile && !map.anyAuto()) {
-      const auto start = std::chrono::steady_clock::now();
-      options.samplesPerTexel = map.samplesPerTexel;
-      profile = bakeRadialProfile(*function, *function->symmetryAxis(), map.resolution, map.samplesPerTexel, options);
-      summary.path = "profile";
-      summary.seconds = secondsSince(start);
-    } else if (map.anyAuto()) {
-      // The cheapest configuration meeting max_error (each candidate baked and measured).
-      AutoOptions autoOptions = map.autoOptions();
-      autoOptions.bake = options;
-      autoOptions.bake.progress = {};
-      const auto start = std::chrono::steady_clock::now();
-      AutoResult chosen = chooseConfiguration(*function, autoOptions);
-      summary.path = "auto";
-      summary.seconds = secondsSince(start);
-      map.parameterization = chosen.chosen.parameterization;
-      map.resolution = chosen.chosen.resolution;
-      map.samplesPerTexel = chosen.chosen.samplesPerTexel;
-      image = std::move(chosen.image);
-      profile = std::move(chosen.profile);
-      autoReport = {{"chosen", chosen.chosen.describe()},
-                    {"measured_error", chosen.error},
-                    {"max_error", map.autoSelect.maxError},
-                    {"error_measure", map.parameterization == ParameterizationKind::Sphere ||
-                                              (profile && (profile->axis() - Vec3::UnitZ()).norm() < 1e-12)
-                                          ? "RMS over a visible sphere's lookups, relative to the peak"
-                                          : "RMS over directions uniform on the sphere, relative to the peak"},
-                    {"configurations_tried", chosen.tried}};
-      if (!chosen.rejected.empty()) {
-        autoReport["next_cheaper"] = {{"configuration", chosen.rejected.back().first.describe()},
-                                      {"measured_error", chosen.rejected.back().second}};
+  std::exception_ptr firstFailure;
+  int failed = 0;
+  for (std::size_t i = 0; i < spec.maps.size(); ++i) {
+    const MapSpec& map = spec.maps[i];
+    nlohmann::json entry;
+    try {
+      entry = map.environment ? bakeEnvironmentMap(map, *environments[i], args) : bakeMaterialMap(map, options, args);
+      entry["status"] = "written";
+      for (const auto& note : map.notes) {
+        entry["notes"].push_back(note);
+        if (!args.json && !args.quiet) std::cout << "  note: " << note << "\n";
       }
-    } else {
-      options.samplesPerTexel = map.samplesPerTexel;
-      image = bake(*makeParameterization(map.parameterization, map.resolution), *function, options, &summary);
+    } catch (const Error& e) {
+      if (!firstFailure) firstFailure = std::current_exception();
+      ++failed;
+      entry = {{"output", map.output.string()}, {"status", "failed"}, {"error", e.what()}};
+      if (!args.json) std::cerr << "brdfbake: " << map.jsonPath << " failed: " << e.what() << "\n";
     }
-    if (profile) {
-      report["maps"].push_back(writeProfile(*profile, map, summary, autoReport, args));
-      continue;
-    }
-    const auto parameterization = makeParameterization(map.parameterization, map.resolution);
-
-    MapInfo info;
-    info.parameterization = map.parameterization;
-    info.resolution = map.resolution;
-    info.conventionVersion = kConventionVersion;
-    info.spec = map.raw;
-    if (!autoReport.is_null()) info.spec["auto"] = autoReport;
-    const auto writeStart = std::chrono::steady_clock::now();
-    MapWriteReport written = writeMap(image, info, map.output, map.cubeLayout, {{fs::path(args.spec)}});
-    // Extra files the spec asks for: silhouette mip levels ("mips"), the 1-D Fresnel profile ("profile_output").
-    const MapWriteReport extras = writeMapExtras(map, options, {{fs::path(args.spec)}});
-    written.files.insert(written.files.end(), extras.files.begin(), extras.files.end());
-    written.notes.insert(written.notes.end(), extras.notes.begin(), extras.notes.end());
-    const double writeSeconds = secondsSince(writeStart);
-
-    nlohmann::json entry = reportEntry(map,
-                                       {std::string(toString(map.parameterization)), map.resolution, parameterization->width(),
-                                        parameterization->height(), summary.path, summary.seconds, writeSeconds},
-                                       written.files, written.notes);
-    entry["samples_per_texel"] = map.samplesPerTexel;
-    if (!autoReport.is_null()) entry["auto"] = autoReport;
     report["maps"].push_back(entry);
-    if (!args.json && !args.quiet) {
-      std::cout << "wrote " << map.output.string() << " (" << toString(map.parameterization) << " "
-                << parameterization->width() << "x" << parameterization->height() << ", " << map.samplesPerTexel
-                << " samples/texel, " << summary.path << "): bake " << summary.seconds << " s, write "
-                << writeSeconds << " s\n";
-      printAutoChoice(autoReport, map.autoSelect.maxError);
-      for (const auto& note : written.notes) std::cout << "  note: " << note << "\n";
-    }
   }
   if (args.json) std::cout << report.dump(2) << "\n";
+  if (firstFailure) {
+    if (!args.json) {
+      std::cerr << "brdfbake: " << failed << " of " << spec.maps.size() << " maps failed; the others were written\n";
+    }
+    std::rethrow_exception(firstFailure);
+  }
   return 0;
 }
+
 
 }  // namespace
 

@@ -3,6 +3,7 @@
 // texel, bilinear lookups against the exact model. Prefiltered environment maps: prefilter time
 // over parameterization x resolution x method, against the reference prefilter on random output
 // texels (env_accuracy.hpp). docs/charts.md.
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/bake/env_accuracy.hpp>
@@ -94,9 +95,8 @@ std::string optionalNumber(double value) {
 }
 
 void writeCsv(const std::vector<Point>& points, const fs::path& path) {
-  const fs::path temporary = path.string() + ".tmp";
+  std::ostringstream out;
   {
-    std::ofstream out(temporary);
     // The first ten columns are those of material charts before environment maps were charted.
     out << "map,parameterization,resolution,samples_per_texel,texels,seconds,rms,max,visible_rms,pareto,"
            "method,detail,estimate,lookup_rms,lookup_max,reference_seconds\n";
@@ -108,9 +108,14 @@ void writeCsv(const std::vector<Point>& points, const fs::path& path) {
           << detail << "," << optionalNumber(p.estimate) << "," << optionalNumber(p.lookupRms) << ","
           << optionalNumber(p.lookupMax) << "," << optionalNumber(p.referenceSeconds) << "\n";
     }
-    if (!out) throw Error(Error::Kind::Io, path.string() + ": cannot write");
   }
-  fs::rename(temporary, path);
+  writeFileAtomically(path, out.str());
+}
+
+// The chart of map m: OUTPUT itself for a one-map spec, else STEM_<m+1>.EXT.
+fs::path chartPathFor(const fs::path& output, std::size_t m, std::size_t count) {
+  if (count == 1) return output;
+  return output.parent_path() / (output.stem().string() + "_" + std::to_string(m + 1) + output.extension().string());
 }
 
 // Log scales cannot show 0 (an exact furnace): plotted errors are floored.
@@ -378,6 +383,16 @@ Examples:
     const bool lookupError = args->environmentError == "lookup";
     const BakeSpec spec = loadBakeSpec(args->spec);
     const fs::path specFolder = fs::path(args->spec).parent_path();
+    FilePlan plan;
+    plan.addInput(args->spec, "spec");
+    for (const auto& map : spec.maps) {
+      for (const auto& input : map.inputs) plan.addInput(input.file, input.role);
+    }
+    for (std::size_t m = 0; m < spec.maps.size() && !output.empty(); ++m) {
+      plan.addOutput(chartPathFor(output, m, spec.maps.size()), "-o (" + spec.maps[m].jsonPath + ")");
+    }
+    if (!args->csv.empty()) plan.addOutput(args->csv, "--csv");
+    plan.check();
 
     // Environments are read (and checked) before any work, as `bake` does.
     std::vector<std::optional<Environment>> environments(spec.maps.size());
@@ -457,7 +472,7 @@ Examples:
       fs::path chart;
       if (!output.empty() && !points.empty()) {
         chart = output;
-        if (spec.maps.size() > 1) chart = output.parent_path() / (output.stem().string() + "_" + std::to_string(m + 1) + output.extension().string());
+        chart = chartPathFor(output, m, spec.maps.size());
         renderWithGnuplot(map.environment ? environmentScript(points, title, lookupError) : materialScript(points, title), chart);
       }
       for (const auto& p : points) {

@@ -57,6 +57,16 @@ Brdf loadBrdf(const std::string& model, const std::string& formatName) {
       throw Error(Error::Kind::InvalidArgument,
                   model + ": a bake spec; eval takes one material object ({\"model\": ...}), a fit.json or a table");
     }
+    // A material names its model with a string; a fit.json has "channels" and a "model" object.
+    const bool namesAModel = document.is_object() && document.contains("model") && document["model"].is_string();
+    if (document.is_object() && !namesAModel) {
+      throw Error(Error::Kind::InvalidInput,
+                  model + (document.contains("channels")
+                               ? ": looks like a fit.json but has no \"format\": \"" + std::string(kFitFileFormat) +
+                                     "\" (files written by brdfbake fit have it)"
+                               : ": neither a material (\"model\": \"phong\", ...) nor a fit.json (\"format\": \"" +
+                                     std::string(kFitFileFormat) + "\")"));
+    }
     std::shared_ptr<const Material> material;
     try {
       material = parseMaterial(document, "", {path.parent_path().empty() ? fs::path(".") : path.parent_path()});

@@ -1,5 +1,6 @@
 // brdfbake fit TABLE: fit radially symmetric lobes to a measured table (docs/fitting.md).
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/fit/cornell_grid.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/fit/fit_report.hpp>
@@ -56,11 +57,11 @@ int runFit(const FitArgs& args) {
     throw Error(Error::Kind::InvalidArgument,
                 "--report needs gnuplot, which was not found on PATH (Debian: apt-get install gnuplot-nox)");
   }
-  for (const auto& path : {args.output, args.report}) {
-    if (path.empty()) continue;
-    const fs::path folder = fs::path(path).parent_path();
-    if (!folder.empty() && !fs::is_directory(folder)) throw Error(Error::Kind::Io, path + ": folder " + folder.string() + " does not exist");
-  }
+  FilePlan plan;
+  plan.addInput(args.table, "table");
+  if (!args.output.empty()) plan.addOutput(args.output, "-o");
+  if (!args.report.empty()) plan.addOutput(args.report, "--report");
+  plan.check();
 
   const MeasuredTable read = readTableForFitting(args.table, format);
   MeasuredTable table;

@@ -1,6 +1,7 @@
 #include "gnuplot.hpp"
 
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/fit/gnuplot.hpp>
 
 #include <unistd.h>
@@ -19,19 +20,15 @@ void renderWithGnuplot(const std::string& body, const fs::path& output) {
     throw Error(Error::Kind::Io, "gnuplot not found: install gnuplot-nox (Debian), or use --csv / --json for the points");
   }
   const std::string ext = output.extension().string();
-  const fs::path temporary =
-      output.parent_path() / std::string(".").append(output.stem().string()).append(".tmp-").append(std::to_string(::getpid())).append(ext);
+  AtomicOutput file(output);
+  const fs::path& temporary = file.temporaryPath();
   const std::string terminal = ext == ".png" ? "set terminal pngcairo size 900,600 noenhanced\n" : "set terminal svg size 900,600 noenhanced\n";
-  std::error_code ec;
   try {
     runGnuplot(terminal + "set output " + gnuplotQuote(temporary.string()) + "\n" + body + "\nset output\n");
   } catch (const Error& e) {
-    fs::remove(temporary, ec);
     throw Error(Error::Kind::Io, output.string() + ": " + e.what());
   }
-  if (!fs::exists(temporary)) throw Error(Error::Kind::Io, output.string() + ": gnuplot wrote nothing");
-  fs::rename(temporary, output, ec);
-  if (ec) throw Error(Error::Kind::Io, output.string() + ": " + ec.message());
+  file.commit();
 }
 
 }  // namespace brdfbake::cli

@@ -1,5 +1,6 @@
 // brdfbake interpolation -o error.png: per-vertex interpolation error of sphere-map texture
 // coordinates and of reflected vectors, against the exact per-pixel lookup.
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/bake/interpolation_error.hpp>
 #include <brdfbake/core/error.hpp>
 
@@ -16,6 +17,11 @@ namespace brdfbake::cli {
 namespace fs = std::filesystem;
 
 namespace {
+
+// The line experiment's chart beside the sweep's: STEM_line.EXT.
+fs::path lineChartPath(const fs::path& output) {
+  return output.parent_path() / (output.stem().string() + "_line" + output.extension().string());
+}
 std::vector<double> parseNumbers(const std::string& text, const std::string& flag) {
   std::vector<double> out;
   std::stringstream in(text);
@@ -65,6 +71,11 @@ Examples:
   return [args] {
     const fs::path output = args->output;
     checkChartPath(output);
+    FilePlan plan;
+    plan.addOutput(output, "-o");
+    plan.addOutput(lineChartPath(output), "-o (line experiment)");
+    if (!args->csv.empty()) plan.addOutput(args->csv, "--csv");
+    plan.check();
     const auto sizes = parseNumbers(args->sizes, "--sizes");
     const auto places = parseNumbers(args->places, "--places");
     for (double s : sizes)
@@ -103,14 +114,13 @@ Examples:
            << "set grid\nset xlabel 'x'\nset ylabel 'angle between interpolated and computed r (degrees)'\n$line << EOD\n";
     for (std::size_t i = 0; i < line.x.size(); ++i) lineGp << line.x[i] << " " << line.errorDegrees[i] << "\n";
     lineGp << "EOD\nplot $line using 1:2 with lines lw 2 notitle\n";
-    const fs::path lineChart = output.parent_path() / (output.stem().string() + "_line" + output.extension().string());
-    renderWithGnuplot(lineGp.str(), lineChart);
+    renderWithGnuplot(lineGp.str(), lineChartPath(output));
 
     if (!args->csv.empty()) {
-      std::ofstream csv(args->csv);
+      std::ostringstream csv;
       csv << "size_degrees,place_degrees,sphere_map_error_degrees,reflected_vector_error_degrees\n";
       for (const auto& p : sweep) csv << p.sizeDegrees << "," << p.placeDegrees << "," << p.sphereMapError << "," << p.reflectedVectorError << "\n";
-      if (!csv) throw Error(Error::Kind::Io, args->csv + ": cannot write");
+      writeFileAtomically(args->csv, csv.str());
     }
     if (args->json) {
       nlohmann::json points = nlohmann::json::array();
@@ -120,11 +130,11 @@ Examples:
       }
       std::cout << nlohmann::json{{"sweep", points},
                                   {"line", {{"max_error_degrees", line.maxError}, {"at_x", line.maxAt}, {"segment", args->segment}}},
-                                  {"charts", {output.string(), lineChart.string()}}}
+                                  {"charts", {output.string(), lineChartPath(output).string()}}}
                        .dump(2)
                 << "\n";
     } else {
-      std::cout << "wrote " << output.string() << " and " << lineChart.string() << "\n"
+      std::cout << "wrote " << output.string() << " and " << lineChartPath(output).string() << "\n"
                 << "line experiment: max " << line.maxError << " degrees at x = " << line.maxAt << "\n";
     }
     return 0;

@@ -125,7 +125,13 @@ Command addConvertCommand(CLI::App& app) {
     const int resolution = args->resolution > 0 ? args->resolution : source.info.resolution;
     const auto target = makeParameterization(kind, resolution);
     imageFormatFor(args->output);  // fail on a bad extension before the work
-    if (samePath(args->map, args->output)) throw Error(Error::Kind::InvalidArgument, args->output + ": output would overwrite the input");
+    FilePlan plan;
+    plan.addInput(args->map, "map");
+    for (const auto& f : mapOutputFiles(args->output, "-o", kind == ParameterizationKind::Cube,
+                                        args->faces ? CubeLayout::Faces : CubeLayout::Cross)) {
+      plan.addOutput(f.file, f.role);
+    }
+    plan.check();
     ProgressBar bar("convert", !args->json);
     BakeOptions options;
     options.samplesPerTexel = args->samples;

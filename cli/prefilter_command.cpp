@@ -127,17 +127,13 @@ int runPrefilter(const PrefilterArgs& args) {
   const FresnelCombine combine = args.combine.empty() ? FresnelCombine::Add : parseFresnelCombine(args.combine);
   const std::optional<FresnelTerm> fresnelTerm =
       fresnel ? std::optional(FresnelTerm::dielectric(Rgb::Constant(args.fresnelIor))) : std::nullopt;
-  std::vector<fs::path> outputs{args.output};
-  if (stack) {
-    outputs.clear();
-    for (int j = 0; j < options.elevations; ++j) outputs.push_back(elevationSlicePath(args.output, j));
-  }
-  if (fresnel) outputs.insert(outputs.end(), {fresnelIrradiancePath(args.output), fresnelProfilePath(args.output)});
-  for (const fs::path& output : outputs) {
-    if (samePath(args.environment, output)) {
-      throw Error(Error::Kind::InvalidArgument, output.string() + ": output would overwrite the environment");
-    }
-  }
+  FilePlan plan;
+  plan.addInput(args.environment, "environment");
+  if (model) plan.addInput(args.lobe.substr(6), "--lobe");
+  const PrefilterOutputs outputs{options.parameterization, options.resolution, options.mips,
+                                 args.faces ? CubeLayout::Faces : CubeLayout::Cross, stack ? options.elevations : 0, fresnel};
+  for (const auto& output : prefilterOutputFiles(args.output, outputs, "-o")) plan.addOutput(output.file, output.role);
+  plan.check();
 
   EnvironmentLoadOptions load;
   if (!args.from.empty()) load.kind = parseParameterizationKind(args.from);

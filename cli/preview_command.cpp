@@ -52,6 +52,10 @@ Examples:
     options.exposure = args->exposure;
     if (!args->view.empty()) options.view = parseVector(args->view, "--view");
     imageFormatFor(args->output);
+    FilePlan plan;
+    plan.addInput(args->map, "map");
+    for (const auto& f : mapOutputFiles(args->output, "-o")) plan.addOutput(f.file, f.role);
+    plan.check();
     Image image = renderPreview(file.image, *file.parameterization, options);
     image.metadata = {{"preview_of", args->map}, {"object", args->object}, {"per_vertex", args->perVertex}};
     const auto report = writeImage(image, args->output, {{std::filesystem::path(args->map)}});

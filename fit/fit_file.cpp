@@ -1,3 +1,5 @@
+#include <brdfbake/core/files.hpp>
+#include <brdfbake/core/json_text.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/version.hpp>
 #include <brdfbake/fit/fit_file.hpp>
@@ -307,30 +309,10 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
 }
 
 
-FitFile readFitFile(const fs::path& path) { return fitFileFromJson(readJsonDocument(path), path.string()); }
+FitFile readFitFile(const fs::path& path) { return fitFileFromJson(readJsonFile(path.string()), path.string()); }
 
 void writeFitFile(const fs::path& path, const FitFile& file) {
-  const std::string text = fitFileToJson(file).dump(2) + "\n";
-  const fs::path folder = path.parent_path().empty() ? fs::path(".") : path.parent_path();
-  std::random_device rd;
-  const fs::path temporary = folder / std::string(".").append(path.filename().string()).append(".tmp").append(std::to_string(rd()));
-  {
-    std::ofstream out(temporary, std::ios::binary);
-    if (!out) throw Error(Error::Kind::Io, path.string() + ": cannot write (folder missing or not writable?)");
-    out << text;
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(temporary, ec);
-      throw Error(Error::Kind::Io, path.string() + ": write failed");
-    }
-  }
-  std::error_code ec;
-  fs::rename(temporary, path, ec);
-  if (ec) {
-    fs::remove(temporary, ec);
-    throw Error(Error::Kind::Io, path.string() + ": cannot write: " + ec.message());
-  }
+  writeFileAtomically(path, fitFileToJson(file).dump(2) + "\n");
 }
 
 }  // namespace brdfbake

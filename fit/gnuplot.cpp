@@ -1,4 +1,5 @@
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/fit/gnuplot.hpp>
 
 #include <unistd.h>
@@ -44,10 +45,9 @@ void runGnuplot(const std::string& script) {
                 "gnuplot not found on PATH (Debian: apt-get install gnuplot-nox); charts need it");
   }
   // The script goes through a file (no pipe that could break if gnuplot stops early).
-  std::random_device rd;
-  const std::string stem = "brdfbake-gnuplot-" + std::to_string(rd()) + std::to_string(rd());
-  const fs::path scriptFile = fs::temp_directory_path() / (stem + ".gp");
-  const fs::path errors = fs::temp_directory_path() / (stem + ".log");
+  const ScratchFile scriptScratch(".gp"), errorsScratch(".log");
+  const fs::path& scriptFile = scriptScratch.path();
+  const fs::path& errors = errorsScratch.path();
   {
     std::ofstream out(scriptFile, std::ios::binary);
     out << script;
@@ -64,9 +64,6 @@ void runGnuplot(const std::string& script) {
   std::ifstream log(errors);
   std::stringstream messages;
   messages << log.rdbuf();
-  std::error_code ec;
-  fs::remove(errors, ec);
-  fs::remove(scriptFile, ec);
   if (status != 0) {
     std::string text = messages.str();
     if (text.size() > 2000) text = text.substr(0, 2000) + "...";

@@ -1,3 +1,5 @@
+#include <brdfbake/core/files.hpp>
+#include <brdfbake/core/json_text.hpp>
 #include <brdfbake/importers/json_reader.hpp>
 
 #include <algorithm>
@@ -11,7 +13,12 @@ Error specError(const std::string& path, const std::string& message) {
 }
 
 std::string describe(const nlohmann::json& value) {
-  std::string text = value.dump();
+  // Containers are summarised, never dumped whole: a hostile value may be huge.
+  if (value.is_array() && !value.empty() && (value.size() > 8 || !value[0].is_primitive())) {
+    return "an array of " + std::to_string(value.size()) + " values";
+  }
+  if (value.is_object() && !value.empty()) return "an object with " + std::to_string(value.size()) + " keys";
+  std::string text = value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   if (text.size() > 60) text = text.substr(0, 57) + "...";
   return text;
 }
@@ -112,8 +119,10 @@ Vec3 JsonObjectReader::asDirection(const nlohmann::json& value, const std::strin
   if (!value.is_array() || value.size() != 3) throw specError(path, "must be [x, y, z], got " + describe(value));
   Vec3 d;
   for (int i = 0; i < 3; ++i) d[i] = asNumber(value[i], path + "[" + std::to_string(i) + "]");
-  if (!(d.norm() > 0.0)) throw specError(path, "must be a non-zero vector, got " + describe(value));
-  return d.normalized();
+  // Scaled by the largest component first, so [1e300, 1e300, 1e300] normalises without overflow.
+  const double largest = d.cwiseAbs().maxCoeff();
+  if (!(largest > 0.0)) throw specError(path, "must be a non-zero vector, got " + describe(value));
+  return (d / largest).normalized();
 }
 
 Vec3 JsonObjectReader::direction(const std::string& key) { return asDirection(require(key), child(key)); }
@@ -135,26 +144,6 @@ void JsonObjectReader::finish() const {
   }
 }
 
-nlohmann::json readJsonDocument(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(Error::Kind::Io, path.string() + ": cannot open");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
-  try {
-    return nlohmann::json::parse(text);
-  } catch (const nlohmann::json::parse_error& e) {
-    const std::size_t offset = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
-    int line = 1, column = 1;
-    for (std::size_t i = 0; i < offset; ++i) {
-      if (text[i] == '\n') ++line, column = 1;
-      else ++column;
-    }
-    std::string message = e.what();
-    if (const auto pos = message.find("syntax error"); pos != std::string::npos) message = message.substr(pos);
-    throw Error(Error::Kind::InvalidInput,
-                path.string() + ":" + std::to_string(line) + ":" + std::to_string(column) + ": invalid JSON: " + message);
-  }
-}
+nlohmann::json readJsonDocument(const std::filesystem::path& path) { return readJsonFile(path.string()); }
 
 }  // namespace brdfbake

@@ -1,4 +1,6 @@
+#include <brdfbake/bake/env_mips.hpp>
 #include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/bake/mip_chain.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/importers/material_spec.hpp>
 #include <brdfbake/importers/spec.hpp>
@@ -11,6 +13,8 @@
 namespace brdfbake {
 namespace fs = std::filesystem;
 namespace {
+
+constexpr std::size_t kMaxPathLength = 4096;  // PATH_MAX on Linux
 
 DirectionalLight parseLight(const nlohmann::json& value, const std::string& path, const Vec3& view, bool& atEye) {
   JsonObjectReader light(value, path);
@@ -46,12 +50,15 @@ void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& b
   const std::string file = env.string("file");
   if (file.empty()) throw specError(env.child("file"), "must not be empty");
   e.file = fs::path(file).is_absolute() ? fs::path(file) : baseDirectory / file;
+  spec.inputs.push_back({e.file, env.child("file")});
   e.lobe = env.string("lobe");
   bool normalLobe = false;  // irradiance: indexed by the normal
   try {
     if (e.lobe.rfind("lobes:", 0) == 0) {  // a fitted lobe model (docs/fitting.md)
       const fs::path fit(e.lobe.substr(6));
-      e.lobeModel = std::make_shared<LobeModel>(readFitFile(fit.is_absolute() ? fit : baseDirectory / fit).fit.model);
+      const fs::path fitFile = fit.is_absolute() ? fit : baseDirectory / fit;
+      spec.inputs.push_back({fitFile, env.child("lobe")});
+      e.lobeModel = std::make_shared<LobeModel>(readFitFile(fitFile).fit.model);
     } else {
       normalLobe = PrefilterLobe::parse(e.lobe, baseDirectory).indexedByNormal();
     }
@@ -119,6 +126,10 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
 
   const std::string output = map.string("output");
   if (output.empty()) throw specError(map.child("output"), "must not be empty");
+  if (output.size() > kMaxPathLength) {
+    throw specError(map.child("output"), "a name of " + std::to_string(output.size()) + " characters; paths are limited to " +
+                                             std::to_string(kMaxPathLength));
+  }
   try {
     imageFormatFor(output);
   } catch (const Error& e) {
@@ -193,7 +204,7 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     return spec;
   }
 
-  spec.material = parseMaterial(map.require("material"), map.child("material"), {baseDirectory});
+  spec.material = parseMaterial(map.require("material"), map.child("material"), {baseDirectory, &spec.inputs, &spec.notes});
 
   bool anyAtEye = false;
   if (map.has("lights")) {
@@ -239,6 +250,42 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
 }
 
 }  // namespace
+
+std::vector<FilePlan::Entry> MapSpec::plannedOutputs() const {
+  const std::string role = jsonPath + ".output";
+  if (environment) {
+    const EnvironmentMapSpec& e = *environment;
+    PrefilterOutputs outputs{parameterization, resolution, e.mips, cubeLayout};
+    if (e.lobeModel && e.lobeModel->elevation == LobeElevation::Varying) outputs.elevationSlices = e.elevations;
+    outputs.fresnel = e.fresnel.has_value();
+    return prefilterOutputFiles(output, outputs, role);
+  }
+  const bool cube = parameterization == ParameterizationKind::Cube && !anyAuto() && !profile;
+  std::vector<FilePlan::Entry> out = mapOutputFiles(output, role, cube, cubeLayout);
+  auto add = [&out](const std::vector<FilePlan::Entry>& files) { out.insert(out.end(), files.begin(), files.end()); };
+  if (mips) {
+    for (int level = 1; level < mipLevelCount(resolution); ++level) {
+      add(mapOutputFiles(mipLevelPath(output, level), role + " (mip level " + std::to_string(level) + ")"));
+    }
+  }
+  if (profileOutput) {
+    add(mapOutputFiles(profileOutput->is_absolute() ? *profileOutput : output.parent_path() / *profileOutput,
+                       jsonPath + ".profile_output"));
+  }
+  return out;
+}
+
+FilePlan planSpecFiles(const BakeSpec& spec, const fs::path& specFile, const fs::path& outputFolder) {
+  FilePlan plan(outputFolder);
+  plan.addInput(specFile, "spec");
+  for (const auto& map : spec.maps) {
+    for (const auto& input : map.inputs) plan.addInput(input.file, input.role);
+  }
+  for (const auto& map : spec.maps) {
+    for (const auto& output : map.plannedOutputs()) plan.addOutput(output.file, output.role);
+  }
+  return plan;
+}
 
 AutoOptions MapSpec::autoOptions() const {
   AutoOptions options;

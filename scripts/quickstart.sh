@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # brdfbake quick start on Debian 12: installs what is missing, builds, then
 #   demo  bakes the sample maps of data_samples/specs/phong_eye.json into out/
-#   test  runs the whole test suite (what CI runs)
+#   test  runs the whole test suite twice (what CI runs): a Release build, then a build with
+#         AddressSanitizer and UndefinedBehaviorSanitizer (GCC's; no benchmarks, and without the
+#         consumer-package test, which links an uninstrumented program against the package)
 # Usage: scripts/quickstart.sh demo|test
 set -euo pipefail
 mode="${1:-}"
@@ -31,4 +33,11 @@ if [ "$mode" = demo ]; then
   echo "Baked maps are in out/ (OpenEXR, float RGBA). Try: build/cli/brdfbake sample out/phong_eye.exr --dir 0,0.3,1"
 else
   ctest --test-dir build --output-on-failure -j "$jobs"
+  echo "== The same suite under AddressSanitizer and UndefinedBehaviorSanitizer"
+  cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBRDFBAKE_SANITIZE=address,undefined \
+        -DBRDFBAKE_BUILD_BENCH=OFF
+  cmake --build build-sanitize -j "$jobs"
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -E '^consumer_package$'
 fi

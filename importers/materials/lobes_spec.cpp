@@ -20,7 +20,9 @@ std::filesystem::path resolveMaterialFile(JsonObjectReader& m, const MaterialCon
   const std::string file = m.string("file");
   if (file.empty()) throw specError(m.child("file"), "must not be empty");
   const std::filesystem::path path(file);
-  return path.is_absolute() ? path : context.baseDirectory / path;
+  const std::filesystem::path resolved = path.is_absolute() ? path : context.baseDirectory / path;
+  if (context.inputs) context.inputs->push_back({resolved, m.child("file")});
+  return resolved;
 }
 
 std::shared_ptr<const Material> parseLobes(JsonObjectReader& m, const MaterialContext& context) {

@@ -1,6 +1,7 @@
 // Map-level extras: "mips" (silhouette mip chain) and "profile_output" (1-D Fresnel texture), parsed
 // and written beside the map.
 #include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/bake/env_mips.hpp>
 #include <brdfbake/bake/mip_chain.hpp>
 #include <brdfbake/brdf/fresnel.hpp>
 #include <brdfbake/brdf/npr.hpp>
@@ -11,10 +12,6 @@
 namespace brdfbake {
 namespace fs = std::filesystem;
 namespace {
-
-fs::path mipPath(const fs::path& output, int level) {
-  return output.parent_path() / (output.stem().string() + "_mip" + std::to_string(level) + output.extension().string());
-}
 
 fs::path profilePath(const MapSpec& map) {
   return map.profileOutput->is_absolute() ? *map.profileOutput : map.output.parent_path() / *map.profileOutput;
@@ -73,7 +70,7 @@ MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions
       info.conventionVersion = kConventionVersion;
       info.spec = map.raw;
       const MapWriteReport written =
-          writeMap(chain[level], info, mipPath(map.output, static_cast<int>(level)), CubeLayout::Cross, writeOptions);
+          writeMap(chain[level], info, mipLevelPath(map.output, static_cast<int>(level)), CubeLayout::Cross, writeOptions);
       report.files.insert(report.files.end(), written.files.begin(), written.files.end());
       if (level == 1) report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());
     }

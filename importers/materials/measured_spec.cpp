@@ -55,6 +55,16 @@ std::shared_ptr<const Material> parseMeasured(JsonObjectReader& m, const Materia
   } catch (const Error& e) {
     throw specError(m.child("file"), e.what());
   }
+  // A reflectance is never negative: negative measurements (noise around zero) would bake into
+  // negative texels, so they are clamped, and the notes say so.
+  const auto negatives = (table.values.array() < 0.0).count();
+  if (negatives > 0) {
+    table.values = table.values.cwiseMax(0.0);
+    table.notes.push_back(std::to_string(negatives) + " negative RGB values clamped to 0 for baking");
+  }
+  if (context.notes) {
+    for (const auto& note : table.notes) context.notes->push_back(m.child("file") + ": " + note);
+  }
   if (method == "mirror") {
     return std::make_shared<MirrorProfileMaterial>(strongestNearMirrorProfile(table, radians(window)), "measured");
   }

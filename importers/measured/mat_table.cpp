@@ -1,12 +1,16 @@
 // MATLAB .mat tables through libmatio.
 #include <brdfbake/importers/measured_io.hpp>
 
+#include <brdfbake/core/files.hpp>
+
 #include "measured_common.hpp"
 
 #include <matio.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <memory>
 #include <mutex>
 #include <tuple>
@@ -85,12 +89,46 @@ std::pair<double, double> directionAngles(const Eigen::MatrixXd& m, Eigen::Index
   return {std::acos(std::clamp(u.z(), -1.0, 1.0)), std::atan2(u.y(), u.x())};
 }
 
+// libmatio reads a cut-off variable as if the missing bytes were zeros. A level-5 MAT-file is a
+// 128-byte header and then top-level data elements, each an 8-byte tag (type, byte count) and its
+// bytes: walk them and refuse a file that ends inside one. (Level-4 files have no such header and
+// v7.3 files are HDF5, which checks its own structure.)
+void requireCompleteMatFile(const std::filesystem::path& path) {
+  const std::uintmax_t size = requireInputFile(path, "MATLAB table");
+  const std::string bytes = readTextFile(path, "MATLAB table");
+  if (bytes.size() < 128 || bytes.compare(0, 10, "MATLAB 5.0") != 0) return;
+  const bool swapped = bytes[126] == 'M' && bytes[127] == 'I';  // the file's byte order differs from ours
+  auto word = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    std::memcpy(&v, bytes.data() + at, 4);
+    return swapped ? __builtin_bswap32(v) : v;
+  };
+  std::size_t at = 128;
+  int element = 0;
+  while (at < bytes.size()) {
+    if (bytes.size() - at < 8) {
+      throw malformed(path.string(), 0, "truncated: the file ends inside the tag of data element " + std::to_string(element) +
+                                            " (byte " + std::to_string(at) + " of " + std::to_string(size) + ")");
+    }
+    const std::uint32_t type = word(at), count = word(at + 4);
+    std::uint64_t end = at + 8 + std::uint64_t{count};
+    if (type == 14 /* miMATRIX */) end = (end + 7) / 8 * 8;  // padded to 8 bytes; miCOMPRESSED is not
+    if (end > bytes.size() && !(type == 14 && at + 8 + std::uint64_t{count} <= bytes.size())) {
+      throw malformed(path.string(), 0, "truncated: data element " + std::to_string(element) + " at byte " + std::to_string(at) +
+                                            " needs " + std::to_string(count) + " bytes, but the file ends after " +
+                                            std::to_string(bytes.size() - at - 8));
+    }
+    at = static_cast<std::size_t>(std::min<std::uint64_t>(end, bytes.size()));
+    ++element;
+  }
+}
+
 }  // namespace
 
 MeasuredTable readMat(const std::filesystem::path& path) {
   const std::string file = path.string();
   silenceMatio();
-  if (!std::filesystem::exists(path)) throw Error::atFile(Error::Kind::Io, file, 0, "cannot open: no such file");
+  requireCompleteMatFile(path);
   lastMatioMessage.clear();
   std::unique_ptr<mat_t, MatCloser> mat(Mat_Open(file.c_str(), MAT_ACC_RDONLY));
   if (!mat)

@@ -1,3 +1,4 @@
+#include <brdfbake/core/files.hpp>
 #include "measured_common.hpp"
 
 #include <brdfbake/core/math.hpp>
@@ -16,6 +17,7 @@ Error malformed(const std::string& file, int line, const std::string& message) {
 
 namespace {
 std::ifstream openForReading(const std::filesystem::path& path) {
+  requireInputFile(path, "measured table");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error::atFile(Error::Kind::Io, path.string(), 0, std::string("cannot open: ") + std::strerror(errno));
   return in;

@@ -1,6 +1,8 @@
 // Format detection, the MERL reader and the format dispatch.
 #include <brdfbake/importers/measured_io.hpp>
 
+#include <brdfbake/core/files.hpp>
+
 #include "measured_common.hpp"
 
 #include <bit>
@@ -86,9 +88,7 @@ TableFormat detectTableFormat(const std::filesystem::path& path) {
 
 MerlTable readMerl(const std::filesystem::path& path) {
   const std::string file = path.string();
-  std::error_code ec;
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec) throw Error::atFile(Error::Kind::Io, file, 0, "cannot read: " + ec.message());
+  const std::uintmax_t size = requireInputFile(path, "MERL table");
   if (size != kMerlFileBytes)
     throw malformed(file, 0,
                     "a MERL .binary must be exactly " + std::to_string(kMerlFileBytes) +

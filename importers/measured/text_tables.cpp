@@ -1,4 +1,5 @@
 // Text formats: Cornell ASTM E1392 (.astm) and pbrt-v2 (.brdf).
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/importers/measured_io.hpp>
 
 #include "measured_common.hpp"
@@ -282,11 +283,7 @@ void writeAstm(const std::filesystem::path& path, const MeasuredTable& table) {
       text += "," + measured::formatShortest(table.values(static_cast<Eigen::Index>(i), c));
     text += "\n";
   }
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw Error::atFile(Error::Kind::Io, path.string(), 0, "cannot open for writing");
-  out << text;
-  out.close();
-  if (!out) throw Error::atFile(Error::Kind::Io, path.string(), 0, "write failed");
+  writeFileAtomically(path, text);
 }
 
 }  // namespace brdfbake

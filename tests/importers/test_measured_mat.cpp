@@ -158,6 +158,22 @@ TEST_F(MalformedMat, ShapeMismatches) {
   EXPECT_TRUE(rejects([&] { readMat(path); }, {name(), "sample 1: theta_i = 10 is outside [0, pi/2]"}));
 }
 
+TEST_F(MalformedMat, TruncatedFilesAreRefusedEvenWhenLibmatioReadsThem) {
+  // 100 samples so the cut falls inside 'fr', the last variable: libmatio alone reads the missing
+  // rows as zeros.
+  Eigen::MatrixXd in(100, 2), out(100, 2);
+  for (int i = 0; i < 100; ++i) in.row(i) << radians(0.8 * i), 0.0, out.row(i) << radians(0.5 * i), kPi;
+  const auto path = write({{"dir_in", in}, {"dir_out", out}, {"fr", Eigen::MatrixXd::Constant(100, 3, 0.5)}});
+  ASSERT_EQ(readMat(path).size(), 100u);
+  const auto size = std::filesystem::file_size(path);
+  for (std::uintmax_t cut : {std::uintmax_t{300}, std::uintmax_t{1}, size - 130}) {
+    std::filesystem::resize_file(path, size - cut);
+    EXPECT_TRUE(rejects([&] { readMat(path); }, {name(), "truncated"})) << "cut " << cut << " bytes";
+    std::filesystem::remove(path);
+    write({{"dir_in", in}, {"dir_out", out}, {"fr", Eigen::MatrixXd::Constant(100, 3, 0.5)}});
+  }
+}
+
 TEST_F(MalformedMat, NotAMatFile) {
   test::writeFile(dir_ / "bad.mat", "MATLAB 5.0 MAT-file, but then nothing");
   EXPECT_TRUE(rejects([&] { readMat(dir_ / "bad.mat"); }, {name(), "not a MATLAB .mat file"}));

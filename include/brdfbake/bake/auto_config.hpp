@@ -38,7 +38,10 @@ struct AutoOptions {
   /// maps: the directions a renderer looks up), in (0, 1).
   double maxError = 0.01;
   ErrorOptions error;      ///< how errors are measured
-  BakeOptions bake;        ///< threads, progress, limits (samplesPerTexel is overridden)
+  BakeOptions bake;        ///< threads, limits (samplesPerTexel and progress are overridden)
+  /// Called with the fraction of the whole search done (candidates weighted by their texels),
+  /// so a search that will end in "no configuration meets max_error" is never silent.
+  std::function<void(double)> progress;
 
   void validate() const;
 };

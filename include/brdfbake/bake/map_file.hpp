@@ -4,6 +4,7 @@
 
 #include <brdfbake/bake/image.hpp>
 #include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/core/files.hpp>
 
 #include <filesystem>
 #include <memory>
@@ -42,5 +43,11 @@ MapWriteReport writeMap(const Image& image, const MapInfo& info, const std::file
 
 /// The six face file names of a cube written with CubeLayout::Faces, in OpenGL face order.
 std::vector<std::filesystem::path> cubeFacePaths(const std::filesystem::path& path);
+
+/// The files writeMap writes or replaces for `path`, for a FilePlan: the file (or, for a cube with
+/// CubeLayout::Faces, its six faces) and the metadata sidecar FILE.json beside each, which
+/// writeImage writes or removes. Each carries `role`.
+std::vector<FilePlan::Entry> mapOutputFiles(const std::filesystem::path& path, const std::string& role,
+                                            bool cube = false, CubeLayout layout = CubeLayout::Cross);
 
 }  // namespace brdfbake

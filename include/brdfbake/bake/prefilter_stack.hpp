@@ -17,6 +17,7 @@
 ///   renderer combines them as L = F L_m + k_d E / pi ("add") or F L_m + (1 - F) k_d E / pi ("mix"),
 ///   with F = F(n.v) and k_d its diffuse albedo (combineFresnelDecomposition).
 
+#include <brdfbake/bake/map_file.hpp>
 #include <brdfbake/bake/prefilter.hpp>
 #include <brdfbake/brdf/fresnel.hpp>
 
@@ -76,6 +77,21 @@ FresnelDecomposition prefilterFresnelDecomposition(const Environment& environmen
 ///   add: F L_m + k_d E / pi,   mix: F L_m + (1 - F) k_d E / pi.
 Rgb combineFresnelDecomposition(FresnelCombine combine, const Rgb& fresnel, const Rgb& specular, const Rgb& irradiance,
                                 const Rgb& diffuseAlbedo);
+
+/// What a prefilter run writes, for prefilterOutputFiles.
+struct PrefilterOutputs {
+  ParameterizationKind parameterization = ParameterizationKind::Sphere;
+  int resolution = 256;
+  bool mips = false;                      ///< every mip level as STEM_mipK.EXT
+  CubeLayout layout = CubeLayout::Cross;
+  int elevationSlices = 0;                ///< a stack over elevation (STEM_elevJ.EXT), or 0
+  bool fresnel = false;                   ///< a Fresnel decomposition (irradiance map and profile too)
+};
+
+/// Every file writePrefilteredMap, writePrefilteredStack or writeFresnelDecomposition writes or
+/// replaces for `output` (mapOutputFiles of each level, slice and map), with roles built on `role`.
+std::vector<FilePlan::Entry> prefilterOutputFiles(const std::filesystem::path& output, const PrefilterOutputs& outputs,
+                                                  const std::string& role);
 
 /// STEM_irradiance.EXT and STEM_fresnel.EXT beside `output` (the specular map).
 std::filesystem::path fresnelIrradiancePath(const std::filesystem::path& output);

@@ -4,6 +4,7 @@
 /// are errors naming their JSON path.
 
 #include <brdfbake/brdf/material.hpp>
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/importers/json_reader.hpp>
 
 #include <filesystem>
@@ -17,6 +18,10 @@ namespace brdfbake {
 /// What a material parser may need besides its JSON object.
 struct MaterialContext {
   std::filesystem::path baseDirectory;  ///< relative file paths resolve against this (the spec's folder)
+  /// If set, every file the material reads is added here with its JSON path (for FilePlan).
+  std::vector<FilePlan::Entry>* inputs = nullptr;
+  /// If set, notes about the material's input (clamped values, conversions) are added here.
+  std::vector<std::string>* notes = nullptr;
 };
 
 using MaterialParser =

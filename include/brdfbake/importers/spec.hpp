@@ -9,6 +9,7 @@
 #include <brdfbake/bake/parameterization.hpp>
 #include <brdfbake/bake/prefilter.hpp>
 #include <brdfbake/bake/prefilter_stack.hpp>
+#include <brdfbake/core/files.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -77,6 +78,17 @@ struct MapSpec {
   /// maps indexed by reflected direction, of view-independent materials).
   enum class ViewNeed { Unspecified, Fixed, Free } viewNeed = ViewNeed::Unspecified;
 
+  /// The files this map reads (environment, fit.json, measured table) with the JSON paths that
+  /// name them; filled by parsing.
+  std::vector<FilePlan::Entry> inputs;
+  /// Notes about the inputs found while parsing (e.g. negative measured values clamped to 0),
+  /// printed and reported with the map.
+  std::vector<std::string> notes;
+  /// Every file making this map writes or replaces: the output or its cube faces, mip levels,
+  /// elevation slices, Fresnel maps, "profile_output", and the metadata sidecar FILE.json beside
+  /// each, with roles such as "maps[0].output (mip level 2)".
+  std::vector<FilePlan::Entry> plannedOutputs() const;
+
   bool anyAuto() const { return autoSelect.parameterization || autoSelect.resolution || autoSelect.samplesPerTexel; }
   /// The candidates and target for chooseConfiguration (fixed values become one-element lists).
   AutoOptions autoOptions() const;
@@ -99,6 +111,11 @@ BakeSpec parseBakeSpec(const nlohmann::json& document, const std::filesystem::pa
 /// each written with writeImage/writeMap semantics. `bakeOptions` is used for baking mip levels.
 /// Returns the files written and notes (nothing if the map asks for no extras).
 MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions, const WriteOptions& writeOptions = {});
+
+/// The files baking `spec` reads and writes, for FilePlan::check(): `specFile`, every map's
+/// inputs and planned outputs, with `outputFolder` as the folder outputs must stay in.
+FilePlan planSpecFiles(const BakeSpec& spec, const std::filesystem::path& specFile,
+                       const std::filesystem::path& outputFolder);
 
 /// Reads a spec file. Throws Error(Io) if unreadable, Error(InvalidInput) with file, line and
 /// column for JSON syntax errors, and the errors of parseBakeSpec.
