@@ -1,3 +1,4 @@
+#include <brdfbake/core/progress.hpp>
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/bake/radial_table.hpp>
 #include <brdfbake/core/error.hpp>
@@ -24,25 +25,6 @@ Grid stratification(int n) {
   return {n / a, a};
 }
 
-class Progress {
- public:
-  Progress(const std::function<void(double)>& callback, int total) : callback_(callback), total_(total) {}
-  void rowDone() {
-    const int done = ++done_;
-    if (!callback_) return;
-    std::unique_lock lock(mutex_, std::try_to_lock);
-    if (lock.owns_lock() || done == total_) {
-      if (!lock.owns_lock()) lock.lock();
-      callback_(static_cast<double>(done) / total_);
-    }
-  }
-
- private:
-  const std::function<void(double)>& callback_;
-  int total_;
-  std::atomic<int> done_{0};
-  std::mutex mutex_;
-};
 
 struct TabulatedLobe {
   Vec3 axis;
@@ -110,7 +92,7 @@ Image bake(const Parameterization& map, const MapFunction& function, const BakeO
   Image image(map.width(), map.height());
   const Grid grid = stratification(options.samplesPerTexel);
   const double twoOverN = 2.0 / map.resolution();
-  Progress progress(options.progress, map.height());
+  ProgressCounter progress(options.progress, static_cast<std::size_t>(map.height()));
 
   // Sample offsets inside a texel; rows of samples are mapped in batches (structure of arrays).
   std::vector<double> offsetX(grid.columns), offsetY(grid.rows);
@@ -271,7 +253,7 @@ Image bake(const Parameterization& map, const MapFunction& function, const BakeO
       const Rgb mean = counted[x] > 0 ? Rgb(sum / counted[x]) : Rgb::Zero();
       image.set(x, y, Rgba(mean[0], mean[1], mean[2], coverage[x]));
     }
-    progress.rowDone();
+    progress.step();
   };
 
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);

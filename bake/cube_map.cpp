@@ -22,7 +22,7 @@ std::pair<CubeMap::Face, Vec2> CubeMap::faceCoordinates(const Vec3& r) {
   const double ax = std::abs(r.x()), ay = std::abs(r.y()), az = std::abs(r.z());
   Face face;
   double sc, tc, ma;
-  // OpenGL table (seed 001 Fig. 33): major axis, then (sc, tc).
+  // OpenGL table (Zimmons 1999 Fig. 33): major axis, then (sc, tc).
   if (ax >= ay && ax >= az) {
     ma = ax;
     face = r.x() >= 0 ? PosX : NegX;

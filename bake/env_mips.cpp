@@ -1,3 +1,4 @@
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/bake/env_mips.hpp>
 #include <brdfbake/core/error.hpp>
 
@@ -37,11 +38,6 @@ double mipTexelWeight(const Parameterization& map, int x, int y) {
     return stereographicArea(local * scale - 1.0, (local + 1) * scale - 1.0, 1.0 - (y + 1) * scale, 1.0 - y * scale);
   }
   return map.texelSolidAngle(x, y);
-}
-
-int environmentMipLevels(int resolution) {
-  require(resolution >= 1, "mip chain needs a resolution >= 1");
-  return std::bit_width(static_cast<unsigned>(resolution));
 }
 
 Image downsampleEnvironment(const Image& fine, const Parameterization& fineMap) {
@@ -172,7 +168,7 @@ void alignParaboloidBorder(Image& image, const ParaboloidMap& map) {
 
 std::vector<Image> environmentMipChain(const Image& level0, const Parameterization& map) {
   std::vector<Image> levels{level0};
-  const int count = environmentMipLevels(map.resolution());
+  const int count = mipLevelCount(map.resolution());
   std::unique_ptr<Parameterization> current = makeParameterization(map.kind(), map.resolution());
   if (map.kind() == ParameterizationKind::Cube) fixCubeEdges(levels[0], static_cast<const CubeMap&>(*current));
   if (map.kind() == ParameterizationKind::Paraboloid) alignParaboloidBorder(levels[0], static_cast<const ParaboloidMap&>(*current));
@@ -189,7 +185,7 @@ std::vector<Image> environmentMipChain(const Image& level0, const Parameterizati
 
 std::filesystem::path mipLevelPath(const std::filesystem::path& path, int level) {
   if (level == 0) return path;
-  return path.parent_path() / (path.stem().string() + "_mip" + std::to_string(level) + path.extension().string());
+  return siblingWithSuffix(path, "_mip" + std::to_string(level));
 }
 
 }  // namespace brdfbake

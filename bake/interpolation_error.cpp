@@ -60,7 +60,7 @@ std::vector<InterpolationPoint> interpolationSweep(const std::vector<double>& si
   return out;
 }
 
-LineExperiment seed001LineExperiment(const Vec3& viewer, double segment, int samples) {
+LineExperiment planarLineExperiment(const Vec3& viewer, double segment, int samples) {
   require(segment > 0.0 && samples >= 2, "segment must be > 0 and samples >= 2");
   const Vec3 normal = Vec3::UnitY();
   auto reflectedAt = [&](double x) { return reflect(Vec3((viewer - Vec3(x, 0, 0)).normalized()), normal); };

@@ -1,3 +1,4 @@
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/bake/cube_map.hpp>
 #include <brdfbake/bake/map_file.hpp>
 #include <brdfbake/core/error.hpp>
@@ -70,7 +71,7 @@ std::vector<fs::path> cubeFacePaths(const fs::path& path) {
   static const char* suffixes[6] = {"_posx", "_negx", "_posy", "_negy", "_posz", "_negz"};
   std::vector<fs::path> paths;
   for (const char* suffix : suffixes) {
-    paths.push_back(path.parent_path() / (path.stem().string() + suffix + path.extension().string()));
+    paths.push_back(siblingWithSuffix(path, suffix));
   }
   return paths;
 }

@@ -1,3 +1,4 @@
+#include <brdfbake/core/progress.hpp>
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/bake/env_accuracy.hpp>
 #include <brdfbake/bake/env_mips.hpp>
@@ -24,7 +25,6 @@ namespace {
 using detail::LatLongPyramid;
 using Clock = std::chrono::steady_clock;
 
-double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 std::string formatG(double value) {
   std::ostringstream out;
@@ -42,25 +42,6 @@ constexpr double kImportancePerSample = 60e-9;
 constexpr double kGridLookup = 80e-9;
 constexpr double kReferencePerSample = 6e-9;
 
-class Progress {
- public:
-  Progress(const std::function<void(double)>& callback, int total) : callback_(callback), total_(std::max(1, total)) {}
-  void step() {
-    const int done = ++done_;
-    if (!callback_) return;
-    std::unique_lock lock(mutex_, std::try_to_lock);
-    if (lock.owns_lock() || done == total_) {
-      if (!lock.owns_lock()) lock.lock();
-      callback_(std::min(1.0, static_cast<double>(done) / total_));
-    }
-  }
-
- private:
-  const std::function<void(double)>& callback_;
-  int total_;
-  std::atomic<int> done_{0};
-  std::mutex mutex_;
-};
 
 // Eye space of a sphere map -> environment frame.
 Mat3 eyeToEnvironment(const PrefilterOptions& options) {
@@ -441,7 +422,7 @@ Probes makeProbes(Context& context, const PrefilterOptions& options, double floo
       probes.weights[p] = 1.0 / (kFourPi * q);
     }
   });
-  probes.seconds = since(start);
+  probes.seconds = secondsSince(start);
   return probes;
 }
 
@@ -468,7 +449,7 @@ void estimate(const Evaluator& evaluator, const Probes& probes, double& rms, dou
 Image evaluateOutput(const Parameterization& map, const Evaluator& evaluator, const PrefilterLobe& lobe,
                      const PrefilterOptions& options) {
   Image image(map.width(), map.height(), Rgba::Zero());
-  Progress progress(options.progress, map.height());
+  ProgressCounter progress(options.progress, static_cast<std::size_t>(map.height()));
   tbb::parallel_for(0, map.height(), [&](int y) {
     for (int x = 0; x < map.width(); ++x) {
       const auto d = map.getDirectionFor(Vec2(x + 0.5, y + 0.5));
@@ -553,8 +534,10 @@ std::string PrefilterSummary::briefReport() const {
   if (errorEstimated) {
     out << ": estimated RMS relative error " << formatG(100.0 * errorEstimate) << " % (bound " << formatG(100.0 * maxError) << " %"
         << (metTarget ? "" : ", NOT met") << ")";
-  } else {
+  } else if (method == PrefilterMethod::Reference || method == PrefilterMethod::Resample) {
     out << ": exact";
+  } else {
+    out << ": error not estimated (estimation off)";
   }
   out << ", " << formatG(seconds) << " s";
   if (levels > 1) out << ", " << levels << " mip levels";
@@ -575,7 +558,10 @@ nlohmann::json PrefilterSummary::toJson() const {
                         {"max_error", maxError},
                         {"error_metric", "rms_relative"},
                         {"error_estimated", errorEstimated},
-                        {"met_target", metTarget},
+                        {"met_target", errorEstimated || method == PrefilterMethod::Reference ||
+                                                   method == PrefilterMethod::Resample
+                                           ? nlohmann::json(metTarget)
+                                           : nlohmann::json(nullptr)},  // unknown when nothing was estimated
                         {"levels", levels},
                         {"filter_seconds", seconds},
                         {"estimate_seconds", estimateSeconds},
@@ -680,7 +666,7 @@ PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lo
       level0 = bake(*map, function, bakeOptions);
       summary.method = PrefilterMethod::Resample;
       summary.detail = std::to_string(options.mirrorSamples) + " footprint samples per texel";
-      summary.outputSeconds = since(outputStart);
+      summary.outputSeconds = secondsSince(outputStart);
     } else {
       Context context(environment, lobe);
       Workload work;
@@ -695,7 +681,7 @@ PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lo
         summary.detail = std::to_string(ref.summer.samples()) + " input samples (" + std::to_string(ref.summer.subdivision()) +
                          "x" + std::to_string(ref.summer.subdivision()) + " per texel)";
         PrefilterCandidate c{PrefilterMethod::Reference, summary.detail,
-                             work.outputPoints * ref.summer.samples() * kReferencePerSample / threads, since(setupStart)};
+                             work.outputPoints * ref.summer.samples() * kReferencePerSample / threads, secondsSince(setupStart)};
         c.chosen = true;
         summary.candidates.push_back(c);
       } else {
@@ -746,12 +732,12 @@ PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lo
           }
           const auto setupStart = Clock::now();
           auto evaluator = build(spec, context);
-          PrefilterCandidate candidate{spec.method, spec.detail, spec.predicted, since(setupStart)};
+          PrefilterCandidate candidate{spec.method, spec.detail, spec.predicted, secondsSince(setupStart)};
           bool accept = !estimating;
           if (estimating) {
             const auto estimateStart = Clock::now();
             estimate(*evaluator, *probes, candidate.errorEstimate, candidate.errorEstimateMax);
-            summary.estimateSeconds += since(estimateStart);
+            summary.estimateSeconds += secondsSince(estimateStart);
             accept = candidate.errorEstimate <= target;
           }
           if (accept) {
@@ -804,7 +790,7 @@ PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lo
       }
       const auto outputStart = Clock::now();
       level0 = evaluateOutput(*map, *chosen, lobe, options);
-      summary.outputSeconds = since(outputStart);
+      summary.outputSeconds = secondsSince(outputStart);
     }
     requireFiniteOutput(level0);
     const auto mipStart = Clock::now();
@@ -815,10 +801,10 @@ PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lo
       if (options.parameterization == ParameterizationKind::Paraboloid) alignParaboloidBorder(level0, static_cast<const ParaboloidMap&>(*map));
       result.levels.push_back(std::move(level0));
     }
-    summary.mipSeconds = since(mipStart);
+    summary.mipSeconds = secondsSince(mipStart);
   });
   summary.levels = static_cast<int>(result.levels.size());
-  summary.seconds = since(start);
+  summary.seconds = secondsSince(start);
   return result;
 }
 
@@ -877,9 +863,9 @@ PrefilteredMap prefilterLobeModel(const Environment& environment, const LobeMode
   summary.detail = std::to_string(terms.size()) + " Phong terms: " + detail.str();
   const auto mipStart = Clock::now();
   result.levels = options.mips ? environmentMipChain(sum, *result.map) : std::vector<Image>{sum};
-  summary.mipSeconds = since(mipStart);
+  summary.mipSeconds = secondsSince(mipStart);
   summary.levels = static_cast<int>(result.levels.size());
-  summary.seconds = since(start);
+  summary.seconds = secondsSince(start);
   return result;
 }
 

@@ -20,7 +20,6 @@ struct PrefilterLobe::Data {
   double alpha = 0.0;      // GGX
   double scale = 1.0;      // normalisation factor applied to the raw profile
   double mass = 0.0;       // analytic where known, else the grid's integral
-  std::function<double(double)> raw;  // tabulated lobes
   std::vector<double> theta, cumulative;  // cumulative mass over theta (scaled to `mass` at pi)
 
   double rawProfile(double c) const {
@@ -34,7 +33,6 @@ struct PrefilterLobe::Data {
         const double f = (alpha - 1.0) * ((alpha + 1.0) * nh2) + 1.0;
         return alpha * alpha / (kPi * f * f) * c;
       }
-      case LobeKind::Tabulated: return raw(std::clamp(c, -1.0, 1.0));
     }
     return 0.0;
   }
@@ -152,16 +150,6 @@ PrefilterLobe PrefilterLobe::ggx(double roughness) {
   d->description = "GGX split-sum lobe D(h) max(0, n.l) with n = v = r, perceptual roughness " +
                    formatNumber(roughness) + " (alpha " + formatNumber(d->alpha) + "), normalised";
   return PrefilterLobe(finish(d, 0.0, true));
-}
-
-PrefilterLobe PrefilterLobe::tabulated(std::string name, std::function<double(double)> profile, bool normalise) {
-  require(static_cast<bool>(profile), "tabulated lobe needs a profile");
-  auto d = std::make_shared<Data>();
-  d->kind = LobeKind::Tabulated;
-  d->raw = std::move(profile);
-  d->name = std::move(name);
-  d->description = "tabulated lobe " + d->name + (normalise ? " (normalised)" : "");
-  return PrefilterLobe(finish(d, 0.0, normalise));
 }
 
 PrefilterLobe PrefilterLobe::parse(std::string_view text, const std::filesystem::path& baseDirectory) {

@@ -13,7 +13,8 @@
 namespace brdfbake::detail {
 namespace {
 
-double luminanceNorm(const Rgb& v) { return v.matrix().norm(); }
+// The Euclidean norm of an RGB value: how the error estimates weigh colours.
+double rgbNorm(const Rgb& v) { return v.matrix().norm(); }
 
 // Radical inverse in base 2 (Hammersley points).
 double radicalInverse(unsigned i) {
@@ -102,7 +103,7 @@ LatLongPyramid::LatLongPyramid(const Environment& environment) {
   });
   double normSum = 0.0;
   for (int y = 0; y < base.height; ++y)
-    for (int x = 0; x < base.width; ++x) normSum += base.rowSolidAngle[y] * luminanceNorm(base.at(x, y));
+    for (int x = 0; x < base.width; ++x) normSum += base.rowSolidAngle[y] * rgbNorm(base.at(x, y));
   meanNorm_ = normSum / kFourPi;
   levels_.push_back(std::move(base));
   while (levels_.back().height > 1) {

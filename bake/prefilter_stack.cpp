@@ -1,5 +1,7 @@
 // Prefilter requests that make several maps: elevation stacks of varying lobe models and the
 // Fresnel decomposition (prefilter_stack.hpp, docs/prefilter.md).
+#include <brdfbake/core/files.hpp>
+#include <brdfbake/core/progress.hpp>
 #include <brdfbake/bake/env_mips.hpp>
 #include <brdfbake/bake/image_io.hpp>
 #include <brdfbake/bake/prefilter_stack.hpp>
@@ -13,7 +15,6 @@ namespace brdfbake {
 namespace {
 using Clock = std::chrono::steady_clock;
 
-double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
 // Folds the summary of one part (a slice, a map of the decomposition) into `into`, labelled.
 void mergeSummary(PrefilterSummary& into, const PrefilterSummary& part, const std::string& label) {
@@ -35,9 +36,6 @@ void mergeSummary(PrefilterSummary& into, const PrefilterSummary& part, const st
   for (const auto& note : part.notes) into.notes.push_back(label + ": " + note);
 }
 
-std::filesystem::path besideOutput(const std::filesystem::path& path, const std::string& suffix) {
-  return path.parent_path() / (path.stem().string() + suffix + path.extension().string());
-}
 
 // options.progress over [begin, end) of the whole request.
 std::function<void(double)> progressPart(const std::function<void(double)>& progress, double begin, double end) {
@@ -100,12 +98,12 @@ PrefilteredStack prefilterLobeModelStack(const Environment& environment, const L
   for (const auto& slice : stack.slices) detail << (&slice == &stack.slices.front() ? " " : ", ") << toString(slice.summary.method);
   detail << "; slice 0: " << stack.slices.front().summary.detail;
   summary.detail = detail.str();
-  summary.seconds = since(start);
+  summary.seconds = secondsSince(start);
   return stack;
 }
 
 std::filesystem::path elevationSlicePath(const std::filesystem::path& path, int slice) {
-  return besideOutput(path, "_elev" + std::to_string(slice));
+  return siblingWithSuffix(path, "_elev" + std::to_string(slice));
 }
 
 MapWriteReport writePrefilteredStack(const PrefilteredStack& stack, const std::filesystem::path& path, nlohmann::json spec,
@@ -167,13 +165,13 @@ Rgb combineFresnelDecomposition(FresnelCombine combine, const Rgb& fresnel, cons
   return fresnel * specular + (combine == FresnelCombine::Mix ? (1.0 - fresnel) * diffuse : diffuse);
 }
 
-std::filesystem::path fresnelIrradiancePath(const std::filesystem::path& output) { return besideOutput(output, "_irradiance"); }
-std::filesystem::path fresnelProfilePath(const std::filesystem::path& output) { return besideOutput(output, "_fresnel"); }
+std::filesystem::path fresnelIrradiancePath(const std::filesystem::path& output) { return siblingWithSuffix(output, "_irradiance"); }
+std::filesystem::path fresnelProfilePath(const std::filesystem::path& output) { return siblingWithSuffix(output, "_fresnel"); }
 
 namespace {
 void addLevels(std::vector<FilePlan::Entry>& out, const std::filesystem::path& file, const PrefilterOutputs& o,
                const std::string& role) {
-  const int levels = o.mips ? environmentMipLevels(o.resolution) : 1;
+  const int levels = o.mips ? mipLevelCount(o.resolution) : 1;
   const bool cube = o.parameterization == ParameterizationKind::Cube;
   for (int level = 0; level < levels; ++level) {
     const auto files = mapOutputFiles(mipLevelPath(file, level),

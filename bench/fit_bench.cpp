@@ -9,7 +9,7 @@
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/fit/gnuplot.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
-#include <brdfbake/importers/measured_io.hpp>
+#include <brdfbake/measured/measured_io.hpp>
 
 #include <chrono>
 #include <cstring>

@@ -3,7 +3,7 @@
 //   build/bench/make_environments data_samples/environments [ROWS]
 //
 // furnace_latlong.exr (L = 1 everywhere), sky_latlong.exr (sky, aureole, ground and a 1.5 degree
-// sun of radiance ~2000), colored_cube_latlong.exr (seed 002 Fig. 1) as 2N x N lat-long images
+// sun of radiance ~2000), colored_cube_latlong.exr (Heidrich 2000 Fig. 1) as 2N x N lat-long images
 // (N = ROWS, default 128), and colored_cube_cross.exr as a 4N/2 x 3N/2 cube cross. The files are
 // plain images (no brdfbake metadata), so `prefilter` reads them by their aspect ratio.
 #include <brdfbake/bake/environment.hpp>

@@ -1,6 +1,6 @@
-// mirror_profiles: the seed's measured reflectance map (seed 000 section 8) made two ways for the
+// mirror_profiles: Zimmons & Bastos 1999's measured reflectance map (Zimmons & Bastos 1999 section 8) made two ways for the
 // shared Cornell tables, side by side: the strongest sample near the mirror direction (the
-// seed's way; 10 degree window, and the whole incident angle as the seed literally did) and the
+// seed's way; 10 degree window, and the whole incident angle as Zimmons & Bastos 1999 literally did) and the
 // fitted lobes evaluated exactly on the mirror direction. Prints a Markdown table (G channel)
 // and draws docs/images/mirror_profiles.png with gnuplot when present.
 //

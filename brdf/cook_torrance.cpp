@@ -14,7 +14,7 @@ CookTorranceMaterial::CookTorranceMaterial(CookTorranceParams params) : params_(
   const bool hasDiffuse = (p.diffuse > 0.0).any();
   if (p.mode == CookTorranceMode::Reflectance) {
     require(!hasDiffuse, "diffuse must be zero in reflectance mode: a mirror-direction map holds the specular "
-                         "term R_s only (seed 000 section 7); bake the diffuse part in lighting mode");
+                         "term R_s only (Zimmons & Bastos 1999 section 7); bake the diffuse part in lighting mode");
     require(std::isfinite(p.grazingAngleDegrees) && p.grazingAngleDegrees > 0.0 && p.grazingAngleDegrees < 90.0,
             "grazing_angle must be in (0, 90) degrees, got " + std::to_string(p.grazingAngleDegrees));
   }

@@ -99,6 +99,16 @@ FresnelTerm FresnelTerm::spectralF0(std::span<const double> wavelengthsNm, std::
   });
 }
 
+FresnelTerm FresnelTerm::schlick(const Rgb& f0) {
+  for (int i = 0; i < 3; ++i) {
+    require(std::isfinite(f0[i]) && f0[i] >= 0.0 && f0[i] <= 1.0, "Schlick f0 must be in [0, 1] per channel");
+  }
+  FresnelTerm term;
+  term.kind_ = Kind::Schlick;
+  term.eta_ = f0;
+  return term;
+}
+
 Rgb FresnelTerm::operator()(double cosTheta) const {
   const double c = clampFinite(cosTheta, 0.0, 1.0);
   Rgb f;
@@ -108,6 +118,9 @@ Rgb FresnelTerm::operator()(double cosTheta) const {
       break;
     case Kind::Conductor:
       for (int i = 0; i < 3; ++i) f[i] = fresnelConductor(c, eta_[i], k_[i]);
+      break;
+    case Kind::Schlick:
+      for (int i = 0; i < 3; ++i) f[i] = fresnelSchlick(c, eta_[i]);
       break;
     case Kind::Table: {
       const double x = c * static_cast<double>(table_.size() - 1);

@@ -1,4 +1,5 @@
 // brdfbake bake SPEC.json: bake every map of a spec.
+#include <brdfbake/core/progress.hpp>
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/bake/environment.hpp>
 #include <brdfbake/bake/map_file.hpp>
@@ -9,7 +10,7 @@
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/core/memory_budget.hpp>
 #include <brdfbake/core/version.hpp>
-#include <brdfbake/importers/spec.hpp>
+#include <brdfbake/spec/spec.hpp>
 
 #include <chrono>
 #include <iostream>
@@ -25,15 +26,12 @@ namespace {
 struct BakeArgs {
   std::string spec;
   std::string outputDirectory;
+  std::string misplacedOutput;  // -o, refused with a pointer to --out-dir
   int threads = 0;
   bool quiet = false;
   bool json = false;
   bool allowLarge = false;
 };
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // The report entry every map shares (`bake --json`): what was written, its size, how long it took.
 struct EntryFacts {
@@ -114,6 +112,7 @@ nlohmann::json bakeEnvironmentMap(const MapSpec& map, const Environment& environ
     written = writePrefilteredMap(result, map.output, map.raw, map.cubeLayout, writeOptions);
   }
   const double writeSeconds = secondsSince(writeStart);
+  bar.done();
   nlohmann::json entry = reportEntry(map,
                                      {std::string(toString(map.parameterization)), map.resolution, parameterization->width(),
                                       parameterization->height(), "prefilter:" + std::string(toString(summary.method)),
@@ -217,6 +216,7 @@ nlohmann::json bakeMaterialMap(const MapSpec& specified, BakeOptions options, co
     options.samplesPerTexel = map.samplesPerTexel;
     image = bake(*makeParameterization(map.parameterization, map.resolution), *function, options, &summary);
   }
+  bar.done();
   if (profile) {
     return writeProfile(*profile, map, summary, autoReport, args);
   }
@@ -253,8 +253,8 @@ nlohmann::json bakeMaterialMap(const MapSpec& specified, BakeOptions options, co
   return entry;
 }
 
-// Outputs go under -o DIR, or the spec's folder; an absolute output path keeps its file name only
-// with -o.
+// Outputs go under --out-dir DIR, or the spec's folder; with --out-dir an absolute output path keeps
+// only its file name.
 void placeOutputs(BakeSpec& spec, const BakeArgs& args) {
   if (args.outputDirectory.empty()) return;
   for (auto& map : spec.maps) {
@@ -280,6 +280,11 @@ void checkMapSizes(const BakeSpec& spec, const BakeOptions& options, const std::
 }
 
 int runBake(const BakeArgs& args) {
+  if (!args.misplacedOutput.empty()) {
+    throw Error(Error::Kind::InvalidArgument, "-o " + shortenForMessage(args.misplacedOutput) +
+                                                  ": bake writes one file per map, named by the spec's \"output\" keys; "
+                                                  "give the folder they go in with --out-dir DIR");
+  }
   BakeSpec spec = loadBakeSpec(args.spec);
   placeOutputs(spec, args);
   const fs::path specFolder = fs::path(args.spec).parent_path();
@@ -342,7 +347,7 @@ Command addBakeCommand(CLI::App& app) {
   auto* command = app.add_subcommand("bake", "Bake every map described by a JSON spec");
   command->footer(R"(A spec lists maps; each names its output, parameterization (sphere | paraboloid | cube |
 latlong | profile | auto), resolution, samples_per_texel, material and lights. Relative paths
-resolve against the spec's folder (or -o). The whole spec is validated before anything is baked.
+resolve against the spec's folder (or --out-dir). The whole spec is validated before anything is baked.
 Specs for every model: data_samples/specs/. Format: docs/spec.md. Models: phong, blinn_phong,
 cook_torrance, fresnel, colorgram, gooch, silhouette, hatching (docs/materials.md), measured, lobes
 (docs/fitting.md). "environment" in place of a material prefilters an HDR environment
@@ -354,10 +359,13 @@ it, a 1-D radial profile included when the map is radially symmetric.
              "material": {"model": "phong", "specular": [1, 1, 1], "exponent": 50},
              "lights": [{"direction": "eye", "color": [1, 1, 1]}]}]})");
   command->add_option("spec", args->spec, "Spec file (JSON)")->required();
-  command->add_option("-o,--output-dir", args->outputDirectory, "Write outputs under this folder instead of the spec's");
-  command->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->default_val(0)->check(CLI::NonNegativeNumber);
-  command->add_flag("--quiet", args->quiet, "Print nothing on success");
-  command->add_flag("--json", args->json, "Print a machine-readable report (per map: files, seconds baking and writing)");
+  command->add_option("-d,--out-dir", args->outputDirectory,
+                      "Write the spec's outputs under this folder instead of the spec's own (they must stay inside it)");
+  // -o names one output file on every command; bake writes a file per map, so it takes a folder.
+  command->add_option("-o,--output", args->misplacedOutput, "(bake takes --out-dir: it writes one file per map)")->group("");
+  addThreadsOption(command, args->threads);
+  addQuietFlag(command, args->quiet);
+  addJsonFlag(command, args->json, "per map its status, files, seconds baking and writing, notes");
   command->add_flag("--allow-large", args->allowLarge, "Allow maps over 8192^2 texels (1 GiB of float RGBA)");
   return [args] { return runBake(*args); };
 }

@@ -11,7 +11,7 @@
 #include <brdfbake/bake/image_io.hpp>
 #include <brdfbake/bake/prefilter.hpp>
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/importers/spec.hpp>
+#include <brdfbake/spec/spec.hpp>
 
 #include <chrono>
 #include <fstream>
@@ -110,12 +110,6 @@ void writeCsv(const std::vector<Point>& points, const fs::path& path) {
     }
   }
   writeFileAtomically(path, out.str());
-}
-
-// The chart of map m: OUTPUT itself for a one-map spec, else STEM_<m+1>.EXT.
-fs::path chartPathFor(const fs::path& output, std::size_t m, std::size_t count) {
-  if (count == 1) return output;
-  return output.parent_path() / (output.stem().string() + "_" + std::to_string(m + 1) + output.extension().string());
 }
 
 // Log scales cannot show 0 (an exact furnace): plotted errors are floored.
@@ -305,7 +299,7 @@ Command addChartCommand(CLI::App& app) {
     std::string methods = "auto,sh,direct,importance", environmentError = "texel";
     int threads = 0, lookups = 20000, subset = 256;
     double maxError = 0.0;
-    bool json = false;
+    bool json = false, quiet = false;
   };
   auto args = std::make_shared<Args>();
   auto* command = app.add_subcommand("chart", "Chart bake or prefilter time against accuracy for the maps of a spec");
@@ -327,7 +321,7 @@ parameterization and resolution. Default resolutions 16,32,64 (--resolutions set
 combination that fails is skipped with a note. Mirror maps (no integral, no reference) and fitted lobes
 that vary with elevation (a stack of maps) are skipped.
 
-Outputs: one chart per map (several maps: NAME_1.png, NAME_2.png, ...), --csv (one row per point:
+Outputs: one chart, a panel per map, --csv (one row per point:
 map, parameterization, resolution, samples_per_texel (0 for environments), texels, seconds, rms,
 max, visible_rms, pareto, method (bake for materials), detail, estimate, lookup_rms, lookup_max,
 reference_seconds) and --json (the points; skipped combinations as entries with "skipped": true).
@@ -339,7 +333,7 @@ Examples:
   brdfbake chart spec.json -o c.svg --resolutions 64,256 --samples 1,16 --parameterizations sphere,cube
   brdfbake chart data_samples/specs/prefilter_sky.json -o sky.png --csv sky.csv --methods auto,sh,direct)");
   command->add_option("spec", args->spec, "Spec file")->required();
-  command->add_option("-o,--output", args->output, "Chart (.png or .svg); several maps: NAME_1.png, ...");
+  command->add_option("-o,--output", args->output, "Chart (.png or .svg); several maps: one panel each in this picture");
   command->add_option("--csv", args->csv, "Also write the points as CSV");
   auto* resolutionsOption = command->add_option("--resolutions", args->resolutions,
                                                 "Comma-separated resolutions (default 32,64,128,256,512 for materials, "
@@ -348,8 +342,8 @@ Examples:
   command->add_option("--parameterizations", args->parameterizations, "Comma-separated parameterizations")->default_str(args->parameterizations);
   command->add_option("--methods", args->methods, "Comma-separated prefilter methods (environment maps): auto, sh, direct, importance, reference")
       ->default_str(args->methods);
-  command->add_option("--max-error", args->maxError, "Environment maps: the bound methods choose their settings for (default: the map's max_error)")
-      ->check(CLI::Range(1e-9, 0.999999));
+  addEnvironmentMaxErrorOption(command, args->maxError,
+                               "Environment maps: the bound methods choose their settings for (default: the map's max_error)");
   command->add_option("--subset", args->subset, "Environment maps: random output texels (and lookup directions) compared with the reference")
       ->default_val(256)
       ->check(CLI::Range(16, 1000000));
@@ -358,8 +352,9 @@ Examples:
       ->default_str(args->environmentError)
       ->check(CLI::IsMember({"texel", "lookup"}));
   command->add_option("--lookups", args->lookups, "Material maps: random directions per error measurement")->default_val(20000)->check(CLI::Range(100, 10000000));
-  command->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->default_val(0)->check(CLI::NonNegativeNumber);
-  command->add_flag("--json", args->json, "Print the points as JSON");
+  addThreadsOption(command, args->threads);
+  addQuietFlag(command, args->quiet);
+  addJsonFlag(command, args->json, "the points (skipped ones with \"skipped\": true)");
   return [args, resolutionsOption] {
     const auto toInt = [](const std::string& s) {
       std::size_t used = 0;
@@ -388,9 +383,7 @@ Examples:
     for (const auto& map : spec.maps) {
       for (const auto& input : map.inputs) plan.addInput(input.file, input.role);
     }
-    for (std::size_t m = 0; m < spec.maps.size() && !output.empty(); ++m) {
-      plan.addOutput(chartPathFor(output, m, spec.maps.size()), "-o (" + spec.maps[m].jsonPath + ")");
-    }
+    if (!output.empty()) plan.addOutput(output, "-o");
     if (!args->csv.empty()) plan.addOutput(args->csv, "--csv");
     plan.check();
 
@@ -408,6 +401,7 @@ Examples:
     nlohmann::json report = nlohmann::json::array();
     std::vector<Point> all;
     std::vector<Skipped> skipped;
+    std::vector<std::string> panels;  // one chart per map, drawn into -o as one picture
     for (std::size_t m = 0; m < spec.maps.size(); ++m) {
       const MapSpec& map = spec.maps[m];
       std::vector<Point> points;
@@ -428,14 +422,14 @@ Examples:
           sweep.subset = args->subset;
           sweep.maxError = args->maxError;
           sweep.threads = args->threads;
-          ProgressBar bar(map.jsonPath, !args->json);
+          ProgressBar bar(map.jsonPath, !args->json && !args->quiet);
           points = sweepEnvironment(map, *environments[m], specFolder, sweep, skipped, bar);
           title = map.jsonPath + ": " + e.lobe + " of " + e.file.filename().string() + ", bound " +
                   percent(args->maxError > 0.0 ? args->maxError : e.maxError) + " (" + map.output.filename().string() + ")";
         }
       } else {
         const auto function = map.makeFunction();
-        ProgressBar bar(map.jsonPath, !args->json);
+        ProgressBar bar(map.jsonPath, !args->json && !args->quiet);
         const auto progress = bar.callback();
         const double total = double(kinds.size() * resolutions.size() * samples.size());
         int done = 0;
@@ -472,8 +466,7 @@ Examples:
       fs::path chart;
       if (!output.empty() && !points.empty()) {
         chart = output;
-        chart = chartPathFor(output, m, spec.maps.size());
-        renderWithGnuplot(map.environment ? environmentScript(points, title, lookupError) : materialScript(points, title), chart);
+        panels.push_back(map.environment ? environmentScript(points, title, lookupError) : materialScript(points, title));
       }
       for (const auto& p : points) {
         nlohmann::json entry = {{"map", p.map}, {"parameterization", p.parameterization}, {"resolution", p.resolution},
@@ -500,14 +493,17 @@ Examples:
           entry["method"] = k.method;
         }
         report.push_back(entry);
-        if (!args->json) {
+        if (!args->json && !args->quiet) {
           std::cout << "note: " << k.map;
           if (!k.method.empty()) std::cout << " " << k.parameterization << " " << k.resolution << " " << k.method << " skipped";
           std::cout << ": " << k.note << "\n";
         }
       }
       all.insert(all.end(), points.begin(), points.end());
-      if (!args->json && !chart.empty()) std::cout << "wrote " << chart.string() << "\n";
+    }
+    if (!panels.empty()) {
+      renderWithGnuplot(panels, output);
+      if (!args->json && !args->quiet) std::cout << "wrote " << output.string() << " (" << panels.size() << (panels.size() == 1 ? " chart)" : " charts, one per map)") << "\n";
     }
     if (!args->csv.empty()) writeCsv(all, args->csv);
     if (args->json) std::cout << report.dump(2) << "\n";

@@ -2,8 +2,8 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/fit/table_interpolation.hpp>
-#include <brdfbake/importers/material_spec.hpp>
-#include <brdfbake/importers/measured_io.hpp>
+#include <brdfbake/spec/material_spec.hpp>
+#include <brdfbake/measured/measured_io.hpp>
 
 #include <fstream>
 #include <functional>
@@ -22,7 +22,7 @@ struct EvalArgs {
   std::string model;
   std::string wi, wo, pairs;
   std::string format = "auto";
-  bool json = false;
+  bool json = false, quiet = false;
 };
 
 // A BRDF: channel names and values (1/sr) for (wi, wo) in the local frame.
@@ -136,6 +136,13 @@ int runEval(const EvalArgs& args) {
     if (!pairs) throw Error(Error::Kind::Io, args.pairs + ": cannot open");
   }
   const Brdf brdf = loadBrdf(args.model, args.format);
+  // More than R, G, B (a spectral table or fit): the columns are named once, on stderr, so the
+  // values on stdout stay one line per direction for scripts.
+  if (!args.json && !args.quiet && brdf.channels.size() > 3) {
+    std::cerr << "columns (" << brdf.channels.size() << " channels):";
+    for (const auto& name : brdf.channels) std::cerr << " " << name;
+    std::cerr << "\n";
+  }
 
   if (single) {
     const Eigen::VectorXd value = brdf.evaluate(wi.normalized(), wo.normalized());
@@ -240,7 +247,8 @@ Examples:
   command->add_option("--format", args->format, "Table format when MODEL is a table")
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "astm", "pbrt", "merl", "mat"}));
-  command->add_flag("--json", args->json, "Print JSON");
+  addJsonFlag(command, args->json, "the model, its channels, the directions and the values");
+  addQuietFlag(command, args->quiet);
   return [args] { return runEval(*args); };
 }
 

@@ -6,7 +6,7 @@
 #include <brdfbake/fit/fit_report.hpp>
 #include <brdfbake/fit/gnuplot.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
-#include <brdfbake/importers/measured_io.hpp>
+#include <brdfbake/measured/measured_io.hpp>
 
 #include <iomanip>
 #include <iostream>
@@ -45,7 +45,7 @@ int parseLobes(const std::string& text) {
               "--lobes: expected auto or a whole number 1.." + std::to_string(kMaxFitLobes) + ", got '" + text + "'");
 }
 
-int runFit(const FitArgs& args) {
+int runFit(FitArgs args) {
   FitOptions options;
   options.lobes = parseLobes(args.lobes);
   options.elevation = *parseElevationChoice(args.elevation);  // checked by CLI11
@@ -57,6 +57,9 @@ int runFit(const FitArgs& args) {
     throw Error(Error::Kind::InvalidArgument,
                 "--report needs gnuplot, which was not found on PATH (Debian: apt-get install gnuplot-nox)");
   }
+  // Without -o the fit goes to TABLESTEM_fit.json in the current folder (never thrown away), except
+  // with --json, which prints it.
+  if (args.output.empty() && !args.json) args.output = fs::path(args.table).stem().string() + "_fit.json";
   FilePlan plan;
   plan.addInput(args.table, "table");
   if (!args.output.empty()) plan.addOutput(args.output, "-o");
@@ -91,6 +94,7 @@ int runFit(const FitArgs& args) {
   file.source = source;
   file.fit = fitLobes(table, options);
   options.progress = nullptr;
+  bar.done();
 
   if (!args.output.empty()) writeFitFile(args.output, file);
   if (!args.report.empty()) {
@@ -101,7 +105,18 @@ int runFit(const FitArgs& args) {
   }
 
   if (args.json) {
-    std::cout << fitFileToJson(file).dump(2) << "\n";
+    // The run report, as every command's --json: what was read and written, and the fit itself.
+    nlohmann::json report = {{"table", args.table},
+                             {"samples", read.size()},
+                             {"channels", source.channels},
+                             {"seconds", file.fit.seconds},
+                             {"usable", file.fit.usable()},
+                             {"files", nlohmann::json::array()},
+                             {"notes", source.notes},
+                             {"fit", fitFileToJson(file)}};
+    if (!args.output.empty()) report["files"].push_back(args.output);
+    if (!args.report.empty()) report["files"].push_back(args.report);
+    std::cout << report.dump(2) << "\n";
   } else if (!args.quiet) {
     std::cout << args.table << ": " << read.size() << " samples, " << source.channels << "\n" << file.fit.briefReport();
     std::cout << "  models tried (error = RMS cube-root residual):";
@@ -153,14 +168,14 @@ Then bake a map from it: {"model": "lobes", "file": "fit.json"} in a spec (data_
   command->add_option("--channels", args->channels, "Fit R, G, B (spectral tables converted), or every wavelength")
       ->default_val("rgb")
       ->check(CLI::IsMember({"rgb", "spectral"}));
-  command->add_option("--rgb", args->rgb, "Spectral to RGB: CIE 1931 (default) or the seed's single wavelengths")
+  command->add_option("--rgb", args->rgb, "Spectral to RGB: CIE 1931 (default) or Zimmons & Bastos 1999's single wavelengths")
       ->default_val("cie1931")
       ->check(CLI::IsMember({"cie1931", "single_wavelengths"}));
-  command->add_option("-o,--output", args->output, "Write the fit here (fit.json format)");
+  command->add_option("-o,--output", args->output, "Write the fit here (fit.json format; default TABLESTEM_fit.json in the current folder, none with --json)");
   command->add_option("--report", args->report, "Also write a PNG of measured vs fitted values per incident angle (needs gnuplot)");
-  command->add_option("--threads", args->threads, "Channels fitted in parallel (0 = all cores)")->default_val(0)->check(CLI::NonNegativeNumber);
-  command->add_flag("--json", args->json, "Print the fit document (as written to -o) instead of the summary");
-  command->add_flag("--quiet", args->quiet, "Print nothing on success");
+  addThreadsOption(command, args->threads);
+  addJsonFlag(command, args->json, "files, seconds, and the fit document under \"fit\"");
+  addQuietFlag(command, args->quiet);
   return [args] { return runFit(*args); };
 }
 

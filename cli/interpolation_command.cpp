@@ -20,7 +20,7 @@ namespace {
 
 // The line experiment's chart beside the sweep's: STEM_line.EXT.
 fs::path lineChartPath(const fs::path& output) {
-  return output.parent_path() / (output.stem().string() + "_line" + output.extension().string());
+  return siblingWithSuffix(output, "_line");
 }
 std::vector<double> parseNumbers(const std::string& text, const std::string& flag) {
   std::vector<double> out;
@@ -46,7 +46,7 @@ Command addInterpolationCommand(CLI::App& app) {
     std::string output, csv, sizes = "1,2,5,10,20", places = "0,10,20,30,40,50,60,70,75,80,85,88";
     std::string viewer = "-8.3,1,0";
     double segment = 20.0;
-    bool json = false;
+    bool json = false, quiet = false;
   };
   auto args = std::make_shared<Args>();
   auto* command = app.add_subcommand("interpolation", "Chart the error of per-vertex environment lookups, to pick a tessellation");
@@ -54,7 +54,7 @@ Command addInterpolationCommand(CLI::App& app) {
 orthographic view +z; PLACE 90 is the sphere map's rim): the largest angle between the direction
 looked up and the exact reflected vector of the interpolated normal, for per-vertex sphere-map
 texture coordinates interpolated linearly (fixed-function GL_SPHERE_MAP) and for per-vertex reflected
-vectors interpolated linearly (hardware cube mapping). Writes the chart and NAME_line.png, seed 001's
+vectors interpolated linearly (hardware cube mapping). Writes the chart and NAME_line.png, Zimmons 1999's
 line experiment: a flat surface over x in [-10, 10] (normal +y), a perspective viewer at --viewer,
 reflected vectors computed at vertices every --segment units and interpolated between them.
 
@@ -67,7 +67,8 @@ Examples:
   command->add_option("--places", args->places, "Triangle centres, degrees from the view axis")->default_str(args->places);
   command->add_option("--viewer", args->viewer, "Line experiment: viewer position X,Y,Z")->default_str(args->viewer);
   command->add_option("--segment", args->segment, "Line experiment: vertex spacing (20 = one polygon)")->default_val(20.0)->check(CLI::Range(0.01, 20.0));
-  command->add_flag("--json", args->json, "Print JSON");
+  addJsonFlag(command, args->json, "the sweep and the line experiment");
+  addQuietFlag(command, args->quiet);
   return [args] {
     const fs::path output = args->output;
     checkChartPath(output);
@@ -84,7 +85,7 @@ Examples:
       if (!(p >= 0 && p < 90)) throw Error(Error::Kind::InvalidArgument, "--places: each must be in [0, 90) degrees");
     const Vec3 viewer = parseVector(args->viewer, "--viewer");
     const auto sweep = interpolationSweep(sizes, places);
-    const LineExperiment line = seed001LineExperiment(viewer, args->segment);
+    const LineExperiment line = planarLineExperiment(viewer, args->segment);
 
     std::ostringstream gp;
     gp << "set title 'Per-vertex interpolation error (solid: sphere-map (s,t); dashed: reflected vector)'\n"
@@ -109,7 +110,7 @@ Examples:
     renderWithGnuplot(gp.str(), output);
 
     std::ostringstream lineGp;
-    lineGp << "set title 'Seed 001 line experiment: viewer (" << viewer.x() << ", " << viewer.y() << ", " << viewer.z()
+    lineGp << "set title 'Zimmons 1999 line experiment: viewer (" << viewer.x() << ", " << viewer.y() << ", " << viewer.z()
            << "), vertices every " << args->segment << " units; max " << line.maxError << " deg at x = " << line.maxAt << "'\n"
            << "set grid\nset xlabel 'x'\nset ylabel 'angle between interpolated and computed r (degrees)'\n$line << EOD\n";
     for (std::size_t i = 0; i < line.x.size(); ++i) lineGp << line.x[i] << " " << line.errorDegrees[i] << "\n";
@@ -134,7 +135,7 @@ Examples:
                        .dump(2)
                 << "\n";
     } else {
-      std::cout << "wrote " << output.string() << " and " << lineChartPath(output).string() << "\n"
+      if (!args->quiet) std::cout << "wrote " << output.string() << " and " << lineChartPath(output).string() << "\n"
                 << "line experiment: max " << line.maxError << " degrees at x = " << line.maxAt << "\n";
     }
     return 0;

@@ -23,7 +23,7 @@ a spec is invalid, outputs appear atomically (never half-written), and no input 
 overwritten.
 
 Examples:
-  brdfbake bake data_samples/specs/phong_eye.json -o out/
+  brdfbake bake data_samples/specs/phong_eye.json --out-dir out/
   brdfbake sample out/phong_eye.exr --dir 0,0,1
   brdfbake info out/phong_eye.exr --json
   brdfbake convert out/phong_paraboloid.exr --to cube -o out/phong_cube.exr

@@ -19,17 +19,12 @@ const std::map<std::string, ParameterizationKind> kKinds{{"sphere", Parameteriza
                                                          {"cube", ParameterizationKind::Cube},
                                                          {"latlong", ParameterizationKind::LatLong}};
 
-MapFile openMap(const std::string& path, const std::string& assumedKind) {
-  if (assumedKind.empty()) return readMap(path);
-  return adoptImage(readImage(path), parseParameterizationKind(assumedKind), path);
-}
-
 }  // namespace
 
 Command addSampleCommand(CLI::App& app) {
   struct Args {
     std::string map, dir, from;
-    bool json = false;
+    bool json = false, quiet = false;
   };
   auto args = std::make_shared<Args>();
   auto* command = app.add_subcommand("sample", "Look up a map at a direction (bilinear, as a GPU filters)");
@@ -38,11 +33,12 @@ Command addSampleCommand(CLI::App& app) {
   command->add_option("map", args->map, "Map written by brdfbake")->required();
   command->add_option("--dir", args->dir, "Direction X,Y,Z (need not be unit length)")->required();
   command->add_option("--from", args->from, "Treat a plain image as this parameterization")->check(CLI::IsMember(kKinds));
-  command->add_flag("--json", args->json, "Print JSON");
+  addJsonFlag(command, args->json, "the direction and the value");
+  addQuietFlag(command, args->quiet);
   return [args] {
     const Vec3 direction = parseVector(args->dir, "--dir");
     if (!(direction.norm() > 0.0)) throw Error(Error::Kind::InvalidArgument, "--dir: direction must be non-zero");
-    const MapFile file = openMap(args->map, args->from);
+    const MapFile file = openMapOrImage(args->map, args->from);
     const Rgba value = sampleBilinear(file.image, *file.parameterization, direction);
     if (args->json) {
       std::cout << nlohmann::json{{"value", {value[0], value[1], value[2], value[3]}}}.dump() << "\n";
@@ -56,12 +52,13 @@ Command addSampleCommand(CLI::App& app) {
 Command addInfoCommand(CLI::App& app) {
   struct Args {
     std::string map;
-    bool json = false;
+    bool json = false, quiet = false;
   };
   auto args = std::make_shared<Args>();
   auto* command = app.add_subcommand("info", "Say what a map is: parameterization, size, channels, the spec it was baked from");
   command->add_option("map", args->map, "Map or image file")->required();
-  command->add_flag("--json", args->json, "Print JSON");
+  addJsonFlag(command, args->json, "the map's metadata and size");
+  addQuietFlag(command, args->quiet);
   return [args] {
     const Image image = readImage(args->map);
     nlohmann::json info = {{"file", args->map}, {"width", image.width()}, {"height", image.height()},
@@ -104,7 +101,7 @@ Command addConvertCommand(CLI::App& app) {
   struct Args {
     std::string map, to, from, output;
     int resolution = 0, samples = 16, threads = 0;
-    bool json = false, faces = false;
+    bool json = false, quiet = false, faces = false;
   };
   auto args = std::make_shared<Args>();
   auto* command = app.add_subcommand("convert", "Resample a map into another parameterization");
@@ -115,12 +112,13 @@ Command addConvertCommand(CLI::App& app) {
   command->add_option("--from", args->from, "Parameterization of a plain input image")->check(CLI::IsMember(kKinds));
   command->add_option("--resolution", args->resolution, "Output resolution (default: the input's)")->check(CLI::Range(1, 65536));
   command->add_option("--samples", args->samples, "Samples per output texel")->default_val(16)->check(CLI::Range(1, 4096));
-  command->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->default_val(0)->check(CLI::NonNegativeNumber);
+  addThreadsOption(command, args->threads);
   command->add_flag("--faces", args->faces, "Write a cube map as six files instead of a cross");
   command->add_option("-o,--output", args->output, "Output file (.exr, .hdr, .tif, .png)")->required();
-  command->add_flag("--json", args->json, "Print JSON");
+  addJsonFlag(command, args->json, "files, seconds, notes");
+  addQuietFlag(command, args->quiet);
   return [args] {
-    const MapFile source = openMap(args->map, args->from);
+    const MapFile source = openMapOrImage(args->map, args->from);
     const ParameterizationKind kind = parseParameterizationKind(args->to);
     const int resolution = args->resolution > 0 ? args->resolution : source.info.resolution;
     const auto target = makeParameterization(kind, resolution);
@@ -132,7 +130,7 @@ Command addConvertCommand(CLI::App& app) {
       plan.addOutput(f.file, f.role);
     }
     plan.check();
-    ProgressBar bar("convert", !args->json);
+    ProgressBar bar("convert", !args->json && !args->quiet);
     BakeOptions options;
     options.samplesPerTexel = args->samples;
     options.threads = args->threads;
@@ -147,11 +145,12 @@ Command addConvertCommand(CLI::App& app) {
     info.spec["converted_from"] = {{"file", args->map}, {"parameterization", std::string(toString(source.info.parameterization))},
                                    {"resolution", source.info.resolution}};
     const auto written = writeMap(image, info, args->output, args->faces ? CubeLayout::Faces : CubeLayout::Cross, {{fs::path(args->map)}});
+    bar.done();
     if (args->json) {
       nlohmann::json files = nlohmann::json::array();
       for (const auto& f : written.files) files.push_back(f.string());
       std::cout << nlohmann::json{{"files", files}, {"seconds", summary.seconds}, {"notes", written.notes}}.dump(2) << "\n";
-    } else {
+    } else if (!args->quiet) {
       for (const auto& f : written.files) std::cout << "wrote " << f.string() << "\n";
       for (const auto& note : written.notes) std::cout << "  note: " << note << "\n";
     }

@@ -1,4 +1,5 @@
 // brdfbake prefilter ENV: prefiltered environment maps (docs/prefilter.md).
+#include <brdfbake/core/progress.hpp>
 #include <brdfbake/bake/env_mips.hpp>
 #include <brdfbake/bake/environment.hpp>
 #include <brdfbake/bake/prefilter.hpp>
@@ -38,7 +39,7 @@ t = j/(K-1), t = ln(cos / min_cos) / ln(max_cos / min_cos) the model's own eleva
 (0 at the most grazing fitted view). A renderer clamps t to [0, 1] and interpolates linearly in t
 between neighbouring slices; each slice's metadata records its elevation.
 
---fresnel-ior ETA makes the Fresnel decomposition (seed 002 section 3.1.1) from a specular lobe:
+--fresnel-ior ETA makes the Fresnel decomposition (Heidrich 2000 section 3.1.1) from a specular lobe:
 OUT is the specular map L_m, STEM_irradiance.EXT the irradiance map E, STEM_fresnel.EXT the 1-D
 texture F(cos theta) of a dielectric of index ETA (--resolution texels, texel i at cos theta =
 (i + 0.5)/N). A renderer computes L = F L_m + k_d E / pi (--combine add, the default) or
@@ -71,10 +72,6 @@ struct PrefilterArgs {
   double maxError = 0.01, fresnelIor = 0.0;                         // fresnelIor 0: no decomposition
   bool mips = false, json = false, quiet = false, faces = false, allowLarge = false;
 };
-
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 int runPrefilter(const PrefilterArgs& args) {
   // Everything that can be checked before reading the environment.
@@ -172,6 +169,7 @@ int runPrefilter(const PrefilterArgs& args) {
                                  : decomposition ? writeFresnelDecomposition(*decomposition, args.output, spec, layout, {inputs})
                                                  : writePrefilteredMap(map, args.output, spec, layout, {inputs});
   const double writeSeconds = secondsSince(writeStart);
+  bar.done();
   nlohmann::json extra = nlohmann::json::object();
   if (slices) extra["elevations"] = {{"slices", slices->slices.size()}, {"cos_theta", slices->cosines}, {"t", slices->coordinates}};
   if (decomposition) {
@@ -239,13 +237,11 @@ Command addPrefilterCommand(CLI::App& app) {
   command->add_option("--method", args->method, "auto | reference | sh | importance | direct")
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "reference", "sh", "importance", "direct"}));
-  command->add_option("--max-error", args->maxError, "RMS relative error the map is built to (0.01 = 1 %)")
-      ->default_val(0.01)
-      ->check(CLI::Range(1e-6, 0.5));
+  addEnvironmentMaxErrorOption(command, args->maxError, "The error the map is built to")->default_val(0.01);
   command->add_option("--view", args->view, "Sphere maps: direction towards the viewer X,Y,Z in the environment's frame (default 0,0,1)");
   command->add_option("--up", args->up, "Sphere maps: up vector X,Y,Z (default 0,1,0)");
   command->add_option("--samples", args->samples, "Mirror lobe: footprint samples per texel")->default_val(16)->check(CLI::Range(1, 4096));
-  command->add_option("--threads", args->threads, "Worker threads (0 = all cores)")->default_val(0)->check(CLI::NonNegativeNumber);
+  addThreadsOption(command, args->threads);
   command->add_option("--elevations", args->elevations,
                       "Lobe models varying with elevation: maps in the stack STEM_elev0.EXT ... (default 8)")
       ->check(CLI::Range(2, 64));
@@ -258,8 +254,8 @@ Command addPrefilterCommand(CLI::App& app) {
   command->add_flag("--faces", args->faces, "Write a cube map as six files STEM_posx.EXT ... instead of a cross");
   command->add_flag("--allow-large", args->allowLarge, "Allow maps over 8192^2 texels (1 GiB of float RGBA)");
   command->add_option("-o,--output", args->output, "Output map (.exr, .hdr, .tif, .png)")->required();
-  command->add_flag("--json", args->json, "Print a machine-readable report (method, error estimate, seconds filtering and writing)");
-  command->add_flag("--quiet", args->quiet, "Print nothing on success");
+  addJsonFlag(command, args->json, "method, error estimate, seconds filtering and writing, files");
+  addQuietFlag(command, args->quiet);
   return [args] { return runPrefilter(*args); };
 }
 

@@ -15,7 +15,7 @@ Command addPreviewCommand(CLI::App& app) {
     std::string map, output, object = "sphere", view, from;
     int size = 512, segments = 0;
     double exposure = 0.0;
-    bool perVertex = false, json = false;
+    bool perVertex = false, json = false, quiet = false;
   };
   auto args = std::make_shared<Args>();
   auto* command = app.add_subcommand("preview", "Render an object shaded with a map (see it as a renderer would)");
@@ -23,7 +23,7 @@ Command addPreviewCommand(CLI::App& app) {
 Per pixel, the interpolated normal gives the reflected vector r = 2 (n.v) n - v and the map is looked up
 at r. With --per-vertex, texture coordinates (sphere maps) or reflected vectors (other maps) are
 computed at the vertices and interpolated across triangles, as fixed-function hardware did: lower
---segments to see the seeds' interpolation artefacts near the sphere map's rim.
+--segments to see the papers' interpolation artefacts near the sphere map's rim.
 
 Examples:
   brdfbake preview out/phong_eye.exr -o phong_teapot.png --object teapot
@@ -38,10 +38,10 @@ Examples:
   command->add_option("--segments", args->segments, "Tessellation (default 64, or 16 with --per-vertex)")->check(CLI::Range(3, 1024));
   command->add_option("--exposure", args->exposure, "Scale values by 2^EXPOSURE")->default_val(0.0);
   command->add_flag("--per-vertex", args->perVertex, "Interpolate per-vertex texture coordinates like fixed-function hardware");
-  command->add_flag("--json", args->json, "Print JSON");
+  addJsonFlag(command, args->json, "the output and notes");
+  addQuietFlag(command, args->quiet);
   return [args] {
-    const MapFile file = args->from.empty() ? readMap(args->map)
-                                            : adoptImage(readImage(args->map), parseParameterizationKind(args->from), args->map);
+    const MapFile file = openMapOrImage(args->map, args->from);
     PreviewOptions options;
     options.object = args->object == "torus" ? PreviewObject::Torus
                      : args->object == "teapot" ? PreviewObject::Teapot
@@ -61,7 +61,7 @@ Examples:
     const auto report = writeImage(image, args->output, {{std::filesystem::path(args->map)}});
     if (args->json) {
       std::cout << nlohmann::json{{"output", args->output}, {"notes", report.notes}}.dump(2) << "\n";
-    } else {
+    } else if (!args->quiet) {
       std::cout << "wrote " << args->output << "\n";
     }
     return 0;

@@ -17,12 +17,19 @@ ProgressBar::~ProgressBar() {
   if (active_ && lastPercent_ >= 0) std::fprintf(stderr, "\r\033[K");
 }
 
+void ProgressBar::done() {
+  if (active_ && lastPercent_ >= 0) std::fprintf(stderr, "\r\033[K");
+  std::fflush(stderr);
+  active_ = false;
+}
+
 std::function<void(double)> ProgressBar::callback() {
   if (!active_) return {};
   return [this](double fraction) { draw(fraction); };
 }
 
 void ProgressBar::draw(double fraction) {
+  if (!active_) return;
   const int percent = static_cast<int>(fraction * 100.0);
   if (percent == lastPercent_) return;
   lastPercent_ = percent;
@@ -31,6 +38,33 @@ void ProgressBar::draw(double fraction) {
   std::fprintf(stderr, "\r%s [%.*s%*s] %3d%%", label_.c_str(), filled, "##############################",
                width - filled, "", percent);
   std::fflush(stderr);
+}
+
+void addJsonFlag(CLI::App* command, bool& json, const std::string& holds) {
+  command->add_flag("--json", json, "Print a machine-readable report on stdout instead of text: " + holds);
+}
+
+void addQuietFlag(CLI::App* command, bool& quiet) {
+  command->add_flag("--quiet", quiet, "No progress, notes or 'wrote' lines: only errors (and a query's values)");
+}
+
+void addThreadsOption(CLI::App* command, int& threads) {
+  command->add_option("--threads", threads, "Worker threads (0 = all cores)")->default_val(0)->check(CLI::NonNegativeNumber);
+}
+
+CLI::Option* addEnvironmentMaxErrorOption(CLI::App* command, double& maxError, const std::string& meaning) {
+  return command->add_option("--max-error", maxError, meaning + " (relative RMS, 0.01 = 1 %; in [1e-6, 0.5])")
+      ->check(CLI::Range(1e-6, 0.5));
+}
+
+MapFile openMapOrImage(const std::string& path, const std::string& from) {
+  if (!from.empty()) return adoptImage(readImage(path), parseParameterizationKind(from), path);
+  try {
+    return readMap(path);
+  } catch (const Error& e) {
+    if (std::string(e.what()).find("no brdfbake metadata") == std::string::npos) throw;
+    throw Error(e.kind(), std::string(e.what()) + " with --from sphere|paraboloid|cube|latlong");
+  }
 }
 
 Vec3 parseVector(const std::string& text, const std::string& flag) {

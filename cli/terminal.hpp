@@ -1,6 +1,9 @@
 #pragma once
 // Terminal helpers for the CLI: progress bars on a TTY, vector parsing for flags.
+#include <brdfbake/bake/map_file.hpp>
 #include <brdfbake/core/math.hpp>
+
+#include <CLI/CLI.hpp>
 
 #include <functional>
 #include <string>
@@ -14,6 +17,8 @@ class ProgressBar {
   ~ProgressBar();
   /// Callback suitable for BakeOptions::progress (may be empty when disabled).
   std::function<void(double)> callback();
+  /// Clears the bar's line and stops drawing: call before printing results under it.
+  void done();
 
  private:
   void draw(double fraction);
@@ -21,6 +26,22 @@ class ProgressBar {
   bool active_;
   int lastPercent_ = -1;
 };
+
+/// The flags commands share, with one meaning on every command:
+///   --json     print a machine-readable run report on stdout instead of text (`holds` says what)
+///   --quiet    no progress bars, notes or "wrote" lines: only errors, and the values a query
+///              command (sample, info, eval) exists to print
+///   --threads  worker threads, 0 = all cores
+void addJsonFlag(CLI::App* command, bool& json, const std::string& holds);
+void addQuietFlag(CLI::App* command, bool& quiet);
+void addThreadsOption(CLI::App* command, int& threads);
+/// --max-error for prefiltered environments, in [1e-6, 0.5] as the spec's "max_error" of an
+/// "environment" (chart and prefilter alike).
+CLI::Option* addEnvironmentMaxErrorOption(CLI::App* command, double& maxError, const std::string& meaning);
+
+/// A map written by brdfbake, or with `from` (the --from flag) a plain image of that
+/// parameterization. A plain image without --from is an error that names the flag.
+MapFile openMapOrImage(const std::string& path, const std::string& from);
 
 /// Parses "X,Y,Z" (three finite numbers); throws Error(InvalidArgument) naming `flag`.
 Vec3 parseVector(const std::string& text, const std::string& flag);

@@ -150,6 +150,10 @@ void writeFileAtomically(const fs::path& target, std::string_view bytes) {
   output.commit();
 }
 
+fs::path siblingWithSuffix(const fs::path& path, const std::string& suffix) {
+  return path.parent_path() / (path.stem().string() + suffix + path.extension().string());
+}
+
 // ---- planned files -------------------------------------------------------------------------------
 
 fs::path resolvedPath(const fs::path& path) {

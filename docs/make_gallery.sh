@@ -9,7 +9,7 @@ trap 'rm -rf "$work"' EXIT
 out=docs/images
 
 for spec in phong_eye phong_diffuse blinn_phong copper colorgram gooch silhouette measured_lobes prefilter_sky; do
-  "$cli" bake "data_samples/specs/$spec.json" -o "$work" --quiet
+  "$cli" bake "data_samples/specs/$spec.json" --out-dir "$work" --quiet
 done
 preview() { "$cli" preview "$work/$1" -o "$out/gallery_$2.png" --size 320 "${@:3}" > /dev/null; }
 preview phong_diffuse.exr phong --object teapot
@@ -43,7 +43,7 @@ JSON
 "$cli" chart "$work/sky.json" -o "$out/chart_prefilter_sky.png" --csv "$out/chart_prefilter_sky.csv" > /dev/null
 
 
-# Per-vertex interpolation error, and seed 001's line experiment with one polygon and unit segments.
+# Per-vertex interpolation error, and Zimmons 1999's line experiment with one polygon and unit segments.
 "$cli" interpolation -o "$out/interpolation.png" --csv "$out/interpolation.csv" > /dev/null
 mv "$out/interpolation_line.png" "$out/interpolation_line_one_polygon.png"
 "$cli" interpolation -o "$work/i.png" --segment 1 > /dev/null

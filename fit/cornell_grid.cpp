@@ -1,6 +1,6 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/cornell_grid.hpp>
-#include <brdfbake/importers/measured_io.hpp>
+#include <brdfbake/measured/measured_io.hpp>
 
 #include <cmath>
 #include <random>

@@ -3,7 +3,7 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/version.hpp>
 #include <brdfbake/fit/fit_file.hpp>
-#include <brdfbake/importers/json_reader.hpp>
+#include <brdfbake/core/json_reader.hpp>
 
 #include <fstream>
 #include <random>

@@ -1,3 +1,4 @@
+#include <brdfbake/core/progress.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 
@@ -502,27 +503,6 @@ LobeChannel toChannel(const std::vector<double>& x, int lobes, int count, std::s
   return channel;
 }
 
-// Progress over (stage, channel) units, serialised.
-class Progress {
- public:
-  Progress(const std::function<void(double)>& callback, std::size_t total) : callback_(callback), total_(std::max<std::size_t>(total, 1)) {}
-  void step() {
-    if (!callback_) return;
-    std::lock_guard lock(mutex_);
-    done_ = std::min(done_ + 1, total_);
-    callback_(0.99 * static_cast<double>(done_) / static_cast<double>(total_));
-  }
-  void finish() {
-    if (!callback_) return;
-    std::lock_guard lock(mutex_);
-    callback_(1.0);
-  }
-
- private:
-  const std::function<void(double)>& callback_;
-  std::size_t total_, done_ = 0;
-  std::mutex mutex_;
-};
 
 }  // namespace
 
@@ -614,7 +594,7 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
 
   const bool tryConstant = true;  // varying models start from the constant ones
   const bool tryVarying = options.elevation != ElevationChoice::Constant;
-  Progress progress(options.progress, channels * static_cast<std::size_t>(maxLobes) * (tryVarying ? 2 : 1));
+  ProgressCounter progress(options.progress, channels * static_cast<std::size_t>(maxLobes) * (tryVarying ? 2 : 1));
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   auto forChannels = [&](const std::function<void(std::size_t)>& work) {
     arena.execute([&] {
@@ -709,7 +689,6 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
     stats.seconds = fitters[c]->seconds;
     result.channels.push_back(std::move(stats));
   }
-  progress.finish();
   result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
 }

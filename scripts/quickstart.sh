@@ -28,7 +28,7 @@ cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j "$jobs"
 
 if [ "$mode" = demo ]; then
-  build/cli/brdfbake bake data_samples/specs/phong_eye.json -o out
+  build/cli/brdfbake bake data_samples/specs/phong_eye.json --out-dir out
   build/cli/brdfbake info out/phong_eye.exr
   echo "Baked maps are in out/ (OpenEXR, float RGBA). Try: build/cli/brdfbake sample out/phong_eye.exr --dir 0,0.3,1"
 else

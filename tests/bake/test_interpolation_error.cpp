@@ -1,4 +1,4 @@
-// Per-vertex interpolation error: limits, scaling, where it is worst, and seed 001's line.
+// Per-vertex interpolation error: limits, scaling, where it is worst, and Zimmons 1999's line.
 #include <brdfbake/bake/interpolation_error.hpp>
 #include <gtest/gtest.h>
 
@@ -36,7 +36,7 @@ TEST(InterpolationError, SphereMapCoordinatesAreWorstNearTheRim) {
 
 TEST(SeedLineExperiment, MatchesAHandComputationAtTheMidpoint) {
   // One polygon from -10 to 10, viewer (-8.3, 1, 0), normal +y: in the x-y plane r = (x - ex, ey)/|.|.
-  const LineExperiment line = seed001LineExperiment(Vec3(-8.3, 1, 0), 20.0, 4001);
+  const LineExperiment line = planarLineExperiment(Vec3(-8.3, 1, 0), 20.0, 4001);
   auto r = [](double x) { return Vec2(x + 8.3, 1.0).normalized(); };
   const Vec2 lerp = 0.5 * (r(-10) + r(10));
   const double expected = degrees(std::acos(lerp.normalized().dot(r(0))));
@@ -46,10 +46,10 @@ TEST(SeedLineExperiment, MatchesAHandComputationAtTheMidpoint) {
 }
 
 TEST(SeedLineExperiment, IsSymmetricAndShrinksQuadraticallyWithTheSegment) {
-  const LineExperiment left = seed001LineExperiment(Vec3(-8.3, 1, 0), 1.0, 2001);
-  const LineExperiment right = seed001LineExperiment(Vec3(8.3, 1, 0), 1.0, 2001);
+  const LineExperiment left = planarLineExperiment(Vec3(-8.3, 1, 0), 1.0, 2001);
+  const LineExperiment right = planarLineExperiment(Vec3(8.3, 1, 0), 1.0, 2001);
   for (std::size_t i = 0; i < left.x.size(); i += 37) EXPECT_NEAR(left.errorDegrees[i], right.errorDegrees[2000 - i], 1e-9);
-  const double half = seed001LineExperiment(Vec3(-8.3, 1, 0), 0.5, 4001).maxError;
+  const double half = planarLineExperiment(Vec3(-8.3, 1, 0), 0.5, 4001).maxError;
   EXPECT_NEAR(left.maxError / half, 4.0, 0.6);
 }
 

@@ -8,7 +8,7 @@
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/brdf/npr.hpp>
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/importers/spec.hpp>
+#include <brdfbake/spec/spec.hpp>
 #include <gtest/gtest.h>
 
 #include "test_support.hpp"
@@ -43,7 +43,7 @@ void expectFinite(const Image& image, const std::string& what) {
   EXPECT_EQ(bad, 0) << what;
 }
 
-// Independent Eq. 13 (seed 002).
+// Independent Eq. 13 (Heidrich 2000).
 double eq13(double c, double eta) {
   if (c <= 0.0) return 1.0;
   const double g = std::sqrt(eta * eta + c * c - 1.0);

@@ -94,7 +94,7 @@ TEST(SphereMap, AnisotropyGrowsAsInverseCosSquaredOfHalfAngle) {
 }
 
 TEST(SphereMap, FrontBackSplitIsAtRadiusOneOverSqrtTwo) {
-  // Seed 001: directions with rz > 0 (in front of the sphere) fill the disc of radius 1/sqrt 2.
+  // Zimmons 1999: directions with rz > 0 (in front of the sphere) fill the disc of radius 1/sqrt 2.
   const Vec2 st = SphereMap::textureCoordinates(Vec3(1, 0, 0));
   EXPECT_NEAR(2 * st.x() - 1, 1.0 / std::sqrt(2.0), 1e-15);
   const Vec3 inside = SphereMap::direction(Vec2(0.5 + 0.5 * 0.7071, 0.5));
@@ -134,7 +134,7 @@ TEST(ParaboloidMap, IsConformal) {
 
 TEST(ParaboloidMap, ExtendedInverseContinuesIntoTheOtherHemisphere) {
   // Outside the unit circle the front image shows back-hemisphere directions, matching the back
-  // image's own mapping of those directions (seed 002 Fig. 6).
+  // image's own mapping of those directions (Heidrich 2000 Fig. 6).
   const ParaboloidMap map(64);
   const Vec2 corner(0.5, 0.5);  // front half, top-left corner: x = y = -1 + 1/64
   const Vec3 d = *map.getDirectionFor(corner);
@@ -188,7 +188,7 @@ TEST(CubeMap, RoundTripsAwayFromEdges) {
 }
 
 TEST(CubeMap, FaceSelectionFollowsTheOpenGlTable) {
-  // (direction, face, s, t) from the OpenGL spec's table (seed 001 Fig. 33).
+  // (direction, face, s, t) from the OpenGL spec's table (Zimmons 1999 Fig. 33).
   struct Case {
     Vec3 r;
     CubeMap::Face face;

@@ -214,7 +214,7 @@ TEST(Prefilter, FurnaceGivesTheLobeMassForEveryLobeOutputAndMethod) {
         options.method = method;
         options.mips = true;
         const PrefilteredMap map = prefilter(furnace(), lobe, options);
-        ASSERT_EQ(map.levels.size(), static_cast<std::size_t>(environmentMipLevels(options.resolution)));
+        ASSERT_EQ(map.levels.size(), static_cast<std::size_t>(mipLevelCount(options.resolution)));
         for (std::size_t level = 0; level < map.levels.size(); ++level) {
           const auto levelMap = makeParameterization(kind, std::max(1, options.resolution >> level));
           double worst = 0.0;
@@ -407,7 +407,7 @@ TEST(PrefilterStack, FurnaceGivesEachSlicesNormalisation) {
           expected[static_cast<Eigen::Index>(c)] += model.weight(c, k, stack.cosines[j]) * (n + 2.0) / (n + 1.0);
         }
       const PrefilteredMap& slice = stack.slices[j];
-      ASSERT_EQ(slice.levels.size(), static_cast<std::size_t>(environmentMipLevels(options.resolution)));
+      ASSERT_EQ(slice.levels.size(), static_cast<std::size_t>(mipLevelCount(options.resolution)));
       double worst = 0.0;
       for (int y = 0; y < slice.map->height(); ++y)
         for (int x = 0; x < slice.map->width(); ++x) {
@@ -843,7 +843,7 @@ TEST(Environment, SixFacesMakeACube) {
 // ---- mirror, metadata ------------------------------------------------------------------------
 
 TEST(Prefilter, MirrorSphereMapOfTheColouredCubeSeesEachFace) {
-  // Seed 002 Fig. 1: a sphere map from the centre of a coloured cube; the view looks down -z, so
+  // Heidrich 2000 Fig. 1: a sphere map from the centre of a coloured cube; the view looks down -z, so
   // the centre reflects +z (blue) and the rim -z (yellow).
   const Environment cube = bakeEnvironment(ColoredCubeEnvironment(), ParameterizationKind::Cube, 32, "cube", 4);
   PrefilterOptions options;

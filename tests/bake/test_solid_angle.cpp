@@ -49,7 +49,7 @@ TEST(SphereMapArea, IsEqualAreaInsideTheDisc) {
 }
 
 TEST(SphereMapArea, UnusedTexelFractionIsOneMinusPiOverFour) {
-  // Seed 001: 1 - pi/4 = 21.46 % of a sphere map's texels hold no direction.
+  // Zimmons 1999: 1 - pi/4 = 21.46 % of a sphere map's texels hold no direction.
   const int n = 1024;
   const SphereMap map(n);
   double unused = 0.0;
@@ -60,7 +60,7 @@ TEST(SphereMapArea, UnusedTexelFractionIsOneMinusPiOverFour) {
 }
 
 TEST(ParaboloidArea, CentreCoversFourTimesTheRimSolidAngle) {
-  // Heidrich, seed 002 Eq. 3: omega / omega_centre = 1 / (4 |f(x, y)|^2), 1/4 at the rim.
+  // Heidrich, Heidrich 2000 Eq. 3: omega / omega_centre = 1 / (4 |f(x, y)|^2), 1/4 at the rim.
   const int n = 1024;
   const ParaboloidMap map(n);
   const double centre = map.solidAngleDensity(Vec2(n / 2.0, n / 2.0));

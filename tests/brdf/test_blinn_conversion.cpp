@@ -1,4 +1,4 @@
-// The R.V -> N.H exponent conversion (seed 000 section 5.1.1): its limits, its stability, and
+// The R.V -> N.H exponent conversion (Zimmons & Bastos 1999 section 5.1.1): its limits, its stability, and
 // the three policies' distance from Phong.
 #include <brdfbake/brdf/blinn_conversion.hpp>
 #include <brdfbake/brdf/phong.hpp>

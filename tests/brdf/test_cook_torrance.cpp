@@ -19,7 +19,7 @@ CookTorranceParams params(CookTorranceMode mode, MicrofacetDistribution d, doubl
   return p;
 }
 
-// Independent Eq. 13 (seed 002), written out again rather than calling the library.
+// Independent Eq. 13 (Heidrich 2000), written out again rather than calling the library.
 double eq13(double c, double eta) {
   const double g = std::sqrt(eta * eta + c * c - 1.0);
   const double a = (g - c) / (g + c), b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0);
@@ -70,7 +70,7 @@ TEST(Microfacet, GeometricAttenuation) {
     EXPECT_NEAR(cookTorranceG(nh, nv, nl, vh), expected, 1e-14);
     EXPECT_NEAR(cookTorranceGOverNlNv(nh, nv, nl, vh), expected / (nl * nv), 1e-9 * expected / (nl * nv));
   }
-  // Seed 000 Eq. 8: with H = N (light on the mirror direction) both terms are 2, so G = 1.
+  // Zimmons & Bastos 1999 Eq. 8: with H = N (light on the mirror direction) both terms are 2, so G = 1.
   for (double nv : {1.0, 0.7, 0.2, 1e-3}) EXPECT_EQ(cookTorranceG(1.0, nv, nv, nv), 1.0) << nv;
   // Grazing view with the light above the horizon: G cancels 1/N.V, the limit is 2 nh / (vh nl).
   const double nh = 0.8, nl = 0.6, vh = 0.5;

@@ -154,6 +154,24 @@ TEST(FresnelTerm, FromF0) {
   EXPECT_THROW(FresnelTerm::conductor(Rgb(1, 1, 1), Rgb(-1, 0, 0)), Error);
 }
 
+TEST(FresnelTerm, SchlickIsTheEnginesApproximation) {
+  // Schlick 1994, typed out: F = f0 + (1 - f0)(1 - c)^5. Gold-like f0 (Filament's table).
+  const Rgb f0(1.0, 0.782, 0.344);
+  const FresnelTerm term = FresnelTerm::schlick(f0);
+  EXPECT_EQ(term.kind(), FresnelTerm::Kind::Schlick);
+  for (double c : {0.0, 0.1, 0.5, 0.9, 1.0}) {
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_NEAR(term(c)[i], f0[i] + (1.0 - f0[i]) * std::pow(1.0 - c, 5.0), 1e-15) << "c " << c;
+    }
+  }
+  EXPECT_NEAR(term(0.5)[2], 0.344 + 0.656 / 32.0, 1e-15);  // (1 - 0.5)^5 = 1/32
+  // Where Schlick and the exact dielectric part: at 60 degrees for glass (f0 = 0.04) the exact
+  // Fresnel gives 0.0892 (Eq. 13 with eta 1.5), Schlick 0.04 + 0.96/32 = 0.07.
+  EXPECT_NEAR(FresnelTerm::schlick(Rgb::Constant(0.04))(0.5)[0], 0.07, 1e-12);
+  EXPECT_NEAR(FresnelTerm::fromF0(Rgb::Constant(0.04))(0.5)[0], referenceFresnel(0.5, 1.5, 0.0), 1e-9);
+  EXPECT_THROW(FresnelTerm::schlick(Rgb(1.2, 0.5, 0.5)), Error);
+}
+
 TEST(FresnelTerm, FiniteEverywhere) {
   const std::vector<FresnelTerm> terms{FresnelTerm::dielectric(Rgb(1.5, 1.0, 0.5)), FresnelTerm::fromF0(Rgb(0, 0.5, 1)),
                                        FresnelTerm::conductor(Rgb(0.22, 1.02, 1.0), Rgb(3.747, 2.577, 0.0))};

@@ -152,7 +152,7 @@ TEST(SpectrumToRgb, RejectsBadInput) {
 TEST(SingleWavelengths, NearestAvailableStandsInForTheSeedsWavelengths) {
   const std::vector<double> grid = cornellGrid();
   const WavelengthPick pick = nearestWavelengths(grid);
-  EXPECT_EQ(pick.requestedNm, kSeedRgbWavelengthsNm);
+  EXPECT_EQ(pick.requestedNm, kSingleWavelengthRgbNm);
   EXPECT_EQ(pick.usedNm, (std::array<double, 3>{700.0, 550.0, 400.0}));
   EXPECT_EQ(pick.index, (std::array<std::size_t, 3>{30, 15, 0}));
   EXPECT_TRUE(pick.substituted());

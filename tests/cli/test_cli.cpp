@@ -26,7 +26,7 @@ double sampleValue(const fs::path& map, const Vec3& d) {
 
 TEST(Cli, BakeAndSampleMatchTheAnalyticLobes) {
   test::TempDir dir;
-  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " -o " + q(dir.path()) + " --quiet");
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " --out-dir " + q(dir.path()) + " --quiet");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   EXPECT_TRUE(result.output.empty()) << result.output;
   std::mt19937 rng(1);
@@ -45,7 +45,7 @@ TEST(Cli, BakeAndSampleMatchTheAnalyticLobes) {
 
 TEST(Cli, BakeJsonReportsSecondsPerMap) {
   test::TempDir dir;
-  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " -o " + q(dir.path()) + " --json");
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " --out-dir " + q(dir.path()) + " --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto report = nlohmann::json::parse(result.output);
   ASSERT_EQ(report["maps"].size(), 2u);
@@ -58,7 +58,7 @@ TEST(Cli, BakeJsonReportsSecondsPerMap) {
 
 TEST(Cli, InfoReportsTheSpec) {
   test::TempDir dir;
-  ASSERT_EQ(runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " -o " + q(dir.path()) + " --quiet").exitCode, 0);
+  ASSERT_EQ(runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " --out-dir " + q(dir.path()) + " --quiet").exitCode, 0);
   const auto result = runCli("info " + q(dir / "phong_paraboloid.exr") + " --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto info = nlohmann::json::parse(result.output);
@@ -69,7 +69,7 @@ TEST(Cli, InfoReportsTheSpec) {
 
 TEST(Cli, ConvertResamplesBetweenParameterizations) {
   test::TempDir dir;
-  ASSERT_EQ(runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " -o " + q(dir.path()) + " --quiet").exitCode, 0);
+  ASSERT_EQ(runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " --out-dir " + q(dir.path()) + " --quiet").exitCode, 0);
   const auto result = runCli("convert " + q(dir / "phong_paraboloid.exr") + " --to cube --resolution 128 -o " + q(dir / "cube.exr"));
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const Vec3 light = Vec3(1, 1, 1).normalized();
@@ -129,7 +129,7 @@ TEST(Cli, BadFlagsExitTwo) {
 
 TEST(Cli, PreviewRendersAnObject) {
   test::TempDir dir;
-  ASSERT_EQ(runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " -o " + q(dir.path()) + " --quiet").exitCode, 0);
+  ASSERT_EQ(runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " --out-dir " + q(dir.path()) + " --quiet").exitCode, 0);
   for (const std::string flags : {"--object teapot", "--object torus --per-vertex --segments 8", "--size 64"}) {
     const auto result = runCli("preview " + q(dir / "phong_eye.exr") + " -o " + q(dir / "p.png") + " " + flags);
     ASSERT_EQ(result.exitCode, 0) << flags << "\n" << result.output;
@@ -201,7 +201,7 @@ TEST(Cli, AutoPicksAConfigurationAndRecordsIt) {
 // "parameterization": "profile" asks for one; the profile's lookups match the exact model.
 TEST(Cli, RadiallySymmetricMapsAreBakedAsProfiles) {
   test::TempDir dir;
-  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/profile.json")) + " -o " + q(dir.path()) + " --json");
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/profile.json")) + " --out-dir " + q(dir.path()) + " --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto maps = nlohmann::json::parse(result.output)["maps"];
   ASSERT_EQ(maps.size(), 2u);

@@ -170,11 +170,21 @@ TEST(FitCli, ReportWithoutGnuplotFailsBeforeTheFit) {
   EXPECT_FALSE(fs::exists(dir / "fit.json"));
 }
 
+TEST(FitCli, WithoutOutputTheFitIsWrittenToTheCurrentFolder) {
+  test::TempDir dir;
+  const auto result = test::run("cd " + q(dir.path()) + " && " + BRDFBAKE_CLI + " fit " +
+                                q(test::sourcePath("data_samples/tables/synthetic_two_lobes.astm")) + " --lobes 1 --elevation constant");
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  EXPECT_NE(result.output.find("wrote synthetic_two_lobes_fit.json"), std::string::npos) << result.output;
+  EXPECT_EQ(readJson(dir / "synthetic_two_lobes_fit.json")["format"], "brdfbake.lobe_fit");
+}
+
 TEST(FitCli, ReportDrawsAPng) {
   if (test::run("command -v gnuplot").exitCode != 0) GTEST_SKIP() << "gnuplot not installed; skipping";
   test::TempDir dir;
   const auto result = runCli("fit " + q(test::sourcePath("data_samples/tables/synthetic_two_lobes.astm")) +
-                             " --lobes 2 --elevation constant --report " + q(dir / "fit.png") + " --quiet");
+                             " --lobes 2 --elevation constant --report " + q(dir / "fit.png") + " -o " + q(dir / "f.json") +
+                             " --quiet");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   std::ifstream png(dir / "fit.png", std::ios::binary);
   char magic[4] = {};
@@ -184,7 +194,7 @@ TEST(FitCli, ReportDrawsAPng) {
 
 TEST(FitCli, DataSampleSpecsBake) {
   test::TempDir dir;
-  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/measured_lobes.json")) + " -o " + q(dir.path()) + " --json");
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/measured_lobes.json")) + " --out-dir " + q(dir.path()) + " --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto report = nlohmann::json::parse(result.output);
   EXPECT_EQ(report["maps"].size(), 4u);

@@ -187,7 +187,7 @@ TEST(HostileInput, OutputsStayInsideTheOutputFolder) {
   test::TempDir dir;
   fs::create_directories(dir / "specs");
   putJson(dir / "specs" / "spec.json", {{"maps", {phongMap("../../x.exr")}}});
-  auto r = runCli("bake " + q(dir / "specs" / "spec.json") + " -o " + q(dir / "out"));
+  auto r = runCli("bake " + q(dir / "specs" / "spec.json") + " --out-dir " + q(dir / "out"));
   EXPECT_EQ(r.exitCode, 2) << r.output;
   EXPECT_NE(r.output.find("lies outside the output folder"), std::string::npos) << r.output;
   r = runCli("bake " + q(dir / "specs" / "spec.json"));

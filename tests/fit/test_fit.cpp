@@ -12,8 +12,8 @@
 #include <brdfbake/fit/lobe_fit.hpp>
 #include <brdfbake/fit/mirror_profile.hpp>
 #include <brdfbake/fit/table_interpolation.hpp>
-#include <brdfbake/importers/measured_io.hpp>
-#include <brdfbake/importers/spec.hpp>
+#include <brdfbake/measured/measured_io.hpp>
+#include <brdfbake/spec/spec.hpp>
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -454,7 +454,7 @@ TEST(MirrorProfile, SeedsWayTakesTheStrongestSampleNearTheMirror) {
       EXPECT_GT(seed.offsets(static_cast<Eigen::Index>(r), c), radians(0.1));  // never on the mirror itself
     }
   }
-  // The fitted profile is the model on the exact mirror direction, so the seed's way is lower
+  // The fitted profile is the model on the exact mirror direction, so Zimmons & Bastos 1999's way is lower
   // for these sharp lobes.
   const MirrorProfile fitted = fittedMirrorProfile(constantModel(), seed.thetas);
   for (std::size_t r = 0; r < 8; ++r) {

@@ -3,7 +3,7 @@
 #include <brdfbake/bake/map_file.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/version.hpp>
-#include <brdfbake/importers/measured_io.hpp>
+#include <brdfbake/measured/measured_io.hpp>
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 

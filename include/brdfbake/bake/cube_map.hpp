@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Cube maps with the OpenGL face-selection table (seed 001 Fig. 33), stored as a horizontal cross.
+/// Cube maps with the OpenGL face-selection table (Zimmons 1999 Fig. 33), stored as a horizontal cross.
 
 #include <brdfbake/bake/parameterization.hpp>
 

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Mip chains of environment maps weighted by solid angle (seed 002 section 2.4), seam-free:
+/// Mip chains of environment maps weighted by solid angle (Heidrich 2000 section 2.4), seam-free:
 /// paraboloid halves keep their border (each half fills its square with the other hemisphere, so
 /// averaging carries it down every level; alignParaboloidBorder handles where the circle meets the
 /// square's edge)
@@ -25,8 +25,6 @@ namespace brdfbake {
 /// that replicates the other hemisphere). Sphere-map texels outside the disc weigh 0.
 double mipTexelWeight(const Parameterization& map, int x, int y);
 
-/// Number of levels from `resolution` down to 1: floor(log2(resolution)) + 1.
-int environmentMipLevels(int resolution);
 
 /// Level k+1 from level k (of `map`): each coarse texel is the weighted mean (mipTexelWeight) of
 /// the fine texels whose centres fall inside it, region by region (2 x 2 for even sizes); texels
@@ -49,7 +47,7 @@ void fixCubeEdges(Image& image, const CubeMap& map);
 /// and 1 texels hold a hemisphere's mean per texel and cannot be seamless.
 void alignParaboloidBorder(Image& image, const ParaboloidMap& map);
 
-/// Levels 0 .. environmentMipLevels(resolution) - 1; level 0 is `level0`, edge-fixed for cubes and
+/// Levels 0 .. mipLevelCount(resolution) (mip_chain.hpp) - 1; level 0 is `level0`, edge-fixed for cubes and
 /// border-aligned for paraboloids, as every level.
 std::vector<Image> environmentMipChain(const Image& level0, const Parameterization& map);
 

@@ -79,7 +79,7 @@ class SkyEnvironment final : public MapFunction {
   SkyParameters parameters_;
 };
 
-/// The inside of a cube with one colour per face (seed 002 Fig. 1): +x red, -x cyan, +y green,
+/// The inside of a cube with one colour per face (Heidrich 2000 Fig. 1): +x red, -x cyan, +y green,
 /// -y magenta, +z blue, -z yellow, radiance 1 in each primary.
 class ColoredCubeEnvironment final : public MapFunction {
  public:

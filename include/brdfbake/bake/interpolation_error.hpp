@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// How wrong per-vertex environment lookups are (seed 000 section 3.4.2, seed 001 Figs. 16, 34-36).
+/// How wrong per-vertex environment lookups are (Zimmons & Bastos 1999 section 3.4.2, Zimmons 1999 Figs. 16, 34-36).
 ///
 /// Fixed-function sphere mapping computes texture coordinates per vertex and interpolates them
 /// linearly across a triangle; hardware cube mapping interpolates the reflected vector. Both are
@@ -32,7 +32,7 @@ struct InterpolationPoint {
 std::vector<InterpolationPoint> interpolationSweep(const std::vector<double>& sizesDegrees,
                                                    const std::vector<double>& placesDegrees);
 
-/// Seed 001's experiment: a planar surface along the x axis from -10 to +10 (normal +y), a
+/// Zimmons 1999's experiment: a planar surface along the x axis from -10 to +10 (normal +y), a
 /// viewer at `viewer` (a perspective eye: v = normalize(viewer - p)), vertices every `segment`
 /// units; the reflected vectors computed at the vertices are interpolated linearly along each
 /// segment and compared with the per-point ones.
@@ -40,6 +40,6 @@ struct LineExperiment {
   std::vector<double> x, errorDegrees;
   double maxError = 0.0, maxAt = 0.0;
 };
-LineExperiment seed001LineExperiment(const Vec3& viewer = Vec3(-8.3, 1, 0), double segment = 20.0, int samples = 4001);
+LineExperiment planarLineExperiment(const Vec3& viewer = Vec3(-8.3, 1, 0), double segment = 20.0, int samples = 4001);
 
 }  // namespace brdfbake

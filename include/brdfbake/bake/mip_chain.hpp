@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// Hand-made mip chains: each level baked from its own function instead of averaged from the level
-/// above (seed 002 section 4: a silhouette ring that keeps its width in texels at every level).
+/// above (Heidrich 2000 section 4: a silhouette ring that keeps its width in texels at every level).
 
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/brdf/npr.hpp>
@@ -26,7 +26,7 @@ using MipLevelFunction = std::function<std::shared_ptr<const MapFunction>(int le
 std::vector<Image> bakeMipChain(ParameterizationKind kind, int resolution, const MipLevelFunction& levelFunction,
                                 const BakeOptions& options = {});
 
-/// The silhouette mip chain of seed 002 section 4 for a sphere map (view +z): level L is the
+/// The silhouette mip chain of Heidrich 2000 section 4 for a sphere map (view +z): level L is the
 /// silhouette ring of material.forMipLevel(resolution, mipResolution(resolution, L)), so the ring is
 /// material.ringTexels(resolution) texels wide at every level (until it fills the disc), and a
 /// renderer that picks the level whose texels match its pixels draws silhouettes of about constant

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Dual-paraboloid parameterization (Heidrich & Seidel; seed 002 section 2.3).
+/// Dual-paraboloid parameterization (Heidrich & Seidel; Heidrich 2000 section 2.3).
 
 #include <brdfbake/bake/parameterization.hpp>
 
@@ -14,7 +14,7 @@ namespace brdfbake {
 /// The mapping is the stereographic projection, so it is conformal (anisotropy 1) and the solid
 /// angle per unit area is 4 / (1 + x^2 + y^2)^2: centre texels cover 4x the solid angle of rim
 /// texels. Each half covers its whole square: outside the unit circle the inverse continues into
-/// the other hemisphere (seed 002 Fig. 6), which filtering needs; alpha (texelCoverage) is the
+/// the other hemisphere (Heidrich 2000 Fig. 6), which filtering needs; alpha (texelCoverage) is the
 /// part of the texel inside the circle.
 class ParaboloidMap final : public Parameterization {
  public:
@@ -33,10 +33,10 @@ class ParaboloidMap final : public Parameterization {
   double texelCoverage(int x, int y) const override;
   double texelSolidAngle(int x, int y) const override;
 
-  /// The 4x4 texture matrix of seed 002 Eq. 9-12 for one hemisphere: applied to the homogeneous
+  /// The 4x4 texture matrix of Heidrich 2000 Eq. 9-12 for one hemisphere: applied to the homogeneous
   /// eye-space reflection vector (rx, ry, rz, 1), followed by the perspective divide, it gives
   /// (s, t, 1, 1) in that hemisphere's own [0,1]^2 texture. `eyeToMap` is the linear part of the
-  /// eye-to-map rotation (M_l^-1 in the seed). With `atlas` the matrix targets this class's
+  /// eye-to-map rotation (M_l^-1 in Heidrich 2000). With `atlas` the matrix targets this class's
   /// 2N x N image instead (s scaled into the left or right half; t still upwards as in OpenGL, so
   /// a renderer that uploads row 0 first flips t).
   static Mat4 textureMatrix(Hemisphere hemisphere, const Mat3& eyeToMap = Mat3::Identity(),

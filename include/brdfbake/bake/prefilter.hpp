@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Prefiltered environment maps (seed 002 section 3.2): each texel of the output holds
+/// Prefiltered environment maps (Heidrich 2000 section 3.2): each texel of the output holds
 ///   L_o(a) = ∫ w(a . l) L(l) dω(l)
 /// for the lobe w (prefilter_lobe.hpp) about the texel's axis a: its map direction (the reflected
 /// direction r), or the normal n for irradiance. Paraboloid, cube and lat-long outputs live in the
@@ -152,7 +152,7 @@ PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lo
 ///            = Σ_k C_kc (n_kc + 2)/(n_kc + 1) phong:n_kc[L](r),
 /// channels taken to linear sRGB by LobeModel::rgbWeights and multiplied component-wise with the
 /// environment's RGB (identity for R, G, B models). No diffuse term and no cosine: the renderer adds
-/// k_d x irradiance and multiplies by n.r as seed 002 Eq. 19 does. One prefilter() run per distinct
+/// k_d x irradiance and multiplies by n.r as Heidrich 2000 Eq. 19 does. One prefilter() run per distinct
 /// exponent, each to `options` (its method and bound); the sum's relative error is at most the
 /// largest run's, which the summary reports. Only constant models make one map: varying models
 /// (lobes that change with elevation) throw Error(InvalidArgument); prefilterLobeModelStack

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// The lobes an environment is prefiltered with (seed 002 section 3.2): radially symmetric weights
+/// The lobes an environment is prefiltered with (Heidrich 2000 section 3.2): radially symmetric weights
 /// w(cos theta) per unit solid angle about an axis (the reflected direction r, or the normal n for
 /// irradiance). A prefiltered map stores  L_o(a) = ∫ w(a . l) L(l) dω(l)  at each axis a.
 ///
@@ -16,7 +16,8 @@
 /// - ggx:R: the split-sum lobe of Karis (2013) and Filament with n = v = r: the weight of light
 ///   direction l is D(h) max(0, n.l) with h = normalize(r + l), normalised to integrate to 1.
 ///   R is the perceptual roughness; D uses alpha = R^2 (Filament's linearRoughness).
-/// - tabulated: any profile w(c) (the fitted lobes), normalised or not as its source says.
+/// Fitted lobe models (fit.json) are RGB-weighted sums of Phong lobes, not one scalar lobe: they
+/// are prefiltered with prefilterLobeModel (prefilter.hpp).
 
 #include <filesystem>
 #include <functional>
@@ -27,7 +28,7 @@
 
 namespace brdfbake {
 
-enum class LobeKind { Mirror, Irradiance, Phong, Ggx, Tabulated };
+enum class LobeKind { Mirror, Irradiance, Phong, Ggx };
 
 class PrefilterLobe {
  public:
@@ -42,13 +43,10 @@ class PrefilterLobe {
   static PrefilterLobe blinn(double blinnExponent);
   /// GGX split-sum lobe for perceptual roughness in [0.01, 1] (alpha = roughness^2).
   static PrefilterLobe ggx(double roughness);
-  /// A lobe from a profile w(c), c in [-1, 1] (finite, >= 0). With `normalise` it is scaled to
-  /// integrate to 1; otherwise its integral is kept (an albedo). `name` is what metadata records.
-  static PrefilterLobe tabulated(std::string name, std::function<double(double)> profile, bool normalise);
-
-  /// Parses "mirror", "irradiance", "phong:N", "blinn:N", "ggx:ROUGHNESS" or "lobes:FILE.json"
-  /// (FILE relative to `baseDirectory`). Throws Error(InvalidArgument) naming the accepted forms,
-  /// or the errors of the fitted-lobe reader.
+  /// Parses "mirror", "irradiance", "phong:N", "blinn:N" or "ggx:ROUGHNESS". Throws
+  /// Error(InvalidArgument) naming the accepted forms; "lobes:FILE.json" (FILE relative to
+  /// `baseDirectory`) is refused with a message pointing to readFitFile and prefilterLobeModel,
+  /// which take fitted lobe models.
   static PrefilterLobe parse(std::string_view text, const std::filesystem::path& baseDirectory = {});
 
   LobeKind kind() const;

@@ -12,7 +12,7 @@
 ///   the most grazing fitted view, slice K - 1 at the most normal. A renderer computes t from n.v,
 ///   clamps it to [0, 1] (the model holds its parameters beyond the fitted range), and interpolates
 ///   linearly in t between slices floor(t (K - 1)) and the next.
-/// - **Fresnel decomposition** (seed 002 section 3.1.1): the specular map L_m (mirror or a glossy
+/// - **Fresnel decomposition** (Heidrich 2000 section 3.1.1): the specular map L_m (mirror or a glossy
 ///   lobe), the irradiance map E and the 1-D Fresnel texture F(cos theta) from one request; a
 ///   renderer combines them as L = F L_m + k_d E / pi ("add") or F L_m + (1 - F) k_d E / pi ("mix"),
 ///   with F = F(n.v) and k_d its diffuse albedo (combineFresnelDecomposition).

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// The OpenGL GL_SPHERE_MAP parameterization (seed 000 Eq. 2).
+/// The OpenGL GL_SPHERE_MAP parameterization (Zimmons & Bastos 1999 Eq. 2).
 
 #include <brdfbake/bake/parameterization.hpp>
 

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Converting a Phong (R.V) exponent to a Blinn (N.H) exponent (seed 000 section 5.1.1).
+/// Converting a Phong (R.V) exponent to a Blinn (N.H) exponent (Zimmons & Bastos 1999 section 5.1.1).
 ///
 /// In the plane of incidence R.V = 2 (N.H)^2 - 1, so (R.V)^n = (N.H)^n' with
 ///   n' = n log(2 (N.H)^2 - 1) / log(N.H).

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Cook-Torrance (Cook & Torrance 1981; seed 000 section 7), as a lighting model and as the seed's
+/// Cook-Torrance (Cook & Torrance 1981; Zimmons & Bastos 1999 section 7), as a lighting model and as Zimmons & Bastos 1999's
 /// sphere-map reflectance model. docs/materials.md explains the choices made here.
 ///
 /// Conventions: all vectors are unit vectors pointing away from the surface (n normal, v towards the
@@ -39,7 +39,7 @@ T ggxD(const T& nh, const T& alpha) {
   return a2 / (T(kPi) * d * d);
 }
 
-/// Cook-Torrance geometric attenuation (seed 000 Eq. 7):
+/// Cook-Torrance geometric attenuation (Zimmons & Bastos 1999 Eq. 7):
 /// G = min(1, 2 (N.H)(N.V) / (V.H), 2 (N.H)(N.L) / (V.H)); 0 if vh <= 0 or nh <= 0.
 template <class T>
 T cookTorranceG(const T& nh, const T& nv, const T& nl, const T& vh) {
@@ -80,9 +80,9 @@ T cookTorranceSpecular(const T& d, const T& nh, const T& nv, const T& nl, const 
 }
 
 enum class MicrofacetDistribution { Beckmann, Ggx };
-/// Which R_s: the normalised microfacet form (default) or the 1981 form the seed writes.
+/// Which R_s: the normalised microfacet form (default) or the 1981 form Zimmons & Bastos 1999 writes.
 enum class CookTorranceNormalization { Microfacet, CookTorrance1981 };
-/// `Lighting`: directional lights and the full D G F. `Reflectance`: the seed's sphere-map
+/// `Lighting`: directional lights and the full D G F. `Reflectance`: Zimmons & Bastos 1999's sphere-map
 /// reflectance model (light along the view vector mirrored about N: H = N, D = D(1), G = 1,
 /// N.L = N.V), independent of lights.
 enum class CookTorranceMode { Lighting, Reflectance };
@@ -92,7 +92,7 @@ struct CookTorranceParams {
   MicrofacetDistribution distribution = MicrofacetDistribution::Beckmann;
   double roughness = 0.3;  ///< Beckmann rms slope m, or GGX alpha; in (0, 10]
   FresnelTerm fresnel = FresnelTerm::dielectric(Rgb::Constant(1.5));
-  double specularWeight = 1.0;  ///< s in R = s R_s + d R_d, d = 1 - s (seed 000 Eq. 5); in [0, 1]
+  double specularWeight = 1.0;  ///< s in R = s R_s + d R_d, d = 1 - s (Zimmons & Bastos 1999 Eq. 5); in [0, 1]
   Rgb diffuse = Rgb::Zero();    ///< Lambertian albedo rho_d in [0, 1]; R_d = rho_d / pi (lighting only)
   CookTorranceNormalization normalization = CookTorranceNormalization::Microfacet;
   /// Reflectance mode only: beyond this angle between N and V (degrees, in (0, 90)) the 1/(N.V)^2
@@ -108,7 +108,7 @@ struct CookTorranceParams {
 class CookTorranceMaterial final : public Material {
  public:
   /// Throws Error(InvalidArgument) for out-of-range parameters, and for a non-zero diffuse term in
-  /// reflectance mode (a mirror-direction map holds R_s only, seed 000 section 7) or with
+  /// reflectance mode (a mirror-direction map holds R_s only, Zimmons & Bastos 1999 section 7) or with
   /// specularWeight = 1 (then d = 0 and the diffuse term would be silently ignored).
   explicit CookTorranceMaterial(CookTorranceParams params);
 

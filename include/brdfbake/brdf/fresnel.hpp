@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Fresnel reflectance of smooth interfaces: the dielectric formula of seed 002 Eq. 13, the exact
+/// Fresnel reflectance of smooth interfaces: the dielectric formula of Heidrich 2000 Eq. 13, the exact
 /// conductor formula for a complex index n + i k, and the per-channel Fresnel term the material
 /// models share (docs/materials.md, "Fresnel").
 ///
@@ -32,7 +32,16 @@ T clampUnit(const T& c) {
 }
 }  // namespace detail
 
-/// Dielectric Fresnel reflectance, seed 002 Eq. 13:
+/// Schlick's approximation (Schlick 1994), what Filament and most real-time engines use:
+///   F = f0 + (1 - f0) (1 - c)^5,  c clamped to [0, 1].
+template <typename T>
+T fresnelSchlick(const T& cosTheta, const T& f0) {
+  const T m = T(1) - detail::clampUnit(cosTheta);
+  const T m2 = m * m;
+  return f0 + (T(1) - f0) * (m2 * m2 * m);
+}
+
+/// Dielectric Fresnel reflectance, Heidrich 2000 Eq. 13:
 ///   F = (g - c)^2 / (2 (g + c)^2) [1 + (c (g + c) - 1)^2 / (c (g - c) + 1)^2],
 ///   g^2 = eta^2 + c^2 - 1.
 /// g^2 <= 0 is total internal reflection: F = 1 (g^2 = 0 is the critical angle, where the formula
@@ -99,9 +108,10 @@ T f0FromConductor(const T& n, const T& k) {
 class FresnelTerm {
  public:
   enum class Kind {
-    Dielectric,  ///< seed 002 Eq. 13 with a per-channel index (also F0 inputs: eta from F0)
+    Dielectric,  ///< Heidrich 2000 Eq. 13 with a per-channel index (also F0 inputs: eta from F0)
     Conductor,   ///< exact conductor formula with per-channel n + i k
     Table,       ///< tabulated over c (from spectral data), linear interpolation
+    Schlick,     ///< Schlick's approximation from f0 per channel (fresnelSchlick)
   };
 
   /// Dielectric of relative index eta per channel. Throws Error(InvalidArgument) unless each
@@ -112,6 +122,9 @@ class FresnelTerm {
   /// its complex index). f0 = 1 gives F = 1 at every angle (the eta -> infinity limit); f0 = 0 gives
   /// eta = 1, F = 0 at every angle. Throws Error(InvalidArgument) outside [0, 1].
   static FresnelTerm fromF0(const Rgb& f0);
+  /// Schlick's approximation from f0 in [0, 1] per channel: matches engines that use it (Filament),
+  /// where fromF0 converts f0 to a real index instead. Throws Error(InvalidArgument) outside [0, 1].
+  static FresnelTerm schlick(const Rgb& f0);
   /// Conductor of complex index n + i k per channel. Throws Error(InvalidArgument) unless n is
   /// finite and > 0 and k finite and >= 0.
   static FresnelTerm conductor(const Rgb& n, const Rgb& k);
@@ -135,7 +148,7 @@ class FresnelTerm {
   /// F(1), the normal-incidence reflectance.
   Rgb f0() const { return (*this)(1.0); }
   Kind kind() const { return kind_; }
-  /// Dielectric: the index per channel (+infinity where f0 = 1). Conductor: n.
+  /// Dielectric: the index per channel (+infinity where f0 = 1). Conductor: n. Schlick: f0.
   const Rgb& eta() const { return eta_; }
   /// Conductor: k (zero otherwise).
   const Rgb& k() const { return k_; }
@@ -147,13 +160,13 @@ class FresnelTerm {
   std::vector<Rgb> table_;
 };
 
-/// The 1-D Fresnel texture of seed 002 section 3.1.1: `size` entries, entry i holding F at the
+/// The 1-D Fresnel texture of Heidrich 2000 section 3.1.1: `size` entries, entry i holding F at the
 /// texel centre c_i = (i + 0.5) / size (so a GPU's linear lookup at texture coordinate s = cos theta
 /// returns F(cos theta), clamped to the end entries within half a texel of 0 and 1). size >= 1.
 std::vector<Rgb> fresnelProfile(const FresnelTerm& fresnel, int size);
 
 /// How a renderer combines the Fresnel map with its mirror (L_m) and diffuse (L_d) images
-/// (seed 002 section 3.1.1). The map is the same either way; the choice is recorded in the spec.
+/// (Heidrich 2000 section 3.1.1). The map is the same either way; the choice is recorded in the spec.
 enum class FresnelCombine {
   Add,  ///< L = F L_m + L_d
   Mix,  ///< L = F L_m + (1 - F) L_d (a diffuse surface under a clear coating)
@@ -162,7 +175,7 @@ enum class FresnelCombine {
 FresnelCombine parseFresnelCombine(std::string_view name);
 std::string_view toString(FresnelCombine combine);
 
-/// The Fresnel factor as its own map (seed 002 section 3.1, decomposition): the value for a texel
+/// The Fresnel factor as its own map (Heidrich 2000 section 3.1, decomposition): the value for a texel
 /// is F(N.V) per channel, for the normal N that texel stands for (n = normalize(r + v)). In a
 /// sphere map N.V is sqrt(1 - rho^2) at disc radius rho. Ignores lights; depends on the view.
 class FresnelMaterial final : public Material {

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Radially symmetric lobes about the mirrored view direction (Kautz & McCool, seed 002 section
+/// Radially symmetric lobes about the mirrored view direction (Kautz & McCool, Heidrich 2000 section
 /// 3.2.3): the model `brdfbake fit` fits to measured tables, and the material that evaluates it.
 /// docs/fitting.md describes the model, how it is fitted and the fit.json format.
 ///
@@ -193,7 +193,7 @@ struct LobeModel {
   /// Every channel.
   Eigen::VectorXd evaluate(const Vec3& wi, const Vec3& wo) const;
   /// The BRDF on the mirror direction (wi = wo mirrored about the normal) seen at elevation
-  /// cosine u: k_d / pi + sum_k C_k(u) (n_k(u) + 2) / (2 pi). The seed's reflectance map profile.
+  /// cosine u: k_d / pi + sum_k C_k(u) (n_k(u) + 2) / (2 pi). Heidrich 2000's reflectance map profile.
   double mirrorValue(std::size_t channel, double u) const;
 
   /// The 3 x channelCount() matrix taking channel values to linear sRGB: identity for channels R,
@@ -204,13 +204,13 @@ struct LobeModel {
 
 /// What LobeMaterial puts in a map.
 enum class LobeMaterialMode {
-  /// The seed's reflectance map (seed 000 section 8): no lights; unlit(g) is the BRDF on the mirror
+  /// Heidrich 2000's reflectance map (Zimmons & Bastos 1999 section 8): no lights; unlit(g) is the BRDF on the mirror
   /// direction at the texel's elevation, mirrorValue(n.v), like cook_torrance's reflectance mode.
   Reflectance,
   /// Directional lights: shade(g, l) = f(l, v) max(0, n.l), the radiance for a light of unit
   /// irradiance at normal incidence (as Phong and Cook-Torrance's lighting mode).
   Lighting,
-  /// Kautz & McCool's prefiltered form (seed 002 Eq. 19): shade(g, l) = sum_k C_k(u) (n_k + 2) /
+  /// Kautz & McCool's prefiltered form (Heidrich 2000 Eq. 19): shade(g, l) = sum_k C_k(u) (n_k + 2) /
   /// (2 pi) max(0, r.l)^n_k, the lobes alone (no k_d, no cosine: the renderer multiplies by n.r_v).
   /// For a Constant model it depends on r alone and is a sum of radial lobes about l.
   Prefiltered,

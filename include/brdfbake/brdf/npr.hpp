@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Hand-designed maps: colorgrams (seed 000 section 6) and the non-photorealistic maps of seed 002
+/// Hand-designed maps: colorgrams (Zimmons & Bastos 1999 section 6) and the non-photorealistic maps of Heidrich 2000
 /// section 4 (Gooch cool-to-warm shading, silhouette rings, hatching near silhouettes).
 ///
 /// Every model here is a function of the surface normal the texel stands for,
@@ -37,7 +37,7 @@ struct ColorStop {
   Rgb color = Rgb::Ones();
 };
 
-/// How the renderer applies a colorgram map to the surface colour S (seed 000 section 6):
+/// How the renderer applies a colorgram map to the surface colour S (Zimmons & Bastos 1999 section 6):
 /// replace: S' = map; modulate: S' = S * map (white leaves S unchanged); add: S' = S + map (black
 /// leaves S unchanged). The map's texels are the same in each case; the mode is recorded in the
 /// spec (and so in the map's metadata).
@@ -76,7 +76,7 @@ class ColorGradient {
 };
 
 /// A colorgram: rings of colour over theta, with a twist that shifts the rings with azimuth so
-/// that left and right differ (seed 000 section 6: the "twisted" map):
+/// that left and right differ (Zimmons & Bastos 1999 section 6: the "twisted" map):
 ///   value = gradient(theta - twist * (n . right)),
 /// n.right = sin(theta) cos(azimuth from right). The rings move inwards by up to `twist` degrees on
 /// the right side of the map and outwards on the left; the shift is 0 at the centre and continuous.
@@ -106,7 +106,7 @@ class ColorgramMaterial final : public Material {
   ColorgramBlend blend_;
 };
 
-/// Per-fleck texture-coordinate offsets for colorgram flecks (seed 000 section 6.2): `count`
+/// Per-fleck texture-coordinate offsets for colorgram flecks (Zimmons & Bastos 1999 section 6.2): `count`
 /// offsets (ds, dt), uniformly distributed in the disc of radius `radius` (texture-coordinate units:
 /// the whole sphere map spans [0, 1]), from a fixed generator (SplitMix64 seeded with `seed`, so the
 /// table is the same on every platform). The renderer gives fleck polygon i the offset i % count,
@@ -116,7 +116,7 @@ class ColorgramMaterial final : public Material {
 /// Throws Error(InvalidArgument).
 std::vector<Vec2> fleckOffsets(std::size_t count, double radius, std::uint64_t seed);
 
-// ---- seed 002 section 4: non-photorealistic maps ------------------------------------------------
+// ---- Heidrich 2000 section 4: non-photorealistic maps ------------------------------------------------
 
 struct GoochParams {
   Rgb cool{0.10, 0.20, 0.75};  ///< the shadowed side
@@ -127,7 +127,7 @@ struct GoochParams {
   Vec3 lightDirection{1.0, 1.0, 1.0};  ///< towards the light, map frame (normalised on construction)
 };
 
-/// Gooch cool-to-warm shading as a hand-drawn map (seed 002 section 4, after Gooch et al. 1999):
+/// Gooch cool-to-warm shading as a hand-drawn map (Heidrich 2000 section 4, after Gooch et al. 1999):
 /// the cool colour on the half of the normal sphere facing away from the light, the warm colour on
 /// the half facing it, and a highlight disc around the half vector h = normalize(l + v); the
 /// edges blurred by a Gaussian of `blur` degrees:
@@ -150,7 +150,7 @@ class GoochMaterial final : public Material {
   GoochParams params_;
 };
 
-/// A silhouette ring (seed 002 section 4, after Gooch et al. 1999): `color` where theta >
+/// A silhouette ring (Heidrich 2000 section 4, after Gooch et al. 1999): `color` where theta >
 /// 90 - width (i.e. N.V < sin(width)), `background` elsewhere. In a sphere map of N texels the ring
 /// is (1 - cos(width)) N / 2 texels wide (disc radius rho = sin(theta)).
 class SilhouetteMaterial final : public Material {
@@ -170,7 +170,7 @@ class SilhouetteMaterial final : public Material {
   /// The ring width in texels of a sphere map of `resolution` texels: (1 - cos(width)) resolution / 2.
   double ringTexels(int resolution) const;
   /// The material for a mip level of `levelResolution` texels of a sphere map whose level 0 has
-  /// `baseResolution` texels: the same ring width in texels as level 0 (seed 002 section 4's
+  /// `baseResolution` texels: the same ring width in texels as level 0 (Heidrich 2000 section 4's
   /// hand-made mip hierarchy), i.e. width_L = acos(max(0, 1 - (1 - cos(width)) base / level)),
   /// capped at 90 degrees (the whole disc) once the ring would be wider than the radius.
   SilhouetteMaterial forMipLevel(int baseResolution, int levelResolution) const;
@@ -189,7 +189,7 @@ struct HatchingParams {
   Rgb paper = Rgb::Ones();
 };
 
-/// Hatching near silhouettes (seed 002 section 4): paper in the middle of the map; inside the band
+/// Hatching near silhouettes (Heidrich 2000 section 4): paper in the middle of the map; inside the band
 /// near the rim, parallel strokes whose thickness grows from 0 at the band's inner edge to the whole
 /// stroke period at the rim, with cross strokes (perpendicular) in the outer half of the band.
 /// With q = clamp((theta - (90 - width)) / width, 0, 1), disc coordinates (x, y) = (n.right, n.up)

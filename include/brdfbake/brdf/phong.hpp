@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Phong and Blinn-Phong lobes and materials (seed 000 section 5).
+/// Phong and Blinn-Phong lobes and materials (Zimmons & Bastos 1999 section 5).
 
 #include <brdfbake/brdf/blinn_conversion.hpp>
 #include <brdfbake/brdf/material.hpp>
@@ -21,7 +21,7 @@ T phongNormalization(const T& exponent) {
   return (exponent + T(2)) / T(2.0 * std::numbers::pi);
 }
 
-/// Phong: k_d max(0, n.l) + k_s max(0, r.l)^n, with r the reflected view vector (seed 000
+/// Phong: k_d max(0, n.l) + k_s max(0, r.l)^n, with r the reflected view vector (Zimmons & Bastos 1999
 /// Eq. 5; in a sphere map the value at reflected direction r for light l is max(0, r.l)^n).
 /// The specular lobe is a function of r alone, so it is radially symmetric about l and valid
 /// for every view; the diffuse term needs the normal, hence the view, unless the light is at the

@@ -80,9 +80,9 @@ Vec3 spectrumToXyz(std::span<const double> wavelengthsNm, std::span<const double
 /// One-shot SpectrumToRgb(wavelengthsNm).linearSrgb(values).
 Rgb spectrumToLinearSrgb(std::span<const double> wavelengthsNm, std::span<const double> values);
 
-/// The seed's other way to make RGB from a spectrum (seed 000 section 8): the value at one
+/// Zimmons & Bastos 1999's other way to make RGB from a spectrum (Zimmons & Bastos 1999 section 8): the value at one
 /// wavelength per channel, R at 750 nm, G at 550 nm, B at 400 nm.
-inline constexpr std::array<double, 3> kSeedRgbWavelengthsNm{750.0, 550.0, 400.0};
+inline constexpr std::array<double, 3> kSingleWavelengthRgbNm{750.0, 550.0, 400.0};
 
 /// Which sample stands for each of R, G, B: the nearest available wavelength (ties go to the
 /// shorter one).
@@ -96,7 +96,7 @@ struct WavelengthPick {
 
 /// Throws Error(InvalidArgument) for an empty grid or non-finite wavelengths.
 WavelengthPick nearestWavelengths(std::span<const double> wavelengthsNm,
-                                  const std::array<double, 3>& requestedNm = kSeedRgbWavelengthsNm);
+                                  const std::array<double, 3>& requestedNm = kSingleWavelengthRgbNm);
 /// (values[pick.index[0]], values[pick.index[1]], values[pick.index[2]]).
 Rgb singleWavelengthRgb(std::span<const double> values, const WavelengthPick& pick);
 

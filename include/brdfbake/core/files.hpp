@@ -100,6 +100,10 @@ class FilePlan {
   std::vector<Entry> inputs_, outputs_;
 };
 
+/// STEM<suffix>.EXT beside `path` ("out/sky.exr", "_mip2" -> "out/sky_mip2.exr"): how every derived
+/// output (mip levels, cube faces, elevation slices, Fresnel maps, chart pages) is named.
+std::filesystem::path siblingWithSuffix(const std::filesystem::path& path, const std::string& suffix);
+
 /// The file a path resolves to, for comparisons: absolute, "..", "." and symlinks of its existing
 /// part resolved.
 std::filesystem::path resolvedPath(const std::filesystem::path& path);

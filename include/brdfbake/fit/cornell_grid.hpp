@@ -16,7 +16,7 @@
 /// - angles are rounded to 6 decimals, as the files store them.
 
 #include <brdfbake/brdf/lobes.hpp>
-#include <brdfbake/importers/measured_table.hpp>
+#include <brdfbake/measured/measured_table.hpp>
 
 #include <cstdint>
 #include <filesystem>

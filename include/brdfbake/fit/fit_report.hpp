@@ -11,7 +11,7 @@
 /// values <= 0 cannot be drawn on a log scale and are left out.
 
 #include <brdfbake/brdf/lobes.hpp>
-#include <brdfbake/importers/measured_table.hpp>
+#include <brdfbake/measured/measured_table.hpp>
 
 #include <filesystem>
 #include <string>

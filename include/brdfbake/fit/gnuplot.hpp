@@ -13,7 +13,7 @@ namespace brdfbake {
 /// The gnuplot executable, or std::nullopt when there is none.
 std::optional<std::filesystem::path> findGnuplot();
 
-/// Runs gnuplot with `script` on its standard input. Throws Error(InvalidArgument) "gnuplot not
+/// Runs gnuplot on `script`, written to a scratch file (removed afterwards, and on an interrupt). Throws Error(InvalidArgument) "gnuplot not
 /// found ..." when there is none, Error(Io) with gnuplot's own messages when it fails.
 void runGnuplot(const std::string& script);
 

@@ -27,7 +27,7 @@
 /// separately to three slices of elevation, interpolated.
 
 #include <brdfbake/brdf/lobes.hpp>
-#include <brdfbake/importers/measured_table.hpp>
+#include <brdfbake/measured/measured_table.hpp>
 
 #include <cstddef>
 #include <functional>

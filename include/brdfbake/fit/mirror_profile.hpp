@@ -1,11 +1,11 @@
 #pragma once
 /// @file
-/// The seed's measured reflectance map (seed 000 section 8): for each incident angle the BRDF in
+/// Zimmons & Bastos 1999's measured reflectance map (Zimmons & Bastos 1999 section 8): for each incident angle the BRDF in
 /// the mirror direction, as a profile over theta, baked as a radially symmetric sphere map. Two
 /// ways to get the mirror value (docs/fitting.md, "The mirror-direction profile"):
 ///
-/// - `strongestNearMirrorProfile`, the seed's: for each incident angle and channel, the strongest
-///   sample within `window` of the exact mirror direction (the seed "pieced together the strongest
+/// - `strongestNearMirrorProfile`, Zimmons & Bastos 1999's: for each incident angle and channel, the strongest
+///   sample within `window` of the exact mirror direction (Zimmons & Bastos 1999 "pieced together the strongest
 ///   reflected energy for each wavelength", assuming it lies in the mirror direction). Cornell
 ///   tables have no sample on the mirror direction (the nearest is 0.2 to 3.7 degrees off), so
 ///   for a sharp highlight this can be far from the mirror value, and a wide window picks
@@ -18,7 +18,7 @@
 
 #include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/brdf/material.hpp>
-#include <brdfbake/importers/measured_table.hpp>
+#include <brdfbake/measured/measured_table.hpp>
 
 #include <Eigen/Core>
 
@@ -44,8 +44,8 @@ struct MirrorProfile {
   void validate() const;
 };
 
-/// The seed's profile (see @file). `windowRadians` in (0, pi]: pi takes the strongest sample of
-/// the whole incident angle, as the seed did literally. Incident angles with no sample in the
+/// Zimmons & Bastos 1999's profile (see @file). `windowRadians` in (0, pi]: pi takes the strongest sample of
+/// the whole incident angle, as Zimmons & Bastos 1999 did literally. Incident angles with no sample in the
 /// window use the nearest sample to the mirror direction. Throws Error(InvalidInput) for an empty
 /// table, Error(InvalidArgument) for a bad window.
 MirrorProfile strongestNearMirrorProfile(const MeasuredTable& table, double windowRadians = 10.0 * kPi / 180.0);

@@ -16,7 +16,7 @@
 ///
 /// Directions at or below the horizon (z <= 0) give 0. The result has the table's channels.
 
-#include <brdfbake/importers/measured_table.hpp>
+#include <brdfbake/measured/measured_table.hpp>
 
 #include <Eigen/Core>
 

@@ -1,0 +1,79 @@
+#pragma once
+/// @file
+/// Every public header of brdfbake in one include. Parts that were not built or installed (a
+/// bake-only package has no measured, fit or spec) are skipped.
+
+// core
+#if __has_include(<brdfbake/core/color.hpp>)
+#include <brdfbake/core/color.hpp>
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/core/files.hpp>
+#include <brdfbake/core/json_reader.hpp>
+#include <brdfbake/core/json_text.hpp>
+#include <brdfbake/core/math.hpp>
+#include <brdfbake/core/memory_budget.hpp>
+#include <brdfbake/core/version.hpp>
+#endif
+
+// brdf
+#if __has_include(<brdfbake/brdf/blinn_conversion.hpp>)
+#include <brdfbake/brdf/blinn_conversion.hpp>
+#include <brdfbake/brdf/cook_torrance.hpp>
+#include <brdfbake/brdf/fresnel.hpp>
+#include <brdfbake/brdf/lobes.hpp>
+#include <brdfbake/brdf/material.hpp>
+#include <brdfbake/brdf/npr.hpp>
+#include <brdfbake/brdf/phong.hpp>
+#include <brdfbake/brdf/spectrum.hpp>
+#endif
+
+// bake
+#if __has_include(<brdfbake/bake/accuracy.hpp>)
+#include <brdfbake/bake/accuracy.hpp>
+#include <brdfbake/bake/auto_config.hpp>
+#include <brdfbake/bake/baker.hpp>
+#include <brdfbake/bake/cube_map.hpp>
+#include <brdfbake/bake/env_accuracy.hpp>
+#include <brdfbake/bake/env_mips.hpp>
+#include <brdfbake/bake/environment.hpp>
+#include <brdfbake/bake/image.hpp>
+#include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/bake/interpolation_error.hpp>
+#include <brdfbake/bake/latlong_map.hpp>
+#include <brdfbake/bake/map_file.hpp>
+#include <brdfbake/bake/map_function.hpp>
+#include <brdfbake/bake/mip_chain.hpp>
+#include <brdfbake/bake/paraboloid_map.hpp>
+#include <brdfbake/bake/parameterization.hpp>
+#include <brdfbake/bake/prefilter.hpp>
+#include <brdfbake/bake/prefilter_lobe.hpp>
+#include <brdfbake/bake/prefilter_stack.hpp>
+#include <brdfbake/bake/preview.hpp>
+#include <brdfbake/bake/radial_profile.hpp>
+#include <brdfbake/bake/radial_table.hpp>
+#include <brdfbake/bake/sh.hpp>
+#include <brdfbake/bake/sphere_map.hpp>
+#endif
+
+// measured
+#if __has_include(<brdfbake/measured/measured_io.hpp>)
+#include <brdfbake/measured/measured_io.hpp>
+#include <brdfbake/measured/measured_table.hpp>
+#endif
+
+// fit
+#if __has_include(<brdfbake/fit/cornell_grid.hpp>)
+#include <brdfbake/fit/cornell_grid.hpp>
+#include <brdfbake/fit/fit_file.hpp>
+#include <brdfbake/fit/fit_report.hpp>
+#include <brdfbake/fit/gnuplot.hpp>
+#include <brdfbake/fit/lobe_fit.hpp>
+#include <brdfbake/fit/mirror_profile.hpp>
+#include <brdfbake/fit/table_interpolation.hpp>
+#endif
+
+// spec
+#if __has_include(<brdfbake/spec/material_spec.hpp>)
+#include <brdfbake/spec/material_spec.hpp>
+#include <brdfbake/spec/spec.hpp>
+#endif

@@ -1,0 +1,217 @@
+// MATLAB .mat tables through libmatio.
+#include <brdfbake/measured/measured_io.hpp>
+
+#include <brdfbake/core/files.hpp>
+
+#include "measured_common.hpp"
+
+#include <matio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <mutex>
+#include <tuple>
+
+namespace brdfbake {
+
+using measured::malformed;
+
+namespace {
+
+// libmatio reports problems through a log function that prints by default; the library must not
+// print, so its messages are kept (per thread) and quoted in our errors instead.
+thread_local std::string lastMatioMessage;
+
+void keepMatioMessage(int, char* message) { lastMatioMessage = message ? message : ""; }
+
+void silenceMatio() {
+  static std::once_flag once;
+  std::call_once(once, [] { Mat_LogInitFunc("brdfbake", keepMatioMessage); });
+}
+
+struct MatCloser {
+  void operator()(mat_t* mat) const { Mat_Close(mat); }
+};
+struct VarFreer {
+  void operator()(matvar_t* var) const { Mat_VarFree(var); }
+};
+
+// A real 2-D numeric variable as rows x cols (MATLAB stores columns one after another).
+Eigen::MatrixXd readMatrix(mat_t* mat, const char* name, const std::string& file) {
+  lastMatioMessage.clear();
+  std::unique_ptr<matvar_t, VarFreer> var(Mat_VarRead(mat, name));
+  if (!var)
+    throw malformed(file, 0,
+                    std::string("variable '") + name + "' is missing or unreadable" +
+                        (lastMatioMessage.empty() ? "" : " (" + lastMatioMessage + ")"));
+  const std::string what = std::string("variable '") + name + "'";
+  if (var->rank != 2)
+    throw malformed(file, 0, what + " must be a 2-D matrix, has " + std::to_string(var->rank) + " dimensions");
+  if (var->isComplex) throw malformed(file, 0, what + " must be real, is complex");
+  const auto rows = static_cast<Eigen::Index>(var->dims[0]), cols = static_cast<Eigen::Index>(var->dims[1]);
+  if (rows * cols > 0 && var->data == nullptr) throw malformed(file, 0, what + " has no data");
+  Eigen::MatrixXd matrix(rows, cols);
+  if (var->class_type == MAT_C_DOUBLE && var->data_type == MAT_T_DOUBLE) {
+    matrix = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(var->data), rows, cols);
+  } else if (var->class_type == MAT_C_SINGLE && var->data_type == MAT_T_SINGLE) {
+    matrix = Eigen::Map<const Eigen::MatrixXf>(static_cast<const float*>(var->data), rows, cols).cast<double>();
+  } else {
+    throw malformed(file, 0, what + " must be a double or single matrix");
+  }
+  for (Eigen::Index c = 0; c < cols; ++c)
+    for (Eigen::Index r = 0; r < rows; ++r)
+      if (!std::isfinite(matrix(r, c)))
+        throw malformed(file, 0,
+                        what + " row " + std::to_string(r + 1) + " column " + std::to_string(c + 1) +
+                            " is not finite (NaN or infinity)");
+  return matrix;
+}
+
+bool hasVariable(mat_t* mat, const char* name) {
+  std::unique_ptr<matvar_t, VarFreer> info(Mat_VarReadInfo(mat, name));
+  return info != nullptr;
+}
+
+// theta, phi of a direction given as N x 2 angles or N x 3 unit vectors (row r).
+std::pair<double, double> directionAngles(const Eigen::MatrixXd& m, Eigen::Index r, const std::string& file,
+                                          const char* name) {
+  if (m.cols() == 2) return {m(r, 0), m(r, 1)};
+  const Vec3 v = m.row(r).transpose();
+  const double length = v.norm();
+  if (!(std::abs(length - 1.0) <= 1e-3))
+    throw malformed(file, 0,
+                    std::string("variable '") + name + "' row " + std::to_string(r + 1) +
+                        " is not a unit vector (length " + measured::formatShortest(length) + ")");
+  const Vec3 u = v / length;
+  return {std::acos(std::clamp(u.z(), -1.0, 1.0)), std::atan2(u.y(), u.x())};
+}
+
+// libmatio reads a cut-off variable as if the missing bytes were zeros. A level-5 MAT-file is a
+// 128-byte header and then top-level data elements, each an 8-byte tag (type, byte count) and its
+// bytes: walk them and refuse a file that ends inside one. (Level-4 files have no such header and
+// v7.3 files are HDF5, which checks its own structure.)
+void requireCompleteMatFile(const std::filesystem::path& path) {
+  const std::uintmax_t size = requireInputFile(path, "MATLAB table");
+  const std::string bytes = readTextFile(path, "MATLAB table");
+  if (bytes.size() < 128 || bytes.compare(0, 10, "MATLAB 5.0") != 0) return;
+  const bool swapped = bytes[126] == 'M' && bytes[127] == 'I';  // the file's byte order differs from ours
+  auto word = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    std::memcpy(&v, bytes.data() + at, 4);
+    return swapped ? __builtin_bswap32(v) : v;
+  };
+  std::size_t at = 128;
+  int element = 0;
+  while (at < bytes.size()) {
+    if (bytes.size() - at < 8) {
+      throw malformed(path.string(), 0, "truncated: the file ends inside the tag of data element " + std::to_string(element) +
+                                            " (byte " + std::to_string(at) + " of " + std::to_string(size) + ")");
+    }
+    const std::uint32_t type = word(at), count = word(at + 4);
+    std::uint64_t end = at + 8 + std::uint64_t{count};
+    if (type == 14 /* miMATRIX */) end = (end + 7) / 8 * 8;  // padded to 8 bytes; miCOMPRESSED is not
+    if (end > bytes.size() && !(type == 14 && at + 8 + std::uint64_t{count} <= bytes.size())) {
+      throw malformed(path.string(), 0, "truncated: data element " + std::to_string(element) + " at byte " + std::to_string(at) +
+                                            " needs " + std::to_string(count) + " bytes, but the file ends after " +
+                                            std::to_string(bytes.size() - at - 8));
+    }
+    at = static_cast<std::size_t>(std::min<std::uint64_t>(end, bytes.size()));
+    ++element;
+  }
+}
+
+}  // namespace
+
+MeasuredTable readMat(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  silenceMatio();
+  requireCompleteMatFile(path);
+  lastMatioMessage.clear();
+  std::unique_ptr<mat_t, MatCloser> mat(Mat_Open(file.c_str(), MAT_ACC_RDONLY));
+  if (!mat)
+    throw malformed(file, 0,
+                    "not a MATLAB .mat file libmatio can read" +
+                        (lastMatioMessage.empty() ? std::string() : " (" + lastMatioMessage + ")"));
+
+  const Eigen::MatrixXd dirIn = readMatrix(mat.get(), "dir_in", file);
+  const bool combined = dirIn.cols() == 4;
+  Eigen::MatrixXd dirOut;
+  if (combined) {
+    if (hasVariable(mat.get(), "dir_out"))
+      throw malformed(file, 0, "variable 'dir_in' is N x 4 (all four angles), so 'dir_out' must be absent");
+  } else {
+    if (dirIn.cols() != 2 && dirIn.cols() != 3)
+      throw malformed(file, 0,
+                      "variable 'dir_in' must be N x 2 [theta phi], N x 3 unit vectors or N x 4 "
+                      "[theta_i phi_i theta_s phi_s], is " +
+                          std::to_string(dirIn.rows()) + " x " + std::to_string(dirIn.cols()));
+    dirOut = readMatrix(mat.get(), "dir_out", file);
+    if (dirOut.cols() != 2 && dirOut.cols() != 3)
+      throw malformed(file, 0,
+                      "variable 'dir_out' must be N x 2 [theta phi] or N x 3 unit vectors, is " +
+                          std::to_string(dirOut.rows()) + " x " + std::to_string(dirOut.cols()));
+    if (dirOut.rows() != dirIn.rows())
+      throw malformed(
+          file, 0,
+          "'dir_in' has " + std::to_string(dirIn.rows()) + " rows but 'dir_out' has " + std::to_string(dirOut.rows()));
+  }
+  const Eigen::MatrixXd fr = readMatrix(mat.get(), "fr", file);
+  const Eigen::Index n = dirIn.rows();
+  if (n == 0) throw malformed(file, 0, "no samples ('dir_in' has 0 rows)");
+  if (fr.rows() != n)
+    throw malformed(file, 0,
+                    "'fr' has " + std::to_string(fr.rows()) + " rows for " + std::to_string(n) +
+                        " directions (expected N x channels)");
+  if (fr.cols() < 1) throw malformed(file, 0, "'fr' has no channels");
+
+  MeasuredTable table;
+  table.sourceFile = file;
+  table.format = TableFormat::Mat;
+  if (hasVariable(mat.get(), "wavelength")) {
+    const Eigen::MatrixXd w = readMatrix(mat.get(), "wavelength", file);
+    if (std::min(w.rows(), w.cols()) != 1 || w.size() != fr.cols())
+      throw malformed(file, 0,
+                      "variable 'wavelength' must be a vector of " + std::to_string(fr.cols()) +
+                          " wavelengths (one per column of 'fr'), is " + std::to_string(w.rows()) + " x " +
+                          std::to_string(w.cols()));
+    table.kind = ChannelKind::Spectral;
+    for (Eigen::Index c = 0; c < w.size(); ++c) {
+      const double nm = w(c);
+      if (!(nm > 0.0) || (c > 0 && !(nm > table.wavelengthsNm.back())))
+        throw malformed(file, 0, "variable 'wavelength' must be positive and strictly increasing (nm)");
+      table.wavelengthsNm.push_back(nm);
+      table.channelNames.push_back(measured::wavelengthChannelName(nm));
+    }
+  } else if (fr.cols() == 3) {
+    table.kind = ChannelKind::Trichromatic;
+    table.channelNames = {"R", "G", "B"};
+    table.notes.push_back("RGB channels are taken as stored; the file does not say which primaries they use");
+  } else if (fr.cols() == 1) {
+    table.kind = ChannelKind::Monochrome;
+    table.channelNames = {"fr"};
+  } else {
+    throw malformed(file, 0,
+                    "'fr' has " + std::to_string(fr.cols()) +
+                        " channels but there is no 'wavelength' variable (without it 'fr' must have 1 or 3)");
+  }
+
+  table.angles.resize(static_cast<std::size_t>(n));
+  for (Eigen::Index r = 0; r < n; ++r) {
+    SampleAngles& a = table.angles[static_cast<std::size_t>(r)];
+    if (combined) {
+      a = {dirIn(r, 0), dirIn(r, 1), dirIn(r, 2), dirIn(r, 3)};
+    } else {
+      std::tie(a.thetaIn, a.phiIn) = directionAngles(dirIn, r, file, "dir_in");
+      std::tie(a.thetaOut, a.phiOut) = directionAngles(dirOut, r, file, "dir_out");
+    }
+    measured::checkAngles(a, file, 0, "sample " + std::to_string(r + 1) + ": ");
+  }
+  table.values = fr;
+  measured::noteNegativeValues(table);
+  return table;
+}
+
+}  // namespace brdfbake

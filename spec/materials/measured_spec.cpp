@@ -1,0 +1,81 @@
+// "measured" materials: a measured table baked as Zimmons & Bastos 1999's mirror-direction reflectance map
+// (Zimmons & Bastos 1999 section 8) or through fitted lobes (docs/fitting.md).
+//   {"model": "measured", "file": "table.astm", "format": "auto",
+//    "method": "mirror", "window_degrees": 10, "rgb": "cie1931" | "single_wavelengths"}
+//   {"model": "measured", "file": "table.astm", "method": "fit", "lobes": "auto" | N,
+//    "elevation": "auto" | "constant" | "varying", "mode": "reflectance" | "lighting" | "prefiltered"}
+#include <brdfbake/fit/cornell_grid.hpp>
+#include <brdfbake/fit/lobe_fit.hpp>
+#include <brdfbake/fit/mirror_profile.hpp>
+
+#include "registry_entries.hpp"
+
+namespace brdfbake::materials {
+
+std::shared_ptr<const Material> parseMeasured(JsonObjectReader& m, const MaterialContext& context) {
+  const std::filesystem::path file = resolveMaterialFile(m, context);
+  const std::string formatName = m.optionalString("format").value_or("auto");
+  const auto format = parseTableFormat(formatName);
+  if (!format) throw specError(m.child("format"), "must be auto, astm, pbrt, merl or mat, got \"" + formatName + "\"");
+  const std::string method = m.string("method");
+  if (method != "mirror" && method != "fit") throw specError(m.child("method"), "must be \"mirror\" or \"fit\", got \"" + method + "\"");
+  const std::string rgbName = m.optionalString("rgb").value_or("cie1931");
+  RgbMethod rgb = RgbMethod::Cie1931;
+  if (rgbName == "single_wavelengths") rgb = RgbMethod::SingleWavelengths;
+  else if (rgbName != "cie1931") throw specError(m.child("rgb"), "must be \"cie1931\" or \"single_wavelengths\", got \"" + rgbName + "\"");
+
+  // Options of the other method are mistakes, not silently ignored.
+  const std::vector<std::string> mirrorOnly{"window_degrees"}, fitOnly{"lobes", "elevation", "mode"};
+  for (const auto& key : method == "mirror" ? fitOnly : mirrorOnly) {
+    if (m.has(key)) throw specError(m.child(key), "only applies with \"method\": \"" + std::string(method == "mirror" ? "fit" : "mirror") + "\"");
+  }
+  double window = 10.0;
+  FitOptions options;
+  LobeMaterialMode mode = LobeMaterialMode::Reflectance;
+  if (method == "mirror") {
+    window = m.number("window_degrees", 10.0, 0.0, 180.0, /*exclusiveMinimum=*/true);
+  } else {
+    if (const auto* lobes = m.find("lobes")) {
+      if (lobes->is_string() && lobes->get<std::string>() == "auto") {
+        options.lobes = 0;
+      } else {
+        options.lobes = m.integer("lobes", 1, kMaxFitLobes);
+      }
+    }
+    const std::string elevation = m.optionalString("elevation").value_or("auto");
+    const auto choice = parseElevationChoice(elevation);
+    if (!choice) throw specError(m.child("elevation"), "must be \"auto\", \"constant\" or \"varying\", got \"" + elevation + "\"");
+    options.elevation = *choice;
+    mode = parseLobeMode(m);
+  }
+
+  MeasuredTable table;
+  try {
+    table = readTableForFitting(file, *format).toRgb(rgb);
+  } catch (const Error& e) {
+    throw specError(m.child("file"), e.what());
+  }
+  // A reflectance is never negative: negative measurements (noise around zero) would bake into
+  // negative texels, so they are clamped, and the notes say so.
+  const auto negatives = (table.values.array() < 0.0).count();
+  if (negatives > 0) {
+    table.values = table.values.cwiseMax(0.0);
+    table.notes.push_back(std::to_string(negatives) + " negative RGB values clamped to 0 for baking");
+  }
+  if (context.notes) {
+    for (const auto& note : table.notes) context.notes->push_back(m.child("file") + ": " + note);
+  }
+  if (method == "mirror") {
+    return std::make_shared<MirrorProfileMaterial>(strongestNearMirrorProfile(table, radians(window)), "measured");
+  }
+  FitResult fit;
+  try {
+    fit = fitLobes(table, options);
+  } catch (const Error& e) {
+    throw specError(m.child("file"), e.what());
+  }
+  if (!fit.usable()) throw specError(m.child("file"), "the lobe fit did not converge to a usable result:\n" + fit.briefReport());
+  return std::make_shared<LobeMaterial>(std::move(fit.model), mode, "measured");
+}
+
+}  // namespace brdfbake::materials

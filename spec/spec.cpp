@@ -1,0 +1,347 @@
+#include <brdfbake/bake/env_mips.hpp>
+#include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/bake/mip_chain.hpp>
+#include <brdfbake/fit/fit_file.hpp>
+#include <brdfbake/spec/material_spec.hpp>
+#include <brdfbake/spec/spec.hpp>
+
+#include <fstream>
+#include <sstream>
+
+#include "registry_entries.hpp"
+
+namespace brdfbake {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr std::size_t kMaxPathLength = 4096;  // PATH_MAX on Linux
+
+DirectionalLight parseLight(const nlohmann::json& value, const std::string& path, const Vec3& view, bool& atEye) {
+  JsonObjectReader light(value, path);
+  DirectionalLight result;
+  const auto& direction = light.require("direction");
+  atEye = direction.is_string();
+  if (atEye) {
+    if (direction.get<std::string>() != "eye") {
+      throw specError(light.child("direction"), "must be \"eye\" or [x, y, z], got " + describe(direction));
+    }
+    result.direction = view;
+  } else {
+    result.direction = JsonObjectReader::asDirection(direction, light.child("direction"));
+  }
+  result.color = light.color("color", Rgb::Ones());
+  light.finish();
+  return result;
+}
+
+// "environment": {"file", "lobe", "method", "max_error", "mips", "from", "view", "up", "elevations",
+// "fresnel", "combine"} in place of "material" and "lights".
+void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& baseDirectory) {
+  for (const char* key : {"material", "lights"}) {
+    if (map.has(key)) throw specError(map.child(key), "an environment map takes its values from \"environment\"; remove it");
+  }
+  if (spec.anyAuto()) throw specError(map.path(), "environment maps need a fixed parameterization, resolution and samples_per_texel");
+  if (spec.viewGiven || spec.viewNeed != MapSpec::ViewNeed::Unspecified) {
+    throw specError(map.child("view"), "environment maps live in the environment's frame; a sphere map's view goes in "
+                                       "\"environment\": {\"view\": [x, y, z]}");
+  }
+  JsonObjectReader env = map.object("environment");
+  EnvironmentMapSpec e;
+  const std::string file = env.string("file");
+  if (file.empty()) throw specError(env.child("file"), "must not be empty");
+  e.file = fs::path(file).is_absolute() ? fs::path(file) : baseDirectory / file;
+  spec.inputs.push_back({e.file, env.child("file")});
+  e.lobe = env.string("lobe");
+  bool normalLobe = false;  // irradiance: indexed by the normal
+  try {
+    if (e.lobe.rfind("lobes:", 0) == 0) {  // a fitted lobe model (docs/fitting.md)
+      const fs::path fit(e.lobe.substr(6));
+      const fs::path fitFile = fit.is_absolute() ? fit : baseDirectory / fit;
+      spec.inputs.push_back({fitFile, env.child("lobe")});
+      e.lobeModel = std::make_shared<LobeModel>(readFitFile(fitFile).fit.model);
+    } else {
+      normalLobe = PrefilterLobe::parse(e.lobe, baseDirectory).indexedByNormal();
+    }
+  } catch (const Error& error) {
+    throw specError(env.child("lobe"), error.what());
+  }
+  if (const auto method = env.optionalString("method")) {
+    try {
+      e.method = parsePrefilterMethod(*method);
+    } catch (const Error& error) {
+      throw specError(env.child("method"), error.what());
+    }
+  }
+  e.maxError = env.number("max_error", 0.01, 0.0, 0.5, /*exclusiveMinimum=*/true);
+  if (const auto* mips = env.find("mips")) {
+    if (!mips->is_boolean()) throw specError(env.child("mips"), "must be true or false, got " + describe(*mips));
+    e.mips = mips->get<bool>();
+  }
+  if (const auto from = env.optionalString("from")) {
+    try {
+      e.from = parseParameterizationKind(*from);
+    } catch (const Error& error) {
+      throw specError(env.child("from"), error.what());
+    }
+  }
+  for (const char* key : {"view", "up"}) {
+    if (!env.has(key)) continue;
+    if (spec.parameterization != ParameterizationKind::Sphere) {
+      throw specError(env.child(key), "only sphere maps have a view; the others live in the environment's frame");
+    }
+    (std::string(key) == "view" ? e.view : e.up) = env.direction(key);
+  }
+  const bool varying = e.lobeModel && e.lobeModel->elevation == LobeElevation::Varying;
+  if (env.has("elevations")) {
+    if (!varying) {
+      throw specError(env.child("elevations"), "only lobe models that vary with elevation (lobes:FIT.json with a varying "
+                                               "model) make a stack of maps over elevation");
+    }
+    e.elevations = env.integer("elevations", 2, 64);
+  }
+  if (env.has("fresnel")) {
+    if (e.lobeModel || normalLobe) {
+      throw specError(env.child("fresnel"), "a Fresnel decomposition needs a specular lobe (mirror, phong:N, blinn:N, "
+                                            "ggx:R) for its specular map; the irradiance map is made with it");
+    }
+    e.fresnel = materials::parseFresnelTerm(env, "fresnel");
+  }
+  if (const auto combine = env.optionalString("combine")) {
+    if (!e.fresnel) throw specError(env.child("combine"), "needs \"fresnel\" (how the Fresnel decomposition is combined)");
+    try {
+      e.combine = parseFresnelCombine(*combine);
+    } catch (const Error& error) {
+      throw specError(env.child("combine"), error.what());
+    }
+  }
+  env.finish();
+  spec.environment = e;
+}
+
+MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs::path& baseDirectory) {
+  JsonObjectReader map(value, path);
+  MapSpec spec;
+  spec.jsonPath = path;
+  spec.raw = value;
+
+  const std::string output = map.string("output");
+  if (output.empty()) throw specError(map.child("output"), "must not be empty");
+  if (output.size() > kMaxPathLength) {
+    throw specError(map.child("output"), "a name of " + std::to_string(output.size()) + " characters; paths are limited to " +
+                                             std::to_string(kMaxPathLength));
+  }
+  try {
+    imageFormatFor(output);
+  } catch (const Error& e) {
+    throw specError(map.child("output"), e.what());
+  }
+  spec.output = fs::path(output).is_absolute() ? fs::path(output) : baseDirectory / output;
+
+  const std::string kind = map.string("parameterization");
+  if (kind == "auto") {
+    spec.autoSelect.parameterization = true;
+  } else if (kind == "profile") {
+    spec.profile = true;
+  } else {
+    try {
+      spec.parameterization = parseParameterizationKind(kind);
+    } catch (const Error& e) {
+      throw specError(map.child("parameterization"), std::string(e.what()) + ", profile or auto");
+    }
+  }
+  auto isAuto = [&](const char* key) {
+    const auto* entry = map.find(key);
+    return entry && entry->is_string() && *entry == "auto";
+  };
+  if (isAuto("resolution")) spec.autoSelect.resolution = true;
+  else spec.resolution = map.integer("resolution", 256, 1, 65536);
+  if (isAuto("samples_per_texel")) spec.autoSelect.samplesPerTexel = true;
+  else spec.samplesPerTexel = map.integer("samples_per_texel", 16, 1, 4096);
+  if (spec.anyAuto()) {
+    if (!map.has("max_error")) throw specError(map.child("max_error"), "required with \"auto\" values: the RMS lookup error to meet, e.g. 0.01");
+    spec.autoSelect.maxError = map.number("max_error", 0.0, 1.0, /*exclusiveMinimum=*/true);
+    if (spec.autoSelect.maxError >= 1.0) throw specError(map.child("max_error"), "must be < 1");
+  } else if (map.has("max_error")) {
+    throw specError(map.child("max_error"), "only applies when parameterization, resolution or samples_per_texel is \"auto\"");
+  }
+
+  if (const auto* layout = map.find("layout")) {
+    if (spec.parameterization != ParameterizationKind::Cube) throw specError(map.child("layout"), "only applies to cube maps");
+    if (*layout == "cross") {
+      spec.cubeLayout = CubeLayout::Cross;
+    } else if (*layout == "faces") {
+      spec.cubeLayout = CubeLayout::Faces;
+    } else {
+      throw specError(map.child("layout"), "must be \"cross\" or \"faces\", got " + describe(*layout));
+    }
+  }
+
+  if (const auto* view = map.find("view"); view && view->is_string()) {
+    if (*view == "fixed") {
+      spec.viewNeed = MapSpec::ViewNeed::Fixed;
+    } else if (*view == "free") {
+      spec.viewNeed = MapSpec::ViewNeed::Free;
+      if (!spec.autoSelect.parameterization && spec.parameterization == ParameterizationKind::Sphere) {
+        throw specError(map.child("view"), "a sphere map holds one view (eye space); a free view needs a paraboloid, cube or latlong map");
+      }
+    } else {
+      throw specError(map.child("view"), "must be \"fixed\", \"free\" or [x, y, z], got " + describe(*view));
+    }
+  } else if (map.has("view")) {
+    if (spec.autoSelect.parameterization || spec.parameterization == ParameterizationKind::Sphere) {
+      throw specError(map.child("view"), spec.autoSelect.parameterization
+                                             ? "with \"parameterization\": \"auto\" give \"view\": \"fixed\" or \"free\""
+                                             : "sphere maps live in eye space, where the view vector is always +z; remove it");
+    }
+    spec.view = map.direction("view");
+    spec.viewGiven = true;
+  }
+
+  if (map.has("environment")) {  // a prefiltered environment map instead of a material (docs/prefilter.md)
+    if (spec.profile) throw specError(map.child("parameterization"), "environment maps cannot be profiles");
+    parseEnvironmentMap(map, spec, baseDirectory);
+    map.finish();
+    return spec;
+  }
+
+  spec.material = parseMaterial(map.require("material"), map.child("material"), {baseDirectory, &spec.inputs, &spec.notes});
+
+  bool anyAtEye = false;
+  if (map.has("lights")) {
+    const auto& lights = map.array("lights");
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+      bool atEye = false;
+      spec.lights.push_back(parseLight(lights[i], map.child("lights") + "[" + std::to_string(i) + "]", spec.view, atEye));
+      anyAtEye = anyAtEye || atEye;
+    }
+  }
+  if (spec.material->usesLights() && spec.lights.empty()) {
+    throw specError(map.child("lights"), std::string(spec.material->model()) + " needs at least one light");
+  }
+  if (!spec.material->usesLights() && !spec.lights.empty()) {
+    throw specError(map.child("lights"), std::string(spec.material->model()) + " ignores lights; remove them");
+  }
+  const bool viewDependent = !spec.material->viewIndependent() || anyAtEye;
+  if (viewDependent && spec.viewNeed == MapSpec::ViewNeed::Free) {
+    throw specError(map.child("view"), std::string(spec.material->model()) + (anyAtEye ? " lit from the eye" : "") +
+                                           " depends on the view direction, so no environment map can serve a free view;"
+                                           " use \"view\": \"fixed\"");
+  }
+  // A fixed view ("fixed", or a sphere map's eye space) is +z in every candidate map frame.
+  const bool viewFixed = spec.viewGiven || spec.viewNeed == MapSpec::ViewNeed::Fixed || spec.autoSelect.parameterization;
+  if (spec.parameterization != ParameterizationKind::Sphere && viewDependent && !viewFixed) {
+    throw specError(path, std::string(spec.material->model()) +
+                              (anyAtEye ? " lit from the eye" : "") +
+                              " depends on the view direction, but a " + std::string(toString(spec.parameterization)) +
+                              " map is indexed by reflected direction only; fix the view with \"view\": [x, y, z]"
+                              " or use a sphere map");
+  }
+  if (spec.profile && !spec.makeFunction()->symmetryAxis()) {
+    throw specError(map.child("parameterization"),
+                    "a profile needs a map radially symmetric about one axis: reflectance-mode and Fresnel materials, "
+                    "silhouettes, untwisted colorgrams, or lobes (Phong, fitted) about one light; " +
+                        std::string(spec.material->model()) + " here is not");
+  }
+  materials::parseMapExtras(map, spec);     // "mips", "profile_output"
+  if (spec.profile && spec.mips) throw specError(map.child("mips"), "a profile has no mip levels of its own");
+  if (!spec.anyAuto() && !spec.profile) materials::checkMaterialSampling(spec);   // narrow highlights the map's samples would miss
+  map.finish();
+  return spec;
+}
+
+}  // namespace
+
+std::vector<FilePlan::Entry> MapSpec::plannedOutputs() const {
+  const std::string role = jsonPath + ".output";
+  if (environment) {
+    const EnvironmentMapSpec& e = *environment;
+    PrefilterOutputs outputs{parameterization, resolution, e.mips, cubeLayout};
+    if (e.lobeModel && e.lobeModel->elevation == LobeElevation::Varying) outputs.elevationSlices = e.elevations;
+    outputs.fresnel = e.fresnel.has_value();
+    return prefilterOutputFiles(output, outputs, role);
+  }
+  const bool cube = parameterization == ParameterizationKind::Cube && !anyAuto() && !profile;
+  std::vector<FilePlan::Entry> out = mapOutputFiles(output, role, cube, cubeLayout);
+  auto add = [&out](const std::vector<FilePlan::Entry>& files) { out.insert(out.end(), files.begin(), files.end()); };
+  if (mips) {
+    for (int level = 1; level < mipLevelCount(resolution); ++level) {
+      add(mapOutputFiles(mipLevelPath(output, level), role + " (mip level " + std::to_string(level) + ")"));
+    }
+  }
+  if (profileOutput) {
+    add(mapOutputFiles(profileOutput->is_absolute() ? *profileOutput : output.parent_path() / *profileOutput,
+                       jsonPath + ".profile_output"));
+  }
+  return out;
+}
+
+FilePlan planSpecFiles(const BakeSpec& spec, const fs::path& specFile, const fs::path& outputFolder) {
+  FilePlan plan(outputFolder);
+  plan.addInput(specFile, "spec");
+  for (const auto& map : spec.maps) {
+    for (const auto& input : map.inputs) plan.addInput(input.file, input.role);
+  }
+  for (const auto& map : spec.maps) {
+    for (const auto& output : map.plannedOutputs()) plan.addOutput(output.file, output.role);
+  }
+  return plan;
+}
+
+AutoOptions MapSpec::autoOptions() const {
+  AutoOptions options;
+  options.maxError = autoSelect.maxError;
+  options.allowProfile = autoSelect.parameterization || profile;
+  if (profile) {
+    options.parameterizations.clear();   // profiles only
+  } else if (autoSelect.parameterization) {
+    options.parameterizations = viewNeed == ViewNeed::Free
+                                    ? std::vector{ParameterizationKind::Paraboloid, ParameterizationKind::Cube, ParameterizationKind::LatLong}
+                                    : std::vector{ParameterizationKind::Sphere, ParameterizationKind::Paraboloid,
+                                                  ParameterizationKind::Cube, ParameterizationKind::LatLong};
+  } else {
+    options.parameterizations = {parameterization};
+  }
+  if (!autoSelect.resolution) options.resolutions = {resolution};
+  if (!autoSelect.samplesPerTexel) options.samplesPerTexel = {samplesPerTexel};
+  return options;
+}
+
+std::shared_ptr<const MapFunction> MapSpec::makeFunction() const {
+  if (environment) {
+    throw Error(Error::Kind::InvalidArgument, jsonPath + ": an environment map is prefiltered from its environment "
+                                                         "(brdfbake bake or prefilter), not baked from a material");
+  }
+  return std::make_shared<MaterialMapFunction>(material, lights, view);
+}
+
+BakeSpec parseBakeSpec(const nlohmann::json& document, const fs::path& baseDirectory, const std::string& label) {
+  try {
+    JsonObjectReader root(document, "");
+    BakeSpec spec;
+    const auto& maps = root.array("maps");
+    if (maps.empty()) throw specError("maps", "must hold at least one map");
+    for (std::size_t i = 0; i < maps.size(); ++i) {
+      spec.maps.push_back(parseMap(maps[i], "maps[" + std::to_string(i) + "]", baseDirectory));
+    }
+    root.finish();
+    for (std::size_t i = 0; i < spec.maps.size(); ++i) {
+      for (std::size_t j = 0; j < i; ++j) {
+        if (samePath(spec.maps[i].output, spec.maps[j].output)) {
+          throw specError(spec.maps[i].jsonPath + ".output", "same file as " + spec.maps[j].jsonPath + ".output");
+        }
+      }
+    }
+    return spec;
+  } catch (const Error& e) {
+    throw Error(e.kind(), label + ": " + e.what());
+  }
+}
+
+BakeSpec loadBakeSpec(const fs::path& file) {
+  const nlohmann::json document = readJsonDocument(file);
+  BakeSpec spec = parseBakeSpec(document, file.parent_path().empty() ? fs::path(".") : file.parent_path(), file.string());
+  spec.file = file;
+  return spec;
+}
+
+}  // namespace brdfbake

@@ -1,0 +1,217 @@
+// MeasuredTable helpers (directions, RGB, mirroring), format detection and the ASTM writer.
+#include <brdfbake/brdf/spectrum.hpp>
+#include <brdfbake/measured/measured_io.hpp>
+
+#include "measured_test_files.hpp"
+#include "test_support.hpp"
+
+#include <cmath>
+
+namespace brdfbake {
+namespace {
+
+using test::rejects;
+using test::writeFile;
+
+// Two incidences (10 and 20 deg), spectral 400..700 nm every 100 nm, constant spectra.
+MeasuredTable smallSpectral() {
+  MeasuredTable table;
+  table.kind = ChannelKind::Spectral;
+  table.wavelengthsNm = {400, 500, 600, 700};
+  table.channelNames = {"400nm", "500nm", "600nm", "700nm"};
+  table.angles = {
+      {radians(10), 0, radians(15), kPi}, {radians(10), 0, 0.0, 0.0}, {radians(20), 0, radians(40), -kPi / 2}};
+  table.values.resize(3, 4);
+  table.values << 0.5, 0.5, 0.5, 0.5,  //
+      1, 2, 3, 4,                      //
+      0.1, 0.2, 0.3, 0.4;
+  table.header = {{"SAMPLE_NAME", "Small"}};
+  return table;
+}
+
+TEST(MeasuredTable, DirectionsFollowTheCornellConvention) {
+  const MeasuredTable table = smallSpectral();
+  const Vec3 wi = table.incidentDirection(0), wo = table.outgoingDirection(0);
+  EXPECT_TRUE(wi.isApprox(Vec3(std::sin(radians(10)), 0, std::cos(radians(10))), 1e-15));
+  // phi_i = 0 and phi_s = pi: the mirror side; equal thetas would be the mirror direction itself.
+  EXPECT_LT(wo.x(), 0.0);
+  EXPECT_TRUE(directionFromAngles(radians(10), kPi).isApprox(reflect<double>(wi, Vec3::UnitZ()), 1e-15));
+  EXPECT_TRUE(table.outgoingDirection(1).isApprox(Vec3::UnitZ(), 1e-15));
+  EXPECT_NEAR(directionFromAngles(0.7, -2.0).norm(), 1.0, 1e-15);
+}
+
+TEST(MeasuredTable, IncidentAnglesAndChannels) {
+  const MeasuredTable table = smallSpectral();
+  EXPECT_EQ(table.incidentThetas(), (std::vector<double>{radians(10), radians(20)}));
+  EXPECT_EQ(table.incidentAngles().size(), 2u);
+  EXPECT_EQ(table.samplesAtIncidentTheta(radians(10)), (std::vector<std::size_t>{0, 1}));
+  EXPECT_EQ(table.channelIndex("600NM"), 2u);
+  EXPECT_FALSE(table.channelIndex("R").has_value());
+}
+
+TEST(MeasuredTable, ToRgbByCie1931) {
+  const MeasuredTable rgb = smallSpectral().toRgb(RgbMethod::Cie1931);
+  EXPECT_EQ(rgb.kind, ChannelKind::Trichromatic);
+  EXPECT_EQ(rgb.channelNames, (std::vector<std::string>{"R", "G", "B"}));
+  EXPECT_TRUE(rgb.wavelengthsNm.empty());
+  ASSERT_EQ(rgb.values.rows(), 3);
+  // A constant spectrum 0.5 gives grey 0.5.
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(rgb.values(0, c), 0.5, 2e-4);
+  // The rising spectrum is reddish, and each row is what spectrumToLinearSrgb gives.
+  EXPECT_GT(rgb.values(1, 0), rgb.values(1, 2));
+  const std::vector<double> grid{400, 500, 600, 700}, rising{1, 2, 3, 4};
+  EXPECT_TRUE(rgb.values.row(1).transpose().isApprox(spectrumToLinearSrgb(grid, rising).matrix(), 1e-12));
+  ASSERT_FALSE(rgb.notes.empty());
+  EXPECT_NE(rgb.notes.back().find("CIE 1931"), std::string::npos);
+}
+
+TEST(MeasuredTable, ToRgbBySingleWavelengthsSaysWhichWereUsed) {
+  const MeasuredTable rgb = smallSpectral().toRgb(RgbMethod::SingleWavelengths);
+  EXPECT_EQ(rgb.values(1, 0), 4.0);  // 700 nm for 750
+  EXPECT_EQ(rgb.values(1, 1), 2.0);  // 500 nm for 550 (ties go to the shorter wavelength)
+  EXPECT_EQ(rgb.values(1, 2), 1.0);  // 400 nm
+  ASSERT_FALSE(rgb.notes.empty());
+  EXPECT_NE(rgb.notes.back().find("R = 700 nm (nearest available to 750 nm)"), std::string::npos) << rgb.notes.back();
+}
+
+TEST(MeasuredTable, ToRgbOfRgbAndMonochrome) {
+  MeasuredTable mono;
+  mono.kind = ChannelKind::Monochrome;
+  mono.channelNames = {"BRDF"};
+  mono.angles = {{0.1, 0, 0.2, 0}};
+  mono.values.resize(1, 1);
+  mono.values << 0.25;
+  const MeasuredTable rgb = mono.toRgb();
+  EXPECT_EQ(rgb.values.cols(), 3);
+  EXPECT_TRUE((rgb.values.array() == 0.25).all());
+  const MeasuredTable again = rgb.toRgb();
+  EXPECT_EQ(again.values, rgb.values);
+  EXPECT_EQ(again.notes, rgb.notes);
+}
+
+TEST(MeasuredTable, RealGarnetRedToRgb) {
+  BRDFBAKE_REQUIRE_SHARED(path, "data/cornell/garnet_red.astm");
+  const MeasuredTable spectral = readAstm(path);
+  const MeasuredTable rgb = spectral.toRgb(RgbMethod::Cie1931);
+  EXPECT_EQ(rgb.size(), 1439u);
+  // The diffuse part of garnet red is red; the highlight (last row, near mirror at 80 deg) is
+  // much brighter and about neutral.
+  EXPECT_GT(rgb.values(0, 0), 2.0 * rgb.values(0, 1));
+  EXPECT_GT(rgb.values(0, 0), 2.0 * rgb.values(0, 2));
+  // Pinned values of this implementation (CIE 1931 / D65 / sRGB): the highlight, and the count of
+  // out-of-gamut (negative) components in the dark, saturated samples.
+  EXPECT_NEAR(rgb.values(1438, 0), 32.6905, 1e-3);
+  EXPECT_NEAR(rgb.values(1438, 1), 29.8562, 1e-3);
+  EXPECT_NEAR(rgb.values(1438, 2), 31.2692, 1e-3);
+  EXPECT_EQ((rgb.values.array() < 0.0).count(), 141);
+  const MeasuredTable single = spectral.toRgb(RgbMethod::SingleWavelengths);
+  EXPECT_EQ(single.values(0, 0), spectral.values(0, 30));
+  EXPECT_EQ(single.values(0, 1), spectral.values(0, 15));
+  EXPECT_EQ(single.values(0, 2), spectral.values(0, 0));
+}
+
+TEST(MeasuredTable, WithMirroredHalf) {
+  const MeasuredTable full = smallSpectral().withMirroredHalf();
+  // Sample 0 (phi_s = pi) and 1 (theta_s = 0) are in the plane of incidence; only 2 is mirrored.
+  ASSERT_EQ(full.size(), 4u);
+  EXPECT_DOUBLE_EQ(full.angles[3].phiOut, kPi / 2);
+  EXPECT_EQ(full.values.row(3), full.values.row(2));
+
+  MeasuredTable tilted = smallSpectral();
+  tilted.angles[0].phiIn = 0.5;
+  EXPECT_TRUE(test::throwsError([&] { tilted.withMirroredHalf(); }, Error::Kind::InvalidArgument, {"phi_i = 0"}));
+}
+
+TEST(MeasuredTable, RealMirroredHalf) {
+  BRDFBAKE_REQUIRE_SHARED(path, "data/cornell/krylon_blue.astm");
+  const MeasuredTable table = readAstm(path);
+  // 72 samples have phi_s = pi and 53 phi_s = 0 (the 7 at theta_s = 0 among them): 1439 - 125 = 1314 mirrored.
+  EXPECT_EQ(table.withMirroredHalf().size(), 1439u + 1314u);
+}
+
+TEST(MeasuredTable, ValidateCatchesInconsistentTables) {
+  MeasuredTable table = smallSpectral();
+  table.values(2, 1) = std::nan("");
+  EXPECT_TRUE(rejects([&] { table.validate(); }, {"non-finite"}));
+  table = smallSpectral();
+  table.wavelengthsNm.pop_back();
+  EXPECT_TRUE(rejects([&] { table.validate(); }, {"3 wavelengths for 4 channels"}));
+  table = smallSpectral();
+  table.angles[0].thetaOut = 2.0;
+  EXPECT_TRUE(rejects([&] { table.validate(); }, {"sample 0: theta_s = 2 is outside"}));
+}
+
+TEST(MeasuredIo, FormatNames) {
+  for (TableFormat f : {TableFormat::Auto, TableFormat::Astm, TableFormat::Pbrt, TableFormat::Merl, TableFormat::Mat})
+    EXPECT_EQ(parseTableFormat(tableFormatName(f)), f);
+  EXPECT_EQ(parseTableFormat("ASTM"), TableFormat::Astm);
+  EXPECT_FALSE(parseTableFormat("csv").has_value());
+}
+
+TEST(MeasuredIo, DetectsTextFormatsByContent) {
+  test::TempDir dir;
+  writeFile(dir / "a.txt", "\n\nSAMPLE_NAME x\nVARS theta_i,phi_i,theta_s,phi_s,R,G,B\n0.1,0,0.2,0,1,1,1\n");
+  writeFile(dir / "b.txt", "# comment\r\n\r\n2\r\n400 500\r\n0.1 0 0.2 0 1 1\r\n");
+  writeFile(dir / "c.txt", "2\n400 500\n0.1 0 0.2 0 1 1\n");
+  writeFile(dir / "d.txt", "hello world\n");
+  writeFile(dir / "e.txt", "");
+  EXPECT_EQ(detectTableFormat(dir / "a.txt"), TableFormat::Astm);
+  EXPECT_EQ(detectTableFormat(dir / "b.txt"), TableFormat::Pbrt);
+  EXPECT_EQ(detectTableFormat(dir / "c.txt"), TableFormat::Pbrt);
+  EXPECT_EQ(readMeasuredTable(dir / "a.txt").format, TableFormat::Astm);
+  EXPECT_EQ(readMeasuredTable(dir / "b.txt").size(), 1u);
+  EXPECT_TRUE(
+      rejects([&] { detectTableFormat(dir / "d.txt"); }, {(dir / "d.txt").string(), "cannot tell the table format"}));
+  EXPECT_TRUE(rejects([&] { detectTableFormat(dir / "e.txt"); }, {"cannot tell the table format"}));
+  EXPECT_TRUE(test::throwsError([&] { readMeasuredTable(dir / "a.txt", TableFormat::Merl); },
+                                Error::Kind::InvalidArgument, {"readMerl"}));
+}
+
+TEST(MeasuredIo, DetectsTheRealFiles) {
+  BRDFBAKE_REQUIRE_SHARED(astm, "data/cornell/garnet_red_RGB.astm");
+  BRDFBAKE_REQUIRE_SHARED(brdf, "data/cornell/krylon_blue.brdf");
+  EXPECT_EQ(detectTableFormat(astm), TableFormat::Astm);
+  EXPECT_EQ(detectTableFormat(brdf), TableFormat::Pbrt);
+}
+
+TEST(WriteAstm, RoundTripsExactly) {
+  test::TempDir dir;
+  MeasuredTable table = smallSpectral();
+  table.values(2, 3) = 1.0 / 3.0;  // needs all 17 digits
+  writeAstm(dir / "w.astm", table);
+  const MeasuredTable back = readAstm(dir / "w.astm");
+  EXPECT_EQ(back.values, table.values);
+  EXPECT_EQ(back.wavelengthsNm, table.wavelengthsNm);
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    EXPECT_EQ(back.angles[i].thetaIn, table.angles[i].thetaIn);
+    EXPECT_EQ(back.angles[i].phiOut, table.angles[i].phiOut);
+  }
+  EXPECT_EQ(back.header.front(), (std::pair<std::string, std::string>{"SAMPLE_NAME", "Small"}));
+  EXPECT_EQ(detectTableFormat(dir / "w.astm"), TableFormat::Astm);
+
+  const MeasuredTable rgb = table.toRgb();
+  writeAstm(dir / "rgb.astm", rgb);
+  EXPECT_EQ(readAstm(dir / "rgb.astm").values, rgb.values);
+}
+
+TEST(WriteAstm, RoundTripsTheRealFile) {
+  BRDFBAKE_REQUIRE_SHARED(path, "data/cornell/garnet_red_RGB.astm");
+  test::TempDir dir;
+  const MeasuredTable table = readAstm(path);
+  writeAstm(dir / "copy.astm", table);
+  const MeasuredTable back = readAstm(dir / "copy.astm");
+  EXPECT_EQ(back.values, table.values);
+  EXPECT_EQ(back.size(), 1439u);
+  EXPECT_EQ(back.header.size(), table.header.size());
+}
+
+TEST(WriteAstm, RefusesInvalidTables) {
+  test::TempDir dir;
+  MeasuredTable table = smallSpectral();
+  table.channelNames.pop_back();
+  EXPECT_TRUE(rejects([&] { writeAstm(dir / "x.astm", table); }, {"3 channel names for 4 channels"}));
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.astm"));
+}
+
+}  // namespace
+}  // namespace brdfbake

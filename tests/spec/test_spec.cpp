@@ -1,0 +1,180 @@
+// Bake specs: valid specs parse; every bad spec gets an error naming the JSON path.
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/spec/spec.hpp>
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "test_support.hpp"
+
+namespace brdfbake {
+namespace {
+
+using nlohmann::json;
+
+json validMap() {
+  return {{"output", "a.exr"},
+          {"parameterization", "sphere"},
+          {"resolution", 64},
+          {"samples_per_texel", 4},
+          {"material", {{"model", "phong"}, {"specular", {1, 1, 1}}, {"exponent", 50}}},
+          {"lights", {{{"direction", "eye"}, {"color", {1, 1, 1}}}}}};
+}
+
+std::string errorFor(const json& document) {
+  try {
+    parseBakeSpec(document, "/base", "spec.json");
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), Error::Kind::InvalidInput) << e.what();
+    return e.what();
+  }
+  return "(no error)";
+}
+
+json withMap(const std::function<void(json&)>& edit) {
+  json map = validMap();
+  edit(map);
+  return {{"maps", {map}}};
+}
+
+TEST(Spec, ParsesAValidSpec) {
+  const BakeSpec spec = parseBakeSpec({{"maps", {validMap()}}}, "/base", "spec.json");
+  ASSERT_EQ(spec.maps.size(), 1u);
+  const MapSpec& map = spec.maps[0];
+  EXPECT_EQ(map.output, std::filesystem::path("/base/a.exr"));
+  EXPECT_EQ(map.resolution, 64);
+  EXPECT_EQ(map.samplesPerTexel, 4);
+  ASSERT_EQ(map.lights.size(), 1u);
+  EXPECT_EQ(map.lights[0].direction, Vec3::UnitZ());  // "eye" is the view vector
+  EXPECT_EQ(map.material->model(), "phong");
+}
+
+TEST(Spec, NamesTheJsonPathOfEveryError) {
+  struct Case {
+    std::function<void(json&)> edit;
+    std::string expected;
+  };
+  const std::vector<Case> cases{
+      {[](json& m) { m["material"]["exponent"] = -3; }, "spec.json: maps[0].material.exponent: must be > 0, got -3"},
+      {[](json& m) { m["material"]["exponent"] = "high"; }, "maps[0].material.exponent: must be a number"},
+      {[](json& m) { m["material"]["shininess"] = 3; }, "maps[0].material.shininess: unknown key"},
+      {[](json& m) { m["colour"] = 3; }, "maps[0].colour: unknown key"},
+      {[](json& m) { m["material"]["model"] = "lambertian"; }, "maps[0].material.model: unknown model 'lambertian'"},
+      {[](json& m) { m["parameterization"] = "spherical"; }, "maps[0].parameterization: unknown parameterization"},
+      {[](json& m) { m["resolution"] = 0; }, "maps[0].resolution: must be in [1, 65536], got 0"},
+      {[](json& m) { m["resolution"] = 12.5; }, "maps[0].resolution: must be an integer"},
+      {[](json& m) { m["samples_per_texel"] = 0; }, "maps[0].samples_per_texel: must be in [1, 4096]"},
+      {[](json& m) { m["output"] = "a.jpg"; }, "maps[0].output: "},
+      {[](json& m) { m.erase("output"); }, "maps[0].output: required"},
+      {[](json& m) { m["lights"][0]["direction"] = {0, 0, 0}; }, "maps[0].lights[0].direction: must be a non-zero vector"},
+      {[](json& m) { m["lights"][0]["direction"] = "sun"; }, "maps[0].lights[0].direction: must be \"eye\" or [x, y, z]"},
+      {[](json& m) { m["lights"][0]["color"] = {1, -1, 1}; }, "maps[0].lights[0].color: must be >= 0"},
+      {[](json& m) { m["lights"][0]["color"] = {1, 1}; }, "maps[0].lights[0].color: must be [r, g, b]"},
+      {[](json& m) { m["lights"] = json::array(); }, "maps[0].lights: phong needs at least one light"},
+      {[](json& m) { m["view"] = {0, 0, 1}; }, "maps[0].view: sphere maps live in eye space"},
+      {[](json& m) { m["layout"] = "faces"; }, "maps[0].layout: only applies to cube maps"},
+      {[](json& m) {
+         m["parameterization"] = "paraboloid";
+       },
+       "maps[0]: phong lit from the eye depends on the view direction"},
+      {[](json& m) {
+         m["material"] = {{"model", "blinn_phong"}, {"exponent", 10}, {"phong_exponent", 3}};
+       },
+       "maps[0].material: give either \"exponent\""},
+      {[](json& m) {
+         m["material"] = {{"model", "blinn_phong"}, {"phong_exponent", 10}, {"conversion", "5n"}};
+       },
+       "maps[0].material.conversion: unknown conversion '5n'"},
+  };
+  for (const auto& c : cases) {
+    const std::string message = errorFor(withMap(c.edit));
+    EXPECT_NE(message.find(c.expected), std::string::npos) << "got: " << message << "\nexpected: " << c.expected;
+  }
+  EXPECT_NE(errorFor({{"maps", json::array()}}).find("maps: must hold at least one map"), std::string::npos);
+  EXPECT_NE(errorFor({{"map", json::array()}}).find("maps: required"), std::string::npos);
+  EXPECT_NE(errorFor(json::array()).find("(root): must be an object"), std::string::npos);
+  EXPECT_NE(errorFor({{"maps", {validMap(), validMap()}}}).find("maps[1].output: same file as maps[0].output"), std::string::npos);
+}
+
+TEST(Spec, AViewMakesViewDependentMaterialsValidInOtherMaps) {
+  json document = withMap([](json& m) {
+    m["parameterization"] = "paraboloid";
+    m["view"] = {0, 0, 2};
+  });
+  const BakeSpec spec = parseBakeSpec(document, "/b");
+  EXPECT_TRUE(spec.maps[0].viewGiven);
+  EXPECT_EQ(spec.maps[0].view, Vec3::UnitZ());
+}
+
+TEST(Spec, AutoValuesNeedATargetAndAViewThatFits) {
+  const auto autoMap = [](json& m) {
+    m["parameterization"] = "auto";
+    m["resolution"] = "auto";
+    m["samples_per_texel"] = "auto";
+    m["max_error"] = 0.01;
+    m["lights"] = {{{"direction", {1, 1, 1}}}};
+  };
+  const BakeSpec spec = parseBakeSpec(withMap(autoMap), "/b");
+  ASSERT_TRUE(spec.maps[0].anyAuto());
+  const AutoOptions options = spec.maps[0].autoOptions();
+  EXPECT_EQ(options.parameterizations.size(), 4u);  // fixed view (default): sphere is a candidate
+  EXPECT_EQ(options.maxError, 0.01);
+  const BakeSpec free = parseBakeSpec(withMap([&](json& m) { autoMap(m); m["view"] = "free"; }), "/b");
+  const auto freeKinds = free.maps[0].autoOptions().parameterizations;
+  EXPECT_EQ(std::count(freeKinds.begin(), freeKinds.end(), ParameterizationKind::Sphere), 0);
+  EXPECT_EQ(freeKinds.size(), 3u);
+
+  struct Case {
+    std::function<void(json&)> edit;
+    std::string expected;
+  };
+  const std::vector<Case> cases{
+      {[&](json& m) { autoMap(m); m.erase("max_error"); }, "maps[0].max_error: required with \"auto\" values"},
+      {[&](json& m) { autoMap(m); m["max_error"] = 0; }, "maps[0].max_error: must be > 0"},
+      {[&](json& m) { autoMap(m); m["max_error"] = 1.5; }, "maps[0].max_error: must be <= 1"},
+      {[](json& m) { m["max_error"] = 0.01; }, "maps[0].max_error: only applies when"},
+      {[](json& m) { m["resolution"] = "big"; }, "maps[0].resolution: must be an integer"},
+      {[&](json& m) { autoMap(m); m["view"] = "moving"; }, "maps[0].view: must be \"fixed\", \"free\" or [x, y, z]"},
+      {[&](json& m) { autoMap(m); m["view"] = {0, 0, 1}; }, "maps[0].view: with \"parameterization\": \"auto\" give"},
+      {[](json& m) { m["view"] = "free"; }, "maps[0].view: a sphere map holds one view"},
+      {[&](json& m) { autoMap(m); m["view"] = "free"; m["lights"] = {{{"direction", "eye"}}}; },
+       "maps[0].view: phong lit from the eye depends on the view direction, so no environment map can serve a free view"},
+  };
+  for (const auto& c : cases) {
+    const std::string message = errorFor(withMap(c.edit));
+    EXPECT_NE(message.find(c.expected), std::string::npos) << "got: " << message << "\nexpected: " << c.expected;
+  }
+}
+
+TEST(Spec, FileErrorsNameFileLineAndColumn) {
+  test::TempDir dir;
+  const auto path = dir / "broken.json";
+  std::ofstream(path) << "{\n  \"maps\": [\n    {\"output\": \"a.exr\",,}\n  ]\n}\n";
+  try {
+    loadBakeSpec(path);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(path.string() + ":3:"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(loadBakeSpec(dir / "absent.json"), Error);
+}
+
+TEST(Spec, RelativeOutputsResolveAgainstTheSpecFolder) {
+  test::TempDir dir;
+  std::ofstream(dir / "s.json") << json{{"maps", {validMap()}}}.dump();
+  const BakeSpec spec = loadBakeSpec(dir / "s.json");
+  EXPECT_EQ(spec.maps[0].output, dir.path() / "a.exr");
+}
+
+TEST(Spec, EverySampleSpecParses) {
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(test::sourcePath("data_samples/specs"))) {
+    if (entry.path().extension() != ".json") continue;
+    EXPECT_NO_THROW(loadBakeSpec(entry.path())) << entry.path();
+    ++count;
+  }
+  EXPECT_GE(count, 1);
+}
+
+}  // namespace
+}  // namespace brdfbake
