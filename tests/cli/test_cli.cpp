@@ -278,7 +278,58 @@ TEST(Cli, InterpolationChartsBothSchemesAndTheSeedLine) {
   EXPECT_TRUE(fs::exists(dir / "i_line.png"));
   const auto report = nlohmann::json::parse(result.output);
   EXPECT_EQ(report["sweep"].size(), 3u);
-  EXPECT_GT(report["line"]["max_error_degrees"].get<double>(), 0.0);
+  // Seed 001's line, by hand: viewer e = (-8.3, 1, 0) over the plane y = 0 (normal +y), one
+  // segment from x = -10 to 10. In the x-y plane the reflected view at x is r(x) = (x - e_x,
+  // e_y) / |.|; the lookup interpolates r(-10) and r(10) linearly. The largest angle between the
+  // two over the 4001 points x_i = -10 + 20 i / 4000:
+  auto r = [](double x) { return Vec2(x + 8.3, 1.0).normalized(); };
+  double worst = 0.0, worstAt = 0.0;
+  for (int i = 0; i <= 4000; ++i) {
+    const double x = -10.0 + 20.0 * i / 4000.0, t = (x + 10.0) / 20.0;
+    const Vec2 lerp = (1.0 - t) * r(-10.0) + t * r(10.0), exact = r(x);
+    const double angle = degrees(std::atan2(std::abs(lerp.x() * exact.y() - lerp.y() * exact.x()), lerp.dot(exact)));
+    if (angle > worst) worst = angle, worstAt = x;
+  }
+  EXPECT_GT(worst, 10.0);  // the seed's point: one polygon is far too coarse here
+  EXPECT_NEAR(report["line"]["max_error_degrees"].get<double>(), worst, 1e-9);
+  EXPECT_NEAR(report["line"]["at_x"].get<double>(), worstAt, 1e-9);
+  // One sweep point by brute force: triangles of normals 2 degrees apart centred on the view axis
+  // (place 0). Per-vertex reflected vectors r_v = 2 n_z n - z, interpolated, against the reflected
+  // vector of the normalised interpolated normal; sphere-map coordinates (s, t) = r_xy / (2
+  // sqrt(2 (1 + r_z))) + 1/2 interpolated and turned back into the direction whose normal has
+  // xy = 2 (s, t) - 1. Worst over 24 x 24 barycentric steps and the 12 orientations (10 degree
+  // steps, the triangle's symmetry repeats every 120) the sweep takes.
+  auto angleBetween = [](const Vec3& a, const Vec3& b) { return degrees(std::atan2(a.cross(b).norm(), a.dot(b))); };
+  auto reflectView = [](const Vec3& n) { return Vec3(2.0 * n.z() * n - Vec3::UnitZ()); };
+  double worstSphere = 0.0, worstVector = 0.0;
+  const double radius = radians(2.0) / std::sqrt(3.0);
+  for (int k = 0; k < 12; ++k) {
+    Vec3 normals[3], reflected[3];
+    Vec2 st[3];
+    for (int v = 0; v < 3; ++v) {
+      const double phi = kTwoPi * (k / 36.0 + v / 3.0);
+      // Centre +z; u = +y, w = centre x u = -x.
+      normals[v] = Vec3(-std::sin(radius) * std::sin(phi), std::sin(radius) * std::cos(phi), std::cos(radius));
+      reflected[v] = reflectView(normals[v]);
+      st[v] = reflected[v].head<2>() / (2.0 * std::sqrt(2.0 * (1.0 + reflected[v].z()))) + Vec2(0.5, 0.5);
+    }
+    for (int i = 0; i <= 24; ++i)
+      for (int j = 0; i + j <= 24; ++j) {
+        const double a = i / 24.0, b = j / 24.0, c = 1.0 - a - b;
+        const Vec3 exact = reflectView((a * normals[0] + b * normals[1] + c * normals[2]).normalized());
+        worstVector = std::max(worstVector, angleBetween(a * reflected[0] + b * reflected[1] + c * reflected[2], exact));
+        const Vec2 xy = 2.0 * (a * st[0] + b * st[1] + c * st[2]) - Vec2(1.0, 1.0);
+        const Vec3 n(xy.x(), xy.y(), std::sqrt(std::max(0.0, 1.0 - xy.squaredNorm())));
+        worstSphere = std::max(worstSphere, angleBetween(reflectView(n), exact));
+      }
+  }
+  const auto& first = report["sweep"][0];
+  EXPECT_EQ(first["size_degrees"], 2.0);
+  EXPECT_EQ(first["place_degrees"], 0.0);
+  EXPECT_GT(worstSphere, 0.0);
+  EXPECT_GT(worstVector, 0.0);
+  EXPECT_NEAR(first["sphere_map_error_degrees"].get<double>(), worstSphere, 1e-6 * worstSphere + 1e-9);
+  EXPECT_NEAR(first["reflected_vector_error_degrees"].get<double>(), worstVector, 1e-6 * worstVector + 1e-9);
   EXPECT_EQ(runCli("interpolation -o " + q(dir / "j.png") + " --sizes 0").exitCode, 2);
   EXPECT_EQ(runCli("interpolation -o " + q(dir / "j.png") + " --places 95").exitCode, 2);
   EXPECT_EQ(runCli("interpolation -o " + q(dir / "j.gif")).exitCode, 2);
