@@ -47,16 +47,40 @@ TEST(Cli, BakeAndSampleMatchTheAnalyticLobes) {
 }
 
 TEST(Cli, BakeJsonReportsSecondsPerMap) {
+  // phong_eye.json: a 256 sphere map (256 x 256 texels) and a 256 paraboloid map (two discs side
+  // by side, 512 x 256).
   test::TempDir dir;
+  const auto start = std::chrono::steady_clock::now();
   const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " -o " + q(dir.path()) + " --json");
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto report = nlohmann::json::parse(result.output);
   ASSERT_EQ(report["maps"].size(), 2u);
-  for (const auto& map : report["maps"]) {
-    EXPECT_GT(map["bake_seconds"].get<double>(), 0.0);
-    EXPECT_GT(map["write_seconds"].get<double>(), 0.0);
-    EXPECT_TRUE(fs::exists(map["output"].get<std::string>()));
+  const struct {
+    const char *file, *parameterization;
+    int width, height;
+  } expected[2] = {{"phong_eye.exr", "sphere", 256, 256}, {"phong_paraboloid.exr", "paraboloid", 512, 256}};
+  double total = 0.0;
+  for (int i = 0; i < 2; ++i) {
+    const auto& map = report["maps"][i];
+    EXPECT_EQ(map["status"], "written");
+    EXPECT_EQ(fs::path(map["output"].get<std::string>()), dir / expected[i].file);
+    EXPECT_EQ(map["parameterization"], expected[i].parameterization);
+    EXPECT_EQ(map["resolution"], 256);
+    EXPECT_EQ(map["width"], expected[i].width);
+    EXPECT_EQ(map["height"], expected[i].height);
+    // Every file listed exists and holds an image of the reported size.
+    ASSERT_EQ(map["files"].size(), 1u) << map.dump();
+    const Image image = readImage(map["files"][0].get<std::string>());
+    EXPECT_EQ(image.width(), expected[i].width);
+    EXPECT_EQ(image.height(), expected[i].height);
+    const double bake = map["bake_seconds"].get<double>(), write = map["write_seconds"].get<double>();
+    EXPECT_GT(bake, 0.0);
+    EXPECT_GT(write, 0.0);
+    total += bake + write;
   }
+  // The times are spent within the command: together no more than the wall time it took.
+  EXPECT_LT(total, wall) << "bake + write " << total << " s, command " << wall << " s";
 }
 
 TEST(Cli, InfoReportsTheSpec) {
