@@ -5,6 +5,8 @@
 #include <brdfbake/core/version.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 
 #include "test_support.hpp"
@@ -37,12 +39,42 @@ TEST(ImageIo, ExrRoundTripsFloatRgbaAndMetadata) {
   EXPECT_FALSE(fs::exists(dir.path() / "map.exr.json"));  // OpenEXR holds the metadata itself
 }
 
+// The sRGB transfer curve (IEC 61966-2-1), typed out.
+double srgbEncode(double v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055; }
+
 TEST(ImageIo, EveryFormatKeepsItsMetadata) {
   test::TempDir dir;
+  const Image image = gradient(8, 8);
   for (const std::string name : {"m.hdr", "m.tif", "m.png"}) {
-    const auto report = writeMap(gradient(8, 8), sphereInfo(8), dir / name);
+    const auto report = writeMap(image, sphereInfo(8), dir / name);
     const MapFile file = readMap(dir / name);
     EXPECT_EQ(file.info.resolution, 8) << name;
+    EXPECT_EQ(file.info.spec["material"]["model"], "phong") << name;
+    ASSERT_EQ(file.image.width(), 8);
+    ASSERT_EQ(file.image.height(), 8);
+    // Every texel back within the format's precision.
+    for (int y = 0; y < 8; ++y)
+      for (int x = 0; x < 8; ++x) {
+        const Rgba written = image.at(x, y), read = file.image.at(x, y);
+        SCOPED_TRACE(name + " texel " + std::to_string(x) + "," + std::to_string(y));
+        if (name == "m.tif") {
+          // 32-bit float TIFF: exact, alpha included.
+          for (int c = 0; c < 4; ++c) EXPECT_EQ(read[c], written[c]) << c;
+        } else if (name == "m.hdr") {
+          // RGBE: an 8-bit mantissa per channel and an exponent shared with the largest (here 2.5,
+          // exponent 2): each channel within one mantissa step, 2^2 / 256 <= max / 128. No alpha.
+          const double step = written.head<3>().maxCoeff() / 128.0;
+          for (int c = 0; c < 3; ++c) EXPECT_NEAR(read[c], written[c], step) << c;
+          EXPECT_EQ(read[3], 1.0f);
+        } else {
+          // 8-bit sRGB: clamped to [0, 1], then within half a code of the sRGB curve.
+          for (int c = 0; c < 3; ++c) {
+            const double clamped = std::clamp(double(written[c]), 0.0, 1.0);
+            EXPECT_NEAR(srgbEncode(read[c]), srgbEncode(clamped), 0.5 / 255.0 + 1e-6) << c;
+          }
+          EXPECT_EQ(read[3], written[3]);  // 0 or 1: exact in 8 bits
+        }
+      }
     if (name == "m.png") {
       ASSERT_FALSE(report.notes.empty());
       EXPECT_NE(report.notes[0].find("sRGB"), std::string::npos);

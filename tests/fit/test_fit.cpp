@@ -67,6 +67,31 @@ double blendByHand(const std::vector<double>& p, double u, double minCos, double
   return std::pow(p[0], (1 - t) * (1 - t)) * std::pow(p[1], 2 * t * (1 - t)) * std::pow(p[2], t * t);
 }
 
+// A direction from Cornell angles typed out: (sin theta cos phi, sin theta sin phi, cos theta).
+Vec3 directionByHand(double theta, double phi) {
+  return Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
+}
+
+// The whole model of one channel typed out (brdf/lobes.hpp): k_d / pi + sum_k C_k(u) (n_k(u) + 2)
+// / (2 pi) max(0, r_v . wi)^n_k(u), r_v = wo mirrored about +z, u = wo.z; 0 below the horizon.
+double modelByHand(const LobeModel& m, std::size_t c, const Vec3& wi, const Vec3& wo) {
+  if (wi.z() <= 0.0 || wo.z() <= 0.0) return 0.0;
+  const Vec3 rv(-wo.x(), -wo.y(), wo.z());
+  double value = m.channels[c].diffuse / kPi;
+  for (const auto& lobe : m.channels[c].lobes) {
+    const bool varying = m.elevation == LobeElevation::Varying;
+    const double u = std::max(wo.z(), m.minCos);
+    const double weight = varying ? blendByHand(lobe.weight, u, m.minCos, m.maxCos) : lobe.weight[0];
+    const double exponent = varying ? blendByHand(lobe.exponent, u, m.minCos, m.maxCos) : lobe.exponent[0];
+    value += phongLobeByHand(weight, exponent, rv.dot(wi));
+  }
+  return value;
+}
+
+double modelByHand(const LobeModel& m, std::size_t c, const SampleAngles& a) {
+  return modelByHand(m, c, directionByHand(a.thetaIn, a.phiIn), directionByHand(a.thetaOut, a.phiOut));
+}
+
 TEST(LobeFormula, MatchesTheFormulaTypedOut) {
   const LobeModel m = constantModel();
   std::mt19937 rng(3);
@@ -169,7 +194,8 @@ TEST(SyntheticTable, IsTheModelWithRelativeNoise) {
   for (std::size_t i = 0; i < clean.size(); ++i) {
     for (Eigen::Index c = 0; c < 3; ++c) {
       const double v = clean.values(static_cast<Eigen::Index>(i), c);
-      EXPECT_NEAR(v, constantModel().evaluate(static_cast<std::size_t>(c), clean.incidentDirection(i), clean.outgoingDirection(i)), 1e-12);
+      const double expected = modelByHand(constantModel(), static_cast<std::size_t>(c), clean.angles[i]);
+      EXPECT_NEAR(v, expected, 1e-12 * std::max(1.0, expected));
       const double ratio = noisy.values(static_cast<Eigen::Index>(i), c) / v - 1.0;
       sum += ratio, sumSquares += ratio * ratio, ++count;
     }
@@ -228,8 +254,30 @@ TEST(LobeFit, RecoversKnownVaryingLobesFromANoisyCornellTable) {
 TEST(LobeFit, AutoElevationPrefersVaryingOnlyWhenTheDataVaries) {
   FitOptions options;
   options.lobes = 1;
+  // The rule (FitOptions::elevationMargin, 10 %): varying lobes are kept only if their error is
+  // below 0.9 times the constant lobes'. Checked on the candidates' errors.
+  auto errorOf = [](const FitResult& fit, LobeElevation elevation) {
+    for (const auto& candidate : fit.candidates)
+      if (candidate.lobes == 1 && candidate.elevation == elevation) return candidate.error;
+    ADD_FAILURE() << "no 1-lobe " << toString(elevation) << " candidate:\n" << fit.briefReport();
+    return 0.0;
+  };
   const FitResult varying = fitLobes(makeSyntheticTable(varyingModel(), 0.01, 5), options);
   EXPECT_EQ(varying.model.elevation, LobeElevation::Varying) << varying.briefReport();
+  EXPECT_LT(errorOf(varying, LobeElevation::Varying), 0.9 * errorOf(varying, LobeElevation::Constant));
+  // Data from constant lobes (one per channel, 1 % noise): the fit stays constant and recovers them.
+  LobeModel constant;
+  constant.channels = {{"R", 0.15, {{{0.50}, {80.0}}}}, {"G", 0.10, {{{0.40}, {120.0}}}}, {"B", 0.05, {{{0.60}, {60.0}}}}};
+  const FitResult flat = fitLobes(makeSyntheticTable(constant, 0.01, 6), options);
+  ASSERT_TRUE(flat.usable()) << flat.briefReport();
+  EXPECT_EQ(flat.model.elevation, LobeElevation::Constant) << flat.briefReport();
+  EXPECT_GT(errorOf(flat, LobeElevation::Varying), 0.9 * errorOf(flat, LobeElevation::Constant));
+  for (std::size_t c = 0; c < 3; ++c) {
+    EXPECT_NEAR(flat.model.channels[c].lobes[0].weight[0], constant.channels[c].lobes[0].weight[0],
+                0.02 * constant.channels[c].lobes[0].weight[0]);
+    EXPECT_NEAR(flat.model.channels[c].lobes[0].exponent[0], constant.channels[c].lobes[0].exponent[0],
+                0.05 * constant.channels[c].lobes[0].exponent[0]);
+  }
 }
 
 TEST(LobeFit, OptionsAreValidatedBeforeWork) {
@@ -278,9 +326,26 @@ TEST(LobeFitDegenerate, OneIncidentAngleFits) {
   }
   const FitResult fit = fitLobes(table);
   ASSERT_TRUE(fit.usable()) << fit.briefReport();
-  for (const auto& c : fit.channels) {
-    EXPECT_TRUE(std::isfinite(c.logRmse));
-    EXPECT_LT(c.logRmse, 0.05) << c.name;  // the samples it saw are fitted to about the noise
+  // The noise level in the metric of logRmse: the RMS over these samples of ln((cos theta_i f_noisy
+  // + d) / (cos theta_i f_true + d)), d = 1e-3 1/sr, i.e. the logRmse the true model itself has here
+  // (about 1 %, the noise). A least-squares fit of the samples it saw beats that only by what its
+  // parameters absorb, a factor of about sqrt(1 - p / N) = 0.98 for p ~ 5 parameters and N ~ 180
+  // samples, and it minimises cube-root residuals rather than log ones: within 10 % of the noise
+  // (0.96 to 1.00 of it here).
+  const MeasuredTable clean = makeSyntheticTable(constantModel(), 0.0, 3);
+  for (std::size_t c = 0; c < 3; ++c) {
+    double sum = 0.0;
+    for (std::size_t j = 0; j < rows.size(); ++j) {
+      const double cosIn = std::cos(full.angles[rows[j]].thetaIn), d = 1e-3;
+      const double noisy = full.values(static_cast<Eigen::Index>(rows[j]), static_cast<Eigen::Index>(c));
+      const double truth = clean.values(static_cast<Eigen::Index>(rows[j]), static_cast<Eigen::Index>(c));
+      sum += std::pow(std::log((cosIn * std::max(noisy, 0.0) + d) / (cosIn * truth + d)), 2);
+    }
+    const double noise = std::sqrt(sum / rows.size());
+    EXPECT_GT(noise, 0.008) << c;
+    EXPECT_LT(noise, 0.012) << c;
+    EXPECT_LT(fit.channels[c].logRmse, 1.1 * noise) << fit.channels[c].name << "\n" << fit.briefReport();
+    EXPECT_GT(fit.channels[c].logRmse, 0.9 * noise) << fit.channels[c].name << "\n" << fit.briefReport();
   }
 }
 
@@ -298,10 +363,14 @@ TEST(LobeFitDegenerate, ThreeSamplesFitOneConstantLobeAndTwoAreRefused) {
   const FitResult fit = fitLobes(table);
   EXPECT_EQ(fit.model.channels[0].lobes.size(), 1u);
   EXPECT_EQ(fit.model.elevation, LobeElevation::Constant);
-  for (const auto& c : fit.model.channels) {
-    EXPECT_TRUE(std::isfinite(c.diffuse));
-    EXPECT_TRUE(std::isfinite(c.lobes[0].exponent[0]));
-  }
+  // Three parameters per channel (k_d, C, n) for three noise-free samples: the fitted model, typed
+  // out, passes through them (to 3e-10 here; 1e-6 leaves room for the solver's tolerance).
+  for (std::size_t c = 0; c < 3; ++c)
+    for (int j = 0; j < 3; ++j) {
+      const double measured = table.values(j, static_cast<Eigen::Index>(c));
+      EXPECT_NEAR(modelByHand(fit.model, c, table.angles[static_cast<std::size_t>(j)]), measured, 1e-6 * measured)
+          << "channel " << c << " sample " << j << "\n" << fit.briefReport();
+    }
   // Asking for more than three samples can determine is an error, not a silent fallback.
   FitOptions options;
   options.lobes = 2;
@@ -531,8 +600,36 @@ TEST(SpecMaterials, LobesAndMeasuredBakeIntoSphereMaps) {
       }
     }
   }
-  const Image lit = bake(*makeParameterization(ParameterizationKind::Paraboloid, 32), *parsed.maps[2].makeFunction(), options);
-  EXPECT_TRUE(imageIsFinite(lit));
+  // Lighting mode, view +z, one white light l: texel r holds f(l, v) max(0, n.l) with n =
+  // normalize(r + v), u = n.v and, in the frame of n, r_v = r: k_d / pi + sum_k C_k(u) (n_k(u) + 2)
+  // / (2 pi) max(0, r.l)^n_k(u) (typed out), times n.l.
+  const auto paraboloid = makeParameterization(ParameterizationKind::Paraboloid, 32);
+  const Image lit = bake(*paraboloid, *parsed.maps[2].makeFunction(), options);
+  const LobeModel truth = varyingModel();
+  const Vec3 light = Vec3(0.3, 0.2, 1.0).normalized();
+  int checked = 0;
+  for (int y = 0; y < lit.height(); ++y)
+    for (int x = 0; x < lit.width(); ++x) {
+      if (paraboloid->texelCoverage(x, y) < 1.0) continue;
+      const Vec3 r = *paraboloid->getDirectionFor(Vec2(x + 0.5, y + 0.5));
+      const Vec3 n = (r + Vec3::UnitZ()).normalized();
+      const double u = n.z(), nl = n.dot(light);
+      for (std::size_t c = 0; c < 3; ++c) {
+        double expected = 0.0;
+        if (nl > 0.0) {
+          expected = truth.channels[c].diffuse / kPi;
+          for (const auto& lobe : truth.channels[c].lobes) {
+            const double uc = std::max(u, truth.minCos);
+            expected += phongLobeByHand(blendByHand(lobe.weight, uc, truth.minCos, truth.maxCos),
+                                        blendByHand(lobe.exponent, uc, truth.minCos, truth.maxCos), r.dot(light));
+          }
+          expected *= nl;
+        }
+        EXPECT_NEAR(lit.at(x, y)[static_cast<int>(c)], expected, 1e-5 * (1.0 + expected)) << "texel " << x << "," << y << " channel " << c;
+      }
+      ++checked;
+    }
+  EXPECT_GT(checked, 1000);
 }
 
 TEST(SpecMaterials, ErrorsNameTheJsonPath) {
@@ -614,6 +711,22 @@ TEST(RealTableSpectral, EveryWavelengthFits) {
   ASSERT_EQ(fit.channels.size(), 31u);
   EXPECT_EQ(fit.model.wavelengthsNm, table.wavelengthsNm);
   std::cout << fit.briefReport();
+  // Held-in error per wavelength, the fitted model typed out against every sample of the table:
+  // the RMS of cos theta_i (f_fit - f_measured) is what the fit reports, and under 4 % of the
+  // brightest cos theta_i f of that wavelength (measured: 0.5 to 0.8 % from 410 to 510 nm, 2.7 to
+  // 3.0 % at 400 nm and from 520 nm on).
+  for (std::size_t c = 0; c < 31; ++c) {
+    double sum = 0.0, peak = 0.0;
+    for (std::size_t i = 0; i < table.size(); ++i) {
+      const double cosIn = std::cos(table.angles[i].thetaIn);
+      const double measured = table.values(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(c));
+      sum += std::pow(cosIn * (modelByHand(fit.model, c, table.angles[i]) - measured), 2);
+      peak = std::max(peak, cosIn * measured);
+    }
+    const double rms = std::sqrt(sum / table.size());
+    EXPECT_NEAR(fit.channels[c].rmsCosineWeighted, rms, 1e-9 * rms) << table.channelNames[c];
+    EXPECT_LT(rms, 0.04 * peak) << table.channelNames[c] << ": rms " << rms << " peak " << peak;
+  }
   // A spectral fit bakes through the CIE 1931 conversion.
   const auto material = std::make_shared<LobeMaterial>(fit.model, LobeMaterialMode::Reflectance);
   const Image image = bake(SphereMap(16), MaterialMapFunction(material, {}, Vec3::UnitZ()));

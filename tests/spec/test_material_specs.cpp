@@ -2,9 +2,12 @@
 // parse into the right materials; every bad one gets an error naming its JSON path.
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/brdf/npr.hpp>
+#include <brdfbake/brdf/spectrum.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/spec/spec.hpp>
 #include <gtest/gtest.h>
+
+#include <complex>
 
 #include "test_support.hpp"
 
@@ -69,19 +72,65 @@ TEST(MaterialSpecs, ContractExamplesParse) {
   EXPECT_EQ(cg.maps[0].raw["material"]["blend"], "modulate");  // recorded in the map's metadata
 }
 
+// Unpolarised Fresnel reflectance for a complex index eta = n + i k (k = 0: a dielectric) at
+// cos theta = c, from the s and p amplitudes with complex Snell's law, typed out.
+double fresnelByHand(double c, double n, double k) {
+  const std::complex<double> eta(n, k);
+  const std::complex<double> ct = std::sqrt(1.0 - (1.0 - c * c) / (eta * eta));
+  const std::complex<double> rs = (c - eta * ct) / (c + eta * ct), rp = (eta * c - ct) / (eta * c + ct);
+  return 0.5 * (std::norm(rs) + std::norm(rp));
+}
+
 TEST(MaterialSpecs, FresnelForms) {
-  auto withFresnel = [](const json& f) {
+  auto fresnelOf = [](const json& f) {
     json m = cookTorrance();
     m["fresnel"] = f;
-    return mapWith(m);
+    const BakeSpec spec = parse(mapWith(m));
+    const auto* material = dynamic_cast<const CookTorranceMaterial*>(spec.maps[0].material.get());
+    EXPECT_NE(material, nullptr);
+    return material->params().fresnel;
   };
-  const auto nk = parse(withFresnel({{"n", {0.22, 1.02, 1.24}}, {"k", {3.747, 2.577, 2.397}}}));
-  const auto* m = dynamic_cast<const CookTorranceMaterial*>(nk.maps[0].material.get());
-  EXPECT_NEAR(m->params().fresnel.f0()[0], 0.9433, 1e-4);
-  EXPECT_NO_THROW(parse(withFresnel({{"ior", {1.5, 1.6, 1.7}}})));
-  EXPECT_NO_THROW(parse(withFresnel({{"spectral", {{"wavelengths_nm", {450, 550, 650}}, {"n", {1.24, 1.02, 0.22}},
-                                                   {"k", {2.4, 2.58, 3.75}}}}})));
-  EXPECT_NO_THROW(parse(withFresnel({{"spectral", {{"wavelengths_nm", {450, 550, 650}}, {"f0", {0.5, 0.6, 0.9}}}}})));
+  // Conductor n + i k: F(1) = ((n - 1)^2 + k^2) / ((n + 1)^2 + k^2), F(0) = 1, and in between the
+  // complex amplitudes.
+  const double n[3] = {0.22, 1.02, 1.24}, k[3] = {3.747, 2.577, 2.397};
+  const FresnelTerm nk = fresnelOf({{"n", {0.22, 1.02, 1.24}}, {"k", {3.747, 2.577, 2.397}}});
+  EXPECT_NEAR(nk.f0()[0], 0.9433, 1e-4);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(nk(1.0)[c], ((n[c] - 1) * (n[c] - 1) + k[c] * k[c]) / ((n[c] + 1) * (n[c] + 1) + k[c] * k[c]), 1e-12) << c;
+    EXPECT_NEAR(nk(0.0)[c], 1.0, 1e-12) << c;
+    EXPECT_NEAR(nk(0.5)[c], fresnelByHand(0.5, n[c], k[c]), 1e-12) << c;
+  }
+  // Dielectric per channel: F(1) = ((eta - 1) / (eta + 1))^2, F(0) = 1.
+  const double eta[3] = {1.5, 1.6, 1.7};
+  const FresnelTerm ior = fresnelOf({{"ior", {1.5, 1.6, 1.7}}});
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(ior(1.0)[c], std::pow((eta[c] - 1) / (eta[c] + 1), 2), 1e-12) << c;
+    EXPECT_NEAR(ior(0.0)[c], 1.0, 1e-12) << c;
+    EXPECT_NEAR(ior(0.5)[c], fresnelByHand(0.5, eta[c], 0.0), 1e-12) << c;
+  }
+  EXPECT_NEAR(ior(1.0)[0], 0.04, 1e-15);
+  // Spectral n + i k and spectral f0 (docs: each wavelength's reflectance, to linear sRGB, divided
+  // by a constant 1's RGB, clamped to [0, 1]). At normal incidence the spectrum is the conductor
+  // F(1) formula per wavelength (or f0 itself); at grazing incidence every wavelength reflects 1,
+  // so F(0) = 1 exactly.
+  const std::vector<double> nm{450, 550, 650}, sn{1.24, 1.02, 0.22}, sk{2.4, 2.58, 3.75}, sf0{0.5, 0.6, 0.9};
+  std::vector<double> spectralF0(3);
+  for (int j = 0; j < 3; ++j) spectralF0[j] = ((sn[j] - 1) * (sn[j] - 1) + sk[j] * sk[j]) / ((sn[j] + 1) * (sn[j] + 1) + sk[j] * sk[j]);
+  const Rgb white = spectrumToLinearSrgb(nm, std::vector<double>{1, 1, 1});
+  const Rgb expectedNk = (spectrumToLinearSrgb(nm, spectralF0) / white).min(1.0).max(0.0);
+  const Rgb expectedF0 = (spectrumToLinearSrgb(nm, sf0) / white).min(1.0).max(0.0);
+  const FresnelTerm spectralNk = fresnelOf({{"spectral", {{"wavelengths_nm", {450, 550, 650}}, {"n", {1.24, 1.02, 0.22}},
+                                                          {"k", {2.4, 2.58, 3.75}}}}});
+  const FresnelTerm spectralFromF0 = fresnelOf({{"spectral", {{"wavelengths_nm", {450, 550, 650}}, {"f0", {0.5, 0.6, 0.9}}}}});
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(spectralNk(1.0)[c], expectedNk[c], 1e-9) << c;
+    EXPECT_NEAR(spectralNk(0.0)[c], 1.0, 1e-12) << c;
+    EXPECT_NEAR(spectralFromF0(1.0)[c], expectedF0[c], 1e-9) << c;
+    EXPECT_NEAR(spectralFromF0(0.0)[c], 1.0, 1e-12) << c;
+  }
+  // Copper-like (red reflects most) and a f0 rising to the red: red is the largest channel.
+  EXPECT_GT(spectralNk(1.0)[0], spectralNk(1.0)[2]);
+  EXPECT_GT(spectralFromF0(1.0)[0], spectralFromF0(1.0)[2]);
 }
 
 TEST(MaterialSpecs, NamesTheJsonPathOfEveryError) {

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
+#include <set>
 
 #include "test_support.hpp"
 
@@ -167,13 +169,99 @@ TEST(Spec, RelativeOutputsResolveAgainstTheSpecFolder) {
 }
 
 TEST(Spec, EverySampleSpecParses) {
-  int count = 0;
+  // What each sample spec in data_samples/specs/ asks for, typed from the files: per map its
+  // output, its model (or "environment:" and the lobe), parameterization ("auto" when the tool
+  // picks; "profile" for 1-D profiles), resolution (0 when auto) and number of lights.
+  struct Expected {
+    std::string output, model, parameterization;
+    int resolution;
+    std::size_t lights;
+  };
+  const std::map<std::string, std::vector<Expected>> expected{
+      {"auto.json",
+       {{"phong_auto_fixed.exr", "phong", "auto", 0, 2}, {"phong_auto_free.exr", "phong", "auto", 0, 2}}},
+      {"blinn_phong.json",
+       {{"blinn_exact.exr", "blinn_phong", "sphere", 256, 1},
+        {"blinn_4n.exr", "blinn_phong", "sphere", 256, 1},
+        {"blinn_diffuse_paraboloid.exr", "blinn_phong", "paraboloid", 128, 2}}},
+      {"colorgram.json",
+       {{"colorgram.exr", "colorgram", "sphere", 256, 0}, {"colorgram.png", "colorgram", "sphere", 256, 0}}},
+      {"copper.json",
+       {{"copper_reflectance.exr", "cook_torrance", "sphere", 256, 0},
+        {"copper_sphere.png", "cook_torrance", "sphere", 256, 0},
+        {"copper_lighting.exr", "cook_torrance", "sphere", 256, 1}}},
+      {"fresnel.json",
+       {{"fresnel_copper.exr", "fresnel", "sphere", 256, 0}, {"fresnel_glass.exr", "fresnel", "sphere", 256, 0}}},
+      {"gooch.json", {{"gooch.png", "gooch", "sphere", 256, 0}}},
+      {"hatching.json", {{"hatching.png", "hatching", "sphere", 256, 0}}},
+      {"measured_lobes.json",
+       {{"measured_lobes_reflectance.exr", "lobes", "sphere", 256, 0},
+        {"measured_lobes_reflectance.png", "lobes", "sphere", 256, 0},
+        {"measured_lobes_lighting.exr", "lobes", "paraboloid", 256, 1},
+        {"measured_lobes_prefiltered.exr", "lobes", "paraboloid", 256, 1}}},
+      {"measured_mirror.json",
+       {{"measured_mirror_seed.exr", "measured", "sphere", 256, 0}, {"measured_mirror_fit.exr", "measured", "sphere", 256, 0}}},
+      {"phong_diffuse.json", {{"phong_diffuse.exr", "phong", "sphere", 256, 2}}},
+      {"phong_eye.json",
+       {{"phong_eye.exr", "phong", "sphere", 256, 1}, {"phong_paraboloid.exr", "phong", "paraboloid", 256, 1}}},
+      {"plastic.json",
+       {{"plastic_reflectance.exr", "cook_torrance", "sphere", 256, 0},
+        {"plastic_lighting.exr", "cook_torrance", "sphere", 256, 1},
+        {"plastic_paraboloid.exr", "cook_torrance", "paraboloid", 128, 1}}},
+      {"prefilter_decomposition.json",
+       {{"sky_varying_lobes_paraboloid.exr", "environment:lobes:../fits/synthetic_varying.json", "paraboloid", 64, 0},
+        {"sky_coat_sphere.exr", "environment:mirror", "sphere", 128, 0}}},
+      {"prefilter_fitted.json",
+       {{"sky_fitted_lobes_paraboloid.exr", "environment:lobes:../fits/synthetic_two_lobes.json", "paraboloid", 64, 0}}},
+      {"prefilter_sky.json",
+       {{"sky_phong100_paraboloid.exr", "environment:phong:100", "paraboloid", 128, 0},
+        {"sky_ggx040_cube.exr", "environment:ggx:0.4", "cube", 64, 0},
+        {"sky_irradiance_sphere.exr", "environment:irradiance", "sphere", 64, 0},
+        {"colored_cube_mirror_sphere.exr", "environment:mirror", "sphere", 128, 0}}},
+      {"profile.json",
+       {{"copper_auto.exr", "cook_torrance", "auto", 0, 0}, {"phong_eye_profile.exr", "phong", "profile", 256, 1}}},
+      {"silhouette.json", {{"silhouette.exr", "silhouette", "sphere", 256, 0}}},
+  };
+  std::set<std::string> seen;
   for (const auto& entry : std::filesystem::directory_iterator(test::sourcePath("data_samples/specs"))) {
     if (entry.path().extension() != ".json") continue;
-    EXPECT_NO_THROW(loadBakeSpec(entry.path())) << entry.path();
-    ++count;
+    const std::string name = entry.path().filename().string();
+    seen.insert(name);
+    const auto it = expected.find(name);
+    if (it == expected.end()) {
+      ADD_FAILURE() << name << ": a sample spec this test does not know; add what it asks for to the table above";
+      continue;
+    }
+    BakeSpec spec;
+    ASSERT_NO_THROW(spec = loadBakeSpec(entry.path())) << name;
+    ASSERT_EQ(spec.maps.size(), it->second.size()) << name;
+    for (std::size_t i = 0; i < spec.maps.size(); ++i) {
+      const MapSpec& map = spec.maps[i];
+      const Expected& e = it->second[i];
+      SCOPED_TRACE(name + " maps[" + std::to_string(i) + "]");
+      EXPECT_EQ(map.output, entry.path().parent_path() / e.output);
+      if (e.model.rfind("environment:", 0) == 0) {
+        ASSERT_TRUE(map.environment.has_value());
+        EXPECT_EQ("environment:" + map.environment->lobe, e.model);
+        EXPECT_EQ(map.material, nullptr);
+      } else {
+        ASSERT_NE(map.material, nullptr);
+        EXPECT_FALSE(map.environment.has_value());
+        EXPECT_EQ(std::string(map.material->model()), e.model);
+      }
+      if (e.parameterization == "auto") {
+        EXPECT_TRUE(map.autoSelect.parameterization);
+        EXPECT_TRUE(map.autoSelect.resolution);
+      } else {
+        EXPECT_FALSE(map.autoSelect.parameterization);
+        EXPECT_EQ(map.profile, e.parameterization == "profile");
+        EXPECT_EQ(std::string(toString(map.parameterization)), e.parameterization == "profile" ? "sphere" : e.parameterization);
+        EXPECT_EQ(map.resolution, e.resolution);
+      }
+      EXPECT_EQ(map.lights.size(), e.lights);
+    }
   }
-  EXPECT_GE(count, 1);
+  EXPECT_EQ(seen.size(), expected.size()) << "a sample spec listed here is missing from data_samples/specs";
 }
 
 }  // namespace

@@ -44,14 +44,60 @@ TEST(SphereMapRim, TexelsOutsideTheDiscHoldTheNearestRimValue) {
 }
 
 TEST(Resolution, OneTexelMapsAreValid) {
+  // Maps of one texel per side. A lobe narrower than the sample spacing is deposited with its
+  // exact energy, so the map's integral (texel value x exact texel solid angle, summed) is
+  // ∫ max(0, r.l)^n dω = 2 pi / (n + 1), as Exponent.KeepsTheLobesEnergyAndStaysFinite checks at
+  // 64 texels: n = 1000 in every map, n = 20 in all but the cube (16 samples on a 1-texel face
+  // are 21 degrees apart, less than the lobe's 29 degree width, so it is sampled there; below).
+  const Vec3 light = Vec3(1, 2, 3).normalized();
   for (auto kind : {ParameterizationKind::Sphere, ParameterizationKind::Paraboloid, ParameterizationKind::Cube,
                     ParameterizationKind::LatLong}) {
     const auto map = makeParameterization(kind, 1);
-    const Image image = bake(*map, phong(20, Vec3(1, 2, 3).normalized()));
-    for (int y = 0; y < image.height(); ++y)
-      for (int x = 0; x < image.width(); ++x) EXPECT_TRUE(allFinite(image.at(x, y))) << toString(kind);
-    EXPECT_TRUE(allFinite(sampleBilinear(image, *map, Vec3(0, 0, 1))));
+    for (double n : {20.0, 1000.0}) {
+      BakeSummary summary;
+      const Image image = bake(*map, phong(n, light), {}, &summary);
+      double integral = 0.0;
+      for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x) {
+          EXPECT_TRUE(allFinite(image.at(x, y))) << toString(kind);
+          integral += image.at(x, y)[0] * map->texelSolidAngle(x, y);
+        }
+      EXPECT_TRUE(allFinite(sampleBilinear(image, *map, Vec3(0, 0, 1))));
+      if (kind == ParameterizationKind::Cube && n == 20.0) {
+        EXPECT_EQ(summary.deltaLobes, 0);
+        continue;
+      }
+      EXPECT_EQ(summary.deltaLobes, 1) << toString(kind) << " n " << n;
+      EXPECT_NEAR(integral, kTwoPi / (n + 1.0), 1e-5 * kTwoPi / (n + 1.0)) << toString(kind) << " n " << n;
+    }
   }
+  // The sampled case: each face texel of a one-texel cube holds the mean of the lobe over its
+  // footprint in texture space (baker.hpp), here with 64 x 64 samples against a 256 x 256 midpoint
+  // sum in the test. (Not the solid-angle mean: a face's centre covers 5.2 times the solid angle of
+  // its corners, so at one texel per face this map's integral is 10 % above the lobe's energy.)
+  const auto cube = makeParameterization(ParameterizationKind::Cube, 1);
+  BakeOptions dense;
+  dense.samplesPerTexel = 4096;
+  const Image image = bake(*cube, phong(20.0, light), dense);
+  int faces = 0;
+  double peak = 0.0;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) {
+      if (cube->texelCoverage(x, y) < 1.0) continue;
+      ++faces;
+      double sum = 0.0;
+      for (int j = 0; j < 256; ++j)
+        for (int i = 0; i < 256; ++i) {
+          const Vec3 d = *cube->getDirectionFor(Vec2(x + (i + 0.5) / 256, y + (j + 0.5) / 256));
+          sum += std::pow(std::max(0.0, d.normalized().dot(light)), 20.0);
+        }
+      const double expected = sum / (256.0 * 256.0);
+      peak = std::max(peak, expected);
+      // 1e-6: the tolerance of the baker's lobe table, relative to the lobe's peak of 1.
+      EXPECT_NEAR(image.at(x, y)[0], expected, 1e-3 * expected + 1e-6) << "cube texel " << x << "," << y;
+    }
+  EXPECT_EQ(faces, 6);
+  EXPECT_GT(peak, 0.1);
 }
 
 TEST(Resolution, HugeMapsAreRefusedWithAMemoryMessageUnlessAllowed) {
