@@ -56,7 +56,7 @@ TEST(SphereMapArea, UnusedTexelFractionIsOneMinusPiOverFour) {
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) unused += 1.0 - map.texelCoverage(x, y);
   EXPECT_NEAR(unused / (double(n) * n), 1.0 - kPi / 4, 1e-9);
-  EXPECT_NEAR(100 * unused / (double(n) * n), 21.46, 0.005);  // the seed's published percentage
+  EXPECT_NEAR(100 * unused / (double(n) * n), 21.46, 0.005);  // Zimmons & Bastos 1999's published percentage
 }
 
 TEST(ParaboloidArea, CentreCoversFourTimesTheRimSolidAngle) {

@@ -302,7 +302,7 @@ TEST(Cli, InterpolationChartsBothSchemesAndTheSeedLine) {
   EXPECT_TRUE(fs::exists(dir / "i_line.png"));
   const auto report = nlohmann::json::parse(result.output);
   EXPECT_EQ(report["sweep"].size(), 3u);
-  // Seed 001's line, by hand: viewer e = (-8.3, 1, 0) over the plane y = 0 (normal +y), one
+  // Zimmons 1999's line, by hand: viewer e = (-8.3, 1, 0) over the plane y = 0 (normal +y), one
   // segment from x = -10 to 10. In the x-y plane the reflected view at x is r(x) = (x - e_x,
   // e_y) / |.|; the lookup interpolates r(-10) and r(10) linearly. The largest angle between the
   // two over the 4001 points x_i = -10 + 20 i / 4000:
@@ -314,7 +314,7 @@ TEST(Cli, InterpolationChartsBothSchemesAndTheSeedLine) {
     const double angle = degrees(std::atan2(std::abs(lerp.x() * exact.y() - lerp.y() * exact.x()), lerp.dot(exact)));
     if (angle > worst) worst = angle, worstAt = x;
   }
-  EXPECT_GT(worst, 10.0);  // the seed's point: one polygon is far too coarse here
+  EXPECT_GT(worst, 10.0);  // Zimmons 1999's point: one polygon is far too coarse here
   EXPECT_NEAR(report["line"]["max_error_degrees"].get<double>(), worst, 1e-9);
   EXPECT_NEAR(report["line"]["at_x"].get<double>(), worstAt, 1e-9);
   // One sweep point by brute force: triangles of normals 2 degrees apart centred on the view axis
