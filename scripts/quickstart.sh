@@ -34,7 +34,8 @@ if [ "$mode" = demo ]; then
 else
   ctest --test-dir build --output-on-failure -j "$jobs"
   echo "== The same suite under AddressSanitizer and UndefinedBehaviorSanitizer"
-  cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBRDFBAKE_SANITIZE=address,undefined \
+  cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g1" \
+        -DBRDFBAKE_SANITIZE=address,undefined \
         -DBRDFBAKE_BUILD_BENCH=OFF
   cmake --build build-sanitize -j "$jobs"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
