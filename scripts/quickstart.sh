@@ -3,7 +3,7 @@
 #   demo  bakes the sample maps of data_samples/specs/phong_eye.json into out/
 #   test  runs the whole test suite twice (what CI runs): a Release build, then a build with
 #         AddressSanitizer and UndefinedBehaviorSanitizer (GCC's; no benchmarks, and without the
-#         consumer-package test, which links an uninstrumented program against the package)
+#         consumer_* tests, which link uninstrumented programs against the installed package)
 # Usage: scripts/quickstart.sh demo|test
 set -euo pipefail
 mode="${1:-}"
@@ -40,5 +40,5 @@ else
   cmake --build build-sanitize -j "$jobs"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -E '^consumer_package$'
+    ctest --test-dir build-sanitize --output-on-failure -j "$jobs" -E '^consumer_'
 fi
