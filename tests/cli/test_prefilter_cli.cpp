@@ -87,7 +87,7 @@ TEST(PrefilterCli, FurnaceIrradianceIsPi) {
 
 TEST(PrefilterCli, SpecsBakeEnvironmentMaps) {
   test::TempDir dir;
-  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/prefilter_sky.json")) + " -o " + q(dir.path()) + " --json");
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/prefilter_sky.json")) + " --out-dir " + q(dir.path()) + " --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto report = nlohmann::json::parse(result.output);
   ASSERT_EQ(report["maps"].size(), 4u);
@@ -213,7 +213,7 @@ TEST(PrefilterCli, FresnelDecompositionWritesThreeFilesAndSaysHowToCombineThem) 
 
 TEST(PrefilterCli, SpecsMakeStacksAndFresnelDecompositions) {
   test::TempDir dir;
-  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/prefilter_decomposition.json")) + " -o " + q(dir.path()) +
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/prefilter_decomposition.json")) + " --out-dir " + q(dir.path()) +
                              " --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto report = nlohmann::json::parse(result.output);

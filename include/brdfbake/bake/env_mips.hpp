@@ -9,6 +9,7 @@
 /// Storage (docs/prefilter.md): level 0 is the map itself at PATH; level k >= 1 is a full map of
 /// resolution max(1, N >> k) at STEM_mipK.EXT (mipLevelPath), with its own metadata.
 
+#include <brdfbake/bake/mip_chain.hpp>
 #include <brdfbake/bake/cube_map.hpp>
 #include <brdfbake/bake/image.hpp>
 #include <brdfbake/bake/paraboloid_map.hpp>
