@@ -1,0 +1,120 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (clang, build-fuzz/) if needed, assembles their corpora and runs each
+# target in turn, one worker, under nice -n 19. See fuzz/README.md.
+#
+#   fuzz/run.sh [SECONDS_PER_TARGET] [TARGET...]     default: 600 s, every target
+#
+# Seeds: fuzz/corpus/<target>/ (committed, tiny), data_samples/ and, when present, the real measured
+# tables in ../shared/data/ (copied into the scratch corpus, never into the repository).
+# Corpora grow in build-fuzz/corpus/<target>/ across runs; findings (crash-*, leak-*, timeout-*,
+# oom-*) are kept in build-fuzz/artifacts/<target>/ and logs in build-fuzz/logs/<target>.log.
+# Prints one summary line per target; exits 1 if any target found something.
+# Environment: CC/CXX (default clang-14/clang++-14), BRDFBAKE_FUZZ_JOBS (build jobs, default 1),
+# BRDFBAKE_SHARED_DIR (default ../shared beside the repository), FUZZ_EXTRA_ARGS (more libFuzzer flags).
+set -uo pipefail
+
+root="$(cd "$(dirname "$0")/.." && pwd)"
+build="$root/build-fuzz"
+all_targets=(spec fit astm pbrt merl mat image)
+
+seconds="${1:-600}"
+if ! [[ "$seconds" =~ ^[0-9]+$ ]]; then
+  echo "usage: $0 [SECONDS_PER_TARGET] [TARGET...]   targets: ${all_targets[*]}" >&2
+  exit 2
+fi
+[ $# -gt 0 ] && shift
+targets=("$@")
+[ ${#targets[@]} -eq 0 ] && targets=("${all_targets[@]}")
+for t in "${targets[@]}"; do
+  [[ " ${all_targets[*]} " == *" $t "* ]] || { echo "unknown target '$t' (known: ${all_targets[*]})" >&2; exit 2; }
+done
+
+max_len_for() {
+  case "$1" in
+    spec|fit) echo 8192 ;;
+    astm|pbrt) echo 32768 ;;
+    merl|mat) echo 4096 ;;
+    image) echo 65536 ;;
+  esac
+}
+
+# ---- build ---------------------------------------------------------------------------------------
+if [ ! -f "$build/CMakeCache.txt" ]; then
+  CC="${CC:-clang-14}" CXX="${CXX:-clang++-14}" nice -n 19 cmake -S "$root" -B "$build" \
+    -DBRDFBAKE_BUILD_FUZZERS=ON -DBRDFBAKE_BUILD_TESTS=OFF -DBRDFBAKE_BUILD_BENCH=OFF \
+    -DBRDFBAKE_BUILD_CLI=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null || { echo "configure failed" >&2; exit 2; }
+fi
+build_targets=()
+for t in "${targets[@]}"; do build_targets+=(--target "fuzz_$t"); done
+nice -n 19 cmake --build "$build" -j "${BRDFBAKE_FUZZ_JOBS:-1}" "${build_targets[@]}" >"$build/fuzz-build.log" 2>&1 ||
+  { tail -30 "$build/fuzz-build.log" >&2; echo "build failed (log: $build/fuzz-build.log)" >&2; exit 2; }
+
+# ---- corpora -------------------------------------------------------------------------------------
+shared="${BRDFBAKE_SHARED_DIR:-$root/../shared}"
+seeds="$build/seeds"
+rm -rf "$seeds"
+copy_seeds() {  # copy_seeds TARGET FILE...
+  local target="$1"; shift
+  mkdir -p "$seeds/$target"
+  for f in "$@"; do [ -f "$f" ] && cp "$f" "$seeds/$target/"; done
+}
+shared_note=""
+for t in "${targets[@]}"; do
+  mkdir -p "$seeds/$t" "$build/corpus/$t" "$build/artifacts/$t" "$build/logs"
+  [ -d "$root/fuzz/corpus/$t" ] && cp "$root/fuzz/corpus/$t"/* "$seeds/$t/" 2>/dev/null
+  case "$t" in
+    spec) copy_seeds spec "$root"/data_samples/specs/*.json ;;
+    fit) copy_seeds fit "$root"/data_samples/fits/*.json ;;
+    astm) copy_seeds astm "$root"/data_samples/tables/*.astm ;;
+    image) copy_seeds image "$root"/data_samples/environments/*.exr ;;
+  esac
+  case "$t" in
+    astm|pbrt)
+      if [ -d "$shared/data/cornell" ]; then
+        if [ "$t" = astm ]; then copy_seeds astm "$shared"/data/cornell/*.astm; else copy_seeds pbrt "$shared"/data/cornell/*.brdf; fi
+      else
+        shared_note="shared data not found at $shared/data/cornell: skipping the real measured seeds"
+      fi ;;
+  esac
+done
+[ -n "$shared_note" ] && echo "$shared_note"
+
+# ---- run -----------------------------------------------------------------------------------------
+export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:symbolize=1}"
+export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
+found_any=0
+summary=()
+for t in "${targets[@]}"; do
+  artifacts="$build/artifacts/$t"
+  log="$build/logs/$t.log"
+  before="$(ls "$artifacts" 2>/dev/null | sort)"
+  dict=()
+  case "$t" in spec|fit) dict=(-dict="$root/fuzz/json.dict") ;; esac
+  start=$(date +%s)
+  # shellcheck disable=SC2086
+  nice -n 19 "$build/fuzz/fuzz_$t" "$build/corpus/$t" "$seeds/$t" \
+    -max_total_time="$seconds" -rss_limit_mb=2048 -max_len="$(max_len_for "$t")" -timeout=10 \
+    -artifact_prefix="$artifacts/" -print_final_stats=1 "${dict[@]}" ${FUZZ_EXTRA_ARGS:-} >"$log" 2>&1
+  rc=$?
+  wall=$(( $(date +%s) - start ))
+  after="$(ls "$artifacts" 2>/dev/null | sort)"
+  new="$(comm -13 <(echo "$before") <(echo "$after") | grep -E '^(crash|leak|timeout|oom|slow-unit)-' | tr '\n' ' ')"
+  runs="$(grep -oE 'stat::number_of_executed_units: [0-9]+' "$log" | tail -1 | awk '{print $2}')"
+  [ -z "$runs" ] && runs="$(grep -oE '^#[0-9]+' "$log" | tail -1 | tr -d '#')"
+  cov="$(grep -oE 'cov: [0-9]+ ft: [0-9]+' "$log" | tail -1)"
+  corpus_n="$(ls "$build/corpus/$t" | wc -l)"
+  if [ -n "$new" ] || [ "$rc" -ne 0 ]; then
+    found_any=1
+    what="$(grep -m1 -oE 'ERROR: (AddressSanitizer|LeakSanitizer|UndefinedBehaviorSanitizer|libFuzzer): [^ ]+( [^ ]+)?|runtime error: .*|==[0-9]+== ?ERROR: .*' "$log" | head -1)"
+    [ -z "$what" ] && what="exit code $rc"
+    result="FOUND: $what; artifacts: ${new:-none} (log: ${log#$root/})"
+  else
+    result="nothing found"
+  fi
+  line="$(printf '%-6s %5ss  runs %-10s %-20s corpus %-5s %s' "$t" "$wall" "${runs:-?}" "${cov:-cov: ?}" "$corpus_n" "$result")"
+  echo "$line"
+  summary+=("$line")
+done
+echo "---- summary ----"
+printf '%s\n' "${summary[@]}"
+exit "$found_any"
