@@ -79,6 +79,20 @@ for t in "${targets[@]}"; do
 done
 [ -n "$shared_note" ] && echo "$shared_note"
 
+# The first line of a log that says what went wrong: an uncaught exception and its what(), a
+# sanitizer's SUMMARY, a UBSan runtime error, or libFuzzer's own verdict (timeout, out-of-memory, ...).
+describe_finding() {
+  local log="$1" exc
+  exc="$(grep -m1 -oE "terminate called after throwing an instance of '[^']*'" "$log")"
+  if [ -n "$exc" ]; then
+    echo "uncaught ${exc#terminate called after throwing an instance of }: $(grep -m1 -oE 'what\(\): +.{0,120}' "$log" | sed 's/what(): *//')"
+    return
+  fi
+  grep -m1 -oE 'runtime error: .{0,140}' "$log" && return
+  grep -m1 -oE 'SUMMARY: (AddressSanitizer|LeakSanitizer|UndefinedBehaviorSanitizer): .{0,140}' "$log" && return
+  grep -m1 -oE 'ERROR: libFuzzer: .{0,140}' "$log"
+}
+
 # ---- run -----------------------------------------------------------------------------------------
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:symbolize=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
@@ -105,7 +119,7 @@ for t in "${targets[@]}"; do
   corpus_n="$(ls "$build/corpus/$t" | wc -l)"
   if [ -n "$new" ] || [ "$rc" -ne 0 ]; then
     found_any=1
-    what="$(grep -m1 -oE 'ERROR: (AddressSanitizer|LeakSanitizer|UndefinedBehaviorSanitizer|libFuzzer): [^ ]+( [^ ]+)?|runtime error: .*|==[0-9]+== ?ERROR: .*' "$log" | head -1)"
+    what="$(describe_finding "$log")"
     [ -z "$what" ] && what="exit code $rc"
     result="FOUND: $what; artifacts: ${new:-none} (log: ${log#$root/})"
   else
