@@ -8,9 +8,14 @@
 # tables in ../shared/data/ (copied into the scratch corpus, never into the repository).
 # Corpora grow in build-fuzz/corpus/<target>/ across runs; findings (crash-*, leak-*, timeout-*,
 # oom-*) are kept in build-fuzz/artifacts/<target>/ and logs in build-fuzz/logs/<target>.log.
-# Prints one summary line per target; exits 1 if any target found something.
+# By default each target runs its whole time in libFuzzer's fork mode with one worker, going on
+# after crashes, leaks, timeouts and OOMs (each saved as an artifact), so one shallow finding does not
+# end the run; FUZZ_MODE=single stops at the first finding as plain libFuzzer does.
+# Prints one summary line per target (new findings are replayed and grouped by what and where);
+# exits 1 if any target found something.
 # Environment: CC/CXX (default clang-14/clang++-14), BRDFBAKE_FUZZ_JOBS (build jobs, default 1),
-# BRDFBAKE_SHARED_DIR (default ../shared beside the repository), FUZZ_EXTRA_ARGS (more libFuzzer flags).
+# BRDFBAKE_SHARED_DIR (default ../shared beside the repository), FUZZ_MODE (fork | single),
+# FUZZ_EXTRA_ARGS (more libFuzzer flags).
 set -uo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -93,6 +98,29 @@ describe_finding() {
   grep -m1 -oE 'ERROR: libFuzzer: .{0,140}' "$log"
 }
 
+# Where a finding happened: the first stack frame outside libFuzzer, the sanitizers, the allocator
+# and the C/C++ runtime ("function" or "library+offset"), and the first brdfbake frame.
+where_finding() {
+  local log="$1" frames first ours
+  frames="$(grep -E '^ +#[0-9]+ 0x' "$log" | grep -vE 'fuzzer::|__sanitizer|__asan|__lsan|__ubsan|__interceptor|in (malloc|calloc|realloc|free|operator new|operator delete|abort|raise)\b|libc\.so|libstdc\+\+|__cxa_|LLVMFuzzer|brdfbake::fuzzing|in main ')"
+  first="$(echo "$frames" | head -1 | sed -E 's/^ +#[0-9]+ 0x[0-9a-f]+ +(in )?//; s/ \(BuildId.*//; s/\(.*\/([^/]+\+0x[0-9a-f]+)\)/\1/; s/ \/work\/[^ ]*\/([^/ ]+:[0-9]+)(:[0-9]+)?$/ \1/' | cut -c1-110)"
+  ours="$(echo "$frames" | grep -m1 -oE 'brdfbake::[A-Za-z_:]+\(?' | tr -d '(')"
+  echo "${first}${ours:+ (via $ours)}"
+}
+
+# Replays one artifact in a fresh process and says what and where.
+replay_finding() {
+  local bin="$1" artifact="$2" log
+  log="$(mktemp)"
+  timeout 120 nice -n 19 "$bin" -rss_limit_mb=2048 -timeout=10 "$artifact" >"$log" 2>&1
+  local what where
+  what="$(describe_finding "$log" | sed -E 's/^ERROR: libFuzzer: //; s/\(used: [0-9]+Mb; limit: [0-9]+Mb\)/(rss over the limit)/; s/malloc\([0-9]+\)/malloc(huge)/')"
+  [ -z "$what" ] && what="does not reproduce alone"
+  where="$(where_finding "$log")"
+  rm -f "$log"
+  echo "${what}${where:+ at $where}"
+}
+
 # ---- run -----------------------------------------------------------------------------------------
 export ASAN_OPTIONS="${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:symbolize=1}"
 export UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}"
@@ -104,24 +132,37 @@ for t in "${targets[@]}"; do
   before="$(ls "$artifacts" 2>/dev/null | sort)"
   dict=()
   case "$t" in spec|fit) dict=(-dict="$root/fuzz/json.dict") ;; esac
+  mode=()
+  [ "${FUZZ_MODE:-fork}" = fork ] && mode=(-fork=1 -ignore_crashes=1 -ignore_ooms=1 -ignore_timeouts=1)
   start=$(date +%s)
   # shellcheck disable=SC2086
   nice -n 19 "$build/fuzz/fuzz_$t" "$build/corpus/$t" "$seeds/$t" \
     -max_total_time="$seconds" -rss_limit_mb=2048 -max_len="$(max_len_for "$t")" -timeout=10 \
-    -artifact_prefix="$artifacts/" -print_final_stats=1 "${dict[@]}" ${FUZZ_EXTRA_ARGS:-} >"$log" 2>&1
+    -artifact_prefix="$artifacts/" -print_final_stats=1 "${mode[@]}" "${dict[@]}" ${FUZZ_EXTRA_ARGS:-} >"$log" 2>&1
   rc=$?
   wall=$(( $(date +%s) - start ))
   after="$(ls "$artifacts" 2>/dev/null | sort)"
   new="$(comm -13 <(echo "$before") <(echo "$after") | grep -E '^(crash|leak|timeout|oom|slow-unit)-' | tr '\n' ' ')"
   runs="$(grep -oE 'stat::number_of_executed_units: [0-9]+' "$log" | tail -1 | awk '{print $2}')"
   [ -z "$runs" ] && runs="$(grep -oE '^#[0-9]+' "$log" | tail -1 | tr -d '#')"
+  # in fork mode cov/ft count the merged corpus (not comparable with single-process numbers)
   cov="$(grep -oE 'cov: [0-9]+ ft: [0-9]+' "$log" | tail -1)"
   corpus_n="$(ls "$build/corpus/$t" | wc -l)"
   if [ -n "$new" ] || [ "$rc" -ne 0 ]; then
     found_any=1
-    what="$(describe_finding "$log")"
-    [ -z "$what" ] && what="exit code $rc"
-    result="FOUND: $what; artifacts: ${new:-none} (log: ${log#$root/})"
+    # shellcheck disable=SC2206
+    new_files=($new)
+    counts="$(printf '%s\n' "${new_files[@]}" | sed 's/-.*//' | sort | uniq -c | awk '{printf "%s%s %s", (NR>1?", ":""), $1, $2}')"
+    if [ ${#new_files[@]} -eq 0 ]; then
+      what="$(describe_finding "$log")"
+      result="FOUND: ${what:-exit code $rc} (log: ${log#$root/})"
+    else
+      # Replay the newest few and group them by what and where.
+      groups="$(for f in $(ls -t "${new_files[@]/#/$artifacts/}" | head -"${FUZZ_REPLAY:-8}"); do
+                  echo "$(replay_finding "$build/fuzz/fuzz_$t" "$f")	$(basename "$f")"
+                done | sort | awk -F'\t' '{n[$1]++; ex[$1]=$2} END {for (k in n) printf "  - %s [x%d, e.g. %s]\n", k, n[k], ex[k]}')"
+      result="FOUND: ${counts} in ${artifacts#$root/}/"$'\n'"$groups"
+    fi
   else
     result="nothing found"
   fi
