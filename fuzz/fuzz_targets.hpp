@@ -34,6 +34,27 @@ struct Target {
   void (*read)(const std::filesystem::path& file);
 };
 
+/// The memory budget (core/memory_budget.hpp) the targets run with unless BRDFBAKE_MEMORY_LIMIT is
+/// set: well under libFuzzer's -rss_limit_mb=2048, so a header asking for too much must end in
+/// Error(Resource) from the budget check, not in an allocation libFuzzer reports as out-of-memory.
+inline constexpr const char* kFuzzMemoryLimit = "512M";
+
+/// Sets BRDFBAKE_MEMORY_LIMIT to kFuzzMemoryLimit while it lives, unless it is set already.
+class FuzzMemoryLimit {
+ public:
+  FuzzMemoryLimit() : set_(std::getenv("BRDFBAKE_MEMORY_LIMIT") == nullptr) {
+    if (set_) ::setenv("BRDFBAKE_MEMORY_LIMIT", kFuzzMemoryLimit, 1);
+  }
+  ~FuzzMemoryLimit() {
+    if (set_) ::unsetenv("BRDFBAKE_MEMORY_LIMIT");
+  }
+  FuzzMemoryLimit(const FuzzMemoryLimit&) = delete;
+  FuzzMemoryLimit& operator=(const FuzzMemoryLimit&) = delete;
+
+ private:
+  bool set_;
+};
+
 /// /dev/shm/brdfbake-fuzz-<pid> (the system temp folder if /dev/shm is absent), created once;
 /// removed at exit. For specs, <scratch>/fits links to data_samples/fits when the source folder is
 /// known (BRDFBAKE_FUZZ_SOURCE_DIR), so "lobes" materials that name ../fits/*.json resolve.
@@ -116,6 +137,7 @@ inline std::filesystem::path runTarget(const Target& target, const std::uint8_t*
 /// The body of LLVMFuzzerTestOneInput: only brdfbake::Error is caught.
 inline int fuzzOne(std::string_view name, const std::uint8_t* data, std::size_t size) {
   static const Target* target = findTarget(name);
+  static const FuzzMemoryLimit limit;
   try {
     runTarget(*target, data, size);
   } catch (const Error&) {

@@ -1,7 +1,8 @@
 // Reproducers of fuzzer findings (tests/stability/fuzz_regressions/<target>/<name>) and the committed
 // fuzz seeds (fuzz/corpus/<target>/), fed through the fuzz targets' own entry points
 // (fuzz/fuzz_targets.hpp): each input must parse or throw brdfbake::Error naming the file it was
-// read from; no crash, no sanitizer report (in the fuzz build), no other exception.
+// read from; no crash, no sanitizer report (in the fuzz build), no other exception. Inputs run with
+// the fuzzers' memory budget (BRDFBAKE_MEMORY_LIMIT=512M unless set).
 #define BRDFBAKE_FUZZ_SOURCE_DIR BRDFBAKE_SOURCE_DIR
 #include "fuzz_targets.hpp"
 
@@ -37,6 +38,7 @@ void expectParsesOrNamedError(const fuzzing::Target& target, const fs::path& inp
   SCOPED_TRACE(input.string());
   const std::vector<std::uint8_t> bytes = readBytes(input);
   const fs::path scratch = fuzzing::scratchDir() / target.fileName(bytes.data(), bytes.size());
+  const fuzzing::FuzzMemoryLimit limit;  // the fuzzers' memory budget, for this input only
   try {
     fuzzing::runTarget(target, bytes.data(), bytes.size());
   } catch (const Error& e) {
