@@ -129,6 +129,13 @@ MeasuredTable readMat(const std::filesystem::path& path) {
   const std::string file = path.string();
   silenceMatio();
   requireCompleteMatFile(path);
+  // Without a v5/v7.3 header libmatio falls back to MATLAB v4 and allocates whatever the first bytes
+  // claim (a 21-byte file asked for 1.1 GB). Only v5 and v7.3 are read here, so their 128-byte header
+  // (text from "MATLAB ", endian indicator "IM" or "MI" in bytes 126-127) is required first.
+  const std::string header = measured::readFilePrefix(path, 128);
+  if (header.size() < 128 || !header.starts_with("MATLAB ") ||
+      (header.compare(126, 2, "IM") != 0 && header.compare(126, 2, "MI") != 0))
+    throw malformed(file, 0, "not a MATLAB .mat file (v5 or v7.3 need a 128-byte header starting with \"MATLAB \")");
   lastMatioMessage.clear();
   std::unique_ptr<mat_t, MatCloser> mat(Mat_Open(file.c_str(), MAT_ACC_RDONLY));
   if (!mat)
