@@ -2,6 +2,7 @@
 #include <brdfbake/measured/measured_io.hpp>
 
 #include <brdfbake/core/files.hpp>
+#include <brdfbake/core/memory_budget.hpp>
 
 #include "measured_common.hpp"
 
@@ -40,7 +41,25 @@ struct VarFreer {
 };
 
 // A real 2-D numeric variable as rows x cols (MATLAB stores columns one after another).
-Eigen::MatrixXd readMatrix(mat_t* mat, const char* name, const std::string& file) {
+// `fileBytes` bounds what its dimensions may claim: libmatio allocates dims[0] x dims[1] values and
+// reads a shorter data element as if the rest were zeros, so a 480-byte file could make it (and the
+// copy here) allocate gigabytes. Each value takes at least one stored byte (zlib, for compressed
+// variables, expands at most about 1032:1), and both copies must fit the memory budget.
+Eigen::MatrixXd readMatrix(mat_t* mat, const char* name, const std::string& file, std::uintmax_t fileBytes) {
+  lastMatioMessage.clear();
+  {
+    std::unique_ptr<matvar_t, VarFreer> info(Mat_VarReadInfo(mat, name));
+    if (info && info->rank == 2 && info->dims) {
+      const double values = static_cast<double>(info->dims[0]) * static_cast<double>(info->dims[1]);
+      const double storable = static_cast<double>(fileBytes) * (info->compression == MAT_COMPRESSION_ZLIB ? 1032.0 : 1.0);
+      if (values > storable)
+        throw malformed(file, 0,
+                        std::string("variable '") + name + "' claims " + std::to_string(info->dims[0]) + " x " +
+                            std::to_string(info->dims[1]) + " values, more than a file of " +
+                            std::to_string(fileBytes) + " bytes can hold");
+      requireWithinMemoryBudget(values * 2 * sizeof(double), file + ": variable '" + name + "'");
+    }
+  }
   lastMatioMessage.clear();
   std::unique_ptr<matvar_t, VarFreer> var(Mat_VarRead(mat, name));
   if (!var)
@@ -136,6 +155,9 @@ MeasuredTable readMat(const std::filesystem::path& path) {
   if (header.size() < 128 || !header.starts_with("MATLAB ") ||
       (header.compare(126, 2, "IM") != 0 && header.compare(126, 2, "MI") != 0))
     throw malformed(file, 0, "not a MATLAB .mat file (v5 or v7.3 need a 128-byte header starting with \"MATLAB \")");
+  std::error_code sizeError;
+  const std::uintmax_t fileBytes = std::filesystem::file_size(path, sizeError);
+  if (sizeError) throw Error::atFile(Error::Kind::Io, file, 0, "cannot read: " + sizeError.message());
   lastMatioMessage.clear();
   std::unique_ptr<mat_t, MatCloser> mat(Mat_Open(file.c_str(), MAT_ACC_RDONLY));
   if (!mat)
@@ -143,7 +165,7 @@ MeasuredTable readMat(const std::filesystem::path& path) {
                     "not a MATLAB .mat file libmatio can read" +
                         (lastMatioMessage.empty() ? std::string() : " (" + lastMatioMessage + ")"));
 
-  const Eigen::MatrixXd dirIn = readMatrix(mat.get(), "dir_in", file);
+  const Eigen::MatrixXd dirIn = readMatrix(mat.get(), "dir_in", file, fileBytes);
   const bool combined = dirIn.cols() == 4;
   Eigen::MatrixXd dirOut;
   if (combined) {
@@ -155,7 +177,7 @@ MeasuredTable readMat(const std::filesystem::path& path) {
                       "variable 'dir_in' must be N x 2 [theta phi], N x 3 unit vectors or N x 4 "
                       "[theta_i phi_i theta_s phi_s], is " +
                           std::to_string(dirIn.rows()) + " x " + std::to_string(dirIn.cols()));
-    dirOut = readMatrix(mat.get(), "dir_out", file);
+    dirOut = readMatrix(mat.get(), "dir_out", file, fileBytes);
     if (dirOut.cols() != 2 && dirOut.cols() != 3)
       throw malformed(file, 0,
                       "variable 'dir_out' must be N x 2 [theta phi] or N x 3 unit vectors, is " +
@@ -165,7 +187,7 @@ MeasuredTable readMat(const std::filesystem::path& path) {
           file, 0,
           "'dir_in' has " + std::to_string(dirIn.rows()) + " rows but 'dir_out' has " + std::to_string(dirOut.rows()));
   }
-  const Eigen::MatrixXd fr = readMatrix(mat.get(), "fr", file);
+  const Eigen::MatrixXd fr = readMatrix(mat.get(), "fr", file, fileBytes);
   const Eigen::Index n = dirIn.rows();
   if (n == 0) throw malformed(file, 0, "no samples ('dir_in' has 0 rows)");
   if (fr.rows() != n)
@@ -178,7 +200,7 @@ MeasuredTable readMat(const std::filesystem::path& path) {
   table.sourceFile = file;
   table.format = TableFormat::Mat;
   if (hasVariable(mat.get(), "wavelength")) {
-    const Eigen::MatrixXd w = readMatrix(mat.get(), "wavelength", file);
+    const Eigen::MatrixXd w = readMatrix(mat.get(), "wavelength", file, fileBytes);
     if (std::min(w.rows(), w.cols()) != 1 || w.size() != fr.cols())
       throw malformed(file, 0,
                       "variable 'wavelength' must be a vector of " + std::to_string(fr.cols()) +
