@@ -141,6 +141,10 @@ for t in "${targets[@]}"; do
     -artifact_prefix="$artifacts/" -print_final_stats=1 "${mode[@]}" "${dict[@]}" ${FUZZ_EXTRA_ARGS:-} >"$log" 2>&1
   rc=$?
   wall=$(( $(date +%s) - start ))
+  # Scratch folders of fuzzing processes that died without their exit handler (crashes, OOMs).
+  for d in /dev/shm/brdfbake-fuzz-* "${TMPDIR:-/tmp}"/brdfbake-fuzz-*; do
+    [ -d "$d" ] && ! kill -0 "${d##*-}" 2>/dev/null && rm -rf "$d"
+  done
   after="$(ls "$artifacts" 2>/dev/null | sort)"
   new="$(comm -13 <(echo "$before") <(echo "$after") | grep -E '^(crash|leak|timeout|oom|slow-unit)-' | tr '\n' ' ')"
   runs="$(grep -oE 'stat::number_of_executed_units: [0-9]+' "$log" | tail -1 | awk '{print $2}')"
