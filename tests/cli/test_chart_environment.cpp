@@ -13,6 +13,7 @@
 #include <set>
 #include <sstream>
 
+#include "pareto_check.hpp"
 #include "test_support.hpp"
 
 namespace brdfbake {
@@ -117,19 +118,8 @@ TEST(ChartEnvironment, SkyErrorsAreFiniteBoundedAndAgreeWithThePrefiltersEstimat
     }
     EXPECT_GT(p["reference_seconds"].get<double>(), 0.0) << key;
   }
-  // The Pareto front recomputed from each point's time and charted error (texel RMS, the
-  // default): on it unless another point is no slower and no less accurate, and strictly better
-  // in one of the two.
-  for (const auto& p : points) {
-    const double t = p["seconds"].get<double>(), e = p["rms"].get<double>();
-    bool dominated = false;
-    for (const auto& o : points) {
-      const double to = o["seconds"].get<double>(), eo = o["rms"].get<double>();
-      dominated = dominated || (to <= t && eo <= e && (to < t || eo < e));
-    }
-    EXPECT_EQ(p["pareto"].get<bool>(), !dominated) << p.dump();
-    front += !dominated;
-  }
+  // The Pareto front recomputed from each point's time and RMS error (tests/support/pareto_check.hpp).
+  front += test::expectParetoFlagsMatch(points);
   EXPECT_GE(front, 1);
   // Between texels a bilinear lookup also interpolates: its error is larger than at the texels,
   // and in a paraboloid map it falls with the resolution (measured 24 % at 16, 3.6 % at 32). (Not

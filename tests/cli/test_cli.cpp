@@ -12,6 +12,7 @@
 #include <fstream>
 #include <random>
 
+#include "pareto_check.hpp"
 #include "test_support.hpp"
 
 namespace brdfbake {
@@ -187,19 +188,8 @@ TEST(Cli, ChartSweepsAndMarksTheParetoFront) {
     EXPECT_GT(p["rms"].get<double>(), 0.0);
     EXPECT_GE(p["max"].get<double>(), p["rms"].get<double>());
   }
-  // The front recomputed from the points' time and RMS error: a point is on it unless another is
-  // no slower and no less accurate, and strictly better in one of the two.
-  int front = 0;
-  for (const auto& p : points) {
-    const double t = p["seconds"].get<double>(), e = p["rms"].get<double>();
-    bool dominated = false;
-    for (const auto& o : points) {
-      const double to = o["seconds"].get<double>(), eo = o["rms"].get<double>();
-      dominated = dominated || (to <= t && eo <= e && (to < t || eo < e));
-    }
-    EXPECT_EQ(p["pareto"].get<bool>(), !dominated) << p.dump();
-    front += !dominated;
-  }
+  // The Pareto front recomputed from each point's time and RMS error (tests/support/pareto_check.hpp).
+  const int front = test::expectParetoFlagsMatch(points);
   EXPECT_GE(front, 1);
   // Four times the resolution cuts the error of every map by far more than half.
   auto rms = [&](const std::string& kind, int n, int spt) {
