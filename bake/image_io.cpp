@@ -5,11 +5,8 @@
 #include <brdfbake/core/memory_budget.hpp>
 
 #include <OpenImageIO/imageio.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
-#include <fstream>
 
 namespace brdfbake {
 namespace fs = std::filesystem;
@@ -87,11 +84,11 @@ ImageFormat imageFormatFor(const fs::path& path) {
                                                 "' (use .exr, .hdr, .tif, .tiff or .png)");
 }
 
-bool samePath(const fs::path& a, const fs::path& b) { return sameFile(a, b); }
+fs::path metadataSidecarPath(const fs::path& path) { return path.string() + ".json"; }
 
 WriteReport writeImage(const Image& image, const fs::path& path, const WriteOptions& options) {
   for (const auto& input : options.inputs) {
-    if (samePath(input, path)) {
+    if (sameFile(input, path)) {
       throw Error(Error::Kind::InvalidArgument,
                   path.string() + ": output would overwrite an input; choose another output path");
     }
@@ -138,7 +135,7 @@ WriteReport writeImage(const Image& image, const fs::path& path, const WriteOpti
     }
   }
   // Formats that drop custom attributes get a sidecar; written before the image so the pair appears together.
-  const fs::path sidecar = path.string() + ".json";
+  const fs::path sidecar = metadataSidecarPath(path);
   if (!metadata.empty() && readMetadataAttribute(output.temporaryPath()) != metadata) {
     writeFileAtomically(sidecar, image.metadata.dump(2) + "\n");
     report.sidecar = true;
@@ -187,7 +184,7 @@ Image readImage(const fs::path& path) {
   }
   std::string metadata = spec.get_string_attribute(kMetadataAttribute);
   std::string metadataSource = path.string() + " (brdfbake metadata)";
-  const fs::path sidecar = path.string() + ".json";
+  const fs::path sidecar = metadataSidecarPath(path);
   std::error_code ec;
   if (metadata.empty() && fs::is_regular_file(sidecar, ec)) {
     metadata = readTextFile(sidecar, "metadata sidecar");

@@ -19,24 +19,30 @@ void checkSize(const Image& image, const Parameterization& map, const std::strin
 }
 }  // namespace
 
-MapFile readMap(const fs::path& path) {
-  MapFile file;
-  file.image = readImage(path);
-  if (file.image.metadata.empty() || !file.image.metadata.contains("parameterization")) {
+bool hasMapMetadata(const Image& image) {
+  return !image.metadata.empty() && image.metadata.contains("parameterization");
+}
+
+MapFile mapFromImage(Image image, const std::string& label) {
+  if (!hasMapMetadata(image)) {
     throw Error(Error::Kind::InvalidInput,
-                path.string() + ": not a brdfbake map (no brdfbake metadata); for a plain environment image, say "
-                                "which parameterization it uses");
+                label + ": not a brdfbake map (no brdfbake metadata); for a plain environment image, say "
+                        "which parameterization it uses");
   }
+  MapFile file;
+  file.image = std::move(image);
   try {
     file.info = MapInfo::fromJson(file.image.metadata);
   } catch (const Error& e) {
-    throw Error(e.kind(), path.string() + ": " + e.what());
+    throw Error(e.kind(), label + ": " + e.what());
   }
   file.parameterization = makeParameterization(file.info.parameterization, file.info.resolution);
-  checkSize(file.image, *file.parameterization, path.string());
-  requireFinite(file.image, path.string());
+  checkSize(file.image, *file.parameterization, label);
+  requireFinite(file.image, label);
   return file;
 }
+
+MapFile readMap(const fs::path& path) { return mapFromImage(readImage(path), path.string()); }
 
 MapFile adoptImage(Image image, ParameterizationKind kind, const std::string& label) {
   int resolution = 0;
@@ -62,7 +68,7 @@ std::vector<FilePlan::Entry> mapOutputFiles(const fs::path& path, const std::str
   std::vector<FilePlan::Entry> out;
   for (const auto& file : cube && layout == CubeLayout::Faces ? cubeFacePaths(path) : std::vector{path}) {
     out.push_back({file, role});
-    out.push_back({file.string() + ".json", role + " (metadata sidecar)"});
+    out.push_back({metadataSidecarPath(file), role + " (metadata sidecar)"});
   }
   return out;
 }
@@ -92,7 +98,7 @@ MapWriteReport writeMap(const Image& image, const MapInfo& info, const fs::path&
   const auto paths = cubeFacePaths(path);
   for (const auto& facePath : paths) {
     for (const auto& input : options.inputs) {
-      if (samePath(input, facePath)) throw Error(Error::Kind::InvalidArgument, facePath.string() + ": output would overwrite an input");
+      if (sameFile(input, facePath)) throw Error(Error::Kind::InvalidArgument, facePath.string() + ": output would overwrite an input");
     }
   }
   for (int f = 0; f < 6; ++f) {

@@ -45,7 +45,7 @@ bool startsWithBrace(const fs::path& path) {
 Brdf loadBrdf(const std::string& model, const std::string& formatName) {
   const fs::path path(model);
   if (startsWithBrace(path)) {
-    const nlohmann::json document = readJsonDocument(path);
+    const nlohmann::json document = readJsonFile(path);
     if (isFitFileJson(document)) {
       auto file = std::make_shared<FitFile>(fitFileFromJson(document, model));
       Brdf brdf{"fit", {}, nullptr};

@@ -58,13 +58,14 @@ CLI::Option* addEnvironmentMaxErrorOption(CLI::App* command, double& maxError, c
 }
 
 MapFile openMapOrImage(const std::string& path, const std::string& from) {
-  if (!from.empty()) return adoptImage(readImage(path), parseParameterizationKind(from), path);
-  try {
-    return readMap(path);
-  } catch (const Error& e) {
-    if (std::string(e.what()).find("no brdfbake metadata") == std::string::npos) throw;
-    throw Error(e.kind(), std::string(e.what()) + " with --from sphere|paraboloid|cube|latlong");
+  Image image = readImage(path);
+  if (!from.empty()) return adoptImage(std::move(image), parseParameterizationKind(from), path);
+  if (!hasMapMetadata(image)) {
+    throw Error(Error::Kind::InvalidInput, path + ": not a brdfbake map (no brdfbake metadata); for a plain environment "
+                                                  "image, say which parameterization it uses with --from "
+                                                  "sphere|paraboloid|cube|latlong");
   }
+  return mapFromImage(std::move(image), path);
 }
 
 Vec3 parseVector(const std::string& text, const std::string& flag) {

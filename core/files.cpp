@@ -206,23 +206,41 @@ void FilePlan::addInput(const fs::path& file, std::string role) { inputs_.push_b
 void FilePlan::addOutput(const fs::path& file, std::string role) { outputs_.push_back({file, std::move(role)}); }
 
 void FilePlan::check() const {
+  // Each path is resolved once; hard links (the same file under two resolved names) are caught by
+  // comparing inodes where both files exist.
+  struct Resolved {
+    const Entry* entry;
+    fs::path path;
+    bool exists;
+  };
+  auto resolveAll = [](const std::vector<Entry>& entries) {
+    std::vector<Resolved> out;
+    std::error_code ec;
+    for (const Entry& e : entries) out.push_back({&e, resolvedPath(e.file), fs::exists(e.file, ec)});
+    return out;
+  };
+  auto same = [](const Resolved& a, const Resolved& b) {
+    std::error_code ec;
+    return a.path == b.path || (a.exists && b.exists && fs::equivalent(a.entry->file, b.entry->file, ec));
+  };
+  const std::vector<Resolved> inputs = resolveAll(inputs_), outputs = resolveAll(outputs_);
   const std::optional<fs::path> folder = outputFolder_ ? std::optional(resolvedPath(*outputFolder_)) : std::nullopt;
-  for (std::size_t i = 0; i < outputs_.size(); ++i) {
-    const Entry& out = outputs_[i];
-    if (folder && !isInside(resolvedPath(out.file), *folder)) {
+  for (std::size_t i = 0; i < outputs.size(); ++i) {
+    const Entry& out = *outputs[i].entry;
+    if (folder && !isInside(outputs[i].path, *folder)) {
       throw Error(Error::Kind::InvalidArgument, out.role + ": " + named(out.file) + " lies outside the output folder " +
                                                     named(*outputFolder_) + "; outputs stay inside it");
     }
-    for (const Entry& in : inputs_) {
-      if (sameFile(out.file, in.file)) {
-        throw Error(Error::Kind::InvalidArgument, out.role + ": " + named(out.file) + " is the " + in.role +
+    for (const Resolved& in : inputs) {
+      if (same(outputs[i], in)) {
+        throw Error(Error::Kind::InvalidArgument, out.role + ": " + named(out.file) + " is the " + in.entry->role +
                                                       " (an input); choose another output so no input is overwritten");
       }
     }
     for (std::size_t j = 0; j < i; ++j) {
-      if (sameFile(out.file, outputs_[j].file)) {
+      if (same(outputs[i], outputs[j])) {
         throw Error(Error::Kind::InvalidArgument, out.role + ": " + named(out.file) + " is also written as " +
-                                                      outputs_[j].role + "; give each output its own file");
+                                                      outputs[j].entry->role + "; give each output its own file");
       }
     }
     requireWritableLocation(out.file, out.role);

@@ -1,9 +1,5 @@
-#include <brdfbake/core/files.hpp>
-#include <brdfbake/core/json_text.hpp>
 #include <brdfbake/core/json_reader.hpp>
 
-#include <algorithm>
-#include <fstream>
 #include <sstream>
 
 namespace brdfbake {
@@ -143,7 +139,5 @@ void JsonObjectReader::finish() const {
     throw specError(child(key), "unknown key" + (known.empty() ? std::string() : " (known keys: " + known + ")"));
   }
 }
-
-nlohmann::json readJsonDocument(const std::filesystem::path& path) { return readJsonFile(path.string()); }
 
 }  // namespace brdfbake

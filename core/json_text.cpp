@@ -97,6 +97,8 @@ nlohmann::json parseJsonText(std::string_view text, const std::string& source) {
   }
 }
 
-nlohmann::json readJsonFile(const std::string& path) { return parseJsonText(readTextFile(path, "JSON file"), path); }
+nlohmann::json readJsonFile(const std::filesystem::path& path) {
+  return parseJsonText(readTextFile(path, "JSON file"), path.string());
+}
 
 }  // namespace brdfbake

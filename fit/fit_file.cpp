@@ -309,7 +309,7 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
 }
 
 
-FitFile readFitFile(const fs::path& path) { return fitFileFromJson(readJsonFile(path.string()), path.string()); }
+FitFile readFitFile(const fs::path& path) { return fitFileFromJson(readJsonFile(path), path.string()); }
 
 void writeFitFile(const fs::path& path, const FitFile& file) {
   writeFileAtomically(path, fitFileToJson(file).dump(2) + "\n");

@@ -108,14 +108,19 @@ std::pair<double, double> directionAngles(const Eigen::MatrixXd& m, Eigen::Index
   return {std::acos(std::clamp(u.z(), -1.0, 1.0)), std::atan2(u.y(), u.x())};
 }
 
-// libmatio reads a cut-off variable as if the missing bytes were zeros. A level-5 MAT-file is a
-// 128-byte header and then top-level data elements, each an 8-byte tag (type, byte count) and its
-// bytes: walk them and refuse a file that ends inside one. (Level-4 files have no such header and
-// v7.3 files are HDF5, which checks its own structure.)
-void requireCompleteMatFile(const std::filesystem::path& path) {
-  const std::uintmax_t size = requireInputFile(path, "MATLAB table");
+// Reads the file once and refuses what libmatio would read wrongly, returning the file's size:
+// - without a v5/v7.3 header libmatio falls back to MATLAB v4 and allocates whatever the first
+//   bytes claim (a 21-byte file asked for 1.1 GB), so the 128-byte header (text from "MATLAB ",
+//   endian indicator "IM" or "MI" in bytes 126-127) is required;
+// - libmatio reads a cut-off variable as if the missing bytes were zeros, so a level-5 file's
+//   top-level data elements (each an 8-byte tag, type and byte count, then its bytes) are walked
+//   and a file that ends inside one is refused (v7.3 files are HDF5, which checks itself).
+std::uintmax_t requireCompleteMatFile(const std::filesystem::path& path) {
   const std::string bytes = readTextFile(path, "MATLAB table");
-  if (bytes.size() < 128 || bytes.compare(0, 10, "MATLAB 5.0") != 0) return;
+  if (bytes.size() < 128 || bytes.compare(0, 7, "MATLAB ") != 0 ||
+      (bytes.compare(126, 2, "IM") != 0 && bytes.compare(126, 2, "MI") != 0))
+    throw malformed(path.string(), 0, "not a MATLAB .mat file (v5 or v7.3 need a 128-byte header starting with \"MATLAB \")");
+  if (bytes.compare(0, 10, "MATLAB 5.0") != 0) return bytes.size();
   const bool swapped = bytes[126] == 'M' && bytes[127] == 'I';  // the file's byte order differs from ours
   auto word = [&](std::size_t at) {
     std::uint32_t v = 0;
@@ -127,7 +132,7 @@ void requireCompleteMatFile(const std::filesystem::path& path) {
   while (at < bytes.size()) {
     if (bytes.size() - at < 8) {
       throw malformed(path.string(), 0, "truncated: the file ends inside the tag of data element " + std::to_string(element) +
-                                            " (byte " + std::to_string(at) + " of " + std::to_string(size) + ")");
+                                            " (byte " + std::to_string(at) + " of " + std::to_string(bytes.size()) + ")");
     }
     const std::uint32_t type = word(at), count = word(at + 4);
     std::uint64_t end = at + 8 + std::uint64_t{count};
@@ -140,6 +145,7 @@ void requireCompleteMatFile(const std::filesystem::path& path) {
     at = static_cast<std::size_t>(std::min<std::uint64_t>(end, bytes.size()));
     ++element;
   }
+  return bytes.size();
 }
 
 }  // namespace
@@ -147,17 +153,7 @@ void requireCompleteMatFile(const std::filesystem::path& path) {
 MeasuredTable readMat(const std::filesystem::path& path) {
   const std::string file = path.string();
   silenceMatio();
-  requireCompleteMatFile(path);
-  // Without a v5/v7.3 header libmatio falls back to MATLAB v4 and allocates whatever the first bytes
-  // claim (a 21-byte file asked for 1.1 GB). Only v5 and v7.3 are read here, so their 128-byte header
-  // (text from "MATLAB ", endian indicator "IM" or "MI" in bytes 126-127) is required first.
-  const std::string header = measured::readFilePrefix(path, 128);
-  if (header.size() < 128 || !header.starts_with("MATLAB ") ||
-      (header.compare(126, 2, "IM") != 0 && header.compare(126, 2, "MI") != 0))
-    throw malformed(file, 0, "not a MATLAB .mat file (v5 or v7.3 need a 128-byte header starting with \"MATLAB \")");
-  std::error_code sizeError;
-  const std::uintmax_t fileBytes = std::filesystem::file_size(path, sizeError);
-  if (sizeError) throw Error::atFile(Error::Kind::Io, file, 0, "cannot read: " + sizeError.message());
+  const std::uintmax_t fileBytes = requireCompleteMatFile(path);
   lastMatioMessage.clear();
   std::unique_ptr<mat_t, MatCloser> mat(Mat_Open(file.c_str(), MAT_ACC_RDONLY));
   if (!mat)

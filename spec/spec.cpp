@@ -1,3 +1,4 @@
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/bake/env_mips.hpp>
 #include <brdfbake/bake/image_io.hpp>
 #include <brdfbake/bake/mip_chain.hpp>
@@ -326,7 +327,7 @@ BakeSpec parseBakeSpec(const nlohmann::json& document, const fs::path& baseDirec
     root.finish();
     for (std::size_t i = 0; i < spec.maps.size(); ++i) {
       for (std::size_t j = 0; j < i; ++j) {
-        if (samePath(spec.maps[i].output, spec.maps[j].output)) {
+        if (sameFile(spec.maps[i].output, spec.maps[j].output)) {
           throw specError(spec.maps[i].jsonPath + ".output", "same file as " + spec.maps[j].jsonPath + ".output");
         }
       }
@@ -338,7 +339,7 @@ BakeSpec parseBakeSpec(const nlohmann::json& document, const fs::path& baseDirec
 }
 
 BakeSpec loadBakeSpec(const fs::path& file) {
-  const nlohmann::json document = readJsonDocument(file);
+  const nlohmann::json document = readJsonFile(file);
   BakeSpec spec = parseBakeSpec(document, file.parent_path().empty() ? fs::path(".") : file.parent_path(), file.string());
   spec.file = file;
   return spec;

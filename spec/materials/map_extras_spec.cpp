@@ -1,5 +1,6 @@
 // Map-level extras: "mips" (silhouette mip chain) and "profile_output" (1-D Fresnel texture), parsed
 // and written beside the map.
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/bake/image_io.hpp>
 #include <brdfbake/bake/env_mips.hpp>
 #include <brdfbake/bake/mip_chain.hpp>
@@ -48,7 +49,7 @@ void parseMapExtras(JsonObjectReader& map, MapSpec& spec) {
       throw specError(map.child("profile_output"), e.what());
     }
     spec.profileOutput = fs::path(profile);
-    if (samePath(profilePath(spec), spec.output)) throw specError(map.child("profile_output"), "same file as output");
+    if (sameFile(profilePath(spec), spec.output)) throw specError(map.child("profile_output"), "same file as output");
   }
 }
 

@@ -35,6 +35,10 @@ struct WriteReport {
 /// Error(InvalidArgument) if `path` is one of `options.inputs`, or holds NaN/Inf.
 WriteReport writeImage(const Image& image, const std::filesystem::path& path, const WriteOptions& options = {});
 
+/// PATH.json: where writeImage puts (or removes) the metadata of `path` when its format drops
+/// custom attributes, and where readImage looks for it.
+std::filesystem::path metadataSidecarPath(const std::filesystem::path& path);
+
 /// Reads any format OpenImageIO reads, as float RGBA (alpha 1 if absent; gray expanded to RGB),
 /// with its brdfbake metadata if present. Throws Error(Io) naming the file.
 Image readImage(const std::filesystem::path& path);
@@ -43,7 +47,5 @@ Image readImage(const std::filesystem::path& path);
 /// value. Zero and negative values are accepted (negative radiance is kept as stored).
 void requireFinite(const Image& image, const std::string& label);
 
-/// True if both paths name the same file (existing or not).
-bool samePath(const std::filesystem::path& a, const std::filesystem::path& b);
 
 }  // namespace brdfbake

@@ -27,6 +27,12 @@ struct MapFile {
 /// infinite.
 MapFile readMap(const std::filesystem::path& path);
 
+/// True if `image` carries the metadata writeMap writes (a brdfbake map, not a plain image).
+bool hasMapMetadata(const Image& image);
+
+/// readMap's checks on an image already read; `label` names it in messages.
+MapFile mapFromImage(Image image, const std::string& label);
+
 /// Wraps a plain environment image (no brdfbake metadata) as a map of the given kind, checking
 /// its size (lat-long 2:1, cube cross 4:3, paraboloid 2:1, sphere square) and that every texel
 /// is finite.

@@ -4,6 +4,7 @@
 
 #include <brdfbake/core/color.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/json_text.hpp>  // readJsonFile, parseJsonText
 #include <brdfbake/core/math.hpp>
 
 #include <nlohmann/json.hpp>
@@ -15,10 +16,6 @@
 #include <vector>
 
 namespace brdfbake {
-
-/// Reads a whole JSON file. Throws Error(Io) "<file>: cannot open", and Error(InvalidInput)
-/// "<file>:<line>:<column>: invalid JSON: ..." for syntax errors.
-nlohmann::json readJsonDocument(const std::filesystem::path& path);
 
 /// Error(InvalidInput) with message "<path>: <message>".
 Error specError(const std::string& path, const std::string& message);

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <string>
 #include <string_view>
 
@@ -22,6 +23,6 @@ nlohmann::json parseJsonText(std::string_view text, const std::string& source);
 
 /// Reads and parses a whole file with parseJsonText. Throws Error(Io) naming the file if it cannot
 /// be read (including when it is a folder).
-nlohmann::json readJsonFile(const std::string& path);
+nlohmann::json readJsonFile(const std::filesystem::path& path);
 
 }  // namespace brdfbake

@@ -25,7 +25,7 @@
 
 #include <brdfbake/fit/lobe_fit.hpp>
 
-#include <brdfbake/core/json_reader.hpp>  // readJsonDocument
+#include <brdfbake/core/json_reader.hpp>
 
 #include <nlohmann/json.hpp>
 
