@@ -30,12 +30,12 @@ void AutoOptions::validate() const {
 }
 
 double autoErrorMeasure(const ErrorStats& stats, ParameterizationKind kind) {
-  return kind == ParameterizationKind::Sphere ? stats.visibleRms : stats.rms;
+  return stats.bound(kind == ParameterizationKind::Sphere);
 }
 
 double autoErrorMeasure(const ErrorStats& stats, const MapConfiguration& configuration, const Vec3& profileAxis) {
   if (!configuration.profile) return autoErrorMeasure(stats, configuration.parameterization);
-  return (profileAxis - Vec3::UnitZ()).norm() < 1e-12 ? stats.visibleRms : stats.rms;
+  return stats.bound((profileAxis - Vec3::UnitZ()).norm() < 1e-12);
 }
 
 AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& options) {
@@ -53,6 +53,7 @@ AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& o
   std::stable_sort(candidates.begin(), candidates.end(), [](const MapConfiguration& a, const MapConfiguration& b) {
     return a.cost() != b.cost() ? a.cost() < b.cost() : a.samplesPerTexel < b.samplesPerTexel;
   });
+  const ErrorProbes probes(function, options.error);
   AutoResult result;
   double best = std::numeric_limits<double>::infinity();
   MapConfiguration bestConfiguration;
@@ -67,7 +68,7 @@ AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& o
     doneCost += cost;
     if (candidate.profile) {
       RadialProfile profile = bakeRadialProfile(function, *axis, candidate.resolution, candidate.samplesPerTexel, bakeOptions);
-      const double error = autoErrorMeasure(measureProfileError(profile, function, options.error), candidate, *axis);
+      const double error = autoErrorMeasure(measureProfileError(profile, probes, options.error.visibleSphere), candidate, *axis);
       ++result.tried;
       if (error <= options.maxError) {
         result.chosen = candidate;
@@ -83,7 +84,7 @@ AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& o
     const auto map = makeParameterization(candidate.parameterization, candidate.resolution);
     bakeOptions.samplesPerTexel = candidate.samplesPerTexel;
     Image image = bake(*map, function, bakeOptions);
-    const double error = autoErrorMeasure(measureMapError(image, *map, function, options.error), candidate.parameterization);
+    const double error = autoErrorMeasure(measureMapError(image, *map, probes, options.error.visibleSphere), candidate.parameterization);
     ++result.tried;
     if (error <= options.maxError) {
       result.chosen = candidate;

@@ -86,13 +86,16 @@ RadialProfile bakeRadialProfile(const MapFunction& function, const Vec3& axis, i
   return RadialProfile(axis, std::move(texels));
 }
 
-ErrorStats measureProfileError(const RadialProfile& profile, const MapFunction& exact, const ErrorOptions& options) {
+ErrorStats measureProfileError(const RadialProfile& profile, const ErrorProbes& probes, bool visibleSphere) {
   // About the view, a profile is looked up through sphere-map coordinates: skip the rim band the
   // sphere-map measure skips, for a sphere map of the same radial texel size (2N across).
   const bool aboutView = (profile.axis() - Vec3::UnitZ()).norm() < 1e-12;
-  const double rimCos = aboutView ? std::cos(std::min(kPi, 4.0 * std::sqrt(1.0 / profile.resolution()))) : 2.0;
-  return measureLookupError([&](const Vec3& r) { return profile.lookup(r); }, exact, options, rimCos,
-                            aboutView && options.visibleSphere);
+  const double rimCos = aboutView ? mapRimCos(ParameterizationKind::Sphere, 2 * profile.resolution()) : 2.0;
+  return probes.measure([&](const Vec3& r) { return profile.lookup(r); }, rimCos, aboutView && visibleSphere);
+}
+
+ErrorStats measureProfileError(const RadialProfile& profile, const MapFunction& exact, const ErrorOptions& options) {
+  return measureProfileError(profile, ErrorProbes(exact, options), options.visibleSphere);
 }
 
 }  // namespace brdfbake

@@ -5,6 +5,8 @@
 //
 //   build/bench/bench_bake                        # everything
 //   build/bench/bench_bake --benchmark_filter=Target
+#include <brdfbake/bake/accuracy.hpp>
+#include <brdfbake/bake/auto_config.hpp>
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/bake/paraboloid_map.hpp>
 #include <brdfbake/bake/sphere_map.hpp>
@@ -34,27 +36,6 @@ MaterialMapFunction cookTorranceFunction() {
   return MaterialMapFunction(std::make_shared<CookTorranceMaterial>(params), {{kLight, Rgb::Ones()}}, Vec3::UnitZ());
 }
 
-// RMS and max absolute error (red channel) of bilinear lookups against the exact model at random
-// directions (uniform on the sphere; for sphere maps directions within 10 degrees of -z are
-// skipped: the rim is the map's singular set), relative to the model's largest value found.
-std::pair<double, double> lookupError(const Image& image, const Parameterization& map, const MapFunction& exact) {
-  std::mt19937 rng(42);
-  std::normal_distribution<double> g;
-  double sum = 0.0, worst = 0.0, peak = 0.0;
-  int count = 0;
-  while (count < 200000) {
-    const Vec3 r = Vec3(g(rng), g(rng), g(rng)).normalized();
-    if (map.kind() == ParameterizationKind::Sphere && -r.z() > std::cos(radians(10))) continue;
-    const double truth = exact.evaluate(r)[0];
-    const double e = sampleBilinear(image, map, r)[0] - truth;
-    peak = std::max(peak, std::abs(truth));
-    sum += e * e;
-    worst = std::max(worst, std::abs(e));
-    ++count;
-  }
-  return {std::sqrt(sum / count) / peak, worst / peak};
-}
-
 // Arguments: model (0 Phong, 1 Cook-Torrance), parameterization, resolution, samples, threads.
 void BakeMap(benchmark::State& state) {
   const int model = static_cast<int>(state.range(0));
@@ -72,9 +53,12 @@ void BakeMap(benchmark::State& state) {
   }
   const double samples = double(map->width()) * map->height() * options.samplesPerTexel;
   state.counters["samples/s"] = benchmark::Counter(samples, benchmark::Counter::kIsIterationInvariantRate);
-  const auto [rms, worst] = lookupError(image, *map, function);
-  state.counters["rms_err"] = rms;
-  state.counters["max_err"] = worst;
+  // The library's measures (docs/accuracy.md), relative to the peak: `error` is what max_error bounds.
+  const ErrorStats error = measureMapError(image, *map, function);
+  state.counters["rms_err"] = error.rms;
+  state.counters["max_err"] = error.max;
+  state.counters["highlight_rms"] = error.highlightRms;
+  state.counters["error"] = autoErrorMeasure(error, kind);
   state.SetLabel(std::string(model == 0 ? "phong " : "cook-torrance ") + std::string(toString(kind)));
 }
 

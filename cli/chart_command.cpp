@@ -5,6 +5,7 @@
 // texels (env_accuracy.hpp). docs/charts.md.
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/bake/accuracy.hpp>
+#include <brdfbake/bake/auto_config.hpp>
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/bake/env_accuracy.hpp>
 #include <brdfbake/bake/environment.hpp>
@@ -43,6 +44,9 @@ struct Point {
   long long texels = 0;
   double seconds = 0.0;
   double rms = 0.0, max = 0.0, visibleRms = 0.0;
+  // Material maps only (-1: none): ErrorStats' value-weighted RMS and maximum, and the bound
+  // max_error is checked against (ErrorStats::bound), which the chart plots.
+  double highlightRms = -1.0, highlightMax = -1.0, bound = -1.0;
   // Environment maps only (-1: none).
   double estimate = -1.0;          // the prefilter's own error estimate
   double lookupRms = -1.0, lookupMax = -1.0;
@@ -73,8 +77,12 @@ std::vector<T> parseList(const std::string& text, const std::string& flag, const
   return out;
 }
 
-// The error a point is charted (and its Pareto front taken) by.
-double plotted(const Point& p, bool lookups) { return lookups && p.environment ? p.lookupRms : p.rms; }
+// The error a point is charted (and its Pareto front taken) by: for material maps the bound
+// max_error means (docs/accuracy.md), for environments the texel or lookup RMS relative error.
+double plotted(const Point& p, bool lookups) {
+  if (!p.environment) return p.bound;
+  return lookups ? p.lookupRms : p.rms;
+}
 
 // Marks the points no other point beats in both time and charted RMS error.
 void markPareto(std::vector<Point>& points, bool lookups) {
@@ -99,14 +107,15 @@ void writeCsv(const std::vector<Point>& points, const fs::path& path) {
   {
     // The first ten columns are those of material charts before environment maps were charted.
     out << "map,parameterization,resolution,samples_per_texel,texels,seconds,rms,max,visible_rms,pareto,"
-           "method,detail,estimate,lookup_rms,lookup_max,reference_seconds\n";
+           "method,detail,estimate,lookup_rms,lookup_max,reference_seconds,highlight_rms,highlight_max,error\n";
     for (const auto& p : points) {
       std::string detail = p.detail;
       std::replace(detail.begin(), detail.end(), ',', ';');
       out << p.map << "," << p.parameterization << "," << p.resolution << "," << p.samples << "," << p.texels << ","
           << p.seconds << "," << p.rms << "," << p.max << "," << p.visibleRms << "," << p.pareto << "," << p.method << ","
           << detail << "," << optionalNumber(p.estimate) << "," << optionalNumber(p.lookupRms) << ","
-          << optionalNumber(p.lookupMax) << "," << optionalNumber(p.referenceSeconds) << "\n";
+          << optionalNumber(p.lookupMax) << "," << optionalNumber(p.referenceSeconds) << "," << optionalNumber(p.highlightRms)
+          << "," << optionalNumber(p.highlightMax) << "," << optionalNumber(p.bound) << "\n";
     }
   }
   writeFileAtomically(path, out.str());
@@ -120,14 +129,14 @@ double plottable(double error) { return std::max(error, 1e-9); }
 std::string materialScript(const std::vector<Point>& points, const std::string& title) {
   std::ostringstream gp;
   gp << "set title '" << title << "'\nset logscale xy\nset grid\nset key outside right\n";
-  gp << "set xlabel 'bake time (s)'\nset ylabel 'RMS error (relative to peak)'\nset format x '%g'\nset format y '%g'\n";
+  gp << "set xlabel 'bake time (s)'\nset ylabel 'error: max(value-weighted RMS, lookup RMS) / peak'\nset format x '%g'\nset format y '%g'\n";
   std::vector<std::string> kinds;
   for (const auto& p : points)
     if (std::find(kinds.begin(), kinds.end(), p.parameterization) == kinds.end()) kinds.push_back(p.parameterization);
   for (const auto& kind : kinds) {
     gp << "$" << kind << " << EOD\n";
     for (const auto& p : points)
-      if (p.parameterization == kind) gp << p.seconds << " " << plottable(p.rms) << " \"" << p.resolution << "/" << p.samples << "\"\n";
+      if (p.parameterization == kind) gp << p.seconds << " " << plottable(p.bound) << " \"" << p.resolution << "/" << p.samples << "\"\n";
     gp << "EOD\n";
   }
   std::vector<Point> front;
@@ -135,7 +144,7 @@ std::string materialScript(const std::vector<Point>& points, const std::string& 
     if (p.pareto) front.push_back(p);
   std::sort(front.begin(), front.end(), [](const Point& a, const Point& b) { return a.seconds < b.seconds; });
   gp << "$pareto << EOD\n";
-  for (const auto& p : front) gp << p.seconds << " " << plottable(p.rms) << "\n";
+  for (const auto& p : front) gp << p.seconds << " " << plottable(p.bound) << "\n";
   gp << "EOD\nplot ";
   for (const auto& kind : kinds) {
     gp << "$" << kind << " using 1:2 with points pt 7 ps 1.2 title '" << kind << "', ";
@@ -433,6 +442,9 @@ Examples:
         const auto progress = bar.callback();
         const double total = double(kinds.size() * resolutions.size() * samples.size());
         int done = 0;
+        ErrorOptions errorOptions;
+        errorOptions.samples = args->lookups;
+        const ErrorProbes probes(*function, errorOptions);
         for (const auto kind : kinds) {
           for (const int resolution : resolutions) {
             for (const int spt : samples) {
@@ -442,8 +454,6 @@ Examples:
               options.threads = args->threads;
               BakeSummary summary;
               const Image image = bake(*parameterization, *function, options, &summary);
-              ErrorOptions errorOptions;
-              errorOptions.samples = args->lookups;
               Point p;
               p.map = map.jsonPath;
               p.parameterization = std::string(toString(kind));
@@ -451,10 +461,13 @@ Examples:
               p.samples = spt;
               p.texels = static_cast<long long>(parameterization->width()) * parameterization->height();
               p.seconds = summary.seconds;
-              const ErrorStats error = measureMapError(image, *parameterization, *function, errorOptions);
+              const ErrorStats error = measureMapError(image, *parameterization, probes);
               p.rms = error.rms;
               p.max = error.max;
               p.visibleRms = error.visibleRms;
+              p.highlightRms = error.highlightRms;
+              p.highlightMax = error.highlightMax;
+              p.bound = autoErrorMeasure(error, kind);
               points.push_back(p);
               if (progress) progress(++done / total);
             }
@@ -474,6 +487,11 @@ Examples:
                                 {"rms", p.rms}, {"max", p.max}, {"visible_rms", p.visibleRms},
                                 {"pareto", p.pareto}, {"method", p.method}};
         if (!chart.empty()) entry["chart"] = chart.string();
+        if (!p.environment) {
+          entry["highlight_rms"] = p.highlightRms;
+          entry["highlight_max"] = p.highlightMax;
+          entry["error"] = p.bound;
+        }
         if (p.environment) {
           entry["detail"] = p.detail;
           entry["estimate"] = p.estimate >= 0.0 ? nlohmann::json(p.estimate) : nlohmann::json(nullptr);

@@ -22,11 +22,9 @@ preview phong_diffuse.exr phong_per_vertex --per-vertex --segments 8
 preview measured_lobes_reflectance.exr measured_lobes --object teapot --exposure -3
 preview sky_phong100_paraboloid.exr sky_phong100 --object teapot --view 0.3,0.2,1
 
-# Speed against accuracy, one chart per model family.
-"$cli" chart data_samples/specs/phong_eye.json -o "$work/phong.png" --resolutions 32,64,128,256,512 --samples 1,4,16 \
+# Speed against accuracy, one picture per model family (a panel per map of the spec).
+"$cli" chart data_samples/specs/phong_eye.json -o "$out/chart_phong.png" --resolutions 32,64,128,256,512 --samples 1,4,16 \
   --csv "$out/chart_phong.csv" > /dev/null
-mv "$work/phong_1.png" "$out/chart_phong_eye.png"
-mv "$work/phong_2.png" "$out/chart_phong_paraboloid.png"
 cat > "$work/ct.json" <<'JSON'
 {"maps": [{"output": "ct.exr", "parameterization": "sphere", "view": "fixed",
   "material": {"model": "cook_torrance", "mode": "lighting", "roughness": 0.3, "fresnel": {"f0": [0.955, 0.638, 0.538]}},

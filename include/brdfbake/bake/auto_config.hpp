@@ -34,8 +34,9 @@ struct AutoOptions {
   /// axis (MapFunction::symmetryAxis): a radially symmetric map needs only its profile. With no
   /// parameterizations, only profiles are tried.
   bool allowProfile = false;
-  /// Target: RMS lookup error relative to the peak (ErrorStats::rms, or visibleRms for sphere
-  /// maps: the directions a renderer looks up), in (0, 1).
+  /// Target, relative to the peak, in (0, 1): ErrorStats::bound, the larger of the
+  /// value-weighted RMS (highlightRms: the highlight is within this fraction of its peak) and the
+  /// RMS over the lookups a renderer makes (visibleRms for sphere maps, else rms). docs/accuracy.md.
   double maxError = 0.01;
   ErrorOptions error;      ///< how errors are measured
   BakeOptions bake;        ///< threads, limits (samplesPerTexel and progress are overridden)
@@ -56,8 +57,8 @@ struct AutoResult {
   std::vector<std::pair<MapConfiguration, double>> rejected;
 };
 
-/// The error measure AutoOptions::maxError bounds, for one measurement: visibleRms for sphere maps
-/// and for profiles about the view (+z), rms otherwise.
+/// The error measure AutoOptions::maxError bounds, for one measurement: ErrorStats::bound, with
+/// the visible-sphere lookups for sphere maps and for profiles about the view (+z).
 double autoErrorMeasure(const ErrorStats& stats, ParameterizationKind kind);
 double autoErrorMeasure(const ErrorStats& stats, const MapConfiguration& configuration, const Vec3& profileAxis);
 

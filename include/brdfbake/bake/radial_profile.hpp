@@ -65,5 +65,7 @@ RadialProfile bakeRadialProfile(const MapFunction& function, const Vec3& axis, i
 /// same radial texel size) is skipped too: there the profile is looked up through sphere-map
 /// coordinates, whose rim is singular.
 ErrorStats measureProfileError(const RadialProfile& profile, const MapFunction& exact, const ErrorOptions& options = {});
+/// The same against probes already drawn for the function.
+ErrorStats measureProfileError(const RadialProfile& profile, const ErrorProbes& probes, bool visibleSphere = true);
 
 }  // namespace brdfbake
