@@ -172,6 +172,11 @@ nlohmann::json writeProfile(const RadialProfile& profile, const MapSpec& map, co
 // A map baked from a material (and lights); returns its report entry.
 nlohmann::json bakeMaterialMap(const MapSpec& specified, BakeOptions options, const BakeArgs& args) {
   MapSpec map = specified;
+  if (map.deferredFit) {  // a measured material's fit runs now, not while the spec was parsed
+    ProgressBar fitting(map.jsonPath + " fitting lobes to " + std::filesystem::path(map.deferredFit->table.sourceFile).filename().string(),
+                        !args.quiet && !args.json);
+    map.prepare(fitting.callback());
+  }
   const auto function = map.makeFunction();
   ProgressBar bar(map.jsonPath + " " + map.output.filename().string(), !args.quiet && !args.json);
   options.progress = bar.callback();

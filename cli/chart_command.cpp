@@ -385,7 +385,7 @@ Examples:
     const fs::path output = args->output;
     if (!output.empty()) checkChartPath(output);
     const bool lookupError = args->environmentError == "lookup";
-    const BakeSpec spec = loadBakeSpec(args->spec);
+    BakeSpec spec = loadBakeSpec(args->spec);
     const fs::path specFolder = fs::path(args->spec).parent_path();
     FilePlan plan;
     plan.addInput(args->spec, "spec");
@@ -412,7 +412,7 @@ Examples:
     std::vector<Skipped> skipped;
     std::vector<std::string> panels;  // one chart per map, drawn into -o as one picture
     for (std::size_t m = 0; m < spec.maps.size(); ++m) {
-      const MapSpec& map = spec.maps[m];
+      MapSpec& map = spec.maps[m];
       std::vector<Point> points;
       std::string title;
       const std::size_t skippedBefore = skipped.size();
@@ -437,6 +437,10 @@ Examples:
                   percent(args->maxError > 0.0 ? args->maxError : e.maxError) + " (" + map.output.filename().string() + ")";
         }
       } else {
+        if (map.deferredFit) {
+          ProgressBar fitting(map.jsonPath + " fitting lobes", !args->json && !args->quiet);
+          map.prepare(fitting.callback());
+        }
         const auto function = map.makeFunction();
         ProgressBar bar(map.jsonPath, !args->json && !args->quiet);
         const auto progress = bar.callback();

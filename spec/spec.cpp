@@ -119,6 +119,38 @@ void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& b
   spec.environment = e;
 }
 
+// The rules a map's material must meet (lights, view, profile symmetry): at parse time, or after
+// a deferred fit has made the material.
+void checkMaterialMap(const MapSpec& spec) {
+  if (spec.material->usesLights() && spec.lights.empty()) {
+    throw specError(spec.jsonPath + ".lights", std::string(spec.material->model()) + " needs at least one light");
+  }
+  if (!spec.material->usesLights() && !spec.lights.empty()) {
+    throw specError(spec.jsonPath + ".lights", std::string(spec.material->model()) + " ignores lights; remove them");
+  }
+  const bool viewDependent = !spec.material->viewIndependent() || spec.lightAtEye;
+  if (viewDependent && spec.viewNeed == MapSpec::ViewNeed::Free) {
+    throw specError(spec.jsonPath + ".view", std::string(spec.material->model()) + (spec.lightAtEye ? " lit from the eye" : "") +
+                                           " depends on the view direction, so no environment map can serve a free view;"
+                                           " use \"view\": \"fixed\"");
+  }
+  // A fixed view ("fixed", or a sphere map's eye space) is +z in every candidate map frame.
+  const bool viewFixed = spec.viewGiven || spec.viewNeed == MapSpec::ViewNeed::Fixed || spec.autoSelect.parameterization;
+  if (spec.parameterization != ParameterizationKind::Sphere && viewDependent && !viewFixed) {
+    throw specError(spec.jsonPath, std::string(spec.material->model()) +
+                              (spec.lightAtEye ? " lit from the eye" : "") +
+                              " depends on the view direction, but a " + std::string(toString(spec.parameterization)) +
+                              " map is indexed by reflected direction only; fix the view with \"view\": [x, y, z]"
+                              " or use a sphere map");
+  }
+  if (spec.profile && !spec.makeFunction()->symmetryAxis()) {
+    throw specError(spec.jsonPath + ".parameterization",
+                    "a profile needs a map radially symmetric about one axis: reflectance-mode and Fresnel materials, "
+                    "silhouettes, untwisted colorgrams, or lobes (Phong, fitted) about one light; " +
+                        std::string(spec.material->model()) + " here is not");
+  }
+}
+
 MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs::path& baseDirectory) {
   JsonObjectReader map(value, path);
   MapSpec spec;
@@ -205,52 +237,52 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     return spec;
   }
 
-  spec.material = parseMaterial(map.require("material"), map.child("material"), {baseDirectory, &spec.inputs, &spec.notes});
+  std::optional<DeferredFit> deferred;
+  spec.material = parseMaterial(map.require("material"), map.child("material"),
+                                {baseDirectory, &spec.inputs, &spec.notes, &deferred});
+  spec.deferredFit = std::move(deferred);
 
-  bool anyAtEye = false;
   if (map.has("lights")) {
     const auto& lights = map.array("lights");
     for (std::size_t i = 0; i < lights.size(); ++i) {
       bool atEye = false;
       spec.lights.push_back(parseLight(lights[i], map.child("lights") + "[" + std::to_string(i) + "]", spec.view, atEye));
-      anyAtEye = anyAtEye || atEye;
+      spec.lightAtEye = spec.lightAtEye || atEye;
     }
   }
-  if (spec.material->usesLights() && spec.lights.empty()) {
-    throw specError(map.child("lights"), std::string(spec.material->model()) + " needs at least one light");
-  }
-  if (!spec.material->usesLights() && !spec.lights.empty()) {
-    throw specError(map.child("lights"), std::string(spec.material->model()) + " ignores lights; remove them");
-  }
-  const bool viewDependent = !spec.material->viewIndependent() || anyAtEye;
-  if (viewDependent && spec.viewNeed == MapSpec::ViewNeed::Free) {
-    throw specError(map.child("view"), std::string(spec.material->model()) + (anyAtEye ? " lit from the eye" : "") +
-                                           " depends on the view direction, so no environment map can serve a free view;"
-                                           " use \"view\": \"fixed\"");
-  }
-  // A fixed view ("fixed", or a sphere map's eye space) is +z in every candidate map frame.
-  const bool viewFixed = spec.viewGiven || spec.viewNeed == MapSpec::ViewNeed::Fixed || spec.autoSelect.parameterization;
-  if (spec.parameterization != ParameterizationKind::Sphere && viewDependent && !viewFixed) {
-    throw specError(path, std::string(spec.material->model()) +
-                              (anyAtEye ? " lit from the eye" : "") +
-                              " depends on the view direction, but a " + std::string(toString(spec.parameterization)) +
-                              " map is indexed by reflected direction only; fix the view with \"view\": [x, y, z]"
-                              " or use a sphere map");
-  }
-  if (spec.profile && !spec.makeFunction()->symmetryAxis()) {
-    throw specError(map.child("parameterization"),
-                    "a profile needs a map radially symmetric about one axis: reflectance-mode and Fresnel materials, "
-                    "silhouettes, untwisted colorgrams, or lobes (Phong, fitted) about one light; " +
-                        std::string(spec.material->model()) + " here is not");
+  if (spec.deferredFit) {
+    // What can be checked before the fit: whether the mode uses lights.
+    const bool usesLights = spec.deferredFit->mode != LobeMaterialMode::Reflectance;
+    if (usesLights && spec.lights.empty()) throw specError(map.child("lights"), "measured in this mode needs at least one light");
+    if (!usesLights && !spec.lights.empty()) throw specError(map.child("lights"), "measured in reflectance mode ignores lights; remove them");
+  } else {
+    checkMaterialMap(spec);
   }
   materials::parseMapExtras(map, spec);     // "mips", "profile_output"
   if (spec.profile && spec.mips) throw specError(map.child("mips"), "a profile has no mip levels of its own");
-  if (!spec.anyAuto() && !spec.profile) materials::checkMaterialSampling(spec);   // narrow highlights the map's samples would miss
+  if (!spec.deferredFit && !spec.anyAuto() && !spec.profile) materials::checkMaterialSampling(spec);
   map.finish();
   return spec;
 }
 
 }  // namespace
+
+void MapSpec::prepare(const std::function<void(double)>& progress) {
+  if (!deferredFit) return;
+  try {
+    material = deferredFit->run(progress);
+    deferredFit.reset();
+    checkMaterialMap(*this);
+    if (!anyAuto() && !profile) materials::checkMaterialSampling(*this);
+  } catch (const Error& e) {
+    throw Error(e.kind(), specLabel.empty() ? std::string(e.what()) : specLabel + ": " + e.what());
+  }
+}
+
+std::string MapSpec::modelName() const {
+  if (material) return std::string(material->model());
+  return deferredFit ? "measured" : "";
+}
 
 std::vector<FilePlan::Entry> MapSpec::plannedOutputs() const {
   const std::string role = jsonPath + ".output";
@@ -312,6 +344,9 @@ std::shared_ptr<const MapFunction> MapSpec::makeFunction() const {
     throw Error(Error::Kind::InvalidArgument, jsonPath + ": an environment map is prefiltered from its environment "
                                                          "(brdfbake bake or prefilter), not baked from a material");
   }
+  if (!material) {
+    throw Error(Error::Kind::InvalidArgument, jsonPath + ": the measured material's fit has not run yet; call MapSpec::prepare() first");
+  }
   return std::make_shared<MaterialMapFunction>(material, lights, view);
 }
 
@@ -323,6 +358,7 @@ BakeSpec parseBakeSpec(const nlohmann::json& document, const fs::path& baseDirec
     if (maps.empty()) throw specError("maps", "must hold at least one map");
     for (std::size_t i = 0; i < maps.size(); ++i) {
       spec.maps.push_back(parseMap(maps[i], "maps[" + std::to_string(i) + "]", baseDirectory));
+      spec.maps.back().specLabel = label;
     }
     root.finish();
     for (std::size_t i = 0; i < spec.maps.size(); ++i) {

@@ -23,7 +23,7 @@ fs::path profilePath(const MapSpec& map) {
 namespace materials {
 
 void parseMapExtras(JsonObjectReader& map, MapSpec& spec) {
-  const std::string model(spec.material->model());
+  const std::string model = spec.modelName();
   if (const auto* mips = map.find("mips")) {
     if (!mips->is_boolean()) throw specError(map.child("mips"), "must be true or false, got " + describe(*mips));
     spec.mips = mips->get<bool>();

@@ -68,14 +68,29 @@ std::shared_ptr<const Material> parseMeasured(JsonObjectReader& m, const Materia
   if (method == "mirror") {
     return std::make_shared<MirrorProfileMaterial>(strongestNearMirrorProfile(table, radians(window)), "measured");
   }
-  FitResult fit;
-  try {
-    fit = fitLobes(table, options);
-  } catch (const Error& e) {
-    throw specError(m.child("file"), e.what());
+  DeferredFit fit{std::move(table), options, mode, m.path()};
+  if (context.deferredFit) {
+    *context.deferredFit = std::move(fit);
+    return nullptr;
   }
-  if (!fit.usable()) throw specError(m.child("file"), "the lobe fit did not converge to a usable result:\n" + fit.briefReport());
-  return std::make_shared<LobeMaterial>(std::move(fit.model), mode, "measured");
+  return fit.run();
 }
 
 }  // namespace brdfbake::materials
+
+namespace brdfbake {
+
+std::shared_ptr<const Material> DeferredFit::run(const std::function<void(double)>& progress) const {
+  FitOptions withProgress = options;
+  withProgress.progress = progress;
+  FitResult fit;
+  try {
+    fit = fitLobes(table, withProgress);
+  } catch (const Error& e) {
+    throw specError(jsonPath + ".file", e.what());
+  }
+  if (!fit.usable()) throw specError(jsonPath + ".file", "the lobe fit did not converge to a usable result:\n" + fit.briefReport());
+  return std::make_shared<LobeMaterial>(std::move(fit.model), mode, "measured");
+}
+
+}  // namespace brdfbake

@@ -3,6 +3,7 @@
 #include <brdfbake/spec/spec.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <set>
@@ -245,9 +246,10 @@ TEST(Spec, EverySampleSpecParses) {
         EXPECT_EQ("environment:" + map.environment->lobe, e.model);
         EXPECT_EQ(map.material, nullptr);
       } else {
-        ASSERT_NE(map.material, nullptr);
+        // A measured material's fit is deferred to prepare(): then there is no material yet.
+        EXPECT_NE(map.material == nullptr, !map.deferredFit.has_value());
         EXPECT_FALSE(map.environment.has_value());
-        EXPECT_EQ(std::string(map.material->model()), e.model);
+        EXPECT_EQ(map.modelName(), e.model);
       }
       if (e.parameterization == "auto") {
         EXPECT_TRUE(map.autoSelect.parameterization);
@@ -262,6 +264,54 @@ TEST(Spec, EverySampleSpecParses) {
     }
   }
   EXPECT_EQ(seen.size(), expected.size()) << "a sample spec listed here is missing from data_samples/specs";
+}
+
+// Parsing a spec parses it: a "measured" material's fit runs in MapSpec::prepare, with progress,
+// and the rules that need the fitted material are checked there.
+TEST(Spec, MeasuredFitsRunWhenTheMapIsPreparedNotWhileParsing) {
+  BakeSpec spec = loadBakeSpec(test::sourcePath("data_samples/specs/measured_mirror.json"));
+  MapSpec& map = spec.maps[1];
+  ASSERT_TRUE(map.deferredFit.has_value());
+  EXPECT_EQ(map.material, nullptr);
+  EXPECT_EQ(map.deferredFit->jsonPath, "maps[1].material");
+  EXPECT_GT(map.deferredFit->table.size(), 100u);  // read and checked while parsing
+  EXPECT_THROW(map.makeFunction(), Error);
+  std::vector<double> progress;
+  map.prepare([&](double fraction) { progress.push_back(fraction); });
+  ASSERT_NE(map.material, nullptr);
+  EXPECT_FALSE(map.deferredFit.has_value());
+  EXPECT_EQ(map.modelName(), "measured");
+  ASSERT_FALSE(progress.empty());
+  EXPECT_GT(progress.back(), 0.5);  // fitLobes reports per solve; the last solves may be skipped
+  EXPECT_TRUE(std::is_sorted(progress.begin(), progress.end()));
+  // Reflectance mode: the map is the fitted BRDF on the mirror direction, positive at the centre.
+  const Rgb centre = map.makeFunction()->evaluate(Vec3::UnitZ());
+  EXPECT_TRUE(centre.allFinite());
+  EXPECT_GT(centre.minCoeff(), 0.0);
+  map.prepare();  // nothing pending: a no-op
+  EXPECT_EQ(map.modelName(), "measured");
+}
+
+TEST(Spec, RulesThatNeedTheFittedMaterialAreCheckedWhenItIsMade) {
+  // Fitted lobes lit by two lights have no common axis: no profile. Known only after the fit.
+  nlohmann::json document = {{"maps", {{{"output", "a.exr"}, {"parameterization", "profile"}, {"resolution", 64},
+                                        {"samples_per_texel", 1},
+                                        {"material", {{"model", "measured"}, {"file", test::sourcePath("data_samples/tables/synthetic_varying.astm")},
+                                                      {"method", "fit"}, {"lobes", 1}, {"elevation", "constant"}, {"mode", "prefiltered"}}},
+                                        {"lights", {{{"direction", {0, 0, 1}}}, {{"direction", {1, 0, 1}}}}}}}}};
+  BakeSpec spec = parseBakeSpec(document, "/base", "s.json");
+  try {
+    spec.maps[0].prepare();
+    FAIL() << "a profile of two lights' lobes was accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), Error::Kind::InvalidInput);
+    EXPECT_NE(std::string(e.what()).find("s.json: maps[0].parameterization: a profile needs a map radially symmetric"),
+              std::string::npos)
+        << e.what();
+  }
+  // A mode that uses lights without any is refused while parsing, before any fit.
+  document["maps"][0].erase("lights");
+  EXPECT_THROW(parseBakeSpec(document, "/base", "s.json"), Error);
 }
 
 }  // namespace

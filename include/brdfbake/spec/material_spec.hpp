@@ -3,17 +3,35 @@
 /// Materials from JSON ("material" objects of a spec). Each model reads its own keys; unknown keys
 /// are errors naming their JSON path.
 
+#include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/brdf/material.hpp>
 #include <brdfbake/core/files.hpp>
+#include <brdfbake/fit/lobe_fit.hpp>
+#include <brdfbake/measured/measured_table.hpp>
 #include <brdfbake/core/json_reader.hpp>
 
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace brdfbake {
+
+/// A "measured" material with "method": "fit": its table is read and checked while the spec is
+/// parsed; the fit itself (seconds of Ceres) runs when the map is made, with progress
+/// (MapSpec::prepare).
+struct DeferredFit {
+  MeasuredTable table;  ///< RGB, negative values clamped
+  FitOptions options;
+  LobeMaterialMode mode = LobeMaterialMode::Reflectance;
+  std::string jsonPath;  ///< of the material object, for messages ("maps[0].material")
+
+  /// Runs the fit (progress: fraction done) and returns the material. Throws Error(InvalidInput)
+  /// naming `jsonPath` when the fit fails or does not converge to a usable result.
+  std::shared_ptr<const Material> run(const std::function<void(double)>& progress = {}) const;
+};
 
 /// What a material parser may need besides its JSON object.
 struct MaterialContext {
@@ -22,6 +40,9 @@ struct MaterialContext {
   std::vector<FilePlan::Entry>* inputs = nullptr;
   /// If set, notes about the material's input (clamped values, conversions) are added here.
   std::vector<std::string>* notes = nullptr;
+  /// If set, a material whose making takes long (a "measured" fit) is not made: the parser stores
+  /// what it needs here and returns null. If null, it is made at once.
+  std::optional<DeferredFit>* deferredFit = nullptr;
 };
 
 using MaterialParser =
@@ -36,7 +57,8 @@ struct MaterialEntry {
 /// Every material model a spec can name.
 const std::vector<MaterialEntry>& materialRegistry();
 
-/// Parses a material object (reads "model", dispatches, calls finish()).
+/// Parses a material object (reads "model", dispatches, calls finish()). Returns null only when
+/// the material was deferred into `context.deferredFit`.
 std::shared_ptr<const Material> parseMaterial(const nlohmann::json& value, const std::string& path,
                                               const MaterialContext& context);
 

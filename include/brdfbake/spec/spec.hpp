@@ -10,6 +10,7 @@
 #include <brdfbake/bake/prefilter.hpp>
 #include <brdfbake/bake/prefilter_stack.hpp>
 #include <brdfbake/core/files.hpp>
+#include <brdfbake/spec/material_spec.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -57,9 +58,14 @@ struct MapSpec {
   Vec3 view = Vec3::UnitZ();            ///< view vector in the map frame (+z for sphere maps)
   bool viewGiven = false;               ///< the spec fixed the view ("view": [x, y, z])
   CubeLayout cubeLayout = CubeLayout::Cross;
+  /// The material; null while `deferredFit` is pending (prepare() makes it).
   std::shared_ptr<const Material> material;
+  /// A "measured" material's fit, parsed but not run yet (see prepare()).
+  std::optional<DeferredFit> deferredFit;
   std::vector<DirectionalLight> lights;
+  bool lightAtEye = false;              ///< a light was given as "direction": "eye"
   nlohmann::json raw;                   ///< the map's JSON as written, stored in the map's metadata
+  std::string specLabel;                ///< the spec's file name (parseBakeSpec's label), for messages
   /// Set for prefiltered environment maps ("environment"); then material and lights are empty.
   std::optional<EnvironmentMapSpec> environment;
   /// "mips": true (silhouette sphere maps only): also write the hand-made mip levels 1.. as
@@ -93,7 +99,16 @@ struct MapSpec {
   /// The candidates and target for chooseConfiguration (fixed values become one-element lists).
   AutoOptions autoOptions() const;
 
-  /// The function the baker integrates (Error(InvalidArgument) for environment maps).
+  /// Makes what parsing deferred (a "measured" material's fit; `progress` gets the fraction
+  /// done) and checks the rules that need the made material (lights, view, profile symmetry,
+  /// sampling), throwing Error(InvalidInput) that names the spec and JSON path. Does nothing
+  /// when nothing is pending. Call it before makeFunction().
+  void prepare(const std::function<void(double)>& progress = {});
+  /// The material model's name ("measured" while its fit is pending; empty for environment maps).
+  std::string modelName() const;
+
+  /// The function the baker integrates. Throws Error(InvalidArgument) for environment maps and
+  /// while a fit is pending (call prepare() first).
   std::shared_ptr<const MapFunction> makeFunction() const;
 };
 
