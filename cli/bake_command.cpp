@@ -59,19 +59,9 @@ nlohmann::json reportEntry(const MapSpec& map, const EntryFacts& facts, const st
 // A map with "environment" (docs/prefilter.md): prefilter instead of bake; returns its report entry.
 nlohmann::json bakeEnvironmentMap(const MapSpec& map, const Environment& environment, const BakeArgs& args) {
   const EnvironmentMapSpec& e = *map.environment;
-  const fs::path specFolder = fs::path(args.spec).parent_path();
-  PrefilterOptions options;
-  options.parameterization = map.parameterization;
-  options.resolution = map.resolution;
-  options.mips = e.mips;
-  options.method = e.method;
-  options.maxError = e.maxError;
-  options.view = e.view;
-  options.up = e.up;
-  options.mirrorSamples = map.samplesPerTexel;
+  PrefilterOptions options = map.prefilterOptions();
   options.threads = args.threads;
   options.allowLarge = args.allowLarge;
-  options.elevations = e.elevations;
   ProgressBar bar(map.jsonPath + " " + map.output.filename().string(), !args.quiet && !args.json);
   options.progress = bar.callback();
   const WriteOptions writeOptions{{fs::path(args.spec), e.file}};
@@ -82,17 +72,16 @@ nlohmann::json bakeEnvironmentMap(const MapSpec& map, const Environment& environ
   nlohmann::json extra = nlohmann::json::object();
   std::string irradianceReport;  // the Fresnel decomposition's second map
   auto writeStart = std::chrono::steady_clock::now();
-  if (e.lobeModel && e.lobeModel->elevation == LobeElevation::Varying) {
-    const PrefilteredStack stack = prefilterLobeModelStack(environment, *e.lobeModel, e.lobe, options);
+  if (e.lobeModel() && e.lobeModel()->elevation == LobeElevation::Varying) {
+    const PrefilteredStack stack = prefilterLobeModelStack(environment, *e.lobeModel(), e.lobeName, options);
     summary = stack.summary;
     parameterization = stack.slices.front().map;
     writeStart = std::chrono::steady_clock::now();
     written = writePrefilteredStack(stack, map.output, map.raw, map.cubeLayout, writeOptions);
     extra["elevations"] = {{"slices", stack.slices.size()}, {"cos_theta", stack.cosines}, {"t", stack.coordinates}};
   } else if (e.fresnel) {
-    const PrefilterLobe lobe = PrefilterLobe::parse(e.lobe, specFolder.empty() ? fs::path(".") : specFolder);
     const FresnelDecomposition decomposition =
-        prefilterFresnelDecomposition(environment, lobe, *e.fresnel, e.combine, options, map.resolution);
+        prefilterFresnelDecomposition(environment, *e.analyticLobe(), *e.fresnel, e.combine, options, map.resolution);
     summary = decomposition.specular.summary;
     parameterization = decomposition.specular.map;
     writeStart = std::chrono::steady_clock::now();
@@ -104,8 +93,8 @@ nlohmann::json bakeEnvironmentMap(const MapSpec& map, const Environment& environ
                         {"irradiance_prefilter", decomposition.irradiance.summary.toJson()}};
   } else {
     const PrefilteredMap result =
-        e.lobeModel ? prefilterLobeModel(environment, *e.lobeModel, e.lobe, options)
-                    : prefilter(environment, PrefilterLobe::parse(e.lobe, specFolder.empty() ? fs::path(".") : specFolder), options);
+        e.lobeModel() ? prefilterLobeModel(environment, *e.lobeModel(), e.lobeName, options)
+                      : prefilter(environment, *e.analyticLobe(), options);
     summary = result.summary;
     parameterization = result.map;
     writeStart = std::chrono::steady_clock::now();

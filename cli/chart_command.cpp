@@ -225,27 +225,24 @@ struct EnvironmentSweep {
 // One prefiltered environment map swept over parameterization x resolution x method. Each
 // (parameterization, resolution) pays the reference once, on a random texel subset and on random
 // lookup directions; combinations that fail are skipped with a note.
-std::vector<Point> sweepEnvironment(const MapSpec& map, const Environment& environment, const fs::path& specFolder,
-                                    const EnvironmentSweep& sweep, std::vector<Skipped>& skipped, ProgressBar& bar) {
+std::vector<Point> sweepEnvironment(const MapSpec& map, const Environment& environment, const EnvironmentSweep& sweep,
+                                    std::vector<Skipped>& skipped, ProgressBar& bar) {
   const EnvironmentMapSpec& e = *map.environment;
-  std::optional<PrefilterLobe> lobe;
-  if (!e.lobeModel) lobe = PrefilterLobe::parse(e.lobe, specFolder.empty() ? fs::path(".") : specFolder);
+  const PrefilterLobe* lobe = e.analyticLobe();
   // Axes of a lobe model are the reflected directions, as phong's.
   const PrefilterLobe axisLobe = lobe ? *lobe : PrefilterLobe::phong(1.0);
-  const double floor = lobe ? prefilterErrorFloor(environment, *lobe) : prefilterLobeModelErrorFloor(environment, *e.lobeModel);
+  const double floor = lobe ? prefilterErrorFloor(environment, *lobe) : prefilterLobeModelErrorFloor(environment, *e.lobeModel());
   std::vector<Point> points;
   const double total = double(sweep.kinds.size() * sweep.resolutions.size() * sweep.methods.size());
   int done = 0;
   const auto progress = bar.callback();
   for (const auto kind : sweep.kinds) {
     for (const int resolution : sweep.resolutions) {
-      PrefilterOptions options;
+      PrefilterOptions options = map.prefilterOptions();
       options.parameterization = kind;
       options.resolution = resolution;
-      options.view = e.view;
-      options.up = e.up;
-      options.maxError = sweep.maxError > 0.0 ? sweep.maxError : e.maxError;
-      options.mirrorSamples = map.samplesPerTexel;
+      options.mips = false;
+      if (sweep.maxError > 0.0) options.maxError = sweep.maxError;
       options.threads = sweep.threads;
       const auto parameterization = makeParameterization(kind, resolution);
       const PrefilterCheckPoints texels = prefilterTexelSubset(*parameterization, axisLobe, options, sweep.subset, 7);
@@ -254,7 +251,7 @@ std::vector<Point> sweepEnvironment(const MapSpec& map, const Environment& envir
       axes.insert(axes.end(), lookups.axes.begin(), lookups.axes.end());
       const auto referenceStart = Clock::now();
       const std::vector<Rgb> reference = lobe ? prefilterReferenceAt(environment, *lobe, axes, sweep.threads)
-                                              : prefilterLobeModelReferenceAt(environment, *e.lobeModel, axes, sweep.threads);
+                                              : prefilterLobeModelReferenceAt(environment, *e.lobeModel(), axes, sweep.threads);
       const double referenceSeconds = std::chrono::duration<double>(Clock::now() - referenceStart).count();
       const std::vector<Rgb> texelReference(reference.begin(), reference.begin() + static_cast<std::ptrdiff_t>(texels.size()));
       const std::vector<Rgb> lookupReference(reference.begin() + static_cast<std::ptrdiff_t>(texels.size()), reference.end());
@@ -265,7 +262,7 @@ std::vector<Point> sweepEnvironment(const MapSpec& map, const Environment& envir
         try {
           const auto start = Clock::now();
           const PrefilteredMap result = lobe ? prefilter(environment, *lobe, options)
-                                             : prefilterLobeModel(environment, *e.lobeModel, e.lobe, options);
+                                             : prefilterLobeModel(environment, *e.lobeModel(), e.lobeName, options);
           Point p;
           p.seconds = std::chrono::duration<double>(Clock::now() - start).count();
           p.environment = true;
@@ -274,7 +271,7 @@ std::vector<Point> sweepEnvironment(const MapSpec& map, const Environment& envir
           p.resolution = resolution;
           p.method = methodName;
           p.detail = result.summary.detail;
-          if (method == PrefilterMethod::Auto && !e.lobeModel) p.detail = std::string(toString(result.summary.method)) + ": " + p.detail;
+          if (method == PrefilterMethod::Auto && lobe) p.detail = std::string(toString(result.summary.method)) + ": " + p.detail;
           p.texels = mapTexels;
           const PrefilterError texelError =
               prefilterPointsError(prefilterValuesAt(result.levels[0], *result.map, texels), texelReference, texels.weights, floor);
@@ -386,7 +383,6 @@ Examples:
     if (!output.empty()) checkChartPath(output);
     const bool lookupError = args->environmentError == "lookup";
     BakeSpec spec = loadBakeSpec(args->spec);
-    const fs::path specFolder = fs::path(args->spec).parent_path();
     FilePlan plan;
     plan.addInput(args->spec, "spec");
     for (const auto& map : spec.maps) {
@@ -418,9 +414,9 @@ Examples:
       const std::size_t skippedBefore = skipped.size();
       if (map.environment) {
         const EnvironmentMapSpec& e = *map.environment;
-        if (!e.lobeModel && PrefilterLobe::parse(e.lobe, specFolder.empty() ? fs::path(".") : specFolder).isMirror()) {
+        if (e.analyticLobe() && e.analyticLobe()->isMirror()) {
           skipped.push_back({map.jsonPath, "", "", "the mirror lobe is a resampling with no reference to chart against; map skipped", 0});
-        } else if (e.lobeModel && e.lobeModel->elevation != LobeElevation::Constant) {
+        } else if (e.lobeModel() && e.lobeModel()->elevation != LobeElevation::Constant) {
           skipped.push_back({map.jsonPath, "", "", "lobes that vary with elevation prefilter into a stack of maps (one per "
                                                    "elevation); chart a slice's constant model instead; map skipped", 0});
         } else {
@@ -432,8 +428,8 @@ Examples:
           sweep.maxError = args->maxError;
           sweep.threads = args->threads;
           ProgressBar bar(map.jsonPath, !args->json && !args->quiet);
-          points = sweepEnvironment(map, *environments[m], specFolder, sweep, skipped, bar);
-          title = map.jsonPath + ": " + e.lobe + " of " + e.file.filename().string() + ", bound " +
+          points = sweepEnvironment(map, *environments[m], sweep, skipped, bar);
+          title = map.jsonPath + ": " + e.lobeName + " of " + e.file.filename().string() + ", bound " +
                   percent(args->maxError > 0.0 ? args->maxError : e.maxError) + " (" + map.output.filename().string() + ")";
         }
       } else {

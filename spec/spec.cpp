@@ -52,20 +52,20 @@ void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& b
   if (file.empty()) throw specError(env.child("file"), "must not be empty");
   e.file = fs::path(file).is_absolute() ? fs::path(file) : baseDirectory / file;
   spec.inputs.push_back({e.file, env.child("file")});
-  e.lobe = env.string("lobe");
-  bool normalLobe = false;  // irradiance: indexed by the normal
+  e.lobeName = env.string("lobe");
   try {
-    if (e.lobe.rfind("lobes:", 0) == 0) {  // a fitted lobe model (docs/fitting.md)
-      const fs::path fit(e.lobe.substr(6));
+    if (e.lobeName.rfind("lobes:", 0) == 0) {  // a fitted lobe model (docs/fitting.md)
+      const fs::path fit(e.lobeName.substr(6));
       const fs::path fitFile = fit.is_absolute() ? fit : baseDirectory / fit;
       spec.inputs.push_back({fitFile, env.child("lobe")});
-      e.lobeModel = std::make_shared<LobeModel>(readFitFile(fitFile).fit.model);
+      e.lobe = std::make_shared<const LobeModel>(readFitFile(fitFile).fit.model);
     } else {
-      normalLobe = PrefilterLobe::parse(e.lobe, baseDirectory).indexedByNormal();
+      e.lobe = PrefilterLobe::parse(e.lobeName, baseDirectory);
     }
   } catch (const Error& error) {
     throw specError(env.child("lobe"), error.what());
   }
+  const bool normalLobe = e.analyticLobe() && e.analyticLobe()->indexedByNormal();  // irradiance: indexed by the normal
   if (const auto method = env.optionalString("method")) {
     try {
       e.method = parsePrefilterMethod(*method);
@@ -92,7 +92,7 @@ void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& b
     }
     (std::string(key) == "view" ? e.view : e.up) = env.direction(key);
   }
-  const bool varying = e.lobeModel && e.lobeModel->elevation == LobeElevation::Varying;
+  const bool varying = e.lobeModel() && e.lobeModel()->elevation == LobeElevation::Varying;
   if (env.has("elevations")) {
     if (!varying) {
       throw specError(env.child("elevations"), "only lobe models that vary with elevation (lobes:FIT.json with a varying "
@@ -101,7 +101,7 @@ void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& b
     e.elevations = env.integer("elevations", 2, 64);
   }
   if (env.has("fresnel")) {
-    if (e.lobeModel || normalLobe) {
+    if (e.lobeModel() || normalLobe) {
       throw specError(env.child("fresnel"), "a Fresnel decomposition needs a specular lobe (mirror, phong:N, blinn:N, "
                                             "ggx:R) for its specular map; the irradiance map is made with it");
     }
@@ -289,7 +289,7 @@ std::vector<FilePlan::Entry> MapSpec::plannedOutputs() const {
   if (environment) {
     const EnvironmentMapSpec& e = *environment;
     PrefilterOutputs outputs{parameterization, resolution, e.mips, cubeLayout};
-    if (e.lobeModel && e.lobeModel->elevation == LobeElevation::Varying) outputs.elevationSlices = e.elevations;
+    if (e.lobeModel() && e.lobeModel()->elevation == LobeElevation::Varying) outputs.elevationSlices = e.elevations;
     outputs.fresnel = e.fresnel.has_value();
     return prefilterOutputFiles(output, outputs, role);
   }
@@ -336,6 +336,21 @@ AutoOptions MapSpec::autoOptions() const {
   }
   if (!autoSelect.resolution) options.resolutions = {resolution};
   if (!autoSelect.samplesPerTexel) options.samplesPerTexel = {samplesPerTexel};
+  return options;
+}
+
+PrefilterOptions MapSpec::prefilterOptions() const {
+  if (!environment) throw Error(Error::Kind::InvalidArgument, jsonPath + ": a material map has no prefilter options");
+  PrefilterOptions options;
+  options.parameterization = parameterization;
+  options.resolution = resolution;
+  options.mips = environment->mips;
+  options.method = environment->method;
+  options.maxError = environment->maxError;
+  options.view = environment->view;
+  options.up = environment->up;
+  options.mirrorSamples = samplesPerTexel;
+  options.elevations = environment->elevations;
   return options;
 }
 

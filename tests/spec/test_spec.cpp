@@ -243,7 +243,7 @@ TEST(Spec, EverySampleSpecParses) {
       EXPECT_EQ(map.output, entry.path().parent_path() / e.output);
       if (e.model.rfind("environment:", 0) == 0) {
         ASSERT_TRUE(map.environment.has_value());
-        EXPECT_EQ("environment:" + map.environment->lobe, e.model);
+        EXPECT_EQ("environment:" + map.environment->lobeName, e.model);
         EXPECT_EQ(map.material, nullptr);
       } else {
         // A measured material's fit is deferred to prepare(): then there is no material yet.

@@ -18,6 +18,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace brdfbake {
@@ -27,8 +28,10 @@ namespace brdfbake {
 /// and layout apply as for any map.
 struct EnvironmentMapSpec {
   std::filesystem::path file;                    ///< "file", resolved against the spec's folder
-  std::string lobe;                              ///< "lobe", as PrefilterLobe::parse reads it, or "lobes:FIT.json"
-  std::shared_ptr<const LobeModel> lobeModel;    ///< the fitted model read from "lobes:FIT.json" (else null)
+  std::string lobeName;                          ///< "lobe" as written: "phong:100", "lobes:FIT.json", ...
+  /// The lobe, parsed: an analytic lobe (PrefilterLobe::parse) or the fitted model read from
+  /// "lobes:FIT.json".
+  std::variant<PrefilterLobe, std::shared_ptr<const LobeModel>> lobe = PrefilterLobe::mirror();
   PrefilterMethod method = PrefilterMethod::Auto;  ///< "method" (default "auto")
   double maxError = 0.01;                        ///< "max_error" (default 0.01)
   bool mips = false;                             ///< "mips": also write STEM_mipK.EXT
@@ -42,6 +45,14 @@ struct EnvironmentMapSpec {
   /// the 1-D profile of `resolution` texels (prefilterFresnelDecomposition).
   std::optional<FresnelTerm> fresnel;
   FresnelCombine combine = FresnelCombine::Add;  ///< "combine": "add" (default) | "mix"; needs "fresnel"
+
+  /// The analytic lobe, or null for a fitted model.
+  const PrefilterLobe* analyticLobe() const { return std::get_if<PrefilterLobe>(&lobe); }
+  /// The fitted model, or null for an analytic lobe.
+  const LobeModel* lobeModel() const {
+    const auto* model = std::get_if<std::shared_ptr<const LobeModel>>(&lobe);
+    return model ? model->get() : nullptr;
+  }
 };
 
 /// One entry of "maps", validated.
@@ -106,6 +117,11 @@ struct MapSpec {
   void prepare(const std::function<void(double)>& progress = {});
   /// The material model's name ("measured" while its fit is pending; empty for environment maps).
   std::string modelName() const;
+
+  /// The prefilter options an environment map asks for (parameterization, resolution, mips,
+  /// method, max_error, view, up, mirror samples, elevations); threads, limits and progress are
+  /// left at their defaults for the caller. Throws Error(InvalidArgument) for material maps.
+  PrefilterOptions prefilterOptions() const;
 
   /// The function the baker integrates. Throws Error(InvalidArgument) for environment maps and
   /// while a fit is pending (call prepare() first).
