@@ -2,6 +2,7 @@
 // Fresnel decomposition (prefilter_stack.hpp, docs/prefilter.md).
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/core/progress.hpp>
+#include <brdfbake/bake/baked_output.hpp>
 #include <brdfbake/bake/env_mips.hpp>
 #include <brdfbake/bake/image_io.hpp>
 #include <brdfbake/bake/prefilter_stack.hpp>
@@ -221,11 +222,10 @@ MapWriteReport writeFresnelDecomposition(const FresnelDecomposition& decompositi
       {"f0", {f0[0], f0[1], f0[2]}}};
 
   // The profile first (cheapest to fail), then the two maps.
-  Image image(size, 1);
-  for (int i = 0; i < size; ++i) {
-    const Rgb& f = decomposition.profile[static_cast<std::size_t>(i)];
-    image.set(i, 0, Rgba(f[0], f[1], f[2], 1.0));
-  }
+  Image image = fresnelProfileImage(decomposition.profile);
+  image.metadata["spec"] = spec;
+  image.metadata["spec"]["prefilter"]["fresnel"] = fresnel;
+  image.metadata["spec"]["prefilter"]["fresnel"]["role"] = "profile";
   MapWriteReport report;
   const WriteReport profileWritten = writeImage(image, profilePath, options);
   fresnel["role"] = "specular";

@@ -1,6 +1,7 @@
 // Map-level extras: "mips" (silhouette mip chain) and "profile_output" (1-D Fresnel texture), parsed
 // and written beside the map.
 #include <brdfbake/core/files.hpp>
+#include <brdfbake/bake/baked_output.hpp>
 #include <brdfbake/bake/image_io.hpp>
 #include <brdfbake/bake/env_mips.hpp>
 #include <brdfbake/bake/mip_chain.hpp>
@@ -80,11 +81,8 @@ MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions
     const auto* fresnel = dynamic_cast<const FresnelMaterial*>(map.material.get());
     require(fresnel != nullptr, map.jsonPath + ": \"profile_output\" needs a fresnel material");
     const std::vector<Rgb> profile = fresnelProfile(fresnel->fresnel(), map.resolution);
-    Image image(map.resolution, 1);
-    for (int i = 0; i < map.resolution; ++i) {
-      const Rgb& f = profile[static_cast<std::size_t>(i)];
-      image.set(i, 0, Rgba(f[0], f[1], f[2], 1.0));
-    }
+    Image image = fresnelProfileImage(profile);
+    image.metadata["spec"] = map.raw;
     const fs::path path = profilePath(map);
     const WriteReport written = writeImage(image, path, writeOptions);
     report.files.push_back(path);

@@ -98,8 +98,9 @@ std::filesystem::path fresnelIrradiancePath(const std::filesystem::path& output)
 std::filesystem::path fresnelProfilePath(const std::filesystem::path& output);
 
 /// Writes the specular map at `output`, the irradiance map at fresnelIrradiancePath(output) (both
-/// with writePrefilteredMap, mip levels included) and the profile, a plain size x 1 image (no map
-/// metadata: it is not a direction map), at fresnelProfilePath(output). Both maps' "prefilter"
+/// with writePrefilteredMap, mip levels included) and the profile, a size x 1 image
+/// (fresnelProfileImage: "parameterization": "fresnel_profile", looked up at n.v), at
+/// fresnelProfilePath(output). Both maps' "prefilter"
 /// metadata has "fresnel": {role, combine, formula, specular, irradiance, profile (file names),
 /// profile_size, profile_texels, f0}.
 MapWriteReport writeFresnelDecomposition(const FresnelDecomposition& decomposition, const std::filesystem::path& output,
