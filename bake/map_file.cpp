@@ -136,14 +136,22 @@ MapFile readMap(const fs::path& path, int mipLevel) {
   return mapFromImage(readTiledLevel(path, mipLevel, [&](int level) { return readImage(path, level); }), path.string());
 }
 
+std::string tiledMipProblem(const fs::path& path, int resolution) {
+  if (imageFormatFor(path) != ImageFormat::OpenExr) {
+    return path.string() + ": a tiled MIP-mapped file must be OpenEXR (.exr)";
+  }
+  if (resolution < 1 || (resolution & (resolution - 1)) != 0) {
+    return "a tiled MIP-mapped OpenEXR needs a power-of-two resolution (OpenEXR halves each level, rounding down), got " +
+           std::to_string(resolution);
+  }
+  return {};
+}
+
 MapWriteReport writeTiledMap(const std::vector<Image>& levels, const MapInfo& info, const fs::path& path, CubeLayout layout,
                              const WriteOptions& options) {
   require(!levels.empty(), "writeTiledMap: no levels");
   const int n = info.resolution;
-  if (n < 1 || (n & (n - 1)) != 0) {
-    throw Error(Error::Kind::InvalidArgument, path.string() + ": a tiled MIP-mapped OpenEXR needs a power-of-two resolution (OpenEXR "
-                                                  "rounds each level's size down), got " + std::to_string(n));
-  }
+  if (const std::string problem = tiledMipProblem(path, n); !problem.empty()) throw Error(Error::Kind::InvalidArgument, problem);
   if (static_cast<int>(levels.size()) != mipLevelCount(n)) {
     throw Error(Error::Kind::InvalidArgument, "writeTiledMap: a map of resolution " + std::to_string(n) + " has " +
                                                   std::to_string(mipLevelCount(n)) + " levels, got " + std::to_string(levels.size()));

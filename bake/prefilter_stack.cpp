@@ -108,7 +108,7 @@ std::filesystem::path elevationSlicePath(const std::filesystem::path& path, int 
 }
 
 MapWriteReport writePrefilteredStack(const PrefilteredStack& stack, const std::filesystem::path& path, nlohmann::json spec,
-                                     CubeLayout layout, const WriteOptions& options) {
+                                     CubeLayout layout, const WriteOptions& options, MipLayout mipLayout) {
   require(!stack.slices.empty() && stack.slices.size() == stack.cosines.size(), "writePrefilteredStack: nothing to write");
   if (!spec.is_object()) spec = nlohmann::json::object();
   if (!spec["prefilter"].is_object()) spec["prefilter"] = nlohmann::json::object();
@@ -126,7 +126,7 @@ MapWriteReport writePrefilteredStack(const PrefilteredStack& stack, const std::f
                                       {"max_cos", stack.maxCos},
                                       {"interpolation", interpolation.str()}};
     const MapWriteReport written =
-        writePrefilteredMap(stack.slices[static_cast<std::size_t>(j)], elevationSlicePath(path, j), spec, layout, options);
+        writePrefilteredMap(stack.slices[static_cast<std::size_t>(j)], elevationSlicePath(path, j), spec, layout, options, mipLayout);
     report.files.insert(report.files.end(), written.files.begin(), written.files.end());
     if (j == 0) report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());
   }
@@ -172,7 +172,7 @@ std::filesystem::path fresnelProfilePath(const std::filesystem::path& output) { 
 namespace {
 void addLevels(std::vector<FilePlan::Entry>& out, const std::filesystem::path& file, const PrefilterOutputs& o,
                const std::string& role) {
-  const int levels = o.mips ? mipLevelCount(o.resolution) : 1;
+  const int levels = o.mips && o.mipLayout == MipLayout::Files ? mipLevelCount(o.resolution) : 1;
   const bool cube = o.parameterization == ParameterizationKind::Cube;
   for (int level = 0; level < levels; ++level) {
     const auto files = mapOutputFiles(mipLevelPath(file, level),
@@ -201,7 +201,8 @@ std::vector<FilePlan::Entry> prefilterOutputFiles(const std::filesystem::path& o
 }
 
 MapWriteReport writeFresnelDecomposition(const FresnelDecomposition& decomposition, const std::filesystem::path& output,
-                                         nlohmann::json spec, CubeLayout layout, const WriteOptions& options) {
+                                         nlohmann::json spec, CubeLayout layout, const WriteOptions& options,
+                                         MipLayout mipLayout) {
   const int size = static_cast<int>(decomposition.profile.size());
   require(size >= 1, "writeFresnelDecomposition: no Fresnel profile");
   if (!spec.is_object()) spec = nlohmann::json::object();
@@ -230,10 +231,10 @@ MapWriteReport writeFresnelDecomposition(const FresnelDecomposition& decompositi
   const WriteReport profileWritten = writeImage(image, profilePath, options);
   fresnel["role"] = "specular";
   spec["prefilter"]["fresnel"] = fresnel;
-  const MapWriteReport specular = writePrefilteredMap(decomposition.specular, output, spec, layout, options);
+  const MapWriteReport specular = writePrefilteredMap(decomposition.specular, output, spec, layout, options, mipLayout);
   fresnel["role"] = "irradiance";
   spec["prefilter"]["fresnel"] = fresnel;
-  const MapWriteReport irradiance = writePrefilteredMap(decomposition.irradiance, irradiancePath, spec, layout, options);
+  const MapWriteReport irradiance = writePrefilteredMap(decomposition.irradiance, irradiancePath, spec, layout, options, mipLayout);
   for (const MapWriteReport* part : {&specular, &irradiance}) {
     report.files.insert(report.files.end(), part->files.begin(), part->files.end());
     report.notes.insert(report.notes.end(), part->notes.begin(), part->notes.end());

@@ -23,6 +23,18 @@ fs::path profilePath(const MapSpec& map) {
 
 namespace materials {
 
+MipLayout parseMipLayout(JsonObjectReader& object, bool mips, const fs::path& output, int resolution) {
+  const auto layout = object.optionalString("mip_layout");
+  if (!layout || *layout == "files") return MipLayout::Files;
+  if (*layout != "tiled") throw specError(object.child("mip_layout"), "must be \"files\" or \"tiled\", got \"" + *layout + "\"");
+  if (!mips) throw specError(object.child("mip_layout"), "\"tiled\" lays out mip levels: needs \"mips\": true");
+  if (const std::string problem = tiledMipProblem(output, resolution); !problem.empty()) {
+    throw specError(object.child("mip_layout"), problem);
+  }
+  return MipLayout::Tiled;
+}
+
+
 void parseMapExtras(JsonObjectReader& map, MapSpec& spec) {
   const std::string model(spec.material->model());
   if (const auto* mips = map.find("mips")) {
@@ -37,6 +49,7 @@ void parseMapExtras(JsonObjectReader& map, MapSpec& spec) {
                                          "circle of one width in texels all round");
     }
   }
+  spec.mipLayout = parseMipLayout(map, spec.mips, spec.output, spec.resolution);
   if (map.has("profile_output")) {
     const std::string profile = map.string("profile_output");
     if (model != "fresnel") {
@@ -65,6 +78,19 @@ MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions
     options.progress = {};
     options.samplesPerTexel = map.samplesPerTexel;
     const std::vector<Image> chain = silhouetteMipChain(*silhouette, map.resolution, options);
+    if (map.mipLayout == MipLayout::Tiled) {
+      // The whole chain, level 0 included, in the output itself (replacing the single level).
+      MapInfo info;
+      info.parameterization = ParameterizationKind::Sphere;
+      info.resolution = map.resolution;
+      info.conventionVersion = kConventionVersion;
+      info.spec = map.raw;
+      const MapWriteReport written = writeTiledMap(chain, info, map.output, CubeLayout::Cross, writeOptions);
+      report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());
+      report.notes.push_back(map.output.filename().string() + ": " + std::to_string(chain.size()) +
+                             " silhouette mip levels in one tiled MIP-mapped OpenEXR");
+      return report;
+    }
     for (std::size_t level = 1; level < chain.size(); ++level) {
       MapInfo info;
       info.parameterization = ParameterizationKind::Sphere;

@@ -2,6 +2,7 @@
 // `preview` with the value a renderer would get: each kind is made small, sampled at known
 // directions and compared with an independent value (the exact model where the map is accurate,
 // a furnace integral, the textbook Fresnel formula), then inspected, resampled and previewed.
+#include <brdfbake/bake/image_io.hpp>
 #include <brdfbake/core/math.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <gtest/gtest.h>
@@ -66,7 +67,7 @@ void expectPreviews(const fs::path& output, const std::string& flags = "") {
 }
 
 // Unpolarised Fresnel reflectance of a dielectric of relative index eta at cos theta = c
-// (Cook & Torrance 1982, Eq. for F with g^2 = eta^2 + c^2 - 1), written out here as the
+// (Cook & Torrance 1981, their F with g^2 = eta^2 + c^2 - 1), written out here as the
 // independent value.
 double dielectricFresnel(double c, double eta) {
   const double g = std::sqrt(eta * eta + c * c - 1.0);
@@ -252,6 +253,93 @@ TEST(ReadOutputs, PrefilterMipLevelsStacksAndFresnelMapsReadBack) {
   EXPECT_EQ(infoOf(dir / "coat_fresnel.exr")["metadata"]["spec"]["prefilter"]["fresnel"]["role"], "profile");
   expectPreviews(dir / "coat_fresnel.exr");
   expectPreviews(dir / "coat_irradiance.exr");
+}
+
+// One piece for a renderer: --tiled puts the mip chain into the output (levels equal to the separate
+// files), spec "mip_layout": "tiled" does the same; --sh-output writes irradiance as 9 SH
+// coefficients, read back by sample, info, convert and preview.
+TEST(ReadOutputs, TiledMipChainsAndShIrradianceReadBack) {
+  test::TempDir dir;
+  const std::string sky = test::sourcePath("data_samples/environments/sky_latlong.exr");
+  const std::string common = " --lobe phong:20 --to paraboloid --resolution 16 --mips --method sh --quiet";
+  ASSERT_EQ(runCli("prefilter " + q(sky) + common + " -o " + q(dir / "files.exr")).exitCode, 0);
+  const auto tiled = runCli("prefilter " + q(sky) + common + " --tiled -o " + q(dir / "tiled.exr"));
+  ASSERT_EQ(tiled.exitCode, 0) << tiled.output;
+  EXPECT_FALSE(fs::exists(dir / "tiled_mip1.exr"));
+  const auto directions = randomDirections(10, 21);
+  for (int level = 0; level < 5; ++level) {
+    const std::string flag = "--mip-level " + std::to_string(level);
+    const auto a = sampleAll(dir / "tiled.exr", directions, flag), b = sampleAll(dir / "files.exr", directions, flag);
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i][0], b[i][0]) << level;
+  }
+  EXPECT_EQ(infoOf(dir / "tiled.exr")["metadata"]["mip_levels"], 5);
+  expectPreviews(dir / "tiled.exr", "--mip-level 1 --view 0,0,1");
+  for (const auto& [flags, message] : std::vector<std::pair<std::string, std::string>>{
+           {" --lobe phong:20 --to cube --resolution 12 --mips --tiled", "power-of-two"},
+           {" --lobe phong:20 --to cube --resolution 16 --tiled", "needs --mips"}}) {
+    const auto refused = runCli("prefilter " + q(sky) + flags + " -o " + q(dir / "bad.exr"));
+    EXPECT_EQ(refused.exitCode, 2) << refused.output;
+    EXPECT_NE(refused.output.find(message), std::string::npos) << refused.output;
+  }
+  const auto png = runCli("prefilter " + q(sky) + " --lobe phong:20 --to cube --resolution 16 --mips --tiled -o " + q(dir / "bad.png"));
+  EXPECT_EQ(png.exitCode, 2);
+  EXPECT_NE(png.output.find(".exr"), std::string::npos) << png.output;
+  EXPECT_FALSE(fs::exists(dir / "bad.exr"));
+
+  // In a spec: "mip_layout": "tiled" beside "mips", for prefiltered and silhouette maps.
+  std::ofstream(dir / "spec.json") << R"({"maps": [
+    {"output": "env.exr", "parameterization": "latlong", "resolution": 8,
+     "environment": {"file": ")" << sky << R"(", "lobe": "irradiance", "mips": true, "mip_layout": "tiled"}},
+    {"output": "sil.exr", "parameterization": "sphere", "resolution": 32, "samples_per_texel": 4, "mips": true,
+     "mip_layout": "tiled", "material": {"model": "silhouette", "width": 15}}]})";
+  const auto spec = runCli("bake " + q(dir / "spec.json") + " --quiet");
+  ASSERT_EQ(spec.exitCode, 0) << spec.output;
+  EXPECT_FALSE(fs::exists(dir / "env_mip1.exr"));
+  EXPECT_FALSE(fs::exists(dir / "sil_mip1.exr"));
+  EXPECT_EQ(infoOf(dir / "sil.exr")["metadata"]["mip_levels"], 6);
+  EXPECT_EQ(runCli("sample " + q(dir / "sil.exr") + " --mip-level 5 --dir 0,0,1").exitCode, 0);
+  std::ofstream(dir / "bad_spec.json") << R"({"maps": [{"output": "x.exr", "parameterization": "sphere", "resolution": 32,
+     "mip_layout": "tiled", "material": {"model": "silhouette", "width": 15}}]})";
+  const auto badSpec = runCli("bake " + q(dir / "bad_spec.json") + " --quiet");
+  EXPECT_EQ(badSpec.exitCode, 2);
+  EXPECT_NE(badSpec.output.find("maps[0].mip_layout"), std::string::npos) << badSpec.output;
+
+  // SH irradiance: the furnace (radiance 1) gives 1 everywhere. A sky of radiance 1 above the horizon
+  // (y > 0) has E(n)/pi = (1 + n.y)/2, which three bands hold exactly; its irradiance cube map,
+  // computed by the reference sum (another method), agrees.
+  const auto furnace = runCli("prefilter " + q(kFurnace) + " --lobe irradiance --to cube --resolution 8 --quiet --sh-output " +
+                              q(dir / "furnace_sh.json") + " -o " + q(dir / "furnace_irr.exr"));
+  ASSERT_EQ(furnace.exitCode, 0) << furnace.output;
+  for (const Rgb& v : sampleAll(dir / "furnace_sh.json", directions)) EXPECT_NEAR(v[0], 1.0, 1e-3);
+  {
+    Image hemisphere(256, 128);
+    for (int y = 0; y < 128; ++y)
+      for (int x = 0; x < 256; ++x) hemisphere.set(x, y, y < 64 ? Rgba(1, 1, 1, 1) : Rgba(0, 0, 0, 1));  // top rows: y > 0
+    writeImage(hemisphere, dir / "hemisphere.exr");
+  }
+  ASSERT_EQ(runCli("prefilter " + q(dir / "hemisphere.exr") + " --lobe irradiance --method reference --to cube --resolution 16 --quiet "
+                   "--sh-output " + q(dir / "sky_sh.json") + " -o " + q(dir / "sky_irr.exr")).exitCode, 0);
+  const auto fromSh = sampleAll(dir / "sky_sh.json", directions), fromMap = sampleAll(dir / "sky_irr.exr", directions);
+  ASSERT_EQ(fromSh.size(), fromMap.size());
+  for (std::size_t i = 0; i < fromSh.size(); ++i) {
+    const double exact = 0.5 * (1.0 + directions[i].y());
+    EXPECT_NEAR(fromSh[i][0], exact, 1e-3) << directions[i].transpose();
+    EXPECT_NEAR(fromMap[i][0] / kPi, exact, 1e-2) << directions[i].transpose();  // a 16-texel cube map, bilinear
+  }
+  const auto document = nlohmann::json::parse(std::ifstream(dir / "sky_sh.json"));
+  EXPECT_EQ(document["bands"], 3);
+  EXPECT_EQ(document["coefficients"].size(), 9u);
+  EXPECT_NE(document["convention"].get<std::string>().find("1/pi"), std::string::npos);
+  const auto info = infoOf(dir / "sky_sh.json");
+  EXPECT_EQ(info["kind"], "sh_irradiance");
+  EXPECT_EQ(info["indexed_by"], "normal");
+  ASSERT_EQ(runCli("convert " + q(dir / "sky_sh.json") + " --to latlong --resolution 16 --quiet -o " + q(dir / "sh_ll.exr")).exitCode, 0);
+  expectPreviews(dir / "sky_sh.json", "--view 0,1,1");
+  const auto wrongLobe = runCli("prefilter " + q(sky) + " --lobe phong:20 --to cube --resolution 8 --sh-output " + q(dir / "x.json") +
+                                " -o " + q(dir / "x.exr"));
+  EXPECT_EQ(wrongLobe.exitCode, 2);
+  EXPECT_NE(wrongLobe.output.find("--sh-output"), std::string::npos) << wrongLobe.output;
 }
 
 // --dirs: one line per direction in the format of --dir, errors naming FILE:LINE.

@@ -15,6 +15,15 @@ namespace brdfbake {
 /// STEM_posx.EXT, STEM_negx.EXT, STEM_posy.EXT, STEM_negy.EXT, STEM_posz.EXT, STEM_negz.EXT.
 enum class CubeLayout { Cross, Faces };
 
+/// How a mip chain is written: each level a map of its own (level k >= 1 at STEM_mipK.EXT,
+/// mipLevelPath), or the whole chain in one tiled, MIP-mapped OpenEXR (writeTiledMap), as
+/// OpenImageIO's make_texture / maketx write textures.
+enum class MipLayout { Files, Tiled };
+
+/// Why a chain of a map of `resolution` cannot be written tiled at `path` ("" if it can): the
+/// path must be .exr and the resolution a power of two. For checks before any work.
+std::string tiledMipProblem(const std::filesystem::path& path, int resolution);
+
 /// A map read back from disk.
 struct MapFile {
   Image image;
