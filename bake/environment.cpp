@@ -35,27 +35,6 @@ std::string expectedShape(ParameterizationKind kind) {
   return "";
 }
 
-Image assembleCross(const std::vector<fs::path>& faces) {
-  std::vector<Image> images;
-  for (const auto& face : faces) images.push_back(readImage(face));
-  const int n = images[0].width();
-  for (std::size_t f = 0; f < faces.size(); ++f) {
-    if (images[f].width() != n || images[f].height() != n) {
-      throw Error(Error::Kind::InvalidInput, faces[f].string() + ": cube face is " + sizeText(images[f]) +
-                                                 " but " + faces[0].string() + " is " + sizeText(images[0]) +
-                                                 "; the six faces must be square and equal");
-    }
-  }
-  const CubeMap cube(n);
-  Image cross(4 * n, 3 * n, Rgba(0, 0, 0, 0));
-  for (int f = 0; f < 6; ++f) {
-    const TexelRect rect = cube.region(f);
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) cross.set(rect.x0 + x, rect.y0 + y, images[f].at(x, y));
-  }
-  return cross;
-}
-
 }  // namespace
 
 Rgb Environment::radiance(const Vec3& direction) const {
@@ -86,18 +65,18 @@ Environment makeEnvironment(Image image, ParameterizationKind kind, const std::s
 Environment loadEnvironment(const fs::path& path, const EnvironmentLoadOptions& options) {
   Image image;
   std::string detection;
-  if (!fs::exists(path)) {
-    const auto faces = cubeFacePaths(path);
-    bool allFaces = true;
-    for (const auto& face : faces) allFaces = allFaces && fs::exists(face);
-    if (!allFaces) throw Error(Error::Kind::Io, path.string() + ": no such file (nor six cube faces " + faces[0].filename().string() + " ...)");
+  if (const auto faces = cubeFaceSet(path); !faces.empty()) {
     if (options.kind && *options.kind != ParameterizationKind::Cube) {
       throw Error(Error::Kind::InvalidArgument, path.string() + ": six face files make a cube, not a " +
                                                     std::string(toString(*options.kind)) + " map");
     }
-    Environment environment = makeEnvironment(assembleCross(faces), ParameterizationKind::Cube, path.string());
+    Environment environment = makeEnvironment(assembleCubeCross(faces), ParameterizationKind::Cube, path.string());
     environment.detection = "six cube faces";
     return environment;
+  }
+  if (!fs::exists(path)) {
+    throw Error(Error::Kind::Io, path.string() + ": no such file (nor six cube faces " +
+                                     cubeFacePaths(path)[0].filename().string() + " ...)");
   }
   image = readImage(path);
   if (image.width() < 2 || image.height() < 2) {

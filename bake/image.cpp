@@ -3,6 +3,8 @@
 #include <brdfbake/core/memory_budget.hpp>
 #include <brdfbake/core/version.hpp>
 
+#include <algorithm>
+
 namespace brdfbake {
 
 Image::Image(int width, int height, const Rgba& fill) : width_(width), height_(height) {
@@ -31,9 +33,10 @@ MapInfo MapInfo::fromJson(const nlohmann::json& metadata) {
   MapInfo info;
   const auto p = metadata.find("parameterization");
   if (p == metadata.end() || !p->is_string()) throw missing("parameterization");
-  if (*p == "profile") {
-    throw Error(Error::Kind::InvalidInput, "a 1-D radial profile, not a 2-D map: look it up at u = |r - axis| / 2 "
-                                           "(its metadata, shown by brdfbake info, gives the axis)");
+  if (*p == "profile" || *p == "fresnel_profile") {
+    throw Error(Error::Kind::InvalidInput, std::string(*p == "profile" ? "a 1-D radial profile" : "a 1-D Fresnel profile") +
+                                               ", not a 2-D map (brdfbake sample, info, convert and preview read it: "
+                                               "BakedOutput::open)");
   }
   info.parameterization = parseParameterizationKind(p->get<std::string>());
   const auto r = metadata.find("resolution");
@@ -49,6 +52,15 @@ MapInfo MapInfo::fromJson(const nlohmann::json& metadata) {
   }
   info.spec = metadata.value("spec", nlohmann::json::object());
   return info;
+}
+
+Rgb sampleLinear1d(const std::vector<Rgb>& texels, double s) {
+  if (texels.empty()) throw Error(Error::Kind::InvalidArgument, "a 1-D texture needs at least one texel");
+  const int n = static_cast<int>(texels.size());
+  const double x = std::clamp(s * n - 0.5, 0.0, static_cast<double>(n - 1));
+  const int i0 = std::min(static_cast<int>(x), n - 1), i1 = std::min(i0 + 1, n - 1);
+  const double f = x - i0;
+  return (1.0 - f) * texels[static_cast<std::size_t>(i0)] + f * texels[static_cast<std::size_t>(i1)];
 }
 
 Rgba sampleBilinear(const Image& image, const Vec2& pixel, const TexelRect& region, bool wrapX) {

@@ -148,12 +148,90 @@ WriteReport writeImage(const Image& image, const fs::path& path, const WriteOpti
   return report;
 }
 
-Image readImage(const fs::path& path) {
+int imageMipLevelCount(const fs::path& path) {
+  requireInputFile(path, "image");
+  auto in = OIIO::ImageInput::open(path.string());
+  if (!in) throw Error(Error::Kind::Io, path.string() + ": cannot read image: " + OIIO::geterror());
+  int levels = 1;
+  while (levels < 64 && in->seek_subimage(0, levels)) ++levels;
+  return levels;
+}
+
+WriteReport writeTiledMipChain(const std::vector<Image>& levels, const nlohmann::json& metadata, const fs::path& path,
+                               const std::string& wrapModes, const WriteOptions& options) {
+  for (const auto& input : options.inputs) {
+    if (sameFile(input, path)) {
+      throw Error(Error::Kind::InvalidArgument, path.string() + ": output would overwrite an input; choose another output path");
+    }
+  }
+  if (imageFormatFor(path) != ImageFormat::OpenExr) {
+    throw Error(Error::Kind::InvalidArgument, path.string() + ": a tiled MIP-mapped file must be OpenEXR (.exr)");
+  }
+  require(!levels.empty(), "writeTiledMipChain: no levels");
+  // OpenEXR's MIPMAP_LEVELS with ROUND_DOWN: level k is max(1, floor(w / 2^k)) x max(1, floor(h / 2^k)),
+  // down to 1 x 1.
+  const int w = levels[0].width(), h = levels[0].height();
+  int expected = 1;
+  while ((w >> expected) > 0 || (h >> expected) > 0) ++expected;
+  if (static_cast<int>(levels.size()) != expected) {
+    throw Error(Error::Kind::InvalidArgument, path.string() + ": a " + std::to_string(w) + " x " + std::to_string(h) +
+                                                  " MIP-mapped OpenEXR has " + std::to_string(expected) + " levels, got " +
+                                                  std::to_string(levels.size()));
+  }
+  for (std::size_t k = 0; k < levels.size(); ++k) {
+    const int lw = std::max(1, w >> k), lh = std::max(1, h >> k);
+    if (levels[k].width() != lw || levels[k].height() != lh) {
+      throw Error(Error::Kind::InvalidArgument, path.string() + ": MIP level " + std::to_string(k) + " is " +
+                                                    std::to_string(levels[k].width()) + " x " + std::to_string(levels[k].height()) +
+                                                    ", OpenEXR expects " + std::to_string(lw) + " x " + std::to_string(lh));
+    }
+    checkFinite(levels[k], path);
+  }
+  const std::string text = metadata.empty() ? std::string() : metadata.dump();
+  AtomicOutput output(path);
+  {
+    const std::string temporary = output.temporaryPath().string();
+    auto out = OIIO::ImageOutput::create(temporary);
+    if (!out) throw Error(Error::Kind::Io, path.string() + ": no image writer: " + OIIO::geterror());
+    for (std::size_t k = 0; k < levels.size(); ++k) {
+      OIIO::ImageSpec spec(levels[k].width(), levels[k].height(), 4, OIIO::TypeDesc::FLOAT);
+      spec.alpha_channel = 3;
+      spec.tile_width = spec.tile_height = 64;
+      spec.tile_depth = 1;
+      spec.attribute("compression", "zip");
+      spec.attribute("textureformat", "Plain Texture");
+      spec.attribute("wrapmodes", wrapModes);
+      spec.attribute("openexr:levelmode", 1);     // MIPMAP_LEVELS
+      spec.attribute("openexr:roundingmode", 0);  // ROUND_DOWN
+      spec.attribute("oiio:UnassociatedAlpha", 1);
+      if (k == 0 && !text.empty()) spec.attribute(kMetadataAttribute, text);
+      const auto mode = k == 0 ? OIIO::ImageOutput::Create : OIIO::ImageOutput::AppendMIPLevel;
+      if (!out->open(temporary, spec, mode) || !out->write_image(OIIO::TypeDesc::FLOAT, levels[k].data())) {
+        throw Error(Error::Kind::Io, path.string() + ": cannot write MIP level " + std::to_string(k) + ": " + out->geterror());
+      }
+    }
+    if (!out->close()) throw Error(Error::Kind::Io, path.string() + ": cannot write: " + out->geterror());
+  }
+  std::error_code ec;
+  fs::remove(metadataSidecarPath(path), ec);  // OpenEXR keeps the metadata; a stale sidecar would contradict it
+  output.commit();
+  return {};
+}
+
+Image readImage(const fs::path& path, int mipLevel) {
   const std::uintmax_t fileBytes = requireInputFile(path, "image");
+  require(mipLevel >= 0, "readImage: MIP level must be >= 0");
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);  // keep colours as stored, never premultiplied
   auto in = OIIO::ImageInput::open(path.string(), &config);
   if (!in) throw Error(Error::Kind::Io, path.string() + ": cannot read image: " + OIIO::geterror());
+  std::string metadata = in->spec().get_string_attribute(kMetadataAttribute);  // level 0 carries it
+  if (mipLevel > 0 && !in->seek_subimage(0, mipLevel)) {
+    int levels = 1;
+    while (levels < 64 && in->seek_subimage(0, levels)) ++levels;
+    throw Error(Error::Kind::InvalidInput, path.string() + ": has " + std::to_string(levels) + " MIP level" +
+                                               (levels == 1 ? "" : "s") + ", no level " + std::to_string(mipLevel));
+  }
   const OIIO::ImageSpec& spec = in->spec();
   const int channels = spec.nchannels;
   if (spec.width < 1 || spec.height < 1 || channels < 1) {
@@ -161,7 +239,7 @@ Image readImage(const fs::path& path) {
   }
   checkDecodedSize(spec.width, spec.height, channels, fileBytes, path);
   std::vector<float> pixels(static_cast<std::size_t>(spec.width) * spec.height * channels);
-  if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data())) {
+  if (!in->read_image(0, mipLevel, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data())) {
     throw Error(Error::Kind::Io, path.string() + ": cannot read pixels: " + in->geterror());
   }
   const bool srgb = spec.format.basetype != OIIO::TypeDesc::FLOAT &&
@@ -182,7 +260,6 @@ Image readImage(const fs::path& path) {
       image.set(x, y, v);
     }
   }
-  std::string metadata = spec.get_string_attribute(kMetadataAttribute);
   std::string metadataSource = path.string() + " (brdfbake metadata)";
   const fs::path sidecar = metadataSidecarPath(path);
   std::error_code ec;

@@ -1,8 +1,12 @@
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/bake/cube_map.hpp>
+#include <brdfbake/bake/env_mips.hpp>
+#include <brdfbake/bake/mip_chain.hpp>
 #include <brdfbake/bake/map_file.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/version.hpp>
+
+#include <functional>
 
 namespace brdfbake {
 namespace fs = std::filesystem;
@@ -42,7 +46,165 @@ MapFile mapFromImage(Image image, const std::string& label) {
   return file;
 }
 
-MapFile readMap(const fs::path& path) { return mapFromImage(readImage(path), path.string()); }
+std::vector<fs::path> cubeFaceSet(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {
+    const auto faces = cubeFacePaths(path);
+    for (const auto& face : faces) {
+      if (!fs::exists(face, ec)) return {};
+    }
+    return faces;
+  }
+  // A face file: STEM_posx.EXT and so on; its metadata says so.
+  const std::string stem = path.stem().string();
+  if (stem.size() < 5) return {};
+  const std::string suffix = stem.substr(stem.size() - 5);
+  const auto faces = cubeFacePaths(path.parent_path() / (stem.substr(0, stem.size() - 5) + path.extension().string()));
+  bool isFace = false;
+  for (const auto& face : faces) isFace = isFace || face.filename() == path.filename();
+  if (!isFace) return {};
+  const Image image = readImage(path);
+  if (image.metadata.value("layout", "") != "faces") return {};
+  return faces;
+}
+
+Image assembleCubeCross(const std::vector<fs::path>& faces, int mipLevel) {
+  require(faces.size() == 6, "assembleCubeCross: a cube has six faces");
+  std::vector<Image> images;
+  for (const auto& face : faces) images.push_back(readImage(face, mipLevel));
+  const int n = images[0].width();
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    if (images[f].width() != n || images[f].height() != n) {
+      throw Error(Error::Kind::InvalidInput, faces[f].string() + ": cube face is " + std::to_string(images[f].width()) + " x " +
+                                                 std::to_string(images[f].height()) + " but " + faces[0].string() + " is " +
+                                                 std::to_string(n) + " x " + std::to_string(images[0].height()) +
+                                                 "; the six faces must be square and equal");
+    }
+  }
+  const CubeMap cube(n);
+  Image cross(4 * n, 3 * n, Rgba(0, 0, 0, 0));
+  for (int f = 0; f < 6; ++f) {
+    const TexelRect rect = cube.region(f);
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) cross.set(rect.x0 + x, rect.y0 + y, images[static_cast<std::size_t>(f)].at(x, y));
+  }
+  cross.metadata = images[0].metadata;
+  if (cross.metadata.is_object()) {
+    cross.metadata.erase("layout");
+    cross.metadata.erase("face");
+  }
+  return cross;
+}
+
+namespace {
+// Level `level` of a MIP-mapped map file: its metadata describes level 0.
+Image readTiledLevel(const fs::path& path, int level, const std::function<Image(int)>& read) {
+  Image image = read(level);
+  if (!hasMapMetadata(image)) return image;
+  const int resolution = image.metadata.value("resolution", 0);
+  if ((resolution >> level) < 1) {
+    throw Error(Error::Kind::InvalidInput, path.string() + ": MIP level " + std::to_string(level) + " lies below the map's " +
+                                               "1-texel level (OpenEXR's last levels hold only the map's mean); the map has " +
+                                               std::to_string(mipLevelCount(resolution)) + " levels");
+  }
+  image.metadata["resolution"] = resolution >> level;
+  image.metadata["mip_level"] = level;
+  return image;
+}
+}  // namespace
+
+MapFile readMap(const fs::path& path, int mipLevel) {
+  require(mipLevel >= 0, "MIP level must be >= 0");
+  const auto faces = cubeFaceSet(path);
+  if (!faces.empty()) {
+    const std::string label = faces[0].string() + " (one of six cube faces)";
+    if (mipLevel > 0 && imageMipLevelCount(faces[0]) == 1) {
+      const fs::path stem = faces[0].parent_path() / (faces[0].stem().string().substr(0, faces[0].stem().string().size() - 5) +
+                                                      faces[0].extension().string());
+      return mapFromImage(assembleCubeCross(cubeFacePaths(mipLevelPath(stem, mipLevel))), label);
+    }
+    return mapFromImage(readTiledLevel(faces[0], mipLevel, [&](int level) { return assembleCubeCross(faces, level); }), label);
+  }
+  if (mipLevel > 0 && imageMipLevelCount(path) == 1) {
+    const fs::path level = mipLevelPath(path, mipLevel);
+    std::error_code ec;
+    if (!fs::exists(level, ec)) {
+      throw Error(Error::Kind::Io, path.string() + ": not MIP-mapped, and there is no level file " + level.string());
+    }
+    return readMap(level);
+  }
+  return mapFromImage(readTiledLevel(path, mipLevel, [&](int level) { return readImage(path, level); }), path.string());
+}
+
+std::string tiledMipProblem(const fs::path& path, int resolution) {
+  if (imageFormatFor(path) != ImageFormat::OpenExr) {
+    return path.string() + ": a tiled MIP-mapped file must be OpenEXR (.exr)";
+  }
+  if (resolution < 1 || (resolution & (resolution - 1)) != 0) {
+    return "a tiled MIP-mapped OpenEXR needs a power-of-two resolution (OpenEXR halves each level, rounding down), got " +
+           std::to_string(resolution);
+  }
+  return {};
+}
+
+MapWriteReport writeTiledMap(const std::vector<Image>& levels, const MapInfo& info, const fs::path& path, CubeLayout layout,
+                             const WriteOptions& options) {
+  require(!levels.empty(), "writeTiledMap: no levels");
+  const int n = info.resolution;
+  if (const std::string problem = tiledMipProblem(path, n); !problem.empty()) throw Error(Error::Kind::InvalidArgument, problem);
+  if (static_cast<int>(levels.size()) != mipLevelCount(n)) {
+    throw Error(Error::Kind::InvalidArgument, "writeTiledMap: a map of resolution " + std::to_string(n) + " has " +
+                                                  std::to_string(mipLevelCount(n)) + " levels, got " + std::to_string(levels.size()));
+  }
+  nlohmann::json metadata = info.toJson();
+  metadata["mip_levels"] = static_cast<int>(levels.size());
+  const std::string wrap = info.parameterization == ParameterizationKind::LatLong ? "periodic,clamp" : "clamp,clamp";
+  MapWriteReport report;
+  if (info.parameterization == ParameterizationKind::Cube && layout == CubeLayout::Faces) {
+    // Each face halves to 1 x 1 exactly with the map: no extra levels.
+    const auto paths = cubeFacePaths(path);
+    for (int f = 0; f < 6; ++f) {
+      std::vector<Image> faces;
+      for (std::size_t k = 0; k < levels.size(); ++k) {
+        const int m = std::max(1, n >> k);
+        const TexelRect rect = CubeMap(m).region(f);
+        Image face(m, m);
+        for (int y = 0; y < m; ++y)
+          for (int x = 0; x < m; ++x) face.set(x, y, levels[k].at(rect.x0 + x, rect.y0 + y));
+        faces.push_back(std::move(face));
+      }
+      nlohmann::json faceMetadata = metadata;
+      faceMetadata["layout"] = "faces";
+      faceMetadata["face"] = std::string(CubeMap::faceName(static_cast<CubeMap::Face>(f)));
+      writeTiledMipChain(faces, faceMetadata, paths[static_cast<std::size_t>(f)], wrap, options);
+      report.files.push_back(paths[static_cast<std::size_t>(f)]);
+    }
+    return report;
+  }
+  // Below the map's last level: its solid-angle-weighted mean in every texel, down to 1 x 1.
+  std::vector<Image> chain = levels;
+  const auto last = makeParameterization(info.parameterization, std::max(1, n >> (levels.size() - 1)));
+  Rgba sum = Rgba::Zero();
+  double weight = 0.0;
+  for (int y = 0; y < last->height(); ++y)
+    for (int x = 0; x < last->width(); ++x) {
+      const double w = mipTexelWeight(*last, x, y);
+      sum += w * chain.back().at(x, y);
+      weight += w;
+    }
+  const Rgba mean = weight > 0.0 ? Rgba(sum / weight) : Rgba::Zero();
+  while (chain.back().width() > 1 || chain.back().height() > 1) {
+    chain.emplace_back(std::max(1, chain.back().width() / 2), std::max(1, chain.back().height() / 2), mean);
+  }
+  writeTiledMipChain(chain, metadata, path, wrap, options);
+  report.files.push_back(path);
+  if (chain.size() > levels.size()) {
+    report.notes.push_back(path.filename().string() + ": " + std::to_string(levels.size()) + " map levels in one tiled MIP-mapped "
+                           "OpenEXR; OpenEXR's " + std::to_string(chain.size() - levels.size()) + " further level(s) hold the "
+                           "map's mean");
+  }
+  return report;
+}
 
 MapFile adoptImage(Image image, ParameterizationKind kind, const std::string& label) {
   int resolution = 0;

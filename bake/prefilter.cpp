@@ -870,12 +870,11 @@ PrefilteredMap prefilterLobeModel(const Environment& environment, const LobeMode
 }
 
 MapWriteReport writePrefilteredMap(const PrefilteredMap& map, const std::filesystem::path& path, nlohmann::json spec,
-                                   CubeLayout layout, const WriteOptions& options) {
+                                   CubeLayout layout, const WriteOptions& options, MipLayout mipLayout) {
   require(!map.levels.empty() && map.map, "writePrefilteredMap: nothing to write");
   if (!spec.is_object()) spec = nlohmann::json::object();
-  MapWriteReport report;
   const int count = static_cast<int>(map.levels.size());
-  for (int level = 0; level < count; ++level) {
+  auto levelInfo = [&](int level) {
     MapInfo info;
     info.parameterization = map.map->kind();
     info.resolution = std::max(1, map.map->resolution() >> level);
@@ -893,7 +892,17 @@ MapWriteReport writePrefilteredMap(const PrefilteredMap& map, const std::filesys
                                         {"exact", !s.errorEstimated && (s.method == PrefilterMethod::Reference || s.method == PrefilterMethod::Resample)},
                                         {"mip_level", level},
                                         {"mip_levels", count}});
-    const MapWriteReport written = writeMap(map.levels[level], info, mipLevelPath(path, level), layout, options);
+    return info;
+  };
+  if (mipLayout == MipLayout::Tiled) {
+    require(count > 1, "a tiled MIP-mapped output needs the mip levels (PrefilterOptions::mips)");
+    MapInfo info = levelInfo(0);
+    info.spec["prefilter"]["mip_layout"] = "tiled";
+    return writeTiledMap(map.levels, info, path, layout, options);
+  }
+  MapWriteReport report;
+  for (int level = 0; level < count; ++level) {
+    const MapWriteReport written = writeMap(map.levels[level], levelInfo(level), mipLevelPath(path, level), layout, options);
     report.files.insert(report.files.end(), written.files.begin(), written.files.end());
     if (level == 0) report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());
   }

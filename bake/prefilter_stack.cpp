@@ -2,6 +2,7 @@
 // Fresnel decomposition (prefilter_stack.hpp, docs/prefilter.md).
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/core/progress.hpp>
+#include <brdfbake/bake/baked_output.hpp>
 #include <brdfbake/bake/env_mips.hpp>
 #include <brdfbake/bake/image_io.hpp>
 #include <brdfbake/bake/prefilter_stack.hpp>
@@ -107,7 +108,7 @@ std::filesystem::path elevationSlicePath(const std::filesystem::path& path, int 
 }
 
 MapWriteReport writePrefilteredStack(const PrefilteredStack& stack, const std::filesystem::path& path, nlohmann::json spec,
-                                     CubeLayout layout, const WriteOptions& options) {
+                                     CubeLayout layout, const WriteOptions& options, MipLayout mipLayout) {
   require(!stack.slices.empty() && stack.slices.size() == stack.cosines.size(), "writePrefilteredStack: nothing to write");
   if (!spec.is_object()) spec = nlohmann::json::object();
   if (!spec["prefilter"].is_object()) spec["prefilter"] = nlohmann::json::object();
@@ -125,7 +126,7 @@ MapWriteReport writePrefilteredStack(const PrefilteredStack& stack, const std::f
                                       {"max_cos", stack.maxCos},
                                       {"interpolation", interpolation.str()}};
     const MapWriteReport written =
-        writePrefilteredMap(stack.slices[static_cast<std::size_t>(j)], elevationSlicePath(path, j), spec, layout, options);
+        writePrefilteredMap(stack.slices[static_cast<std::size_t>(j)], elevationSlicePath(path, j), spec, layout, options, mipLayout);
     report.files.insert(report.files.end(), written.files.begin(), written.files.end());
     if (j == 0) report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());
   }
@@ -171,7 +172,7 @@ std::filesystem::path fresnelProfilePath(const std::filesystem::path& output) { 
 namespace {
 void addLevels(std::vector<FilePlan::Entry>& out, const std::filesystem::path& file, const PrefilterOutputs& o,
                const std::string& role) {
-  const int levels = o.mips ? mipLevelCount(o.resolution) : 1;
+  const int levels = o.mips && o.mipLayout == MipLayout::Files ? mipLevelCount(o.resolution) : 1;
   const bool cube = o.parameterization == ParameterizationKind::Cube;
   for (int level = 0; level < levels; ++level) {
     const auto files = mapOutputFiles(mipLevelPath(file, level),
@@ -200,7 +201,8 @@ std::vector<FilePlan::Entry> prefilterOutputFiles(const std::filesystem::path& o
 }
 
 MapWriteReport writeFresnelDecomposition(const FresnelDecomposition& decomposition, const std::filesystem::path& output,
-                                         nlohmann::json spec, CubeLayout layout, const WriteOptions& options) {
+                                         nlohmann::json spec, CubeLayout layout, const WriteOptions& options,
+                                         MipLayout mipLayout) {
   const int size = static_cast<int>(decomposition.profile.size());
   require(size >= 1, "writeFresnelDecomposition: no Fresnel profile");
   if (!spec.is_object()) spec = nlohmann::json::object();
@@ -221,19 +223,18 @@ MapWriteReport writeFresnelDecomposition(const FresnelDecomposition& decompositi
       {"f0", {f0[0], f0[1], f0[2]}}};
 
   // The profile first (cheapest to fail), then the two maps.
-  Image image(size, 1);
-  for (int i = 0; i < size; ++i) {
-    const Rgb& f = decomposition.profile[static_cast<std::size_t>(i)];
-    image.set(i, 0, Rgba(f[0], f[1], f[2], 1.0));
-  }
+  Image image = fresnelProfileImage(decomposition.profile);
+  image.metadata["spec"] = spec;
+  image.metadata["spec"]["prefilter"]["fresnel"] = fresnel;
+  image.metadata["spec"]["prefilter"]["fresnel"]["role"] = "profile";
   MapWriteReport report;
   const WriteReport profileWritten = writeImage(image, profilePath, options);
   fresnel["role"] = "specular";
   spec["prefilter"]["fresnel"] = fresnel;
-  const MapWriteReport specular = writePrefilteredMap(decomposition.specular, output, spec, layout, options);
+  const MapWriteReport specular = writePrefilteredMap(decomposition.specular, output, spec, layout, options, mipLayout);
   fresnel["role"] = "irradiance";
   spec["prefilter"]["fresnel"] = fresnel;
-  const MapWriteReport irradiance = writePrefilteredMap(decomposition.irradiance, irradiancePath, spec, layout, options);
+  const MapWriteReport irradiance = writePrefilteredMap(decomposition.irradiance, irradiancePath, spec, layout, options, mipLayout);
   for (const MapWriteReport* part : {&specular, &irradiance}) {
     report.files.insert(report.files.end(), part->files.begin(), part->files.end());
     report.notes.insert(report.notes.end(), part->notes.begin(), part->notes.end());

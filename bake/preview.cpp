@@ -1,3 +1,4 @@
+#include <brdfbake/bake/baked_output.hpp>
 #include <brdfbake/bake/preview.hpp>
 #include <brdfbake/bake/sphere_map.hpp>
 #include <brdfbake/core/error.hpp>
@@ -133,18 +134,15 @@ void PreviewOptions::validate() const {
   require(std::isfinite(exposure), "exposure must be finite");
 }
 
-Image renderPreview(const Image& map, const Parameterization& parameterization, const PreviewOptions& options) {
-  options.validate();
-  const bool sphere = parameterization.kind() == ParameterizationKind::Sphere;
-  const Vec3 view = options.view.normalized();
-  if (sphere && (view - Vec3::UnitZ()).norm() > 1e-9) {
-    throw Error(Error::Kind::InvalidArgument, "a sphere map is valid only for the view it was made for: +z (eye space)");
-  }
+namespace {
+
+// The object seen along -view: each covered pixel's triangle and barycentric weights, shaded by
+// `shade(triangle, weights)` in parallel. Checks the options and, for eye-space maps, the view.
+Image rasterise(const Mesh& mesh, const Vec3& view, const PreviewOptions& options,
+                const std::function<Rgba(const std::array<int, 3>&, const Vec3&)>& shade) {
   // Screen basis: right, up, and the view vector towards the viewer.
   const Vec3 upHint = std::abs(view.y()) < 0.99 ? Vec3::UnitY() : Vec3(0, 0, view.y() > 0 ? -1 : 1);
   const Vec3 right = upHint.cross(view).normalized(), up = view.cross(right);
-
-  const Mesh mesh = makePreviewMesh(options.object, options.segments);
   const int n = options.size;
   const double extent = 1.08;  // screen half-width in object units
   auto toScreen = [&](const Vec3& p) {
@@ -152,14 +150,6 @@ Image renderPreview(const Image& map, const Parameterization& parameterization, 
   };
   std::vector<Vec3> screen(mesh.positions.size());
   for (std::size_t i = 0; i < screen.size(); ++i) screen[i] = toScreen(mesh.positions[i]);
-
-  // Per-vertex attributes for the fixed-function mode: sphere-map pixel coordinates, or r.
-  std::vector<Vec3> vertexReflection(mesh.positions.size());
-  std::vector<Vec2> vertexTexel(mesh.positions.size());
-  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-    vertexReflection[i] = reflect(view, mesh.normals[i]);
-    if (sphere) vertexTexel[i] = parameterization.getAddressFor(vertexReflection[i]).pixel;
-  }
 
   std::vector<double> depth(static_cast<std::size_t>(n) * n, -std::numeric_limits<double>::infinity());
   std::vector<int> triangleAt(depth.size(), -1);
@@ -197,23 +187,68 @@ Image renderPreview(const Image& map, const Parameterization& parameterization, 
     for (int x = 0; x < n; ++x) {
       const std::size_t index = static_cast<std::size_t>(y) * n + x;
       if (triangleAt[index] < 0) continue;
-      const auto& tri = mesh.triangles[triangleAt[index]];
-      const Vec3& w = weightsAt[index];
-      Rgba value;
-      if (options.perVertex && sphere) {
-        const Vec2 texel = w[0] * vertexTexel[tri[0]] + w[1] * vertexTexel[tri[1]] + w[2] * vertexTexel[tri[2]];
-        value = sampleBilinear(map, texel, parameterization.region(0), false);
-      } else if (options.perVertex) {
-        const Vec3 r = w[0] * vertexReflection[tri[0]] + w[1] * vertexReflection[tri[1]] + w[2] * vertexReflection[tri[2]];
-        value = sampleBilinear(map, parameterization, r.norm() > 0 ? r : Vec3(view));
-      } else {
-        const Vec3 normal = (w[0] * mesh.normals[tri[0]] + w[1] * mesh.normals[tri[1]] + w[2] * mesh.normals[tri[2]]).normalized();
-        value = sampleBilinear(map, parameterization, reflect(view, normal));
-      }
+      const Rgba value = shade(mesh.triangles[triangleAt[index]], weightsAt[index]);
       out.set(x, y, Rgba(value[0] * scale, value[1] * scale, value[2] * scale, 1.0));
     }
   });
   return out;
+}
+
+// The options' view, checked: eye-space maps (sphere maps, profiles) hold one view, +z.
+Vec3 checkedView(const PreviewOptions& options, bool eyeSpace) {
+  options.validate();
+  const Vec3 view = options.view.normalized();
+  if (eyeSpace && (view - Vec3::UnitZ()).norm() > 1e-9) {
+    throw Error(Error::Kind::InvalidArgument, "a sphere map (or a profile about the view) is valid only for the view it was "
+                                              "made for: +z (eye space)");
+  }
+  return view;
+}
+
+Vec3 interpolatedNormal(const Mesh& mesh, const std::array<int, 3>& tri, const Vec3& w) {
+  return (w[0] * mesh.normals[tri[0]] + w[1] * mesh.normals[tri[1]] + w[2] * mesh.normals[tri[2]]).normalized();
+}
+
+}  // namespace
+
+Image renderPreview(const Image& map, const Parameterization& parameterization, const PreviewOptions& options) {
+  const bool sphere = parameterization.kind() == ParameterizationKind::Sphere;
+  const Vec3 view = checkedView(options, sphere);
+  const Mesh mesh = makePreviewMesh(options.object, options.segments);
+  // Per-vertex attributes for the fixed-function mode: sphere-map pixel coordinates, or r.
+  std::vector<Vec3> vertexReflection(mesh.positions.size());
+  std::vector<Vec2> vertexTexel(mesh.positions.size());
+  for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+    vertexReflection[i] = reflect(view, mesh.normals[i]);
+    if (sphere) vertexTexel[i] = parameterization.getAddressFor(vertexReflection[i]).pixel;
+  }
+  return rasterise(mesh, view, options, [&](const std::array<int, 3>& tri, const Vec3& w) {
+    if (options.perVertex && sphere) {
+      const Vec2 texel = w[0] * vertexTexel[tri[0]] + w[1] * vertexTexel[tri[1]] + w[2] * vertexTexel[tri[2]];
+      return sampleBilinear(map, texel, parameterization.region(0), false);
+    }
+    if (options.perVertex) {
+      const Vec3 r = w[0] * vertexReflection[tri[0]] + w[1] * vertexReflection[tri[1]] + w[2] * vertexReflection[tri[2]];
+      return sampleBilinear(map, parameterization, r.norm() > 0 ? r : Vec3(view));
+    }
+    return sampleBilinear(map, parameterization, reflect(view, interpolatedNormal(mesh, tri, w)));
+  });
+}
+
+Image renderPreview(const BakedOutput& output, const PreviewOptions& options) {
+  const MapFile* map = output.map();
+  if (map && !output.indexedByNormal()) return renderPreview(map->image, *map->parameterization, options);
+  if (options.perVertex) {
+    throw Error(Error::Kind::InvalidArgument, std::string("per-vertex texture coordinates are for 2-D maps looked up at the "
+                                                          "reflected direction; a ") +
+                                                  std::string(toString(output.kind())) +
+                                                  (map ? " indexed by the normal" : "") + " is shaded per pixel");
+  }
+  const Vec3 view = checkedView(options, output.eyeSpace());
+  const Mesh mesh = makePreviewMesh(options.object, options.segments);
+  return rasterise(mesh, view, options, [&](const std::array<int, 3>& tri, const Vec3& w) {
+    return output.shade(interpolatedNormal(mesh, tri, w), view);
+  });
 }
 
 }  // namespace brdfbake

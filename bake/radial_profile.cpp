@@ -31,13 +31,7 @@ Vec3 RadialProfile::directionFor(double u, double phi) const {
   return (cosAlpha * axis_ + sinAlpha * (std::cos(phi) * tangent_ + std::sin(phi) * bitangent_)).normalized();
 }
 
-Rgb RadialProfile::lookup(const Vec3& direction) const {
-  const int n = resolution();
-  const double x = std::clamp(coordinateFor(direction) * n - 0.5, 0.0, static_cast<double>(n - 1));
-  const int i0 = std::min(static_cast<int>(x), n - 1), i1 = std::min(i0 + 1, n - 1);
-  const double f = x - i0;
-  return (1.0 - f) * texels_[static_cast<std::size_t>(i0)] + f * texels_[static_cast<std::size_t>(i1)];
-}
+Rgb RadialProfile::lookup(const Vec3& direction) const { return sampleLinear1d(texels_, coordinateFor(direction)); }
 
 nlohmann::json RadialProfile::toJson() const {
   return {{"parameterization", "profile"},

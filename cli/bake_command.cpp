@@ -77,7 +77,7 @@ nlohmann::json bakeEnvironmentMap(const MapSpec& map, const Environment& environ
     summary = stack.summary;
     parameterization = stack.slices.front().map;
     writeStart = std::chrono::steady_clock::now();
-    written = writePrefilteredStack(stack, map.output, map.raw, map.cubeLayout, writeOptions);
+    written = writePrefilteredStack(stack, map.output, map.raw, map.cubeLayout, writeOptions, e.mipLayout);
     extra["elevations"] = {{"slices", stack.slices.size()}, {"cos_theta", stack.cosines}, {"t", stack.coordinates}};
   } else if (e.fresnel) {
     const FresnelDecomposition decomposition =
@@ -85,7 +85,7 @@ nlohmann::json bakeEnvironmentMap(const MapSpec& map, const Environment& environ
     summary = decomposition.specular.summary;
     parameterization = decomposition.specular.map;
     writeStart = std::chrono::steady_clock::now();
-    written = writeFresnelDecomposition(decomposition, map.output, map.raw, map.cubeLayout, writeOptions);
+    written = writeFresnelDecomposition(decomposition, map.output, map.raw, map.cubeLayout, writeOptions, e.mipLayout);
     irradianceReport = decomposition.irradiance.summary.briefReport();
     extra["fresnel"] = {{"combine", std::string(toString(e.combine))},
                         {"irradiance", fresnelIrradiancePath(map.output).string()},
@@ -98,7 +98,7 @@ nlohmann::json bakeEnvironmentMap(const MapSpec& map, const Environment& environ
     summary = result.summary;
     parameterization = result.map;
     writeStart = std::chrono::steady_clock::now();
-    written = writePrefilteredMap(result, map.output, map.raw, map.cubeLayout, writeOptions);
+    written = writePrefilteredMap(result, map.output, map.raw, map.cubeLayout, writeOptions, e.mipLayout);
   }
   const double writeSeconds = secondsSince(writeStart);
   bar.done();

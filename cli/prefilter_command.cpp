@@ -4,6 +4,7 @@
 #include <brdfbake/bake/environment.hpp>
 #include <brdfbake/bake/prefilter.hpp>
 #include <brdfbake/bake/prefilter_stack.hpp>
+#include <brdfbake/bake/sh_irradiance.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 
@@ -53,13 +54,31 @@ picks the cheapest setting of any of them whose estimated RMS relative error is 
 --max-error, and falls back to reference when none is.
 
 --mips also writes the solid-angle-weighted mip levels STEM_mip1.EXT, STEM_mip2.EXT, ... down
-to 1 texel, each a map of its own (cube faces edge-fixed, paraboloid borders kept). The output's
-metadata records the lobe, the method, the error bound and estimate, and the environment.
+to 1 texel, each a map of its own (cube faces edge-fixed, paraboloid borders kept). With --tiled
+the whole chain goes into OUT itself: one tiled (64 x 64), MIP-mapped OpenEXR as OpenImageIO's
+make_texture and maketx write it, read by any OIIO TextureSystem (with --faces, six such files).
+It needs a power-of-two --resolution; OpenEXR halves to 1 x 1, so a cube cross (4 x 3 at 1 texel
+per face) or a 2 x 1 paraboloid or lat-long level is followed by levels holding the map's mean.
+The output's metadata records the lobe, the method, the error bound and estimate, and the
+environment.
+
+--sh-output FILE.json (with --lobe irradiance) also writes the irradiance as 3 bands of
+spherical harmonics, 9 RGB coefficients, as cmgen does. Convention (stated in the file):
+E(n)/pi = sum_i c_i Y_i(n), radiance-equivalent (a constant environment L gives L); the
+coefficients include the cosine-lobe convolution (pi, 2pi/3, pi/4) and the 1/pi; Y_i are the
+orthonormal real harmonics with the Condon-Shortley phase, in the environment's frame, pole +z:
+Y00 = 0.282095, Y1-1 = -0.488603 y, Y10 = 0.488603 z, Y11 = -0.488603 x, Y2-2 = 1.092548 xy,
+Y2-1 = -1.092548 yz, Y20 = 0.315392 (3z^2 - 1), Y21 = -1.092548 xz, Y22 = 0.546274 (x^2 - y^2).
+brdfbake sample, info, convert and preview read the file (looked up at the normal).
 
 Examples:
   brdfbake prefilter data_samples/environments/sky_latlong.exr --lobe phong:100 --to paraboloid \
       --resolution 128 --mips -o out/sky_phong100.exr
   brdfbake prefilter data_samples/environments/sky_latlong.exr --lobe irradiance --to sphere -o out/sky_irr.exr
+  brdfbake prefilter data_samples/environments/sky_latlong.exr --lobe irradiance --to cube --resolution 32 \
+      --sh-output out/sky_sh.json -o out/sky_irr_cube.exr
+  brdfbake prefilter data_samples/environments/sky_latlong.exr --lobe ggx:0.3 --to latlong --resolution 256 \
+      --mips --tiled -o out/sky_ggx_tex.exr
   brdfbake prefilter sky.hdr --lobe ggx:0.4 --to cube --faces --json -o out/sky_ggx.exr
   brdfbake prefilter data_samples/environments/sky_latlong.exr --lobe lobes:data_samples/fits/synthetic_varying.json \
       --to paraboloid --resolution 64 --elevations 8 -o out/sky_varying.exr
@@ -67,10 +86,10 @@ Examples:
       --to sphere -o out/sky_coat.exr)";
 
 struct PrefilterArgs {
-  std::string environment, lobe, to, from, method = "auto", output, view, up, combine;
+  std::string environment, lobe, to, from, method = "auto", output, view, up, combine, shOutput;
   int resolution = 256, threads = 0, samples = 16, elevations = 0;  // elevations 0: not given (8)
   double maxError = 0.01, fresnelIor = 0.0;                         // fresnelIor 0: no decomposition
-  bool mips = false, json = false, quiet = false, faces = false, allowLarge = false;
+  bool mips = false, tiled = false, json = false, quiet = false, faces = false, allowLarge = false;
 };
 
 int runPrefilter(const PrefilterArgs& args) {
@@ -121,15 +140,32 @@ int runPrefilter(const PrefilterArgs& args) {
     if (!args.up.empty()) options.up = parseVector(args.up, "--up");
   }
   options.validate();
+  if (args.tiled) {
+    if (!args.mips) throw Error(Error::Kind::InvalidArgument, "--tiled: needs --mips (the chain it writes into one file)");
+    if (const std::string problem = tiledMipProblem(args.output, options.resolution); !problem.empty()) {
+      throw Error(Error::Kind::InvalidArgument, "--tiled: " + problem);
+    }
+  }
+  if (!args.shOutput.empty()) {
+    if (!lobe || !lobe->indexedByNormal() || fresnel) {
+      throw Error(Error::Kind::InvalidArgument, "--sh-output: spherical-harmonic coefficients hold irradiance: use it with "
+                                                "--lobe irradiance");
+    }
+    if (fs::path(args.shOutput).extension() != ".json") {
+      throw Error(Error::Kind::InvalidArgument, "--sh-output: " + args.shOutput + ": the SH coefficients are written as JSON (.json)");
+    }
+  }
   const FresnelCombine combine = args.combine.empty() ? FresnelCombine::Add : parseFresnelCombine(args.combine);
   const std::optional<FresnelTerm> fresnelTerm =
       fresnel ? std::optional(FresnelTerm::dielectric(Rgb::Constant(args.fresnelIor))) : std::nullopt;
   FilePlan plan;
   plan.addInput(args.environment, "environment");
   if (model) plan.addInput(args.lobe.substr(6), "--lobe");
+  const MipLayout mipLayout = args.tiled ? MipLayout::Tiled : MipLayout::Files;
   const PrefilterOutputs outputs{options.parameterization, options.resolution, options.mips,
-                                 args.faces ? CubeLayout::Faces : CubeLayout::Cross, stack ? options.elevations : 0, fresnel};
+                                 args.faces ? CubeLayout::Faces : CubeLayout::Cross, mipLayout, stack ? options.elevations : 0, fresnel};
   for (const auto& output : prefilterOutputFiles(args.output, outputs, "-o")) plan.addOutput(output.file, output.role);
+  if (!args.shOutput.empty()) plan.addOutput(args.shOutput, "--sh-output");
   plan.check();
 
   EnvironmentLoadOptions load;
@@ -165,9 +201,15 @@ int runPrefilter(const PrefilterArgs& args) {
   const auto writeStart = std::chrono::steady_clock::now();
   const CubeLayout layout = args.faces ? CubeLayout::Faces : CubeLayout::Cross;
   const nlohmann::json spec = {{"environment", source}};
-  const MapWriteReport written = slices          ? writePrefilteredStack(*slices, args.output, spec, layout, {inputs})
-                                 : decomposition ? writeFresnelDecomposition(*decomposition, args.output, spec, layout, {inputs})
-                                                 : writePrefilteredMap(map, args.output, spec, layout, {inputs});
+  MapWriteReport written = slices          ? writePrefilteredStack(*slices, args.output, spec, layout, {inputs}, mipLayout)
+                           : decomposition ? writeFresnelDecomposition(*decomposition, args.output, spec, layout, {inputs}, mipLayout)
+                                           : writePrefilteredMap(map, args.output, spec, layout, {inputs}, mipLayout);
+  if (!args.shOutput.empty()) {
+    writeIrradianceSh(irradianceSh(environment), source, args.shOutput, inputs);
+    written.files.push_back(args.shOutput);
+    written.notes.push_back(args.shOutput + ": irradiance as 9 SH coefficients per channel (3 bands), E(n)/pi = sum c_i Y_i(n): "
+                                            "cosine convolution and 1/pi included, orthonormal basis (the file states it)");
+  }
   const double writeSeconds = secondsSince(writeStart);
   bar.done();
   nlohmann::json extra = nlohmann::json::object();
@@ -234,6 +276,11 @@ Command addPrefilterCommand(CLI::App& app) {
       ->default_val(256)
       ->check(CLI::Range(1, 65536));
   command->add_flag("--mips", args->mips, "Also write the solid-angle-weighted mip levels STEM_mipK.EXT");
+  command->add_flag("--tiled", args->tiled,
+                    "With --mips: the whole chain in OUT itself, one tiled MIP-mapped OpenEXR (as maketx writes it), instead of "
+                    "STEM_mipK.EXT files");
+  command->add_option("--sh-output", args->shOutput,
+                      "With --lobe irradiance: also write the irradiance as 9 spherical-harmonic coefficients per channel (JSON)");
   command->add_option("--method", args->method, "auto | reference | sh | importance | direct")
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "reference", "sh", "importance", "direct"}));

@@ -1,4 +1,5 @@
 // brdfbake preview MAP -o preview.png: an object shaded with the map.
+#include <brdfbake/bake/baked_output.hpp>
 #include <brdfbake/bake/map_file.hpp>
 #include <brdfbake/bake/preview.hpp>
 #include <brdfbake/core/error.hpp>
@@ -13,7 +14,7 @@ namespace brdfbake::cli {
 Command addPreviewCommand(CLI::App& app) {
   struct Args {
     std::string map, output, object = "sphere", view, from;
-    int size = 512, segments = 0;
+    int size = 512, segments = 0, mipLevel = 0;
     double exposure = 0.0;
     bool perVertex = false, json = false, quiet = false;
   };
@@ -28,12 +29,17 @@ computed at the vertices and interpolated across triangles, as fixed-function ha
 Examples:
   brdfbake preview out/phong_eye.exr -o phong_teapot.png --object teapot
   brdfbake preview out/phong_eye.exr -o coarse.png --per-vertex --segments 8
-  brdfbake preview out/phong_paraboloid.exr -o side.png --object torus --view 1,0.5,0)");
-  command->add_option("map", args->map, "Map written by brdfbake (or a plain image with --from)")->required();
+  brdfbake preview out/phong_paraboloid.exr -o side.png --object torus --view 1,0.5,0
+
+Every output of bake and prefilter previews as a renderer shades it: a 1-D radial profile at r, an
+elevation stack at r and each pixel's n.v, a Fresnel profile at n.v, irradiance (maps other than
+sphere maps, SH JSON) at the normal. --per-vertex applies to 2-D maps looked up at r.)");
+  command->add_option("map", args->map, "Output of bake or prefilter (or a plain image with --from)")->required();
   command->add_option("-o,--output", args->output, "Output image (.png is 8-bit sRGB; .exr keeps HDR values)")->required();
   command->add_option("--object", args->object, "Object to render")->check(CLI::IsMember({"sphere", "torus", "teapot"}))->default_val("sphere");
   command->add_option("--view", args->view, "View vector X,Y,Z towards the viewer, in the map frame (default 0,0,1)");
   command->add_option("--from", args->from, "Parameterization of a plain image")->check(CLI::IsMember({"sphere", "paraboloid", "cube", "latlong"}));
+  addMipLevelOption(command, args->mipLevel);
   command->add_option("--size", args->size, "Output size in pixels")->default_val(512)->check(CLI::Range(8, 8192));
   command->add_option("--segments", args->segments, "Tessellation (default 64, or 16 with --per-vertex)")->check(CLI::Range(3, 1024));
   command->add_option("--exposure", args->exposure, "Scale values by 2^EXPOSURE")->default_val(0.0);
@@ -41,7 +47,7 @@ Examples:
   addJsonFlag(command, args->json, "the output and notes");
   addQuietFlag(command, args->quiet);
   return [args] {
-    const MapFile file = openMapOrImage(args->map, args->from);
+    const BakedOutput source = openOutput(args->map, args->from, args->mipLevel);
     PreviewOptions options;
     options.object = args->object == "torus" ? PreviewObject::Torus
                      : args->object == "teapot" ? PreviewObject::Teapot
@@ -56,7 +62,7 @@ Examples:
     plan.addInput(args->map, "map");
     for (const auto& f : mapOutputFiles(args->output, "-o")) plan.addOutput(f.file, f.role);
     plan.check();
-    Image image = renderPreview(file.image, *file.parameterization, options);
+    Image image = renderPreview(source, options);
     image.metadata = {{"preview_of", args->map}, {"object", args->object}, {"per_vertex", args->perVertex}};
     const auto report = writeImage(image, args->output, {{std::filesystem::path(args->map)}});
     if (args->json) {

@@ -57,15 +57,45 @@ CLI::Option* addEnvironmentMaxErrorOption(CLI::App* command, double& maxError, c
       ->check(CLI::Range(1e-6, 0.5));
 }
 
-MapFile openMapOrImage(const std::string& path, const std::string& from) {
-  Image image = readImage(path);
-  if (!from.empty()) return adoptImage(std::move(image), parseParameterizationKind(from), path);
-  if (!hasMapMetadata(image)) {
-    throw Error(Error::Kind::InvalidInput, path + ": not a brdfbake map (no brdfbake metadata); for a plain environment "
-                                                  "image, say which parameterization it uses with --from "
-                                                  "sphere|paraboloid|cube|latlong");
+BakedOutput openOutput(const std::string& path, const std::string& from, int mipLevel) {
+  OpenOutputOptions options;
+  if (!from.empty()) options.from = parseParameterizationKind(from);
+  options.fromName = "--from";
+  options.mipLevel = mipLevel;
+  return BakedOutput::open(path, options);
+}
+
+void addCosViewOption(CLI::App* command, std::optional<double>& cosView) {
+  command->add_option("--cos-view", cosView,
+                      "n.v in [0, 1], the cosine between the surface normal and the direction towards the viewer: where an "
+                      "elevation stack is interpolated, and where a Fresnel profile is read")
+      ->check(CLI::Range(0.0, 1.0));
+}
+
+void addMipLevelOption(CLI::App* command, int& mipLevel) {
+  command->add_option("--mip-level", mipLevel,
+                      "Read mip level L (0 = the map itself) of a map, cube faces or stack: from a tiled MIP-mapped file, "
+                      "else from STEM_mipL.EXT")
+      ->check(CLI::Range(0, 30));
+}
+
+void checkCosView(const BakedOutput& output, const std::optional<double>& cosView, bool fresnelNeedsIt) {
+  const bool needs = output.kind() == OutputKind::ElevationStack || (fresnelNeedsIt && output.kind() == OutputKind::FresnelProfile);
+  const bool uses = needs || output.kind() == OutputKind::FresnelProfile;
+  if (needs && !cosView) {
+    throw Error(Error::Kind::InvalidArgument, "--cos-view: a" + std::string(output.kind() == OutputKind::ElevationStack
+                                                                                ? "n elevation stack is interpolated at n.v"
+                                                                                : " Fresnel profile is read at n.v") +
+                                                  "; give --cos-view C (C = n.v in [0, 1])");
   }
-  return mapFromImage(std::move(image), path);
+  if (cosView && !uses) {
+    throw Error(Error::Kind::InvalidArgument, "--cos-view: a " + std::string(toString(output.kind())) +
+                                                  " is looked up by direction alone (n.v applies to elevation stacks and Fresnel "
+                                                  "profiles)");
+  }
+  if (cosView && !needs) {
+    throw Error(Error::Kind::InvalidArgument, "--cos-view: here a Fresnel profile takes n.v from each direction (the view +z)");
+  }
 }
 
 Vec3 parseVector(const std::string& text, const std::string& flag) {

@@ -1,11 +1,13 @@
 #pragma once
 // Terminal helpers for the CLI: progress bars on a TTY, vector parsing for flags.
+#include <brdfbake/bake/baked_output.hpp>
 #include <brdfbake/bake/map_file.hpp>
 #include <brdfbake/core/math.hpp>
 
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <optional>
 #include <string>
 
 namespace brdfbake::cli {
@@ -39,9 +41,17 @@ void addThreadsOption(CLI::App* command, int& threads);
 /// "environment" (chart and prefilter alike).
 CLI::Option* addEnvironmentMaxErrorOption(CLI::App* command, double& maxError, const std::string& meaning);
 
-/// A map written by brdfbake, or with `from` (the --from flag) a plain image of that
-/// parameterization. A plain image without --from is an error that names the flag.
-MapFile openMapOrImage(const std::string& path, const std::string& from);
+/// Any output of bake or prefilter (BakedOutput::open), or with `from` (the --from flag) a plain
+/// image of that parameterization, at mip level `mipLevel` (--mip-level). A plain image without
+/// --from is an error that names the flag.
+BakedOutput openOutput(const std::string& path, const std::string& from, int mipLevel = 0);
+
+/// --cos-view C and --mip-level L, with one meaning on every command that reads outputs.
+void addCosViewOption(CLI::App* command, std::optional<double>& cosView);
+void addMipLevelOption(CLI::App* command, int& mipLevel);
+/// Checks --cos-view against what `output` uses: required by stacks (and by Fresnel profiles
+/// when `fresnelNeedsIt`), refused by kinds that do not use it. Throws Error(InvalidArgument).
+void checkCosView(const BakedOutput& output, const std::optional<double>& cosView, bool fresnelNeedsIt = true);
 
 /// Parses "X,Y,Z" (three finite numbers); throws Error(InvalidArgument) naming `flag`.
 Vec3 parseVector(const std::string& text, const std::string& flag);

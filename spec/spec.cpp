@@ -35,7 +35,7 @@ DirectionalLight parseLight(const nlohmann::json& value, const std::string& path
   return result;
 }
 
-// "environment": {"file", "lobe", "method", "max_error", "mips", "from", "view", "up", "elevations",
+// "environment": {"file", "lobe", "method", "max_error", "mips", "mip_layout", "from", "view", "up", "elevations",
 // "fresnel", "combine"} in place of "material" and "lights".
 void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& baseDirectory) {
   for (const char* key : {"material", "lights"}) {
@@ -78,6 +78,7 @@ void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& b
     if (!mips->is_boolean()) throw specError(env.child("mips"), "must be true or false, got " + describe(*mips));
     e.mips = mips->get<bool>();
   }
+  e.mipLayout = materials::parseMipLayout(env, e.mips, spec.output, spec.resolution);
   if (const auto from = env.optionalString("from")) {
     try {
       e.from = parseParameterizationKind(*from);
@@ -288,7 +289,7 @@ std::vector<FilePlan::Entry> MapSpec::plannedOutputs() const {
   const std::string role = jsonPath + ".output";
   if (environment) {
     const EnvironmentMapSpec& e = *environment;
-    PrefilterOutputs outputs{parameterization, resolution, e.mips, cubeLayout};
+    PrefilterOutputs outputs{parameterization, resolution, e.mips, cubeLayout, e.mipLayout};
     if (e.lobeModel() && e.lobeModel()->elevation == LobeElevation::Varying) outputs.elevationSlices = e.elevations;
     outputs.fresnel = e.fresnel.has_value();
     return prefilterOutputFiles(output, outputs, role);
@@ -296,7 +297,7 @@ std::vector<FilePlan::Entry> MapSpec::plannedOutputs() const {
   const bool cube = parameterization == ParameterizationKind::Cube && !anyAuto() && !profile;
   std::vector<FilePlan::Entry> out = mapOutputFiles(output, role, cube, cubeLayout);
   auto add = [&out](const std::vector<FilePlan::Entry>& files) { out.insert(out.end(), files.begin(), files.end()); };
-  if (mips) {
+  if (mips && mipLayout == MipLayout::Files) {
     for (int level = 1; level < mipLevelCount(resolution); ++level) {
       add(mapOutputFiles(mipLevelPath(output, level), role + " (mip level " + std::to_string(level) + ")"));
     }

@@ -31,6 +31,7 @@
 #if __has_include(<brdfbake/bake/accuracy.hpp>)
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/auto_config.hpp>
+#include <brdfbake/bake/baked_output.hpp>
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/bake/cube_map.hpp>
 #include <brdfbake/bake/env_accuracy.hpp>
@@ -52,6 +53,7 @@
 #include <brdfbake/bake/radial_profile.hpp>
 #include <brdfbake/bake/radial_table.hpp>
 #include <brdfbake/bake/sh.hpp>
+#include <brdfbake/bake/sh_irradiance.hpp>
 #include <brdfbake/bake/sphere_map.hpp>
 #endif
 

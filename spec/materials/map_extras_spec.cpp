@@ -1,6 +1,7 @@
 // Map-level extras: "mips" (silhouette mip chain) and "profile_output" (1-D Fresnel texture), parsed
 // and written beside the map.
 #include <brdfbake/core/files.hpp>
+#include <brdfbake/bake/baked_output.hpp>
 #include <brdfbake/bake/image_io.hpp>
 #include <brdfbake/bake/env_mips.hpp>
 #include <brdfbake/bake/mip_chain.hpp>
@@ -22,6 +23,18 @@ fs::path profilePath(const MapSpec& map) {
 
 namespace materials {
 
+MipLayout parseMipLayout(JsonObjectReader& object, bool mips, const fs::path& output, int resolution) {
+  const auto layout = object.optionalString("mip_layout");
+  if (!layout || *layout == "files") return MipLayout::Files;
+  if (*layout != "tiled") throw specError(object.child("mip_layout"), "must be \"files\" or \"tiled\", got \"" + *layout + "\"");
+  if (!mips) throw specError(object.child("mip_layout"), "\"tiled\" lays out mip levels: needs \"mips\": true");
+  if (const std::string problem = tiledMipProblem(output, resolution); !problem.empty()) {
+    throw specError(object.child("mip_layout"), problem);
+  }
+  return MipLayout::Tiled;
+}
+
+
 void parseMapExtras(JsonObjectReader& map, MapSpec& spec) {
   const std::string model = spec.modelName();
   if (const auto* mips = map.find("mips")) {
@@ -36,6 +49,7 @@ void parseMapExtras(JsonObjectReader& map, MapSpec& spec) {
                                          "circle of one width in texels all round");
     }
   }
+  spec.mipLayout = parseMipLayout(map, spec.mips, spec.output, spec.resolution);
   if (map.has("profile_output")) {
     const std::string profile = map.string("profile_output");
     if (model != "fresnel") {
@@ -64,6 +78,19 @@ MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions
     options.progress = {};
     options.samplesPerTexel = map.samplesPerTexel;
     const std::vector<Image> chain = silhouetteMipChain(*silhouette, map.resolution, options);
+    if (map.mipLayout == MipLayout::Tiled) {
+      // The whole chain, level 0 included, in the output itself (replacing the single level).
+      MapInfo info;
+      info.parameterization = ParameterizationKind::Sphere;
+      info.resolution = map.resolution;
+      info.conventionVersion = kConventionVersion;
+      info.spec = map.raw;
+      const MapWriteReport written = writeTiledMap(chain, info, map.output, CubeLayout::Cross, writeOptions);
+      report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());
+      report.notes.push_back(map.output.filename().string() + ": " + std::to_string(chain.size()) +
+                             " silhouette mip levels in one tiled MIP-mapped OpenEXR");
+      return report;
+    }
     for (std::size_t level = 1; level < chain.size(); ++level) {
       MapInfo info;
       info.parameterization = ParameterizationKind::Sphere;
@@ -80,11 +107,8 @@ MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions
     const auto* fresnel = dynamic_cast<const FresnelMaterial*>(map.material.get());
     require(fresnel != nullptr, map.jsonPath + ": \"profile_output\" needs a fresnel material");
     const std::vector<Rgb> profile = fresnelProfile(fresnel->fresnel(), map.resolution);
-    Image image(map.resolution, 1);
-    for (int i = 0; i < map.resolution; ++i) {
-      const Rgb& f = profile[static_cast<std::size_t>(i)];
-      image.set(i, 0, Rgba(f[0], f[1], f[2], 1.0));
-    }
+    Image image = fresnelProfileImage(profile);
+    image.metadata["spec"] = map.raw;
     const fs::path path = profilePath(map);
     const WriteReport written = writeImage(image, path, writeOptions);
     report.files.push_back(path);

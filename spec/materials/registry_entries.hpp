@@ -23,6 +23,9 @@ FresnelTerm parseFresnelTerm(JsonObjectReader& owner, const std::string& key);
 // "mips" and "profile_output" (map_extras_spec.cpp), and the check that a map samples a narrow
 // highlight finely enough (cook_torrance_spec.cpp; throws naming the roughness's JSON path).
 void parseMapExtras(JsonObjectReader& map, MapSpec& spec);
+// "mip_layout": "files" | "tiled" beside "mips" (in a map, or in its "environment"), checked
+// against the output's extension and the resolution (tiledMipProblem).
+MipLayout parseMipLayout(JsonObjectReader& object, bool mips, const std::filesystem::path& output, int resolution);
 void checkMaterialSampling(const MapSpec& spec);
 }  // namespace brdfbake::materials
 

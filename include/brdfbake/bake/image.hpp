@@ -62,6 +62,11 @@ struct MapInfo {
 /// lat-long. Returns RGBA.
 Rgba sampleBilinear(const Image& image, const Parameterization& map, const Vec3& direction);
 
+/// Linear lookup of a 1-D texture (the radial and Fresnel profiles): `texels` centred at
+/// s = (i + 0.5) / N, interpolated linearly and clamped at both ends, as a GPU's linear filter
+/// with clamp-to-edge does. Throws Error(InvalidArgument) if `texels` is empty.
+Rgb sampleLinear1d(const std::vector<Rgb>& texels, double s);
+
 /// Bilinear lookup at continuous pixel coordinates inside one region.
 Rgba sampleBilinear(const Image& image, const Vec2& pixel, const TexelRect& region, bool wrapX);
 

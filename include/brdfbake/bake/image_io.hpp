@@ -40,8 +40,25 @@ WriteReport writeImage(const Image& image, const std::filesystem::path& path, co
 std::filesystem::path metadataSidecarPath(const std::filesystem::path& path);
 
 /// Reads any format OpenImageIO reads, as float RGBA (alpha 1 if absent; gray expanded to RGB),
-/// with its brdfbake metadata if present. Throws Error(Io) naming the file.
-Image readImage(const std::filesystem::path& path);
+/// with its brdfbake metadata if present. Throws Error(Io) naming the file. `mipLevel` > 0 reads
+/// that level of a MIP-mapped file (writeTiledMipChain, maketx); Error(InvalidInput) if it has
+/// fewer levels.
+Image readImage(const std::filesystem::path& path, int mipLevel = 0);
+
+/// The number of MIP levels in the file's first subimage (1 for an ordinary image).
+int imageMipLevelCount(const std::filesystem::path& path);
+
+/// Writes `levels` (level 0 first, each half the size of the one before, rounding down, as
+/// OpenEXR's ROUND_DOWN MIP-map mode lays them out) as one tiled, MIP-mapped OpenEXR, as
+/// OpenImageIO's make_texture / maketx write them: 64 x 64 tiles, float RGBA, zip compression,
+/// "textureformat" "Plain Texture", wrap modes `wrapModes` (e.g. "clamp,clamp"), so OIIO's
+/// TextureSystem and ImageInput read every level. `metadata` (the map's, for level 0) goes to the
+/// file's "brdfbake:metadata" attribute. Written atomically (AtomicOutput). Throws
+/// Error(InvalidArgument) for a path other than .exr, levels of the wrong sizes, non-finite
+/// values or a path in options.inputs; Error(Io) on failure.
+WriteReport writeTiledMipChain(const std::vector<Image>& levels, const nlohmann::json& metadata,
+                               const std::filesystem::path& path, const std::string& wrapModes,
+                               const WriteOptions& options = {});
 
 /// Throws Error(InvalidInput) "<label>: texel (x, y) is NaN|infinite" for the first non-finite
 /// value. Zero and negative values are accepted (negative radiance is kept as stored).

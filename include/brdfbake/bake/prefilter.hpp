@@ -183,9 +183,12 @@ PrefilterError prefilterError(const Image& result, const Image& reference, const
 
 /// Writes every level: level 0 at `path`, level k at mipLevelPath(path, k), each a map
 /// (writeMap) whose MapInfo::spec is `spec` plus "prefilter": {lobe, method, detail, max_error,
-/// error_estimate, error_metric, mip_level, mip_levels}. Keys of an object `spec["prefilter"]`
+/// error_estimate, error_metric, mip_level, mip_levels}; with MipLayout::Tiled the whole chain in
+/// one tiled MIP-mapped OpenEXR at `path` (writeTiledMap; needs mip levels, a .exr path and a
+/// power-of-two resolution, else Error(InvalidArgument)). Keys of an object `spec["prefilter"]`
 /// are kept (prefilter_stack.hpp adds "elevation" and "fresnel" there).
 MapWriteReport writePrefilteredMap(const PrefilteredMap& map, const std::filesystem::path& path, nlohmann::json spec,
-                                   CubeLayout layout = CubeLayout::Cross, const WriteOptions& options = {});
+                                   CubeLayout layout = CubeLayout::Cross, const WriteOptions& options = {},
+                                   MipLayout mipLayout = MipLayout::Files);
 
 }  // namespace brdfbake

@@ -53,7 +53,8 @@ std::filesystem::path elevationSlicePath(const std::filesystem::path& path, int 
 /// at STEM_elevJ_mipL.EXT); nothing is written at `path` itself. Each slice's "prefilter" metadata
 /// has "elevation": {slice, slices, cos_theta, t, min_cos, max_cos, interpolation}.
 MapWriteReport writePrefilteredStack(const PrefilteredStack& stack, const std::filesystem::path& path, nlohmann::json spec,
-                                     CubeLayout layout = CubeLayout::Cross, const WriteOptions& options = {});
+                                     CubeLayout layout = CubeLayout::Cross, const WriteOptions& options = {},
+                                     MipLayout mipLayout = MipLayout::Files);
 
 /// The three outputs of a Fresnel decomposition (see @file).
 struct FresnelDecomposition {
@@ -84,6 +85,7 @@ struct PrefilterOutputs {
   int resolution = 256;
   bool mips = false;                      ///< every mip level as STEM_mipK.EXT
   CubeLayout layout = CubeLayout::Cross;
+  MipLayout mipLayout = MipLayout::Files;  ///< Tiled: the mip levels inside each map's file
   int elevationSlices = 0;                ///< a stack over elevation (STEM_elevJ.EXT), or 0
   bool fresnel = false;                   ///< a Fresnel decomposition (irradiance map and profile too)
 };
@@ -98,12 +100,13 @@ std::filesystem::path fresnelIrradiancePath(const std::filesystem::path& output)
 std::filesystem::path fresnelProfilePath(const std::filesystem::path& output);
 
 /// Writes the specular map at `output`, the irradiance map at fresnelIrradiancePath(output) (both
-/// with writePrefilteredMap, mip levels included) and the profile, a plain size x 1 image (no map
-/// metadata: it is not a direction map), at fresnelProfilePath(output). Both maps' "prefilter"
+/// with writePrefilteredMap, mip levels included) and the profile, a size x 1 image
+/// (fresnelProfileImage: "parameterization": "fresnel_profile", looked up at n.v), at
+/// fresnelProfilePath(output). Both maps' "prefilter"
 /// metadata has "fresnel": {role, combine, formula, specular, irradiance, profile (file names),
 /// profile_size, profile_texels, f0}.
 MapWriteReport writeFresnelDecomposition(const FresnelDecomposition& decomposition, const std::filesystem::path& output,
                                          nlohmann::json spec, CubeLayout layout = CubeLayout::Cross,
-                                         const WriteOptions& options = {});
+                                         const WriteOptions& options = {}, MipLayout mipLayout = MipLayout::Files);
 
 }  // namespace brdfbake

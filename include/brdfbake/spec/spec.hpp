@@ -35,6 +35,9 @@ struct EnvironmentMapSpec {
   PrefilterMethod method = PrefilterMethod::Auto;  ///< "method" (default "auto")
   double maxError = 0.01;                        ///< "max_error" (default 0.01)
   bool mips = false;                             ///< "mips": also write STEM_mipK.EXT
+  /// "mip_layout": "files" (default: STEM_mipK.EXT) | "tiled" (the chain inside OUTPUT, one tiled
+  /// MIP-mapped OpenEXR; needs "mips", a .exr output and a power-of-two resolution).
+  MipLayout mipLayout = MipLayout::Files;
   std::optional<ParameterizationKind> from;      ///< "from": parameterization of a plain image
   Vec3 view = Vec3::UnitZ(), up = Vec3::UnitY();  ///< "view", "up": sphere maps only
   /// "elevations" (varying lobe models only, in [2, 64], default 8): maps in the stack over view
@@ -82,6 +85,9 @@ struct MapSpec {
   /// "mips": true (silhouette sphere maps only): also write the hand-made mip levels 1.. as
   /// STEM_mip1.EXT, STEM_mip2.EXT, ... beside the output (docs/materials.md).
   bool mips = false;
+  /// "mip_layout" beside "mips": "files" (default) | "tiled" (the whole chain in `output`, one
+  /// tiled MIP-mapped OpenEXR: writeTiledMap).
+  MipLayout mipLayout = MipLayout::Files;
   /// "profile_output" (fresnel model only): also write the 1-D texture F(cos theta), `resolution`
   /// x 1 texels, to this path; a relative path is taken relative to the folder of `output`.
   std::optional<std::filesystem::path> profileOutput;
