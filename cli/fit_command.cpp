@@ -170,7 +170,7 @@ int runFit(FitArgs args) {
 
 Command addFitCommand(CLI::App& app) {
   auto args = std::make_shared<FitArgs>();
-  auto* command = app.add_subcommand("fit", "Fit radially symmetric lobes (Kautz-McCool) to a measured BRDF table with Ceres");
+  auto* command = app.add_subcommand("fit", "Fit radially symmetric lobes (Kautz-McCool, Lafortune) to a measured BRDF table; reports its held-out error");
   command->footer(R"(Model, per channel (1/sr):
   f(l, v) = k_d/pi + sum_k C_k (n_k + 2)/(2 pi) max(0, c_k (l_x v_x + l_y v_y) + l_z v_z)^n_k,
 c_k = -1: a Phong lobe about the mirrored view (--kind mirror); other c_k: Lafortune et al. 1997's
@@ -189,7 +189,8 @@ docs/fitting.md. Exit status 1 when a solve failed: the fit is still written, wi
 
 Examples:
   brdfbake fit ../shared/data/cornell/garnet_red.astm --lobes auto -o fit.json
-  brdfbake fit krylon_blue.astm --lobes 2 --elevation varying -o fit.json --report fit.png
+  brdfbake fit krylon_blue.astm --lobes 2 --kind lafortune -o fit.json --report fit.png
+  brdfbake fit krylon_blue.astm --method per_channel --lobes 2 --elevation varying -o fit.json
   brdfbake fit garnet_red.astm --channels spectral -o fit_spectral.json --json
   brdfbake eval fit.json --wi 0,0.5,0.866 --wo 0,-0.5,0.866
 Then bake a map from it: {"model": "lobes", "file": "fit.json"} in a spec (data_samples/specs/measured_lobes.json).)");
@@ -198,7 +199,7 @@ Then bake a map from it: {"model": "lobes", "file": "fit.json"} in a spec (data_
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "astm", "pbrt", "merl", "mat"}));
   command->add_option("--lobes", args->lobes, "Lobes per channel: auto or 1..6")->default_val("auto");
-  command->add_option("--elevation", args->elevation, "Lobe parameters constant, or varying with the view elevation")
+  command->add_option("--elevation", args->elevation, "Lobe parameters constant, or varying with the view elevation (varying: --method per_channel)")
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "constant", "varying"}));
   command->add_option("--method", args->method, "shared: lobe shapes shared by every channel, weights by NNLS; per_channel: Ceres per channel")

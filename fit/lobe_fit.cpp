@@ -844,7 +844,11 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
   const std::size_t channels = table.channelCount();
   if (!choosing) {
     const CandidateConfig config{counts[0], elevations[0], kinds[0]};
-    result = shared ? fitShared(table, options, kinds[0]) : fitPerChannel(table, options);
+    FitOptions explicitOptions = options;  // every choice made (auto ones without a held-out estimate: the fewest parameters)
+    explicitOptions.lobes = config.lobes;
+    explicitOptions.elevation = config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
+    explicitOptions.kind = config.lafortune ? LobeKindChoice::Lafortune : LobeKindChoice::Mirror;
+    result = shared ? fitShared(table, explicitOptions, config.lafortune) : fitPerChannel(table, explicitOptions);
     if (options.estimateHeldOut && heldOutFeasible) {
       result.heldOut = estimateHeldOutError(
           table, [&](const MeasuredTable& training) { return fitCandidate(training, options, config).model; }, options.heldOut);

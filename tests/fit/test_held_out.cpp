@@ -259,6 +259,18 @@ TEST(HeldOut, AutoChoosesByHeldOutScore) {
   EXPECT_NEAR(fit.heldOut->score(), chosen->heldOutScore, 1e-12);
 }
 
+TEST(HeldOut, TooFewRowsForTheSplitsTakeTheFewestParameters) {
+  // Eight rows cannot make five folds of two off-mirror rows each: no estimate, one mirror lobe.
+  const MeasuredTable full = makeSyntheticTable(sharedModel(), 0.0, 9);
+  std::vector<std::size_t> rows;
+  for (std::size_t i = 0; i < full.size() && rows.size() < 8; i += 97) rows.push_back(i);
+  const FitResult fit = fitLobes(tableRows(full, rows));
+  EXPECT_FALSE(fit.heldOut.has_value());
+  EXPECT_TRUE(fit.candidates.empty());
+  ASSERT_EQ(fit.model.channels[0].lobes.size(), 1u);
+  EXPECT_TRUE(fit.model.allAboutMirror());
+}
+
 TEST(HeldOut, OptionsAreValidated) {
   const MeasuredTable table = makeSyntheticTable(sharedModel(), 0.02, 8);
   auto oracle = [](const MeasuredTable&) { return sharedModel(); };
