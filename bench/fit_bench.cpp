@@ -82,7 +82,7 @@ double meanRms(const FitResult& fit) {
 
 double chosenError(const FitResult& fit) {
   for (const auto& c : fit.candidates) {
-    if (c.chosen) return c.error;
+    if (c.chosen) return c.heldOutScore;
   }
   return 0.0;
 }

@@ -57,6 +57,13 @@ void LobeModel::validate() const {
         require(std::isfinite(n) && n >= kMinLobeExponent && n <= kMaxLobeExponent,
                 at + ": exponents must lie in [1, 1e5]");
       }
+      require(std::isfinite(lobe.cxy) && std::abs(lobe.cxy) <= kMaxLobeCxy,
+              at + ": cxy must be finite with |cxy| <= " + std::to_string(static_cast<int>(kMaxLobeCxy)));
+      for (double n : lobe.exponent) {
+        require(n * std::log(std::max(1.0, std::abs(lobe.cxy))) <= kMaxLobeGrowthLog,
+                at + ": exponent * ln|cxy| must be <= " + std::to_string(static_cast<int>(kMaxLobeGrowthLog)) +
+                    " (the lobe's growth |a|^n would overflow)");
+      }
     }
   }
   if (!wavelengthsNm.empty()) {
@@ -103,24 +110,25 @@ LobeModel LobeModel::atElevation(double u) const {
 
 namespace {
 // Evaluates lobeBrdf for one channel from its stored coefficients.
-double channelBrdf(const LobeModel& model, const LobeChannel& channel, double u, double cosToMirror) {
+double channelBrdf(const LobeModel& model, const LobeChannel& channel, double u, const LobeGeometry& geometry) {
   const int count = elevationCoefficientCount(model.elevation);
-  std::vector<double> packed;
+  std::vector<double> packed, cosToAxis;
   packed.reserve(channel.lobes.size() * 2 * count);
   for (const auto& lobe : channel.lobes) {
     packed.insert(packed.end(), lobe.weight.begin(), lobe.weight.end());
     packed.insert(packed.end(), lobe.exponent.begin(), lobe.exponent.end());
+    cosToAxis.push_back(geometry.cosine(lobe.cxy));
   }
   std::vector<const double*> lobes(channel.lobes.size());
   for (std::size_t k = 0; k < lobes.size(); ++k) lobes[k] = packed.data() + k * 2 * count;
-  return lobeBrdf(channel.diffuse, lobes.data(), static_cast<int>(lobes.size()), count, model.elevationCoordinate(u), cosToMirror);
+  return lobeBrdf(channel.diffuse, lobes.data(), static_cast<int>(lobes.size()), count, model.elevationCoordinate(u),
+                  cosToAxis.data());
 }
 }  // namespace
 
 double LobeModel::evaluate(std::size_t channel, const Vec3& wi, const Vec3& wo) const {
   if (!(wi.z() > 0.0) || !(wo.z() > 0.0)) return 0.0;
-  const Vec3 mirrored = reflect(wo, Vec3(Vec3::UnitZ()));
-  return channelBrdf(*this, channels.at(channel), wo.z(), mirrored.dot(wi));
+  return channelBrdf(*this, channels.at(channel), wo.z(), LobeGeometry::local(wi, wo));
 }
 
 Eigen::VectorXd LobeModel::evaluate(const Vec3& wi, const Vec3& wo) const {
@@ -130,7 +138,15 @@ Eigen::VectorXd LobeModel::evaluate(const Vec3& wi, const Vec3& wo) const {
 }
 
 double LobeModel::mirrorValue(std::size_t channel, double u) const {
-  return channelBrdf(*this, channels.at(channel), u, 1.0);
+  // l = v mirrored: l_x v_x + l_y v_y = -(1 - u^2), l_z v_z = u^2 (r_v . l = 1).
+  return channelBrdf(*this, channels.at(channel), u, {-(1.0 - u * u), u * u});
+}
+
+bool LobeModel::allAboutMirror() const {
+  for (const auto& channel : channels)
+    for (const auto& lobe : channel.lobes)
+      if (!lobe.aboutMirror()) return false;
+  return true;
 }
 
 Eigen::Matrix<double, 3, Eigen::Dynamic> LobeModel::rgbWeights() const {
@@ -154,16 +170,16 @@ LobeMaterial::LobeMaterial(LobeModel model, LobeMaterialMode mode, std::string m
 Rgb LobeMaterial::toRgb(const Eigen::VectorXd& channels) const { return (rgbWeights_ * channels).array(); }
 
 bool LobeMaterial::viewIndependent() const {
-  return mode_ == LobeMaterialMode::Prefiltered && model_.elevation == LobeElevation::Constant;
+  return mode_ == LobeMaterialMode::Prefiltered && model_.elevation == LobeElevation::Constant && model_.allAboutMirror();
 }
 
 Rgb LobeMaterial::brdf(const Vec3& normal, const Vec3& view, const Vec3& light) const {
   const double nv = normal.dot(view), nl = normal.dot(light);
   if (!(nv > 0.0) || !(nl > 0.0)) return Rgb::Zero();
-  const double cosToMirror = reflect(view, normal).dot(light);
+  const LobeGeometry geometry{light.dot(view) - nl * nv, nl * nv};
   Eigen::VectorXd values(static_cast<Eigen::Index>(model_.channelCount()));
   for (std::size_t c = 0; c < model_.channelCount(); ++c) {
-    values[static_cast<Eigen::Index>(c)] = channelBrdf(model_, model_.channels[c], nv, cosToMirror);
+    values[static_cast<Eigen::Index>(c)] = channelBrdf(model_, model_.channels[c], nv, geometry);
   }
   return toRgb(values);
 }
@@ -188,12 +204,17 @@ Rgb LobeMaterial::shade(const ShadingGeometry& g, const Vec3& light) const {
     case LobeMaterialMode::Prefiltered: break;
   }
   const double u = clampFinite(g.normal.dot(g.view), 0.0, 1.0);
-  const double cosToAxis = g.reflected.dot(light);
+  const double cosToMirror = g.reflected.dot(light);
+  const double nl = g.normal.dot(light), nv = g.normal.dot(g.view);
+  const LobeGeometry geometry{light.dot(g.view) - nl * nv, nl * nv};
   Eigen::VectorXd values = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model_.channelCount()));
   for (std::size_t c = 0; c < model_.channelCount(); ++c) {
     for (std::size_t k = 0; k < model_.channels[c].lobes.size(); ++k) {
-      values[static_cast<Eigen::Index>(c)] +=
-          normalizedLobe(model_.weight(c, k, u), model_.exponent(c, k, u), cosToAxis);
+      const Lobe& lobe = model_.channels[c].lobes[k];
+      // A mirror lobe depends on the reflected direction alone (also below the horizon of the
+      // light, as Kautz & McCool's prefiltered map); a Lafortune lobe on its own axis.
+      const double cosToAxis = lobe.aboutMirror() ? cosToMirror : geometry.cosine(lobe.cxy);
+      values[static_cast<Eigen::Index>(c)] += normalizedLobe(model_.weight(c, k, u), model_.exponent(c, k, u), cosToAxis);
     }
   }
   return toRgb(values);

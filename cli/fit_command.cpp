@@ -24,6 +24,11 @@ struct FitArgs {
   std::string format = "auto";
   std::string lobes = "auto";
   std::string elevation = "auto";
+  std::string method = "shared";
+  std::string kind = "auto";
+  double maxExponent = 1e4;
+  std::string heldOut = "on";
+  int folds = 5;
   std::string channels = "rgb";
   std::string rgb = "cie1931";
   std::string output;
@@ -50,6 +55,17 @@ int runFit(FitArgs args) {
   options.lobes = parseLobes(args.lobes);
   options.elevation = *parseElevationChoice(args.elevation);  // checked by CLI11
   options.threads = args.threads;
+  options.method = *parseFitMethod(args.method);  // checked by CLI11
+  options.kind = *parseLobeKindChoice(args.kind);
+  options.maxExponent = args.maxExponent;
+  options.estimateHeldOut = args.heldOut == "on";
+  options.heldOut.folds = args.folds;
+  options.heldOut.threads = args.threads;
+  if (options.method == FitMethod::Shared && options.elevation == ElevationChoice::Varying) {
+    throw Error(Error::Kind::InvalidArgument,
+                "--elevation varying needs --method per_channel (the shared method fits constant lobes; Lafortune lobes vary with elevation)");
+  }
+  options.validate();
   const TableFormat format = *parseTableFormat(args.format);
   const RgbMethod rgbMethod = args.rgb == "cie1931" ? RgbMethod::Cie1931 : RgbMethod::SingleWavelengths;
   // Refuse what cannot be done before the (slow) fit.
@@ -100,7 +116,11 @@ int runFit(FitArgs args) {
   if (!args.report.empty()) {
     std::ostringstream title;
     title << fs::path(args.table).filename().string() << ": " << file.fit.model.channels[0].lobes.size() << " "
-          << toString(file.fit.model.elevation) << " lobe(s)";
+          << toString(file.fit.model.elevation) << (file.fit.model.allAboutMirror() ? " mirror" : " Lafortune") << " lobe(s)";
+    if (const auto& h = file.fit.heldOut) {
+      title << std::fixed << std::setprecision(2) << "; held-out / Lambert: k-fold " << h->kfold.ratio() << "x, elevations";
+      for (const auto& e : h->elevations) title << " " << std::lround(e.elevationDegrees) << ":" << e.ratio() << "x";
+    }
     writeFitReport(args.report, table, file.fit.model, title.str());
   }
 
@@ -119,12 +139,21 @@ int runFit(FitArgs args) {
     std::cout << report.dump(2) << "\n";
   } else if (!args.quiet) {
     std::cout << args.table << ": " << read.size() << " samples, " << source.channels << "\n" << file.fit.briefReport();
-    std::cout << "  models tried (error = RMS cube-root residual):";
-    for (const auto& c : file.fit.candidates) {
-      std::cout << " " << c.lobes << " " << toString(c.elevation) << " " << std::setprecision(4) << c.error
-                << (c.chosen ? " (chosen)" : "") << ";";
+    std::cout << std::fixed << std::setprecision(4) << "  in-sample log error " << file.fit.inSampleError << "\n";
+    if (const auto& h = file.fit.heldOut) {
+      std::cout << std::setprecision(2) << "  held-out log error / Lambert: " << h->kfold.name << " " << h->kfold.ratio() << "x";
+      for (const auto& e : h->elevations) std::cout << ", " << e.name << " " << e.ratio() << "x";
+      std::cout << " (" << std::setprecision(1) << h->seconds << " s)\n";
     }
-    std::cout << "\n";
+    if (!file.fit.candidates.empty()) {
+      std::cout << "  models tried (held-out score = mean of the k-fold and elevation ratios to Lambert):\n";
+      for (const auto& c : file.fit.candidates) {
+        std::cout << "    " << c.lobes << " " << (c.lafortune ? "lafortune" : "mirror") << " " << toString(c.elevation) << ", "
+                  << c.parameters << " parameters: " << std::setprecision(3) << c.heldOutScore << " (k-fold " << c.kfoldRatio
+                  << "x, elevations " << c.elevationRatio << "x, " << std::setprecision(1) << c.seconds << " s)"
+                  << (c.chosen ? " chosen" : "") << "\n";
+      }
+    }
     for (const auto& note : source.notes) std::cout << "  note: " << note << "\n";
     if (!args.output.empty()) std::cout << "wrote " << args.output << "\n";
     if (!args.report.empty()) std::cout << "wrote " << args.report << "\n";
@@ -141,19 +170,27 @@ int runFit(FitArgs args) {
 
 Command addFitCommand(CLI::App& app) {
   auto args = std::make_shared<FitArgs>();
-  auto* command = app.add_subcommand("fit", "Fit radially symmetric lobes (Kautz-McCool) to a measured BRDF table with Ceres");
+  auto* command = app.add_subcommand("fit", "Fit radially symmetric lobes (Kautz-McCool, Lafortune) to a measured BRDF table; reports its held-out error");
   command->footer(R"(Model, per channel (1/sr):
-  f(l, v) = k_d/pi + sum_k C_k (n_k + 2)/(2 pi) max(0, r_v.l)^n_k,  r_v = view mirrored about the normal,
-with C_k, n_k constant (one 2-D lobe) or varying with the view elevation (a 3-D map). Residual: cube
-roots of cos(theta_i) f, Cauchy loss; bounds C >= 0, 1 <= n <= 1e5. --lobes auto keeps the smallest
-count that one more lobe improves by less than 3 % (up to 3 lobes); --elevation auto keeps constant
-lobes unless varying ones are 10 % better. MERL tables are sampled on the Cornell grid first. Details and the
-fit.json format: docs/fitting.md. Exit status 1 when a solve failed: the fit is still written, with
-"usable": false.
+  f(l, v) = k_d/pi + sum_k C_k (n_k + 2)/(2 pi) max(0, c_k (l_x v_x + l_y v_y) + l_z v_z)^n_k,
+c_k = -1: a Phong lobe about the mirrored view (--kind mirror); other c_k: Lafortune et al. 1997's
+generalised cosine lobes (back-scatter for c_k > 0, growth towards grazing for |c_k| > 1).
+--method shared (default): every channel shares the lobes' n_k and c_k, k_d and C_k per channel by
+non-negative least squares on the log error below; constant lobes. --method per_channel: Ceres per
+channel on cube roots of cos(theta_i) f with a Cauchy loss, mirror lobes, C_k and n_k constant or
+varying with the view elevation (a 3-D map).
+Held-out error: sqrt(mean (ln(1 + cos theta_i f_fit) - ln(1 + cos theta_i f_measured))^2) on rows
+the fit did not see: k-fold (--folds) over rows more than 5 deg from the mirror direction, and each
+interior incident elevation held out whole; printed as a ratio to a per-channel Lambertian fit on
+the same split, written to fit.json ("held_out") and the --report title. --lobes / --kind /
+--elevation auto choose by that estimate (the fewest parameters within 1 % of the best), up to 3
+lobes. MERL tables are sampled on the Cornell grid first. Details and the fit.json format:
+docs/fitting.md. Exit status 1 when a solve failed: the fit is still written, with "usable": false.
 
 Examples:
   brdfbake fit ../shared/data/cornell/garnet_red.astm --lobes auto -o fit.json
-  brdfbake fit krylon_blue.astm --lobes 2 --elevation varying -o fit.json --report fit.png
+  brdfbake fit krylon_blue.astm --lobes 2 --kind lafortune -o fit.json --report fit.png
+  brdfbake fit krylon_blue.astm --method per_channel --lobes 2 --elevation varying -o fit.json
   brdfbake fit garnet_red.astm --channels spectral -o fit_spectral.json --json
   brdfbake eval fit.json --wi 0,0.5,0.866 --wo 0,-0.5,0.866
 Then bake a map from it: {"model": "lobes", "file": "fit.json"} in a spec (data_samples/specs/measured_lobes.json).)");
@@ -162,9 +199,22 @@ Then bake a map from it: {"model": "lobes", "file": "fit.json"} in a spec (data_
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "astm", "pbrt", "merl", "mat"}));
   command->add_option("--lobes", args->lobes, "Lobes per channel: auto or 1..6")->default_val("auto");
-  command->add_option("--elevation", args->elevation, "Lobe parameters constant, or varying with the view elevation")
+  command->add_option("--elevation", args->elevation, "Lobe parameters constant, or varying with the view elevation (varying: --method per_channel)")
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "constant", "varying"}));
+  command->add_option("--method", args->method, "shared: lobe shapes shared by every channel, weights by NNLS; per_channel: Ceres per channel")
+      ->default_val("shared")
+      ->check(CLI::IsMember({"shared", "per_channel"}));
+  command->add_option("--kind", args->kind, "Lobes of the shared method: mirror (Phong), lafortune (c_xy free), or auto")
+      ->default_val("auto")
+      ->check(CLI::IsMember({"auto", "mirror", "lafortune"}));
+  command->add_option("--max-exponent", args->maxExponent, "Largest lobe exponent of the shared method")
+      ->default_val(1e4)
+      ->check(CLI::Range(1.0, 1e5));
+  command->add_option("--held-out", args->heldOut, "Estimate the held-out error of the fit (always on with auto choices)")
+      ->default_val("on")
+      ->check(CLI::IsMember({"on", "off"}));
+  command->add_option("--folds", args->folds, "Folds of the off-mirror held-out split")->default_val(5)->check(CLI::Range(2, 20));
   command->add_option("--channels", args->channels, "Fit R, G, B (spectral tables converted), or every wavelength")
       ->default_val("rgb")
       ->check(CLI::IsMember({"rgb", "spectral"}));

@@ -70,6 +70,51 @@ ChannelFitStats readStats(JsonObjectReader stats, const std::string& name) {
   return s;
 }
 
+nlohmann::ordered_json splitToJson(const HeldOutSplit& split) {
+  return {{"name", split.name},
+          {"elevation_deg", finite(split.elevationDegrees, "elevation")},
+          {"held_rows", split.heldRows},
+          {"log_error", finite(split.error, "held-out error")},
+          {"lambert_log_error", finite(split.lambertError, "Lambert error")},
+          {"ratio_to_lambert", finite(split.ratio(), "held-out ratio")}};
+}
+
+HeldOutSplit splitFromJson(JsonObjectReader r) {
+  HeldOutSplit split;
+  split.name = r.string("name");
+  split.elevationDegrees = r.number("elevation_deg", 0.0, 90.0);
+  split.heldRows = static_cast<std::size_t>(r.integer("held_rows", 0, 1 << 30));
+  split.error = r.number("log_error", 0.0);
+  split.lambertError = r.number("lambert_log_error", 0.0);
+  r.number("ratio_to_lambert", 0.0);  // recomputed
+  r.finish();
+  return split;
+}
+
+nlohmann::ordered_json heldOutToJson(const HeldOutReport& report) {
+  nlohmann::ordered_json elevations = nlohmann::ordered_json::array();
+  for (const auto& e : report.elevations) elevations.push_back(splitToJson(e));
+  return {{"error", "sqrt(mean over held-out samples and channels of (ln(1 + cos theta_i f_fit) - ln(1 + cos theta_i f_measured))^2)"},
+          {"kfold", splitToJson(report.kfold)},
+          {"elevations", elevations},
+          {"score", finite(report.score(), "held-out score")},
+          {"seconds", finite(report.seconds, "seconds")}};
+}
+
+HeldOutReport heldOutFromJson(JsonObjectReader r) {
+  HeldOutReport report;
+  r.optionalString("error");
+  report.kfold = splitFromJson(r.object("kfold"));
+  const auto& elevations = r.array("elevations");
+  for (std::size_t i = 0; i < elevations.size(); ++i) {
+    report.elevations.push_back(splitFromJson(JsonObjectReader(elevations[i], r.child("elevations") + "[" + std::to_string(i) + "]")));
+  }
+  r.number("score", 0.0);  // recomputed
+  report.seconds = r.number("seconds", 0.0);
+  r.finish();
+  return report;
+}
+
 }  // namespace
 
 std::string lobeModelDescription(LobeElevation elevation) {
@@ -107,10 +152,20 @@ nlohmann::ordered_json fitFileToJson(const FitFile& file) {
     for (const auto& c : file.fit.candidates) {
       candidates.push_back({{"lobes", c.lobes},
                             {"elevation", std::string(toString(c.elevation))},
-                            {"error", finite(c.error, "candidate error")},
+                            {"kind", c.lafortune ? "lafortune" : "mirror"},
+                            {"parameters", c.parameters},
+                            {"held_out_score", finite(c.heldOutScore, "held-out score")},
+                            {"kfold_ratio", finite(c.kfoldRatio, "k-fold ratio")},
+                            {"elevation_ratio", finite(c.elevationRatio, "elevation ratio")},
+                            {"seconds", finite(c.seconds, "seconds")},
                             {"chosen", c.chosen}});
     }
-    document["fit"] = {{"residual", "cbrt(cos theta_i f_fit + eps) - cbrt(cos theta_i f_measured + eps), eps = 1e-6 of the channel's largest cos theta_i f"},
+    const bool perChannel = o.method == FitMethod::PerChannel;
+    document["fit"] = {{"method", std::string(toString(o.method))},
+                       {"residual", perChannel ? "cbrt(cos theta_i f_fit + eps) - cbrt(cos theta_i f_measured + eps), eps = 1e-6 of the channel's largest cos theta_i f"
+                                               : "ln(1 + cos theta_i f_fit) - ln(1 + cos theta_i max(f_measured, 0))"},
+                       {"kind", std::string(toString(o.kind))},
+                       {"max_exponent", finite(o.maxExponent, "max exponent")},
                        {"loss", std::string(toString(o.loss))},
                        {"loss_scale", finite(o.lossScale, "loss scale")},
                        {"auto_margin", finite(o.autoMargin, "auto margin")},
@@ -119,14 +174,18 @@ nlohmann::ordered_json fitFileToJson(const FitFile& file) {
                        {"requested_elevation", std::string(toString(o.elevation))},
                        {"seconds", finite(file.fit.seconds, "seconds")},
                        {"usable", file.fit.usable()},
+                       {"in_sample_log_error", finite(file.fit.inSampleError, "in-sample error")},
                        {"candidates", candidates}};
+    if (file.fit.heldOut) document["fit"]["held_out"] = heldOutToJson(*file.fit.heldOut);
   }
   nlohmann::ordered_json channels = nlohmann::ordered_json::array();
   for (std::size_t c = 0; c < model.channels.size(); ++c) {
     const LobeChannel& channel = model.channels[c];
     nlohmann::ordered_json lobeArray = nlohmann::ordered_json::array();
     for (const auto& lobe : channel.lobes) {
-      lobeArray.push_back({{"weight", numbers(lobe.weight, "lobe weight")}, {"exponent", numbers(lobe.exponent, "lobe exponent")}});
+      nlohmann::ordered_json entry = {{"weight", numbers(lobe.weight, "lobe weight")}, {"exponent", numbers(lobe.exponent, "lobe exponent")}};
+      if (!lobe.aboutMirror()) entry["cxy"] = finite(lobe.cxy, "lobe cxy");
+      lobeArray.push_back(entry);
     }
     nlohmann::ordered_json entry = {{"name", channel.name}, {"diffuse", finite(channel.diffuse, "diffuse")}, {"lobes", lobeArray}};
     if (c < file.fit.channels.size()) {
@@ -216,6 +275,22 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
       JsonObjectReader fit = root.object("fit");
       fit.optionalString("residual");
       FitOptions& o = file.fit.options;
+      const bool fitHasMethod = fit.has("method");
+      if (fitHasMethod) {
+        const std::string method = fit.string("method");
+        if (auto m = parseFitMethod(method)) o.method = *m;
+        else throw specError(fit.child("method"), "must be \"shared\" or \"per_channel\", got \"" + method + "\"");
+      } else {
+        o.method = FitMethod::PerChannel;  // files written before the shared method
+      }
+      if (fit.has("kind")) {
+        const std::string kind = fit.string("kind");
+        if (auto k = parseLobeKindChoice(kind)) o.kind = *k;
+        else throw specError(fit.child("kind"), "must be \"auto\", \"mirror\" or \"lafortune\", got \"" + kind + "\"");
+      }
+      if (fit.has("max_exponent")) o.maxExponent = fit.number("max_exponent", kMinLobeExponent, kMaxLobeExponent);
+      if (fit.has("in_sample_log_error")) file.fit.inSampleError = fit.number("in_sample_log_error", 0.0);
+      if (fit.has("held_out")) file.fit.heldOut = heldOutFromJson(fit.object("held_out"));
       const std::string loss = fit.string("loss");
       if (auto l = parseRobustLoss(loss)) o.loss = *l;
       else throw specError(fit.child("loss"), "must be \"cauchy\", \"huber\" or \"none\", got \"" + loss + "\"");
@@ -247,7 +322,19 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
         const std::string e = c.string("elevation");
         if (auto pe = parseLobeElevation(e)) candidate.elevation = *pe;
         else throw specError(c.child("elevation"), "must be \"constant\" or \"varying\", got \"" + e + "\"");
-        candidate.error = c.number("error", 0.0);
+        if (!fitHasMethod) {
+          // Written before held-out selection: {"lobes", "elevation", "error" (in-sample), "chosen"}.
+          c.number("error", 0.0);
+        } else {
+          const std::string kind = c.string("kind");
+          if (kind != "mirror" && kind != "lafortune") throw specError(c.child("kind"), "must be \"mirror\" or \"lafortune\", got \"" + kind + "\"");
+          candidate.lafortune = kind == "lafortune";
+          candidate.parameters = c.integer("parameters", 0, 1 << 30);
+          candidate.heldOutScore = c.number("held_out_score", 0.0);
+          candidate.kfoldRatio = c.number("kfold_ratio", 0.0);
+          candidate.elevationRatio = c.number("elevation_ratio", 0.0);
+          candidate.seconds = c.number("seconds", 0.0);
+        }
         const auto& chosen = c.require("chosen");
         if (!chosen.is_boolean()) throw specError(c.child("chosen"), "must be true or false");
         candidate.chosen = chosen.get<bool>();
@@ -279,6 +366,7 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
         Lobe l;
         l.weight = readNumbers(lobe, "weight", count, count == 1 ? 0.0 : 1e-300, HUGE_VAL);
         l.exponent = readNumbers(lobe, "exponent", count, kMinLobeExponent, kMaxLobeExponent);
+        l.cxy = lobe.number("cxy", -1.0, -kMaxLobeCxy, kMaxLobeCxy, false);
         lobe.finish();
         channel.lobes.push_back(std::move(l));
       }

@@ -2,6 +2,8 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 
+#include "shared_lobe_fit.hpp"
+
 #include <ceres/ceres.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -65,6 +67,9 @@ void FitOptions::validate() const {
   require(std::isfinite(functionTolerance) && functionTolerance > 0.0 && functionTolerance < 1.0,
           "fit: functionTolerance must be in (0, 1)");
   require(threads >= 0, "fit: threads must be >= 0");
+  require(std::isfinite(maxExponent) && maxExponent >= kMinLobeExponent && maxExponent <= kMaxLobeExponent,
+          "fit: maxExponent must be in [1, 1e5]");
+  heldOut.validate();
 }
 
 bool FitResult::usable() const {
@@ -130,7 +135,9 @@ T channelValue(const T* x, int lobes, int count, const FitSample& s) {
     weights[k] = count == 1 ? p[0] : geometricBlend(p, s.bernstein.data(), count);
     exponents[k] = count == 1 ? p[1] : geometricBlend(p + count, s.bernstein.data(), count);
   }
-  return lobeSum(x[0], weights, exponents, lobes, s.cosToMirror);
+  double cosToAxis[kMaxFitLobes];
+  std::fill(cosToAxis, cosToAxis + kMaxFitLobes, s.cosToMirror);
+  return lobeSum(x[0], weights, exponents, lobes, cosToAxis);
 }
 
 struct CubeRootResidual {
@@ -542,15 +549,10 @@ ChannelFitStats evaluateFit(const LobeModel& model, const MeasuredTable& table, 
   return stats;
 }
 
-FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
-  options.validate();
-  table.validate();
-  const auto start = Clock::now();
-  const std::string label = table.sourceFile.empty() ? std::string("table") : table.sourceFile;
-  const std::size_t channels = table.channelCount();
-  if (channels == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
+namespace {
 
-  // The elevation range of the fitted views: the varying polynomials span exactly this range.
+// The elevation range of the fitted views: the varying polynomials span exactly this range.
+LobeModel fittedRange(const MeasuredTable& table) {
   LobeModel range;
   range.minCos = 1.0;
   range.maxCos = 0.0;
@@ -563,6 +565,18 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
   // Views within 1 degree of the horizon do not widen the range (ln cos theta diverges there).
   range.minCos = clampFinite(range.minCos, std::cos(radians(89.0)), 1.0);
   range.maxCos = std::max(range.minCos, clampFinite(range.maxCos, 0.0, 1.0));
+  return range;
+}
+
+// The Ceres per-channel fit (FitMethod::PerChannel) of one explicit lobe count and elevation (the
+// in-sample greedy sequence below still grows K from 1).
+FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options) {
+  const auto start = Clock::now();
+  const std::string label = table.sourceFile.empty() ? std::string("table") : table.sourceFile;
+  const std::size_t channels = table.channelCount();
+  if (channels == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
+
+  const LobeModel range = fittedRange(table);
 
   std::vector<std::unique_ptr<ChannelFitter>> fitters;
   for (std::size_t c = 0; c < channels; ++c) {
@@ -636,7 +650,6 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
       });
       const double error = jointError(current);
       fitted[e].push_back(std::move(current));
-      result.candidates.push_back({lobes, elevation, error, false});
       if (autoLobes && lobes > 1) {
         // Keep K - 1 unless K lowered the error by at least the margin (0 -> 0 is no improvement).
         if (!(error < (1.0 - options.autoMargin) * previousError)) break;
@@ -668,7 +681,6 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
     throw Error(Error::Kind::InvalidInput, label + ": " + std::to_string(samples) + " usable samples cannot determine a " +
                                                std::string(toString(elevation)) + " lobe model");
   }
-  for (auto& candidate : result.candidates) candidate.chosen = candidate.lobes == lobes && candidate.elevation == elevation;
 
   const auto& chosen = fitted[elevation == LobeElevation::Constant ? 0 : 1][lobes - 1];
   const int count = elevationCoefficientCount(elevation);
@@ -690,6 +702,211 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
     result.channels.push_back(std::move(stats));
   }
   result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return result;
+}
+
+// FitMethod::Shared of one explicit lobe count and kind.
+FitResult fitShared(const MeasuredTable& table, const FitOptions& options, bool lafortune) {
+  const auto start = Clock::now();
+  const std::string label = table.sourceFile.empty() ? std::string("table") : table.sourceFile;
+  if (table.channelCount() == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
+  detail::SharedFitConfig config;
+  config.lobes = options.lobes;
+  config.lafortune = lafortune;
+  config.maxExponent = options.maxExponent;
+  std::size_t usable = 0;
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    if (table.incidentDirection(i).z() > 0.0 && table.outgoingDirection(i).z() > 0.0) ++usable;
+  }
+  if (usable == 0) {
+    throw Error(Error::Kind::InvalidInput, label + ": no sample has both directions above the horizon; nothing to fit");
+  }
+  const std::size_t perChannel = 1 + static_cast<std::size_t>(options.lobes);
+  if (usable < perChannel) {
+    throw Error(Error::Kind::InvalidArgument, label + ": " + std::to_string(usable) + " usable sample(s) cannot determine " +
+                                                  std::to_string(perChannel) + " weights per channel");
+  }
+  const auto outcome = detail::fitSharedLobes(table, config, fittedRange(table));
+  FitResult result;
+  result.options = options;
+  result.options.progress = nullptr;
+  result.model = outcome.model;
+  for (std::size_t c = 0; c < table.channelCount(); ++c) {
+    const std::string name = c < table.channelNames.size() ? table.channelNames[c] : std::to_string(c);
+    result.model.channels[c].name = name;
+  }
+  result.model.validate();
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  for (std::size_t c = 0; c < table.channelCount(); ++c) {
+    ChannelFitStats stats = evaluateFit(result.model, table, c);
+    stats.solver.termination = "CONVERGENCE";
+    stats.solver.usable = true;
+    stats.solver.iterations = outcome.evaluations;
+    stats.solver.briefReport = "shared shapes: " + std::to_string(outcome.evaluations) + " shape trials, NNLS weights";
+    stats.totalIterations = outcome.evaluations;
+    stats.seconds = seconds;
+    result.channels.push_back(std::move(stats));
+  }
+  result.seconds = seconds;
+  return result;
+}
+
+// One explicit candidate: the options with lobes, elevation and kind fixed.
+struct CandidateConfig {
+  int lobes = 1;
+  LobeElevation elevation = LobeElevation::Constant;
+  bool lafortune = false;
+};
+
+FitResult fitCandidate(const MeasuredTable& table, FitOptions options, const CandidateConfig& config) {
+  options.lobes = config.lobes;
+  options.elevation = config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
+  options.kind = config.lafortune ? LobeKindChoice::Lafortune : LobeKindChoice::Mirror;
+  options.threads = 1;  // parallel over splits
+  options.progress = nullptr;
+  if (options.method == FitMethod::Shared) return fitShared(table, options, config.lafortune);
+  return fitPerChannel(table, options);
+}
+
+int parameterTotal(const CandidateConfig& config, FitMethod method, std::size_t channels) {
+  const int count = elevationCoefficientCount(config.elevation);
+  const int perChannel = 1 + config.lobes * (method == FitMethod::Shared ? 1 : 2 * count);
+  const int shared = method == FitMethod::Shared ? config.lobes * (config.lafortune ? 2 : 1) : 0;
+  return perChannel * static_cast<int>(channels) + shared;
+}
+
+LogErrorSum allRowsError(const LobeModel& model, const MeasuredTable& table) {
+  std::vector<std::size_t> rows(table.size());
+  std::iota(rows.begin(), rows.end(), std::size_t(0));
+  return cosineLogError(model, table, rows);
+}
+
+}  // namespace
+
+std::string_view toString(FitMethod method) { return method == FitMethod::Shared ? "shared" : "per_channel"; }
+
+std::optional<FitMethod> parseFitMethod(std::string_view name) {
+  if (name == "shared") return FitMethod::Shared;
+  if (name == "per_channel") return FitMethod::PerChannel;
+  return std::nullopt;
+}
+
+std::string_view toString(LobeKindChoice kind) {
+  switch (kind) {
+    case LobeKindChoice::Auto: return "auto";
+    case LobeKindChoice::Mirror: return "mirror";
+    case LobeKindChoice::Lafortune: return "lafortune";
+  }
+  return "auto";
+}
+
+std::optional<LobeKindChoice> parseLobeKindChoice(std::string_view name) {
+  if (name == "auto") return LobeKindChoice::Auto;
+  if (name == "mirror") return LobeKindChoice::Mirror;
+  if (name == "lafortune") return LobeKindChoice::Lafortune;
+  return std::nullopt;
+}
+
+FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
+  options.validate();
+  table.validate();
+  const auto start = Clock::now();
+  const bool shared = options.method == FitMethod::Shared;
+  if (shared && options.elevation == ElevationChoice::Varying) {
+    throw Error(Error::Kind::InvalidArgument,
+                "fit: the shared method fits constant lobes (Lafortune lobes vary with elevation); use the per_channel method for varying ones");
+  }
+  // The candidates: explicit choices fix a dimension, auto ones span it.
+  std::vector<int> counts;
+  if (options.lobes > 0) counts = {options.lobes};
+  else for (int k = 1; k <= options.maxAutoLobes; ++k) counts.push_back(k);
+  std::vector<bool> kinds;
+  if (!shared || options.kind == LobeKindChoice::Mirror) kinds = {false};
+  else if (options.kind == LobeKindChoice::Lafortune) kinds = {true};
+  else kinds = {false, true};
+  std::vector<LobeElevation> elevations;
+  if (shared || options.elevation == ElevationChoice::Constant) elevations = {LobeElevation::Constant};
+  else if (options.elevation == ElevationChoice::Varying) elevations = {LobeElevation::Varying};
+  else elevations = {LobeElevation::Constant, LobeElevation::Varying};
+  // Held-out splits need enough rows away from the mirror (two per fold); without them an auto
+  // choice takes the fewest parameters and no estimate is made.
+  std::size_t offMirror = 0;
+  for (std::size_t i = 0; i < table.size(); ++i) offMirror += mirrorOffsetDegrees(table, i) > options.heldOut.minMirrorOffsetDegrees;
+  const bool heldOutFeasible = offMirror >= 2 * static_cast<std::size_t>(options.heldOut.folds);
+  if (!heldOutFeasible) {
+    counts.resize(1);
+    kinds.resize(1);
+    elevations.resize(1);
+  }
+  const bool choosing = counts.size() * kinds.size() * elevations.size() > 1;
+
+  FitResult result;
+  const std::size_t channels = table.channelCount();
+  if (!choosing) {
+    const CandidateConfig config{counts[0], elevations[0], kinds[0]};
+    FitOptions explicitOptions = options;  // every choice made (auto ones without a held-out estimate: the fewest parameters)
+    explicitOptions.lobes = config.lobes;
+    explicitOptions.elevation = config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
+    explicitOptions.kind = config.lafortune ? LobeKindChoice::Lafortune : LobeKindChoice::Mirror;
+    result = shared ? fitShared(table, explicitOptions, config.lafortune) : fitPerChannel(table, explicitOptions);
+    if (options.estimateHeldOut && heldOutFeasible) {
+      result.heldOut = estimateHeldOutError(
+          table, [&](const MeasuredTable& training) { return fitCandidate(training, options, config).model; }, options.heldOut);
+    }
+  } else {
+    // Every (kind, elevation) sequence grows the lobe count while the held-out score falls by the margin.
+    std::vector<std::pair<CandidateConfig, HeldOutReport>> tried;
+    std::size_t total = kinds.size() * elevations.size() * counts.size(), done = 0;
+    for (bool lafortune : kinds) {
+      for (LobeElevation elevation : elevations) {
+        double previous = HUGE_VAL;
+        for (int lobes : counts) {
+          const CandidateConfig config{lobes, elevation, lafortune};
+          HeldOutReport report = estimateHeldOutError(
+              table, [&](const MeasuredTable& training) { return fitCandidate(training, options, config).model; }, options.heldOut);
+          const double score = report.score();
+          tried.emplace_back(config, std::move(report));
+          if (options.progress) options.progress(static_cast<double>(++done) / static_cast<double>(total + 1));
+          if (!(score < (1.0 - options.autoMargin) * previous)) break;
+          previous = score;
+        }
+      }
+    }
+    // The fewest parameters whose score is within the margin of every candidate with fewer.
+    std::vector<std::size_t> order(tried.size());
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return parameterTotal(tried[a].first, options.method, channels) < parameterTotal(tried[b].first, options.method, channels);
+    });
+    std::size_t best = order.front();
+    for (std::size_t i : order) {
+      if (tried[i].second.score() < (1.0 - options.autoMargin) * tried[best].second.score()) best = i;
+    }
+    const CandidateConfig chosen = tried[best].first;
+    result = fitCandidate(table, options, chosen);
+    result.options = options;
+    for (std::size_t i = 0; i < tried.size(); ++i) {
+      const auto& [config, report] = tried[i];
+      ModelCandidate c;
+      c.lobes = config.lobes;
+      c.elevation = config.elevation;
+      c.lafortune = config.lafortune;
+      c.parameters = parameterTotal(config, options.method, channels);
+      c.heldOutScore = report.score();
+      c.kfoldRatio = report.kfold.ratio();
+      c.elevationRatio = report.pooledElevations().ratio();
+      c.seconds = report.seconds;
+      c.chosen = i == best;
+      if (c.chosen) c.inSampleError = allRowsError(result.model, table).rms();
+      result.candidates.push_back(c);
+    }
+    result.heldOut = tried[best].second;
+  }
+  result.options = options;
+  result.options.progress = nullptr;
+  result.inSampleError = allRowsError(result.model, table).rms();
+  result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  if (options.progress) options.progress(1.0);
   return result;
 }
 

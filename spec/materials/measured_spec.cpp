@@ -46,6 +46,9 @@ std::shared_ptr<const Material> parseMeasured(JsonObjectReader& m, const Materia
     const auto choice = parseElevationChoice(elevation);
     if (!choice) throw specError(m.child("elevation"), "must be \"auto\", \"constant\" or \"varying\", got \"" + elevation + "\"");
     options.elevation = *choice;
+    // Varying lobes are the per-channel method's (the shared one fits constant Lafortune lobes).
+    if (options.elevation == ElevationChoice::Varying) options.method = FitMethod::PerChannel;
+    options.estimateHeldOut = false;  // a bake needs the model only (auto choices still estimate it)
     mode = parseLobeMode(m);
   }
 

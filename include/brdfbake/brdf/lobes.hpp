@@ -16,6 +16,19 @@
 /// integral C (n+2)/(2 pi) (r.l)^n (r.l) dl = C over the hemisphere about r, so at normal incidence
 /// (r_v = n, nothing clipped by the horizon) lobe k reflects exactly the fraction C_k of the light.
 ///
+/// A lobe may instead be one of Lafortune et al. 1997's generalised cosine lobes (Eq. 4, with
+/// C_x = C_y = c_xy and C_z = 1, the scale C_z^n absorbed by C_k): r_v . l is replaced by
+///
+///     c_xy (l_x v_x + l_y v_y) + l_z v_z = a . l,   a = (c_xy v_x, c_xy v_y, v_z),
+///
+/// so the lobe is radially symmetric about the unit axis a / |a| with the amplitude |a|^n (it
+/// bakes and prefilters like a Phong lobe about that axis). c_xy = -1 is the Phong lobe above
+/// (a = r_v); c_xy = +1 is a lobe about the view itself, back-scatter (retro-reflection);
+/// |c_xy| > 1 tilts the axis towards the horizon and makes the lobe grow towards grazing
+/// (|a|^2 = c_xy^2 sin^2 theta + cos^2 theta), the off-specular peaks and the Fresnel-like rise
+/// of measured paints; |c_xy| < 1 the opposite. The model is reciprocal in l and v for every c_xy.
+/// (n + 2) / (2 pi) normalises the lobe exactly only for c_xy = -1.
+///
 /// C_k and n_k are either constant (LobeElevation::Constant: one 2-D lobe, so an environment can
 /// be prefiltered into a single map) or vary smoothly with u (LobeElevation::Varying: a 3-D map).
 /// A varying parameter has three positive values p0, p1, p2 and is their weighted geometric mean
@@ -119,12 +132,28 @@ T normalizedLobe(const T& weight, const T& exponent, double cosToAxis) {
   return weight * phongNormalization(exponent) * pow(cosToAxis, exponent);
 }
 
+/// The pair of products a Lafortune lobe depends on (Lafortune et al. 1997, Eq. 4 with C_x = C_y):
+/// horizontal = l_x v_x + l_y v_y and vertical = l_z v_z in the local frame (z = normal), i.e.
+/// l.v - (n.l)(n.v) and (n.l)(n.v) in any frame.
+struct LobeGeometry {
+  double horizontal = 0.0;
+  double vertical = 0.0;
+  /// From unit light and view directions in the local frame.
+  static LobeGeometry local(const Vec3& light, const Vec3& view) {
+    return {light.x() * view.x() + light.y() * view.y(), light.z() * view.z()};
+  }
+  /// The lobe's argument c_xy (l_x v_x + l_y v_y) + l_z v_z (see @file). c_xy = -1 gives r_v . l,
+  /// the cosine to the mirrored view (Phong); c_xy = +1 gives l . v, a lobe about the view
+  /// (retro-reflection).
+  double cosine(double cxy) const { return cxy * horizontal + vertical; }
+};
+
 /// diffuse / pi plus the lobes of the given weights and exponents (already evaluated at the
-/// elevation), at cosToMirror = r_v . l.
+/// elevation), lobe k at cosToAxis[k] (LobeGeometry::cosine of its c_xy).
 template <class T>
-T lobeSum(const T& diffuse, const T* weights, const T* exponents, int lobeCount, double cosToMirror) {
+T lobeSum(const T& diffuse, const T* weights, const T* exponents, int lobeCount, const double* cosToAxis) {
   T value = diffuse * T(1.0 / std::numbers::pi);
-  for (int k = 0; k < lobeCount; ++k) value += normalizedLobe(weights[k], exponents[k], cosToMirror);
+  for (int k = 0; k < lobeCount; ++k) value += normalizedLobe(weights[k], exponents[k], cosToAxis[k]);
   return value;
 }
 
@@ -132,23 +161,34 @@ T lobeSum(const T& diffuse, const T* weights, const T* exponents, int lobeCount,
 inline constexpr int kMaxModelLobes = 16;
 
 /// The model of one channel (see @file) at elevation coordinate `t` (LobeModel::
-/// elevationCoordinate) and cosToMirror = r_v . l. `lobes[k]` points to lobe k's 2 * count
+/// elevationCoordinate), lobe k at cosToAxis[k]. `lobes[k]` points to lobe k's 2 * count
 /// coefficients: the weight's `count`, then the exponent's `count`. At most kMaxModelLobes lobes.
 template <class T>
-T lobeBrdf(const T& diffuse, const T* const* lobes, int lobeCount, int count, double t, double cosToMirror) {
+T lobeBrdf(const T& diffuse, const T* const* lobes, int lobeCount, int count, double t, const double* cosToAxis) {
   T weights[kMaxModelLobes], exponents[kMaxModelLobes];
   for (int k = 0; k < lobeCount && k < kMaxModelLobes; ++k) {
     weights[k] = elevationBlend(lobes[k], count, t);
     exponents[k] = elevationBlend(lobes[k] + count, count, t);
   }
-  return lobeSum(diffuse, weights, exponents, std::min(lobeCount, kMaxModelLobes), cosToMirror);
+  return lobeSum(diffuse, weights, exponents, std::min(lobeCount, kMaxModelLobes), cosToAxis);
 }
+
+/// Largest |c_xy| LobeModel::validate accepts, and the largest growth |a|^n (a the unscaled
+/// Lafortune axis of @file, |a| <= max(1, |c_xy|)) it accepts: n ln max(1, |c_xy|) <= kMaxLobeGrowthLog.
+inline constexpr double kMaxLobeCxy = 8.0;
+inline constexpr double kMaxLobeGrowthLog = 50.0;
 
 /// One lobe of one channel: weight C (dimensionless; >= 0, and > 0 for Varying) and exponent n (in
 /// [1, 1e5]), each elevationCoefficientCount() values (see @file).
 struct Lobe {
   std::vector<double> weight;
   std::vector<double> exponent;
+  /// Lafortune's horizontal coefficient c_xy (see @file), constant over elevation: -1 (the
+  /// default) is the Phong lobe about the mirrored view, +1 a lobe about the view (back-scatter),
+  /// |c_xy| > 1 a lobe that grows towards grazing. |c_xy| <= kMaxLobeCxy.
+  double cxy = -1.0;
+  /// True for the Phong lobe about the mirrored view (c_xy = -1).
+  bool aboutMirror() const { return cxy == -1.0; }
 };
 
 /// One channel of a lobe model: Lambertian albedo k_d (>= 0; the term is k_d / pi) and the lobes.
@@ -193,8 +233,11 @@ struct LobeModel {
   /// Every channel.
   Eigen::VectorXd evaluate(const Vec3& wi, const Vec3& wo) const;
   /// The BRDF on the mirror direction (wi = wo mirrored about the normal) seen at elevation
-  /// cosine u: k_d / pi + sum_k C_k(u) (n_k(u) + 2) / (2 pi). Heidrich 2000's reflectance map profile.
+  /// cosine u: k_d / pi + sum_k C_k(u) (n_k(u) + 2) / (2 pi) for mirror lobes (a Lafortune lobe
+  /// contributes at its argument c_xy (u^2 - 1) + u^2). Heidrich 2000's reflectance map profile.
   double mirrorValue(std::size_t channel, double u) const;
+  /// True when every lobe is a Phong lobe about the mirrored view (c_xy = -1).
+  bool allAboutMirror() const;
 
   /// The 3 x channelCount() matrix taking channel values to linear sRGB: identity for channels R,
   /// G, B; the CIE 1931 / D65 weights (SpectrumToRgb) for spectral models; a column of ones for
@@ -212,7 +255,8 @@ enum class LobeMaterialMode {
   Lighting,
   /// Kautz & McCool's prefiltered form (Heidrich 2000 Eq. 19): shade(g, l) = sum_k C_k(u) (n_k + 2) /
   /// (2 pi) max(0, r.l)^n_k, the lobes alone (no k_d, no cosine: the renderer multiplies by n.r_v).
-  /// For a Constant model it depends on r alone and is a sum of radial lobes about l.
+  /// For a Constant model of mirror lobes it depends on r alone and is a sum of radial lobes about
+  /// l; a Lafortune lobe (c_xy != -1) uses its own argument and makes the map view-dependent.
   Prefiltered,
 };
 

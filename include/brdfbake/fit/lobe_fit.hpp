@@ -1,9 +1,20 @@
 #pragma once
 /// @file
-/// Fitting radially symmetric lobes (brdf/lobes.hpp) to a measured table with Ceres. Method,
-/// defaults and their reasons: docs/fitting.md.
+/// Fitting radially symmetric lobes (brdf/lobes.hpp) to a measured table. Method, defaults and
+/// their reasons: docs/fitting.md.
 ///
-/// Each channel is fitted on its own. Per sample i (light wi, view wo, measured f_i) the residual
+/// Two methods. FitMethod::Shared (the default): every channel shares each lobe's shape (exponent
+/// and Lafortune coefficient c_xy); the diffuse terms and weights of each channel are solved by
+/// non-negative least squares on the cosine-weighted log error of fit/held_out.hpp, the shapes by
+/// a search around them (variable projection). Constant elevation only: Lafortune lobes (c_xy !=
+/// -1) carry the variation with elevation. FitMethod::PerChannel: Ceres per channel, as follows.
+///
+/// Automatic choices (lobe count, lobe kind, elevation) are made by the held-out error of
+/// fit/held_out.hpp (estimateHeldOutError), never by the in-sample error: every candidate is fitted
+/// on each split, and the lowest HeldOutReport::score is kept, unless a candidate with fewer
+/// parameters is within FitOptions::autoMargin of it.
+///
+/// PerChannel: each channel is fitted on its own. Per sample i (light wi, view wo, measured f_i) the residual
 /// is the difference of cube roots of the cosine-weighted values,
 ///
 ///     r_i = cbrt(cos theta_i f(wi, wo) + eps) - cbrt(cos theta_i f_i + eps),
@@ -27,6 +38,7 @@
 /// separately to three slices of elevation, interpolated.
 
 #include <brdfbake/brdf/lobes.hpp>
+#include <brdfbake/fit/held_out.hpp>
 #include <brdfbake/measured/measured_table.hpp>
 
 #include <cstddef>
@@ -36,9 +48,28 @@
 
 namespace brdfbake {
 
+/// How channels are fitted (see @file).
+enum class FitMethod {
+  Shared,      ///< lobe shapes shared by every channel, weights by non-negative least squares
+  PerChannel,  ///< every channel on its own with Ceres (cube-root residual, robust loss)
+};
+/// "shared", "per_channel"; parse returns std::nullopt for other names.
+std::string_view toString(FitMethod method);
+std::optional<FitMethod> parseFitMethod(std::string_view name);
+
+/// Which lobes FitMethod::Shared fits.
+enum class LobeKindChoice {
+  Auto,       ///< mirror or Lafortune, by held-out error
+  Mirror,     ///< Phong lobes about the mirrored view (c_xy = -1)
+  Lafortune,  ///< Lafortune lobes, c_xy free per lobe (brdf/lobes.hpp)
+};
+/// "auto", "mirror", "lafortune"; parse returns std::nullopt for other names.
+std::string_view toString(LobeKindChoice kind);
+std::optional<LobeKindChoice> parseLobeKindChoice(std::string_view name);
+
 /// Which elevation dependence to fit.
 enum class ElevationChoice {
-  Auto,      ///< constant, unless varying lowers the fit error by at least FitOptions::autoMargin
+  Auto,      ///< constant or varying, by held-out error (PerChannel; Shared fits constant lobes)
   Constant,  ///< LobeElevation::Constant
   Varying,   ///< LobeElevation::Varying
 };
@@ -55,21 +86,27 @@ std::optional<RobustLoss> parseRobustLoss(std::string_view name);
 inline constexpr int kMaxFitLobes = 6;
 
 struct FitOptions {
-  /// Lobes per channel, 1..kMaxFitLobes; 0 = auto: the smallest count K such that K + 1 lobes lower
-  /// the fit error (FitResult's joint robust RMS) by less than `autoMargin`, trying up to
-  /// `maxAutoLobes`.
+  FitMethod method = FitMethod::Shared;
+  /// Lobes per channel, 1..kMaxFitLobes; 0 = auto: by held-out error (see @file), trying 1 to
+  /// `maxAutoLobes` and stopping when one more lobe does not lower the score by `autoMargin`.
   int lobes = 0;
   /// Largest count `lobes = 0` tries, 1..kMaxFitLobes.
   int maxAutoLobes = 3;
   ElevationChoice elevation = ElevationChoice::Auto;
-  /// `lobes = 0`: one more lobe is kept only if it lowers the error by at least this fraction.
-  /// 3 %: on 1 %-noise synthetic tables a third lobe gains under 1 %, while the third lobe that
-  /// sharpens garnet red's highlights gains 4 %. In (0, 1).
-  double autoMargin = 0.03;
-  /// ElevationChoice::Auto: varying lobes (three times the parameters) are kept only if they
-  /// lower the error by at least this fraction. 10 %: on 1 %-noise tables from constant lobes,
-  /// varying ones gain 1 to 6 % by fitting the noise of the few samples that see a sharp
-  /// highlight; the real Cornell tables gain 19 to 37 % (docs/fitting.md). In (0, 1).
+  /// FitMethod::Shared: mirror lobes, Lafortune lobes, or auto (by held-out error).
+  LobeKindChoice kind = LobeKindChoice::Auto;
+  /// FitMethod::Shared: largest lobe exponent, in [1, 1e5]. 1e4 (a lobe 0.7 degrees wide at half
+  /// maximum) is as sharp as the Cornell grid's spacing near the mirror can support.
+  double maxExponent = 1e4;
+  /// Auto choices: a candidate with more parameters is kept only if its held-out score is below
+  /// (1 - autoMargin) times the best score of the candidates with fewer parameters. In (0, 1).
+  double autoMargin = 0.01;
+  /// Splits of the held-out estimate (auto choices and the report).
+  HeldOutOptions heldOut;
+  /// Estimate the held-out error of the chosen model (FitResult::heldOut) even when nothing is
+  /// chosen automatically (auto choices always estimate it).
+  bool estimateHeldOut = true;
+  /// PerChannel, in-sample: no longer used for choices (kept for fit.json compatibility).
   double elevationMargin = 0.10;
   RobustLoss loss = RobustLoss::Cauchy;
   /// Scale of the robust loss as a fraction of the channel's largest cube-root target (residuals
@@ -122,20 +159,28 @@ struct ChannelFitStats {
   double seconds = 0.0;     ///< wall time spent on this channel
 };
 
-/// A model fitLobes tried: lobe count, elevation and the joint error over channels: the RMS of
-/// the cube-root residuals r_i of every fitted sample of every channel (no robust loss, so a
-/// highlight the loss discounts still counts).
+/// A model fitLobes tried (auto choices), with its held-out estimate.
 struct ModelCandidate {
   int lobes = 0;
   LobeElevation elevation = LobeElevation::Constant;
-  double error = 0.0;
+  bool lafortune = false;   ///< Lafortune lobes (else mirror lobes)
+  int parameters = 0;       ///< free parameters of the model, all channels
+  double inSampleError = 0.0;  ///< E of fit/held_out.hpp on every row of the table, fitted on all of them
+  double heldOutScore = 0.0;   ///< HeldOutReport::score
+  double kfoldRatio = 0.0;     ///< off-mirror k-fold error / Lambert
+  double elevationRatio = 0.0; ///< pooled leave-one-elevation-out error / Lambert
+  double seconds = 0.0;        ///< wall time of the held-out estimate (every split's fit)
   bool chosen = false;
 };
 
 struct FitResult {
   LobeModel model;
   std::vector<ChannelFitStats> channels;
-  std::vector<ModelCandidate> candidates;  ///< in the order tried
+  std::vector<ModelCandidate> candidates;  ///< in the order tried (auto choices only)
+  /// Held-out estimate of the chosen model (when FitOptions::estimateHeldOut or a choice was auto).
+  std::optional<HeldOutReport> heldOut;
+  /// E of fit/held_out.hpp over every row of the table (in-sample).
+  double inSampleError = 0.0;
   FitOptions options;                      ///< as requested (progress dropped)
   double seconds = 0.0;                    ///< wall time of the whole fit
 

@@ -1,0 +1,45 @@
+#pragma once
+// Internal to fit/: the shared-shape lobe fit behind FitMethod::Shared (docs/fitting.md, "Shared
+// shapes"). Every channel has the same lobe shapes (exponent n_k and Lafortune coefficient c_xy,k);
+// the per-channel diffuse terms and lobe weights enter the model linearly and are solved by
+// non-negative least squares for each trial of shapes (variable projection, Golub & Pereyra 1973),
+// on the cosine-weighted log error that held-out checks measure,
+//
+//     r_i = ln(1 + cos theta_i f(wi, wo)) - ln(1 + cos theta_i max(f_i, 0)),
+//
+// through Gauss-Newton steps (each one non-negative least squares of the linearised residual).
+// The shapes are found greedily (each new lobe from a grid of exponents and c_xy, the others kept)
+// and refined together by a compass search (Kolda, Lewis & Torczon 2003) on ln n and c_xy.
+#include <brdfbake/brdf/lobes.hpp>
+#include <brdfbake/measured/measured_table.hpp>
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace brdfbake::detail {
+
+struct SharedFitConfig {
+  int lobes = 1;            // 0 = diffuse only
+  bool lafortune = false;   // c_xy free (else -1: Phong lobes about the mirrored view)
+  double maxExponent = 1e4; // cap on n
+  int searchChannels = 6;   // channels the shape search looks at (evenly spread; all if fewer)
+  int maxEvaluations = 600; // shape trials in the compass search
+};
+
+struct SharedFitOutcome {
+  LobeModel model;        // elevation Constant, range from `range`
+  int evaluations = 0;    // shape trials
+  double objective = 0.0; // sum over channels and fitted rows of r_i^2
+  std::size_t rows = 0;   // fitted rows (light and view above the horizon)
+};
+
+// Fits `table` (all channels); `range` supplies minCos / maxCos. Throws Error(InvalidInput) when
+// no row has both directions above the horizon.
+SharedFitOutcome fitSharedLobes(const MeasuredTable& table, const SharedFitConfig& config, const LobeModel& range);
+
+// Non-negative least squares min |A x - b|^2, x >= 0, given G = A^T A and h = A^T b (Lawson &
+// Hanson 1974, chapter 23, on the normal equations). Small problems (a few columns).
+Eigen::VectorXd nonNegativeLeastSquares(const Eigen::MatrixXd& gram, const Eigen::VectorXd& rhs);
+
+}  // namespace brdfbake::detail

@@ -1,0 +1,102 @@
+#pragma once
+/// @file
+/// Held-out error of a fit: how well a model fitted to part of a measured table predicts the rest.
+/// docs/fitting.md, "Held-out error", describes the measure and the splits.
+///
+/// Error (the cosine-weighted log error, after Low et al. 2012's log-compressed comparison): over
+/// held-out samples i and channels c,
+///
+///     E = sqrt(mean_{i,c} (ln(1 + cos theta_i max(f_fit, 0)) - ln(1 + cos theta_i max(f_measured, 0)))^2),
+///
+/// f in 1/sr: ln(1 + x) is linear for the dim diffuse and back-scatter values (x << 1) and
+/// logarithmic in highlights, so neither dominates. It is reported as a ratio to a Lambertian fit
+/// on the same split: one constant per channel minimising the same error on the training rows.
+/// Two splits:
+///  - k-fold over the rows farther than `minMirrorOffsetDegrees` from the mirror direction (a
+///    table samples each highlight once, so holding that sample out leaves its height unknown);
+///    the folds are a seeded shuffle, every such row is held out once, and the errors of all folds
+///    are pooled;
+///  - one incident elevation held out whole (every row of that theta_i), for each elevation that
+///    has measured elevations on both sides (interpolation, not extrapolation), or those listed.
+
+#include <brdfbake/brdf/lobes.hpp>
+#include <brdfbake/measured/measured_table.hpp>
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace brdfbake {
+
+struct HeldOutOptions {
+  /// Folds of the off-mirror split, 2..20.
+  int folds = 5;
+  /// Rows of the k-fold split are farther than this from the mirror direction (degrees, 0..90).
+  double minMirrorOffsetDegrees = 5.0;
+  /// Incident elevations (degrees) held out one at a time; empty = every interior one of the
+  /// table. Each must be one of the table's theta_i (within 0.01 degree).
+  std::vector<double> elevationsDegrees;
+  /// Seed of the k-fold shuffle (std::mt19937_64).
+  unsigned long long seed = 1;
+  /// Fits run in parallel (0 = every core).
+  int threads = 0;
+
+  /// Throws Error(InvalidArgument) for values outside the documented ranges.
+  void validate() const;
+};
+
+/// One split's pooled error.
+struct HeldOutSplit {
+  std::string name;            ///< "off-mirror 5-fold", "theta_i 30 deg"
+  double elevationDegrees = 0; ///< the held-out theta_i; 0 for the k-fold split
+  std::size_t heldRows = 0;    ///< held-out rows (each counted once, over every channel)
+  double error = 0.0;          ///< E of the fitted models on the held-out rows
+  double lambertError = 0.0;   ///< E of the Lambertian fits on the same rows
+  /// error / lambertError, both offset by 1e-9 so that a table Lambert fits exactly (a constant
+  /// BRDF) gives a finite ratio, 1 when both vanish.
+  double ratio() const { return (error + 1e-9) / (lambertError + 1e-9); }
+};
+
+struct HeldOutReport {
+  HeldOutSplit kfold;
+  std::vector<HeldOutSplit> elevations;  ///< ascending theta_i
+  double seconds = 0.0;                  ///< wall time, fits included
+  /// The leave-one-elevation-out errors pooled over elevations (rows weighted equally).
+  HeldOutSplit pooledElevations() const;
+  /// What model selection minimises: the mean of the k-fold ratio and the pooled elevation ratio
+  /// (the k-fold ratio alone when no elevation was held out).
+  double score() const;
+};
+
+/// A fit of a training table (the channels of the table given to estimateHeldOutError).
+using TableFitter = std::function<LobeModel(const MeasuredTable& training)>;
+
+/// The rows of `table` at `rows`, in that order (same channels, header and notes).
+MeasuredTable tableRows(const MeasuredTable& table, const std::vector<std::size_t>& rows);
+
+/// Angle (degrees) between the outgoing direction of row i and the mirror direction of its light.
+double mirrorOffsetDegrees(const MeasuredTable& table, std::size_t row);
+
+/// E (see @file) of `model` on `rows` of `table`: sum of squares and the count of terms, so that
+/// splits can be pooled. Rows with a direction at or below the horizon count with cos theta_i = 0
+/// (their terms are 0).
+struct LogErrorSum {
+  double squares = 0.0;
+  std::size_t terms = 0;
+  double rms() const { return terms ? std::sqrt(squares / static_cast<double>(terms)) : 0.0; }
+};
+LogErrorSum cosineLogError(const LobeModel& model, const MeasuredTable& table, const std::vector<std::size_t>& rows);
+
+/// Per channel, the constant BRDF k >= 0 (1/sr) minimising sum_i (ln(1 + cos theta_i k) -
+/// ln(1 + cos theta_i max(f_i, 0)))^2 over `rows` (golden-section search on [0, max f]).
+std::vector<double> lambertianFit(const MeasuredTable& table, const std::vector<std::size_t>& rows);
+/// E of the Lambertian constants `k` on `rows`.
+LogErrorSum lambertianLogError(const std::vector<double>& k, const MeasuredTable& table, const std::vector<std::size_t>& rows);
+
+/// Fits and scores every split. Throws Error(InvalidArgument) for bad options or a listed
+/// elevation the table lacks, Error(InvalidInput) when the table has fewer off-mirror rows than
+/// folds; errors of `fit` propagate.
+HeldOutReport estimateHeldOutError(const MeasuredTable& table, const TableFitter& fit, const HeldOutOptions& options = {});
+
+}  // namespace brdfbake
