@@ -367,8 +367,11 @@ Probes makeProbes(Context& context, const PrefilterOptions& options, double floo
   const int guidedLevel = pyramid.levelFor(kPi / 64.0);
   const auto& G = pyramid.level(guidedLevel);
   std::vector<double> cdf(static_cast<std::size_t>(G.width) * G.height + 1, 0.0);
+  std::vector<Vec3> centres;
+  centres.reserve(cdf.size() - 1);
   for (int y = 0; y < G.height; ++y)
     for (int x = 0; x < G.width; ++x) {
+      centres.push_back(G.direction(x, y));
       const Rgb v = G.at(x, y);
       const double luminance = std::max(0.0, 0.2126 * v[0] + 0.7152 * v[1] + 0.0722 * v[2]);
       const std::size_t i = static_cast<std::size_t>(y) * G.width + x;
@@ -387,8 +390,7 @@ Probes makeProbes(Context& context, const PrefilterOptions& options, double floo
   for (int i = 0; i < guided; ++i) {
     const double u = (i + uniform(rng)) / guided * total;
     const std::size_t k = std::min<std::size_t>(cdf.size() - 2, std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin() - 1);
-    const int y = static_cast<int>(k / G.width), x = static_cast<int>(k % G.width);
-    const Vec3 centre(G.rowSin[y] * G.columnSin[x], G.rowCos[y], -G.rowSin[y] * G.columnCos[x]);
+    const Vec3& centre = centres[k];
     const double theta = lobe.sampleAngle(uniform(rng)), phi = kTwoPi * uniform(rng);
     const Vec3 t = anyPerpendicular(centre), b = centre.cross(t);
     probes.axes.push_back((std::sin(theta) * (std::cos(phi) * t + std::sin(phi) * b) + std::cos(theta) * centre).normalized());
@@ -409,14 +411,10 @@ Probes makeProbes(Context& context, const PrefilterOptions& options, double floo
     probes.reference[p] = reference.value(d);
     if (guided > 0) {
       double density = 0.0;
-      for (int y = 0; y < G.height; ++y)
-        for (int x = 0; x < G.width; ++x) {
-          const std::size_t i = static_cast<std::size_t>(y) * G.width + x;
-          const double pi = cdf[i + 1] - cdf[i];
-          if (pi <= 0.0) continue;
-          const Vec3 centre(G.rowSin[y] * G.columnSin[x], G.rowCos[y], -G.rowSin[y] * G.columnCos[x]);
-          density += pi * profile(0.5 * (d - centre).norm());  // u = sin(theta / 2)
-        }
+      for (std::size_t i = 0; i < centres.size(); ++i) {
+        const double pi = cdf[i + 1] - cdf[i];
+        if (pi > 0.0) density += pi * profile(0.5 * (d - centres[i]).norm());  // u = sin(theta / 2)
+      }
       density /= total * lobe.mass();
       const double q = (static_cast<double>(uniformCount) / count) / kFourPi + (static_cast<double>(guided) / count) * density;
       probes.weights[p] = 1.0 / (kFourPi * q);
