@@ -398,14 +398,11 @@ Probes makeProbes(Context& context, const PrefilterOptions& options, double floo
   // Weights: (1/4pi) / q(d), q the mixture density the probes were drawn from.
   probes.weights.assign(probes.axes.size(), 1.0);
   probes.reference.resize(probes.axes.size());
-  // The reference on the probes: the lobe (tabulated to 1e-6 of its peak) over all but 1e-7 of its
-  // mass, on the finest level needed (texels <= width / 16, else level 0 split into sub-samples
-  // <= width / 8).
-  const int referenceLevel = pyramid.levelFor(lobe.width() / 16.0);
-  const int sub = std::clamp(static_cast<int>(std::ceil(8.0 * pyramid.texelAngle(referenceLevel) / std::max(lobe.width(), 1e-12))), 1, 8);
-  const auto table = context.table();
-  const RadialTable::View profile = table->view();
-  const detail::DirectSummer reference(pyramid, lobe, referenceLevel, std::cos(lobe.tailAngle(1e-7)), sub, table);
+  // The reference on the probes: the reference sum over the environment's own texels (not the
+  // working pyramid the candidates read, so its resampling error shows in the estimate), over all
+  // but 1e-7 of the lobe's mass.
+  const detail::ReferenceSummer reference(context.environment(), lobe, std::cos(lobe.tailAngle(1e-7)));
+  const RadialTable::View profile = context.table()->view();
   tbb::parallel_for(0, static_cast<int>(probes.axes.size()), [&](int p) {
     const Vec3& d = probes.axes[p];
     probes.reference[p] = reference.value(d);

@@ -134,17 +134,29 @@ class LatLongGrid {
 };
 
 // The exact reference over the environment's own texels (sub-sampled where the lobe is narrow).
+// With a cap (cosCap > -1) only the samples within angle acos(cosCap) of the axis count: the samples
+// are kept sorted into the cells of a coarse lat-long grid, and a value visits only the cells
+// that can meet the cap, so a narrow lobe costs its support, not the sphere (the error probes).
 class ReferenceSummer {
  public:
-  ReferenceSummer(const Environment& environment, const PrefilterLobe& lobe);
+  ReferenceSummer(const Environment& environment, const PrefilterLobe& lobe, double cosCap = -1.0);
   Rgb value(const Vec3& axis) const;
   std::size_t samples() const { return x_.size(); }
   int subdivision() const { return sub_; }
 
  private:
+  void sortIntoCells();
+  // Adds Σ w Ω L and Σ w Ω over samples [begin, end) to out.
+  void sum(const Vec3& axis, std::size_t begin, std::size_t end, double out[4]) const;
   PrefilterLobe lobe_;
   int sub_ = 1;
+  double capAngle_ = kPi;
   std::vector<double> x_, y_, z_, weight_, r_, g_, b_;  // r, g, b premultiplied by weight
+  // Cells (capped only): samples of cell k are [cellStart_[k], cellStart_[k + 1]).
+  LatLongMap cells_{1};
+  std::vector<std::size_t> cellStart_;
+  std::vector<Vec3> cellCentre_;
+  double cellRadius_ = 0.0;
 };
 
 }  // namespace brdfbake::detail

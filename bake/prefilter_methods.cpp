@@ -373,7 +373,8 @@ Rgb LatLongGrid::value(const Vec3& axis) const {
 
 // ---- reference -------------------------------------------------------------------------------
 
-ReferenceSummer::ReferenceSummer(const Environment& environment, const PrefilterLobe& lobe) : lobe_(lobe) {
+ReferenceSummer::ReferenceSummer(const Environment& environment, const PrefilterLobe& lobe, double cosCap)
+    : lobe_(lobe), capAngle_(std::acos(std::clamp(cosCap, -1.0, 1.0))) {
   const Parameterization& map = *environment.map;
   double largest = 0.0;
   for (int y = 0; y < map.height(); ++y)
@@ -383,6 +384,7 @@ ReferenceSummer::ReferenceSummer(const Environment& environment, const Prefilter
   const double texelAngle = std::sqrt(largest);
   sub_ = std::clamp(static_cast<int>(std::ceil(8.0 * texelAngle / std::max(lobe.width(), 1e-12))), 1, 8);
   while (sub_ > 1 && static_cast<double>(map.width()) * map.height() * sub_ * sub_ > 4194304.0) --sub_;
+  std::vector<Vec3> inside;
   for (int y = 0; y < map.height(); ++y) {
     for (int x = 0; x < map.width(); ++x) {
       const double omega = map.texelSolidAngle(x, y);
@@ -390,7 +392,7 @@ ReferenceSummer::ReferenceSummer(const Environment& environment, const Prefilter
       const Rgb radiance = environment.image.at(x, y).head<3>();
       // Keep the sub-samples that lie in the texel's own part of the domain (round trip), and
       // share the texel's exact solid angle among them.
-      std::vector<Vec3> inside;
+      inside.clear();
       const int region = [&] {
         for (int r = 0; r < map.regionCount(); ++r)
           if (map.region(r).contains(x, y)) return r;
@@ -417,41 +419,81 @@ ReferenceSummer::ReferenceSummer(const Environment& environment, const Prefilter
       }
     }
   }
+  if (capAngle_ < kPi) sortIntoCells();
+}
+
+void ReferenceSummer::sortIntoCells() {
+  // Cells of a 64 x 32 lat-long (latlong_map.hpp). A point of a cell lies within (dTheta + dPhi) / 2
+  // of its centre: along the meridian to its polar angle, then along that parallel (sin <= 1).
+  cells_ = LatLongMap(32);
+  const int count = cells_.width() * cells_.height();
+  cellRadius_ = 0.5 * (kPi / cells_.height() + kTwoPi / cells_.width());
+  std::vector<int> cell(x_.size());
+  cellStart_.assign(static_cast<std::size_t>(count) + 1, 0);
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    const Vec2 p = cells_.pixelForUnit(Vec3(x_[i], y_[i], z_[i]).normalized());
+    const int cx = std::clamp(static_cast<int>(p.x()), 0, cells_.width() - 1), cy = std::clamp(static_cast<int>(p.y()), 0, cells_.height() - 1);
+    cell[i] = cy * cells_.width() + cx;
+    ++cellStart_[static_cast<std::size_t>(cell[i]) + 1];
+  }
+  for (int k = 0; k < count; ++k) cellStart_[k + 1] += cellStart_[k];
+  std::vector<std::size_t> next(cellStart_.begin(), cellStart_.end() - 1);
+  std::vector<std::size_t> order(x_.size());
+  for (std::size_t i = 0; i < x_.size(); ++i) order[next[cell[i]]++] = i;
+  for (auto* v : {&x_, &y_, &z_, &weight_, &r_, &g_, &b_}) {
+    std::vector<double> sorted(v->size());
+    for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = (*v)[order[i]];
+    v->swap(sorted);
+  }
+  cellCentre_.clear();
+  for (int y = 0; y < cells_.height(); ++y)
+    for (int x = 0; x < cells_.width(); ++x) cellCentre_.push_back(*cells_.getDirectionFor(Vec2(x + 0.5, y + 0.5)));
 }
 
 namespace {
 template <class Weight>
-void referenceLoop(const std::vector<double>& xs, const std::vector<double>& ys, const std::vector<double>& zs,
-                   const std::vector<double>& ws, const std::vector<double>& rs, const std::vector<double>& gs,
-                   const std::vector<double>& bs, const Vec3& axis, bool positiveOnly, Weight weight, double out[4]) {
+void referenceLoop(const double* xs, const double* ys, const double* zs, const double* ws, const double* rs, const double* gs,
+                   const double* bs, std::size_t n, const Vec3& axis, bool positiveOnly, Weight weight, double out[4]) {
   double nr = 0.0, ng = 0.0, nb = 0.0, den = 0.0;
   const double ax = axis.x(), ay = axis.y(), az = axis.z();
-  const std::size_t n = xs.size();
   for (std::size_t i = 0; i < n; ++i) {
     const double c = ax * xs[i] + ay * ys[i] + az * zs[i];
     if (positiveOnly && !(c > 0.0)) continue;
     const double w = weight(c);
     nr += w * rs[i], ng += w * gs[i], nb += w * bs[i], den += w * ws[i];
   }
-  out[0] = nr, out[1] = ng, out[2] = nb, out[3] = den;
+  out[0] += nr, out[1] += ng, out[2] += nb, out[3] += den;
 }
 }  // namespace
 
-Rgb ReferenceSummer::value(const Vec3& axis) const {
-  double s[4];
+void ReferenceSummer::sum(const Vec3& axis, std::size_t begin, std::size_t end, double out[4]) const {
+  const std::size_t n = end - begin;
+  const double *xs = x_.data() + begin, *ys = y_.data() + begin, *zs = z_.data() + begin, *ws = weight_.data() + begin;
+  const double *rs = r_.data() + begin, *gs = g_.data() + begin, *bs = b_.data() + begin;
   const double scale = lobe_.profile(1.0);  // only ratios matter; keep weights near 1
   switch (lobe_.kind()) {
     case LobeKind::Irradiance:
-      referenceLoop(x_, y_, z_, weight_, r_, g_, b_, axis, true, [](double c) { return c; }, s);
+      referenceLoop(xs, ys, zs, ws, rs, gs, bs, n, axis, true, [](double c) { return c; }, out);
       break;
     case LobeKind::Phong: {
-      const double n = lobe_.phongExponent();
-      referenceLoop(x_, y_, z_, weight_, r_, g_, b_, axis, true, [n](double c) { return n == 0.0 ? 1.0 : std::pow(c, n); }, s);
+      const double e = lobe_.phongExponent();
+      referenceLoop(xs, ys, zs, ws, rs, gs, bs, n, axis, true, [e](double c) { return e == 0.0 ? 1.0 : std::pow(c, e); }, out);
       break;
     }
     default:
-      referenceLoop(x_, y_, z_, weight_, r_, g_, b_, axis, false, [&](double c) { return lobe_.profile(c) / scale; }, s);
+      referenceLoop(xs, ys, zs, ws, rs, gs, bs, n, axis, false, [&](double c) { return lobe_.profile(c) / scale; }, out);
       break;
+  }
+}
+
+Rgb ReferenceSummer::value(const Vec3& axis) const {
+  double s[4] = {0.0, 0.0, 0.0, 0.0};
+  if (cellStart_.empty()) {
+    sum(axis, 0, x_.size(), s);
+  } else {
+    const double reach = std::cos(std::min(kPi, capAngle_ + cellRadius_));
+    for (std::size_t k = 0; k < cellCentre_.size(); ++k)
+      if (cellStart_[k + 1] > cellStart_[k] && axis.dot(cellCentre_[k]) >= reach) sum(axis, cellStart_[k], cellStart_[k + 1], s);
   }
   if (s[3] > 0.0) return lobe_.mass() * Rgb(s[0], s[1], s[2]) / s[3];
   // The lobe fell between every sample: the nearest sample's radiance.
