@@ -139,7 +139,10 @@ class LatLongGrid {
 // that can meet the cap, so a narrow lobe costs its support, not the sphere (the error probes).
 class ReferenceSummer {
  public:
-  ReferenceSummer(const Environment& environment, const PrefilterLobe& lobe, double cosCap = -1.0);
+  // `table` (optional): the lobe tabulated on u = sin(theta/2) (RadialTable), read instead of the
+  // exact profile.
+  ReferenceSummer(const Environment& environment, const PrefilterLobe& lobe, double cosCap = -1.0,
+                  std::shared_ptr<const RadialTable> table = nullptr);
   Rgb value(const Vec3& axis) const;
   std::size_t samples() const { return x_.size(); }
   int subdivision() const { return sub_; }
@@ -149,6 +152,7 @@ class ReferenceSummer {
   // Adds Σ w Ω L and Σ w Ω over samples [begin, end) to out.
   void sum(const Vec3& axis, std::size_t begin, std::size_t end, double out[4]) const;
   PrefilterLobe lobe_;
+  std::shared_ptr<const RadialTable> table_;
   int sub_ = 1;
   double capAngle_ = kPi;
   std::vector<double> x_, y_, z_, weight_, r_, g_, b_;  // r, g, b premultiplied by weight

@@ -373,8 +373,9 @@ Rgb LatLongGrid::value(const Vec3& axis) const {
 
 // ---- reference -------------------------------------------------------------------------------
 
-ReferenceSummer::ReferenceSummer(const Environment& environment, const PrefilterLobe& lobe, double cosCap)
-    : lobe_(lobe), capAngle_(std::acos(std::clamp(cosCap, -1.0, 1.0))) {
+ReferenceSummer::ReferenceSummer(const Environment& environment, const PrefilterLobe& lobe, double cosCap,
+                                 std::shared_ptr<const RadialTable> table)
+    : lobe_(lobe), table_(std::move(table)), capAngle_(std::acos(std::clamp(cosCap, -1.0, 1.0))) {
   const Parameterization& map = *environment.map;
   double largest = 0.0;
   for (int y = 0; y < map.height(); ++y)
@@ -470,6 +471,11 @@ void ReferenceSummer::sum(const Vec3& axis, std::size_t begin, std::size_t end, 
   const std::size_t n = end - begin;
   const double *xs = x_.data() + begin, *ys = y_.data() + begin, *zs = z_.data() + begin, *ws = weight_.data() + begin;
   const double *rs = r_.data() + begin, *gs = g_.data() + begin, *bs = b_.data() + begin;
+  if (table_) {
+    const RadialTable::View view = table_->view();
+    referenceLoop(xs, ys, zs, ws, rs, gs, bs, n, axis, false, [&view](double c) { return view(std::sqrt(std::max(0.0, 0.5 - 0.5 * c))); }, out);
+    return;
+  }
   const double scale = lobe_.profile(1.0);  // only ratios matter; keep weights near 1
   switch (lobe_.kind()) {
     case LobeKind::Irradiance:

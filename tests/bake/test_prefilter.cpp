@@ -1010,5 +1010,44 @@ TEST(Prefilter, WrittenMapsRecordLobeMethodBoundAndSource) {
   }
 }
 
+TEST(Prefilter, SummaryClaimsExactOrMetOnlyWhatItKnows) {
+  PrefilterOptions options;
+  options.parameterization = ParameterizationKind::Paraboloid;
+  options.resolution = 8;
+  // A fast method with estimation off: nothing was estimated, so the bound is not known to be met.
+  options.method = PrefilterMethod::SphericalHarmonics;
+  options.shOrder = 4;
+  options.estimateError = false;
+  const PrefilteredMap unknownMap = prefilter(sky(), PrefilterLobe::phong(10), options);
+  const PrefilterSummary& unknown = unknownMap.summary;
+  EXPECT_FALSE(unknown.errorEstimated);
+  EXPECT_FALSE(unknown.exact);
+  EXPECT_FALSE(unknown.metTarget);
+  EXPECT_TRUE(unknown.toJson()["met_target"].is_null());
+  EXPECT_FALSE(unknown.toJson()["exact"].get<bool>());
+  EXPECT_TRUE(unknown.toJson()["error_estimate"].is_null());
+  EXPECT_EQ(unknown.briefReport().find("exact"), std::string::npos) << unknown.briefReport();
+  EXPECT_NE(unknown.briefReport().find("not estimated"), std::string::npos) << unknown.briefReport();
+  test::TempDir dir;
+  writePrefilteredMap(unknownMap, dir / "unknown.exr", {});
+  EXPECT_FALSE(readMap(dir / "unknown.exr").info.spec["prefilter"]["exact"].get<bool>());
+  // The reference sum is exact by definition and meets any bound.
+  options = {};
+  options.parameterization = ParameterizationKind::Paraboloid;
+  options.resolution = 8;
+  options.method = PrefilterMethod::Reference;
+  const PrefilterSummary reference = prefilter(sky(), PrefilterLobe::phong(10), options).summary;
+  EXPECT_TRUE(reference.exact);
+  EXPECT_TRUE(reference.metTarget);
+  EXPECT_TRUE(reference.toJson()["met_target"].get<bool>());
+  // A request made of an exact part and a part of unknown error is neither exact nor known to meet.
+  PrefilterSummary merged;
+  mergePrefilterSummary(merged, reference, "a", true);
+  mergePrefilterSummary(merged, unknown, "b", false);
+  EXPECT_FALSE(merged.exact);
+  EXPECT_FALSE(merged.metTarget);
+  EXPECT_TRUE(merged.toJson()["met_target"].is_null());
+}
+
 }  // namespace
 }  // namespace brdfbake
