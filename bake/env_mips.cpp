@@ -2,6 +2,8 @@
 #include <brdfbake/bake/env_mips.hpp>
 #include <brdfbake/core/error.hpp>
 
+#include <tbb/parallel_for.h>
+
 #include <array>
 #include <bit>
 
@@ -45,38 +47,43 @@ Image downsampleEnvironment(const Image& fine, const Parameterization& fineMap) 
   require(fineMap.resolution() > 1, "downsample: a map of resolution 1 has no coarser level");
   const auto coarseMap = makeParameterization(fineMap.kind(), fineMap.resolution() / 2);
   Image coarse(coarseMap->width(), coarseMap->height(), Rgba::Zero());
-  std::vector<double> sums(static_cast<std::size_t>(coarse.width()) * coarse.height() * 4, 0.0);  // rgb, weight
-  std::vector<double> plain(static_cast<std::size_t>(coarse.width()) * coarse.height() * 4, 0.0);  // rgb, count
+  // Lat-long texels of one row share their solid angle: one weight per row.
+  const bool rowWeights = fineMap.kind() == ParameterizationKind::LatLong;
   for (int r = 0; r < fineMap.regionCount(); ++r) {
     const TexelRect f = fineMap.region(r), c = coarseMap->region(r);
-    for (int y = 0; y < f.height; ++y) {
-      const int cy = std::min(c.height - 1, static_cast<int>((y + 0.5) * c.height / f.height));
-      for (int x = 0; x < f.width; ++x) {
-        const int cx = std::min(c.width - 1, static_cast<int>((x + 0.5) * c.width / f.width));
-        const double w = mipTexelWeight(fineMap, f.x0 + x, f.y0 + y);
-        const Rgba v = fine.at(f.x0 + x, f.y0 + y);
-        const std::size_t i = (static_cast<std::size_t>(c.y0 + cy) * coarse.width() + c.x0 + cx) * 4;
-        for (int k = 0; k < 3; ++k) {
-          sums[i + k] += w * v[k];
-          plain[i + k] += v[k];
+    // The coarse column and row holding each fine texel centre, and the fine rows of each coarse row.
+    std::vector<int> coarseColumn(static_cast<std::size_t>(f.width));
+    for (int x = 0; x < f.width; ++x) coarseColumn[x] = std::min(c.width - 1, static_cast<int>((x + 0.5) * c.width / f.width));
+    std::vector<std::vector<int>> fineRows(static_cast<std::size_t>(c.height));
+    for (int y = 0; y < f.height; ++y) fineRows[std::min(c.height - 1, static_cast<int>((y + 0.5) * c.height / f.height))].push_back(y);
+    tbb::parallel_for(0, c.height, [&](int cy) {
+      std::vector<double> sums(static_cast<std::size_t>(c.width) * 4, 0.0);   // rgb, weight
+      std::vector<double> plain(static_cast<std::size_t>(c.width) * 4, 0.0);  // rgb, count
+      for (const int y : fineRows[cy]) {
+        const double rowWeight = rowWeights ? mipTexelWeight(fineMap, f.x0, f.y0 + y) : 0.0;
+        const float* row = fine.data() + fine.index(f.x0, f.y0 + y);
+        for (int x = 0; x < f.width; ++x) {
+          const double w = rowWeights ? rowWeight : mipTexelWeight(fineMap, f.x0 + x, f.y0 + y);
+          const float* v = row + 4 * x;
+          double* s = &sums[static_cast<std::size_t>(coarseColumn[x]) * 4];
+          double* p = &plain[static_cast<std::size_t>(coarseColumn[x]) * 4];
+          for (int k = 0; k < 3; ++k) s[k] += w * v[k], p[k] += v[k];
+          s[3] += w, p[3] += 1.0;
         }
-        sums[i + 3] += w;
-        plain[i + 3] += 1.0;
       }
-    }
-    for (int y = 0; y < c.height; ++y) {
       for (int x = 0; x < c.width; ++x) {
-        const std::size_t i = (static_cast<std::size_t>(c.y0 + y) * coarse.width() + c.x0 + x) * 4;
+        const double* s = &sums[static_cast<std::size_t>(x) * 4];
+        const double* p = &plain[static_cast<std::size_t>(x) * 4];
         Rgba value;
-        if (sums[i + 3] > 0.0) {
-          value << sums[i] / sums[i + 3], sums[i + 1] / sums[i + 3], sums[i + 2] / sums[i + 3], 0.0;
+        if (s[3] > 0.0) {
+          value << s[0] / s[3], s[1] / s[3], s[2] / s[3], 0.0;
         } else {
-          value << plain[i] / plain[i + 3], plain[i + 1] / plain[i + 3], plain[i + 2] / plain[i + 3], 0.0;
+          value << p[0] / p[3], p[1] / p[3], p[2] / p[3], 0.0;
         }
-        value[3] = coarseMap->texelCoverage(c.x0 + x, c.y0 + y);
-        coarse.set(c.x0 + x, c.y0 + y, value);
+        value[3] = coarseMap->texelCoverage(c.x0 + x, c.y0 + cy);
+        coarse.set(c.x0 + x, c.y0 + cy, value);
       }
-    }
+    });
   }
   return coarse;
 }

@@ -67,20 +67,26 @@ Rgba sampleBilinear(const Image& image, const Vec2& pixel, const TexelRect& regi
   const double fx = pixel.x() - 0.5 - region.x0, fy = pixel.y() - 0.5 - region.y0;
   const double x0f = std::floor(fx), y0f = std::floor(fy);
   const double wx = fx - x0f, wy = fy - y0f;
-  auto column = [&](double i) {
-    int c = static_cast<int>(i);
-    if (wrapX) {
-      c %= region.width;
-      if (c < 0) c += region.width;
-    } else {
-      c = std::clamp(c, 0, region.width - 1);
-    }
-    return region.x0 + c;
-  };
-  auto row = [&](double j) { return region.y0 + std::clamp(static_cast<int>(j), 0, region.height - 1); };
-  const int xa = column(x0f), xb = column(x0f + 1), ya = row(y0f), yb = row(y0f + 1);
-  return (1 - wy) * ((1 - wx) * image.at(xa, ya) + wx * image.at(xb, ya)) +
-         wy * ((1 - wx) * image.at(xa, yb) + wx * image.at(xb, yb));
+  int xa, xb;
+  if (wrapX) {
+    xa = static_cast<int>(x0f) % region.width;
+    if (xa < 0) xa += region.width;
+    xb = xa + 1 == region.width ? 0 : xa + 1;
+  } else {
+    xa = std::clamp(static_cast<int>(x0f), 0, region.width - 1);
+    xb = std::clamp(static_cast<int>(x0f) + 1, 0, region.width - 1);
+  }
+  const int ya = std::clamp(static_cast<int>(y0f), 0, region.height - 1);
+  const int yb = std::clamp(static_cast<int>(y0f) + 1, 0, region.height - 1);
+  const float* p00 = image.data() + image.index(region.x0 + xa, region.y0 + ya);
+  const float* p10 = image.data() + image.index(region.x0 + xb, region.y0 + ya);
+  const float* p01 = image.data() + image.index(region.x0 + xa, region.y0 + yb);
+  const float* p11 = image.data() + image.index(region.x0 + xb, region.y0 + yb);
+  Rgba value;
+  for (int k = 0; k < 4; ++k) {
+    value[k] = (1 - wy) * ((1 - wx) * p00[k] + wx * p10[k]) + wy * ((1 - wx) * p01[k] + wx * p11[k]);
+  }
+  return value;
 }
 
 Rgba sampleBilinear(const Image& image, const Parameterization& map, const Vec3& direction) {

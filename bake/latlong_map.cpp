@@ -2,12 +2,13 @@
 
 namespace brdfbake {
 
-MapAddress LatLongMap::getAddressFor(const Vec3& direction) const {
-  const Vec3 r = checkedUnit(direction);
+MapAddress LatLongMap::getAddressFor(const Vec3& direction) const { return {pixelForUnit(checkedUnit(direction)), 0}; }
+
+Vec2 LatLongMap::pixelForUnit(const Vec3& r) const {
   const double phi = std::atan2(r.x(), -r.z());  // 0 at -z, +pi/2 at +x
   const double theta = std::acos(clampFinite(r.y(), -1.0, 1.0));
   const double n = resolution();
-  return {Vec2((phi / kTwoPi + 0.5) * 2.0 * n, theta / kPi * n), 0};
+  return Vec2((phi / kTwoPi + 0.5) * 2.0 * n, theta / kPi * n);
 }
 
 std::optional<Vec3> LatLongMap::getDirectionFor(const Vec2& pixel) const {

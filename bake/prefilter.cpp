@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include <atomic>
+#include <functional>
 #include <map>
 #include <chrono>
 #include <mutex>
@@ -300,6 +301,9 @@ std::vector<CandidateSpec> candidatesFor(const PrefilterOptions& options, Contex
     if (options.directTexelsPerWidth > 0.0) {
       specs.push_back(makeSpec(PrefilterMethod::Direct, 0, 0, options.directTexelsPerWidth, 1e-6));
     } else if (!fixed) {
+      // q = 1 (texels as wide as the lobe, 1e-3 of its mass left out) trades accuracy for a quarter
+      // of q = 2's texels: loose bounds on narrow lobes.
+      specs.push_back(makeSpec(PrefilterMethod::Direct, 0, 0, 1.0, 1e-3));
       specs.push_back(makeSpec(PrefilterMethod::Direct, 0, 0, 2.0, 1e-4));
       specs.push_back(makeSpec(PrefilterMethod::Direct, 0, 0, 4.0, 1e-5));
       specs.push_back(makeSpec(PrefilterMethod::Direct, 0, 0, 8.0, 1e-6));
@@ -367,8 +371,11 @@ Probes makeProbes(Context& context, const PrefilterOptions& options, double floo
   const int guidedLevel = pyramid.levelFor(kPi / 64.0);
   const auto& G = pyramid.level(guidedLevel);
   std::vector<double> cdf(static_cast<std::size_t>(G.width) * G.height + 1, 0.0);
+  std::vector<Vec3> centres;
+  centres.reserve(cdf.size() - 1);
   for (int y = 0; y < G.height; ++y)
     for (int x = 0; x < G.width; ++x) {
+      centres.push_back(G.direction(x, y));
       const Rgb v = G.at(x, y);
       const double luminance = std::max(0.0, 0.2126 * v[0] + 0.7152 * v[1] + 0.0722 * v[2]);
       const std::size_t i = static_cast<std::size_t>(y) * G.width + x;
@@ -387,8 +394,7 @@ Probes makeProbes(Context& context, const PrefilterOptions& options, double floo
   for (int i = 0; i < guided; ++i) {
     const double u = (i + uniform(rng)) / guided * total;
     const std::size_t k = std::min<std::size_t>(cdf.size() - 2, std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin() - 1);
-    const int y = static_cast<int>(k / G.width), x = static_cast<int>(k % G.width);
-    const Vec3 centre(G.rowSin[y] * G.columnSin[x], G.rowCos[y], -G.rowSin[y] * G.columnCos[x]);
+    const Vec3& centre = centres[k];
     const double theta = lobe.sampleAngle(uniform(rng)), phi = kTwoPi * uniform(rng);
     const Vec3 t = anyPerpendicular(centre), b = centre.cross(t);
     probes.axes.push_back((std::sin(theta) * (std::cos(phi) * t + std::sin(phi) * b) + std::cos(theta) * centre).normalized());
@@ -396,27 +402,39 @@ Probes makeProbes(Context& context, const PrefilterOptions& options, double floo
   // Weights: (1/4pi) / q(d), q the mixture density the probes were drawn from.
   probes.weights.assign(probes.axes.size(), 1.0);
   probes.reference.resize(probes.axes.size());
-  // The reference on the probes: the lobe (tabulated to 1e-6 of its peak) over all but 1e-7 of its
-  // mass, on the finest level needed (texels <= width / 16, else level 0 split into sub-samples
-  // <= width / 8).
-  const int referenceLevel = pyramid.levelFor(lobe.width() / 16.0);
-  const int sub = std::clamp(static_cast<int>(std::ceil(8.0 * pyramid.texelAngle(referenceLevel) / std::max(lobe.width(), 1e-12))), 1, 8);
+  // The reference on the probes, over all but 1e-7 of the lobe's mass with the lobe tabulated to
+  // 1e-6 of its peak. A resampled input (not a power-of-two lat-long) under a lobe narrower than 16
+  // texels of the working lat-long is summed over its own texels (ReferenceSummer), not over the
+  // pyramid the candidates read, so the resampling error is part of the estimate. Otherwise the
+  // finest pyramid level needed is summed (texels <= width / 16, or level 0 split into sub-samples
+  // <= width / 8): a power-of-two lat-long input is its pyramid's level 0 (coarser levels are exact
+  // solid-angle means of its texels), and a lobe wider than 16 texels averages the resampling's
+  // local error away (its 2 x 2 bilinear means keep each neighbourhood's mean), while summing a
+  // hemisphere of input texels per probe would cost seconds.
   const auto table = context.table();
   const RadialTable::View profile = table->view();
-  const detail::DirectSummer reference(pyramid, lobe, referenceLevel, std::cos(lobe.tailAngle(1e-7)), sub, table);
+  const double cosCap = std::cos(lobe.tailAngle(1e-7));
+  std::function<Rgb(const Vec3&)> reference;
+  std::optional<detail::DirectSummer> pyramidSum;
+  std::optional<detail::ReferenceSummer> ownTexels;
+  if (pyramid.resampled() && lobe.width() < 16.0 * pyramid.texelAngle(0)) {
+    ownTexels.emplace(context.environment(), lobe, cosCap, table);
+    reference = [&](const Vec3& axis) { return ownTexels->value(axis); };
+  } else {
+    const int level = pyramid.levelFor(lobe.width() / 16.0);
+    const int sub = std::clamp(static_cast<int>(std::ceil(8.0 * pyramid.texelAngle(level) / std::max(lobe.width(), 1e-12))), 1, 8);
+    pyramidSum.emplace(pyramid, lobe, level, cosCap, sub, table);
+    reference = [&](const Vec3& axis) { return pyramidSum->value(axis); };
+  }
   tbb::parallel_for(0, static_cast<int>(probes.axes.size()), [&](int p) {
     const Vec3& d = probes.axes[p];
-    probes.reference[p] = reference.value(d);
+    probes.reference[p] = reference(d);
     if (guided > 0) {
       double density = 0.0;
-      for (int y = 0; y < G.height; ++y)
-        for (int x = 0; x < G.width; ++x) {
-          const std::size_t i = static_cast<std::size_t>(y) * G.width + x;
-          const double pi = cdf[i + 1] - cdf[i];
-          if (pi <= 0.0) continue;
-          const Vec3 centre(G.rowSin[y] * G.columnSin[x], G.rowCos[y], -G.rowSin[y] * G.columnCos[x]);
-          density += pi * profile(0.5 * (d - centre).norm());  // u = sin(theta / 2)
-        }
+      for (std::size_t i = 0; i < centres.size(); ++i) {
+        const double pi = cdf[i + 1] - cdf[i];
+        if (pi > 0.0) density += pi * profile(0.5 * (d - centres[i]).norm());  // u = sin(theta / 2)
+      }
       density /= total * lobe.mass();
       const double q = (static_cast<double>(uniformCount) / count) / kFourPi + (static_cast<double>(guided) / count) * density;
       probes.weights[p] = 1.0 / (kFourPi * q);
@@ -482,6 +500,197 @@ void requireFiniteOutput(const Image& image) {
       }
 }
 
+// ---- the steps of prefilter() ------------------------------------------------------------------
+
+// The output map, refused above options.maxTexels unless large maps are allowed.
+std::shared_ptr<const Parameterization> outputMap(const PrefilterOptions& options) {
+  std::shared_ptr<const Parameterization> map(makeParameterization(options.parameterization, options.resolution));
+  const long long texels = static_cast<long long>(map->width()) * map->height();
+  if (texels > options.maxTexels && !options.allowLarge) {
+    std::ostringstream message;
+    message << "a " << map->width() << " x " << map->height() << " map needs "
+            << static_cast<double>(texels) * 16.0 / (1u << 30) << " GiB of float RGBA, more than the limit of "
+            << static_cast<double>(options.maxTexels) * 16.0 / (1u << 30) << " GiB; lower the resolution or allow large maps";
+    throw Error(Error::Kind::Resource, message.str());
+  }
+  return map;
+}
+
+// The mirror lobe: the environment looked up over each texel's footprint (the baker's supersampling).
+Image resampleMirror(const Environment& environment, const Parameterization& map, const PrefilterOptions& options,
+                     PrefilterSummary& summary) {
+  if (options.method != PrefilterMethod::Auto && options.method != PrefilterMethod::Reference) {
+    throw Error(Error::Kind::InvalidArgument, "the mirror lobe is plain resampling (no integral); --method " +
+                                                  std::string(toString(options.method)) + " applies to filtered lobes only");
+  }
+  const auto outputStart = Clock::now();
+  const Mat3 rotation = options.parameterization == ParameterizationKind::Sphere ? eyeToEnvironment(options) : Mat3::Identity();
+  const RotatedEnvironment function(environment, rotation);
+  BakeOptions bakeOptions;
+  bakeOptions.samplesPerTexel = options.mirrorSamples;
+  bakeOptions.threads = options.threads;
+  bakeOptions.maxTexels = options.maxTexels;
+  bakeOptions.allowLarge = options.allowLarge;
+  bakeOptions.progress = options.progress;
+  Image image = bake(map, function, bakeOptions);
+  summary.method = PrefilterMethod::Resample;
+  summary.detail = std::to_string(options.mirrorSamples) + " footprint samples per texel";
+  summary.exact = true;
+  summary.metTarget = true;
+  summary.outputSeconds = secondsSince(outputStart);
+  return image;
+}
+
+// The reference sum, asked for or as auto's fallback (with a note); exact by definition.
+std::unique_ptr<Evaluator> useReference(Context& context, const Workload& work, PrefilterSummary& summary, const std::string& note) {
+  const auto setupStart = Clock::now();
+  auto evaluator = build(makeSpec(PrefilterMethod::Reference), context);
+  const auto& summer = static_cast<const ReferenceEvaluator&>(*evaluator).summer;
+  summary.method = PrefilterMethod::Reference;
+  summary.detail = std::to_string(summer.samples()) + " input samples (" + std::to_string(summer.subdivision()) + "x" +
+                   std::to_string(summer.subdivision()) + " per texel)";
+  summary.exact = true;
+  summary.metTarget = true;
+  summary.errorEstimated = false;
+  summary.errorEstimate = summary.errorEstimateMax = 0.0;
+  if (!note.empty()) summary.notes.push_back(note);
+  PrefilterCandidate candidate{PrefilterMethod::Reference, summary.detail,
+                               work.outputPoints * summer.samples() * kReferencePerSample / work.threads, secondsSince(setupStart)};
+  candidate.chosen = true;
+  summary.candidates.push_back(candidate);
+  return evaluator;
+}
+
+// Records `candidate` as the method that makes the map. Whether it met the bound is known only
+// when its error was estimated.
+void recordChoice(PrefilterSummary& summary, PrefilterCandidate& candidate, bool estimated) {
+  candidate.chosen = true;
+  summary.method = candidate.method;
+  summary.detail = candidate.detail;
+  summary.exact = false;
+  summary.errorEstimated = estimated;
+  summary.errorEstimate = estimated ? std::max(0.0, candidate.errorEstimate) : 0.0;
+  summary.errorEstimateMax = estimated ? std::max(0.0, candidate.errorEstimateMax) : 0.0;
+  summary.metTarget = estimated && candidate.errorEstimate <= summary.maxError;
+}
+
+// Auto's memory of the candidates that failed: it skips a candidate when one already tried predicts
+// it will fail: the same setting on another grid failed by more than 2x, or a coarser setting of the
+// same method failed by more than the method's convergence can make up (importance sampling's error
+// falls as 1/sqrt(samples), the direct sum's as 1/q^2, SH's as the lobe's coefficients beyond the
+// order), with a factor 1.5 to spare.
+class FailureMemory {
+ public:
+  explicit FailureMemory(double target) : target_(target) {}
+  void add(const CandidateSpec& spec, double error) { failures_.emplace_back(spec, error); }
+  double predictedError(const CandidateSpec& spec) const {
+    double worst = 0.0;
+    for (const auto& [tried, error] : failures_) {
+      if (tried.method != spec.method) continue;
+      if (tried.shOrder == spec.shOrder && tried.samples == spec.samples && tried.q == spec.q && error > 2.0 * target_) {
+        worst = std::max(worst, error);
+      }
+      if (spec.method == PrefilterMethod::Importance && spec.samples > tried.samples) {
+        worst = std::max(worst, error * std::sqrt(static_cast<double>(tried.samples) / spec.samples) / 1.5);
+      }
+      if (spec.method == PrefilterMethod::SphericalHarmonics && spec.shOrder > tried.shOrder && tried.shTail > 0.0) {
+        worst = std::max(worst, error * spec.shTail / tried.shTail / 1.5);
+      }
+      if (spec.method == PrefilterMethod::Direct && spec.q > tried.q) {
+        worst = std::max(worst, error * (tried.q / spec.q) * (tried.q / spec.q) / 1.5);
+      }
+    }
+    return worst;
+  }
+
+ private:
+  double target_;
+  std::vector<std::pair<CandidateSpec, double>> failures_;
+};
+
+// Tries the fast candidates cheapest first and returns the first whose estimated RMS error is within
+// 0.8 x the bound (the margin covers the estimate's own spread), or, without estimation, the
+// first. A named method that met no bound keeps its most accurate setting, with a note. Null when
+// auto found nothing (the caller falls back to the reference).
+std::unique_ptr<Evaluator> chooseFastMethod(Context& context, const Workload& work, const PrefilterOptions& options,
+                                            PrefilterSummary& summary) {
+  const auto specs = candidatesFor(options, context, work);
+  const bool automatic = options.method == PrefilterMethod::Auto;
+  const bool estimating = options.estimateError || automatic;
+  std::optional<Probes> probes;
+  if (estimating) {
+    probes = makeProbes(context, options, prefilterErrorFloor(context.environment(), context.lobe()));
+    summary.estimateSeconds += probes->seconds;
+  }
+  const double target = 0.8 * options.maxError;
+  FailureMemory failures(target);
+  std::unique_ptr<Evaluator> best;
+  std::size_t bestIndex = 0;
+  for (const CandidateSpec& spec : specs) {
+    if (estimating && automatic) {
+      if (const double predicted = failures.predictedError(spec); predicted > target) {
+        summary.candidates.push_back({spec.method, spec.detail + " (skipped: predicted error " + formatG(100.0 * predicted) + " %)",
+                                      spec.predicted, 0.0});
+        continue;
+      }
+    }
+    const auto setupStart = Clock::now();
+    auto evaluator = build(spec, context);
+    PrefilterCandidate candidate{spec.method, spec.detail, spec.predicted, secondsSince(setupStart)};
+    if (estimating) {
+      const auto estimateStart = Clock::now();
+      estimate(*evaluator, *probes, candidate.errorEstimate, candidate.errorEstimateMax);
+      summary.estimateSeconds += secondsSince(estimateStart);
+    }
+    summary.candidates.push_back(candidate);
+    if (!estimating || candidate.errorEstimate <= target) {
+      recordChoice(summary, summary.candidates.back(), estimating);
+      return evaluator;
+    }
+    failures.add(spec, candidate.errorEstimate);
+    if (!best || candidate.errorEstimate < summary.candidates[bestIndex].errorEstimate) {
+      best = std::move(evaluator);
+      bestIndex = summary.candidates.size() - 1;
+    }
+  }
+  if (!best || automatic) return nullptr;
+  recordChoice(summary, summary.candidates[bestIndex], true);
+  summary.notes.push_back("no " + std::string(toString(options.method)) + " setting met the error bound; used the most accurate one tried");
+  return best;
+}
+
+// A filtered lobe: chooses the method (reference, or the fast candidates with auto's fallback)
+// and evaluates it at every output texel.
+Image filterWithLobe(const Environment& environment, const PrefilterLobe& lobe, const Parameterization& map,
+                     const PrefilterOptions& options, int threads, PrefilterSummary& summary) {
+  Context context(environment, lobe);
+  Workload work;
+  work.outputPoints = static_cast<double>(map.width()) * map.height();
+  work.threads = threads;
+  std::unique_ptr<Evaluator> chosen;
+  if (options.method == PrefilterMethod::Reference) {
+    chosen = useReference(context, work, summary, "");
+  } else {
+    chosen = chooseFastMethod(context, work, options, summary);
+    if (!chosen) chosen = useReference(context, work, summary, "no fast method met the error bound; fell back to the reference sum");
+  }
+  const auto outputStart = Clock::now();
+  Image image = evaluateOutput(map, *chosen, lobe, options);
+  summary.outputSeconds = secondsSince(outputStart);
+  return image;
+}
+
+// Level 0 and, if asked, its solid-angle mip chain; cube edges fixed and paraboloid borders aligned
+// at every level.
+std::vector<Image> outputLevels(Image level0, const Parameterization& map, bool mips) {
+  if (mips) return environmentMipChain(level0, map);
+  if (map.kind() == ParameterizationKind::Cube) fixCubeEdges(level0, static_cast<const CubeMap&>(map));
+  if (map.kind() == ParameterizationKind::Paraboloid) alignParaboloidBorder(level0, static_cast<const ParaboloidMap&>(map));
+  std::vector<Image> levels;
+  levels.push_back(std::move(level0));
+  return levels;
+}
+
 }  // namespace
 
 // ---- public ----------------------------------------------------------------------------------
@@ -531,11 +740,11 @@ std::string PrefilterSummary::briefReport() const {
   std::ostringstream out;
   out << lobe << " by " << toString(method);
   if (!detail.empty()) out << " (" << detail << ")";
-  if (errorEstimated) {
+  if (exact) {
+    out << ": exact";
+  } else if (errorEstimated) {
     out << ": estimated RMS relative error " << formatG(100.0 * errorEstimate) << " % (bound " << formatG(100.0 * maxError) << " %"
         << (metTarget ? "" : ", NOT met") << ")";
-  } else if (method == PrefilterMethod::Reference || method == PrefilterMethod::Resample) {
-    out << ": exact";
   } else {
     out << ": error not estimated (estimation off)";
   }
@@ -558,10 +767,9 @@ nlohmann::json PrefilterSummary::toJson() const {
                         {"max_error", maxError},
                         {"error_metric", "rms_relative"},
                         {"error_estimated", errorEstimated},
-                        {"met_target", errorEstimated || method == PrefilterMethod::Reference ||
-                                                   method == PrefilterMethod::Resample
-                                           ? nlohmann::json(metTarget)
-                                           : nlohmann::json(nullptr)},  // unknown when nothing was estimated
+                        {"exact", exact},
+                        {"met_target", errorEstimated || exact ? nlohmann::json(metTarget)
+                                                               : nlohmann::json(nullptr)},  // unknown when nothing was estimated
                         {"levels", levels},
                         {"filter_seconds", seconds},
                         {"estimate_seconds", estimateSeconds},
@@ -630,182 +838,43 @@ PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lo
   options.validate();
   require(environment.map && !environment.image.empty(), "prefilter: empty environment");
   const auto start = Clock::now();
-  std::shared_ptr<const Parameterization> map(makeParameterization(options.parameterization, options.resolution));
-  const long long texels = static_cast<long long>(map->width()) * map->height();
-  if (texels > options.maxTexels && !options.allowLarge) {
-    std::ostringstream message;
-    message << "a " << map->width() << " x " << map->height() << " map needs "
-            << static_cast<double>(texels) * 16.0 / (1u << 30) << " GiB of float RGBA, more than the limit of "
-            << static_cast<double>(options.maxTexels) * 16.0 / (1u << 30) << " GiB; lower the resolution or allow large maps";
-    throw Error(Error::Kind::Resource, message.str());
-  }
   PrefilteredMap result;
-  result.map = map;
+  result.map = outputMap(options);
   PrefilterSummary& summary = result.summary;
   summary.lobe = lobe.name();
   summary.maxError = options.maxError;
-
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
-  const int threads = arena.max_concurrency();
   arena.execute([&] {
-    Image level0;
-    if (lobe.isMirror()) {
-      if (options.method != PrefilterMethod::Auto && options.method != PrefilterMethod::Reference) {
-        throw Error(Error::Kind::InvalidArgument, "the mirror lobe is plain resampling (no integral); --method " +
-                                                      std::string(toString(options.method)) + " applies to filtered lobes only");
-      }
-      const auto outputStart = Clock::now();
-      const Mat3 rotation = options.parameterization == ParameterizationKind::Sphere ? eyeToEnvironment(options) : Mat3::Identity();
-      const RotatedEnvironment function(environment, rotation);
-      BakeOptions bakeOptions;
-      bakeOptions.samplesPerTexel = options.mirrorSamples;
-      bakeOptions.threads = options.threads;
-      bakeOptions.maxTexels = options.maxTexels;
-      bakeOptions.allowLarge = options.allowLarge;
-      bakeOptions.progress = options.progress;
-      level0 = bake(*map, function, bakeOptions);
-      summary.method = PrefilterMethod::Resample;
-      summary.detail = std::to_string(options.mirrorSamples) + " footprint samples per texel";
-      summary.outputSeconds = secondsSince(outputStart);
-    } else {
-      Context context(environment, lobe);
-      Workload work;
-      work.outputPoints = static_cast<double>(texels);
-      work.threads = threads;
-      std::unique_ptr<Evaluator> chosen;
-      if (options.method == PrefilterMethod::Reference) {
-        const auto setupStart = Clock::now();
-        chosen = build(makeSpec(PrefilterMethod::Reference), context);
-        const auto& ref = static_cast<const ReferenceEvaluator&>(*chosen);
-        summary.method = PrefilterMethod::Reference;
-        summary.detail = std::to_string(ref.summer.samples()) + " input samples (" + std::to_string(ref.summer.subdivision()) +
-                         "x" + std::to_string(ref.summer.subdivision()) + " per texel)";
-        PrefilterCandidate c{PrefilterMethod::Reference, summary.detail,
-                             work.outputPoints * ref.summer.samples() * kReferencePerSample / threads, secondsSince(setupStart)};
-        c.chosen = true;
-        summary.candidates.push_back(c);
-      } else {
-        const auto specs = candidatesFor(options, context, work);
-        const bool estimating = options.estimateError || options.method == PrefilterMethod::Auto;
-        std::optional<Probes> probes;
-        if (estimating) {
-          probes = makeProbes(context, options, prefilterErrorFloor(environment, lobe));
-          summary.estimateSeconds += probes->seconds;
-        }
-        // Cheapest first. Auto skips a candidate when one already tried predicts it will fail: the
-        // same setting on another grid failed by more than 2x, or a coarser setting of the same
-        // method failed by more than the method's convergence can make up (importance sampling's
-        // error falls as 1/sqrt(samples), the direct sum's as 1/q^2, SH's as the lobe's
-        // coefficients beyond the order), with a factor 1.5 to spare.
-        const double target = 0.8 * options.maxError;
-        std::vector<std::pair<CandidateSpec, double>> failures;
-        auto predictedFailure = [&](const CandidateSpec& spec) -> double {
-          double worst = 0.0;
-          for (const auto& [tried, error] : failures) {
-            if (tried.method != spec.method) continue;
-            if (tried.shOrder == spec.shOrder && tried.samples == spec.samples && tried.q == spec.q && error > 2.0 * target) {
-              worst = std::max(worst, error);
-            }
-            if (spec.method == PrefilterMethod::Importance && spec.samples > tried.samples) {
-              worst = std::max(worst, error * std::sqrt(static_cast<double>(tried.samples) / spec.samples) / 1.5);
-            }
-            if (spec.method == PrefilterMethod::SphericalHarmonics && spec.shOrder > tried.shOrder && tried.shTail > 0.0) {
-              worst = std::max(worst, error * spec.shTail / tried.shTail / 1.5);
-            }
-            if (spec.method == PrefilterMethod::Direct && spec.q > tried.q) {
-              worst = std::max(worst, error * (tried.q / spec.q) * (tried.q / spec.q) / 1.5);
-            }
-          }
-          return worst;
-        };
-        std::unique_ptr<Evaluator> best;
-        PrefilterCandidate bestCandidate;
-        for (const CandidateSpec& spec : specs) {
-          if (estimating && options.method == PrefilterMethod::Auto) {
-            const double predicted = predictedFailure(spec);
-            if (predicted > target) {
-              PrefilterCandidate skipped{spec.method, spec.detail + " (skipped: predicted error " + formatG(100.0 * predicted) + " %)",
-                                         spec.predicted, 0.0};
-              summary.candidates.push_back(skipped);
-              continue;
-            }
-          }
-          const auto setupStart = Clock::now();
-          auto evaluator = build(spec, context);
-          PrefilterCandidate candidate{spec.method, spec.detail, spec.predicted, secondsSince(setupStart)};
-          bool accept = !estimating;
-          if (estimating) {
-            const auto estimateStart = Clock::now();
-            estimate(*evaluator, *probes, candidate.errorEstimate, candidate.errorEstimateMax);
-            summary.estimateSeconds += secondsSince(estimateStart);
-            accept = candidate.errorEstimate <= target;
-          }
-          if (accept) {
-            candidate.chosen = true;
-            summary.method = spec.method;
-            summary.detail = spec.detail;
-            summary.errorEstimated = estimating;
-            summary.errorEstimate = std::max(0.0, candidate.errorEstimate);
-            summary.errorEstimateMax = std::max(0.0, candidate.errorEstimateMax);
-            summary.metTarget = !estimating || candidate.errorEstimate <= options.maxError;
-            summary.candidates.push_back(candidate);
-            chosen = std::move(evaluator);
-            break;
-          }
-          failures.emplace_back(spec, candidate.errorEstimate);
-          summary.candidates.push_back(candidate);
-          if (!best || candidate.errorEstimate < bestCandidate.errorEstimate) {
-            best = std::move(evaluator);
-            bestCandidate = candidate;
-          }
-        }
-        if (!chosen && best && options.method != PrefilterMethod::Auto) {
-          // A named method keeps its most accurate setting tried, and says so.
-          for (auto& c : summary.candidates)
-            if (c.detail == bestCandidate.detail && c.method == bestCandidate.method) c.chosen = true;
-          summary.method = bestCandidate.method;
-          summary.detail = bestCandidate.detail;
-          summary.errorEstimated = true;
-          summary.errorEstimate = bestCandidate.errorEstimate;
-          summary.errorEstimateMax = bestCandidate.errorEstimateMax;
-          summary.metTarget = bestCandidate.errorEstimate <= options.maxError;
-          summary.notes.push_back("no " + std::string(toString(options.method)) +
-                                  " setting met the error bound; used the most accurate one tried");
-          chosen = std::move(best);
-        }
-        if (!chosen) {
-          // Auto: nothing fast met the bound (or no candidate applies): the reference does.
-          chosen = build(makeSpec(PrefilterMethod::Reference), context);
-          const auto& ref = static_cast<const ReferenceEvaluator&>(*chosen);
-          summary.method = PrefilterMethod::Reference;
-          summary.detail = std::to_string(ref.summer.samples()) + " input samples";
-          summary.errorEstimated = false;
-          summary.errorEstimate = 0.0;
-          summary.notes.push_back("no fast method met the error bound; fell back to the reference sum");
-          PrefilterCandidate c{PrefilterMethod::Reference, summary.detail,
-                               work.outputPoints * ref.summer.samples() * kReferencePerSample / threads, 0.0};
-          c.chosen = true;
-          summary.candidates.push_back(c);
-        }
-      }
-      const auto outputStart = Clock::now();
-      level0 = evaluateOutput(*map, *chosen, lobe, options);
-      summary.outputSeconds = secondsSince(outputStart);
-    }
+    Image level0 = lobe.isMirror() ? resampleMirror(environment, *result.map, options, summary)
+                                   : filterWithLobe(environment, lobe, *result.map, options, arena.max_concurrency(), summary);
     requireFiniteOutput(level0);
     const auto mipStart = Clock::now();
-    if (options.mips) {
-      result.levels = environmentMipChain(level0, *map);
-    } else {
-      if (options.parameterization == ParameterizationKind::Cube) fixCubeEdges(level0, static_cast<const CubeMap&>(*map));
-      if (options.parameterization == ParameterizationKind::Paraboloid) alignParaboloidBorder(level0, static_cast<const ParaboloidMap&>(*map));
-      result.levels.push_back(std::move(level0));
-    }
+    result.levels = outputLevels(std::move(level0), *result.map, options.mips);
     summary.mipSeconds = secondsSince(mipStart);
   });
   summary.levels = static_cast<int>(result.levels.size());
   summary.seconds = secondsSince(start);
   return result;
+}
+
+void mergePrefilterSummary(PrefilterSummary& into, const PrefilterSummary& part, const std::string& label, bool first) {
+  if (into.method == PrefilterMethod::Auto || (part.method != PrefilterMethod::Resample && part.method != PrefilterMethod::Reference)) {
+    into.method = part.method;
+  }
+  into.errorEstimated = into.errorEstimated || part.errorEstimated;
+  into.exact = first ? part.exact : into.exact && part.exact;
+  into.metTarget = first ? part.metTarget : into.metTarget && part.metTarget;
+  into.errorEstimate = std::max(into.errorEstimate, part.errorEstimate);
+  into.errorEstimateMax = std::max(into.errorEstimateMax, part.errorEstimateMax);
+  into.estimateSeconds += part.estimateSeconds;
+  into.outputSeconds += part.outputSeconds;
+  into.mipSeconds += part.mipSeconds;
+  into.levels = part.levels;
+  for (auto candidate : part.candidates) {
+    candidate.detail = label + ": " + candidate.detail;
+    into.candidates.push_back(candidate);
+  }
+  for (const auto& note : part.notes) into.notes.push_back(label + ": " + note);
 }
 
 PrefilteredMap prefilterLobeModel(const Environment& environment, const LobeModel& model, const std::string& name,
@@ -829,7 +898,8 @@ PrefilteredMap prefilterLobeModel(const Environment& environment, const LobeMode
   Image sum;
   for (const auto& [exponent, weight] : terms) {
     const PrefilteredMap part = prefilter(environment, PrefilterLobe::phong(exponent), run);
-    if (sum.empty()) {
+    const bool first = sum.empty();
+    if (first) {
       sum = part.levels[0];
       result.map = part.map;
       for (int y = 0; y < sum.height(); ++y)
@@ -843,19 +913,7 @@ PrefilteredMap prefilterLobeModel(const Environment& environment, const LobeMode
       }
     const PrefilterSummary& s = part.summary;
     detail << (detail.tellp() > 0 ? "; " : "") << s.lobe << " by " << toString(s.method);
-    if (s.method != PrefilterMethod::Resample && s.method != PrefilterMethod::Reference) summary.method = s.method;
-    if (summary.method == PrefilterMethod::Auto) summary.method = s.method;
-    summary.errorEstimated = summary.errorEstimated || s.errorEstimated;
-    summary.errorEstimate = std::max(summary.errorEstimate, s.errorEstimate);
-    summary.errorEstimateMax = std::max(summary.errorEstimateMax, s.errorEstimateMax);
-    summary.metTarget = summary.metTarget && s.metTarget;
-    summary.estimateSeconds += s.estimateSeconds;
-    summary.outputSeconds += s.outputSeconds;
-    for (auto candidate : s.candidates) {
-      candidate.detail = s.lobe + ": " + candidate.detail;
-      summary.candidates.push_back(candidate);
-    }
-    for (const auto& note : s.notes) summary.notes.push_back(s.lobe + ": " + note);
+    mergePrefilterSummary(summary, s, s.lobe, first);
   }
   if (terms.empty()) {
     throw Error(Error::Kind::InvalidArgument, name + ": the model has no lobe of non-zero weight to prefilter");
@@ -889,7 +947,7 @@ MapWriteReport writePrefilteredMap(const PrefilteredMap& map, const std::filesys
                                         {"max_error", s.maxError},
                                         {"error_metric", "rms_relative"},
                                         {"error_estimate", s.errorEstimated ? nlohmann::json(s.errorEstimate) : nlohmann::json(nullptr)},
-                                        {"exact", !s.errorEstimated && (s.method == PrefilterMethod::Reference || s.method == PrefilterMethod::Resample)},
+                                        {"exact", s.exact},
                                         {"mip_level", level},
                                         {"mip_levels", count}});
     return info;

@@ -3,6 +3,8 @@
 // evaluators (direct sum, filtered importance sampling, spherical harmonics, interpolation grid,
 // reference) that give the prefiltered value at one axis.
 #include <brdfbake/bake/environment.hpp>
+#include <brdfbake/bake/image.hpp>
+#include <brdfbake/bake/latlong_map.hpp>
 #include <brdfbake/bake/prefilter_lobe.hpp>
 #include <brdfbake/bake/radial_table.hpp>
 #include <brdfbake/bake/sh.hpp>
@@ -12,35 +14,36 @@
 
 namespace brdfbake::detail {
 
-// One level of a lat-long image: H rows, W = 2H columns, RGB floats; row y spans
-// theta in [y, y+1] pi/H, column x spans phi in [x, x+1] 2pi/W - pi (docs/conventions.md).
+// One level of the working lat-long: an Image of LatLongMap(H) (2H x H texels, the library's
+// convention, latlong_map.hpp) with tables the direct sums' inner loops read instead of calling
+// trigonometric functions: cos and sin of theta at the row centres and edges, of phi at the column
+// centres, and the solid angle of one texel of each row. The tables are taken from the map's own
+// directions, so they follow its convention.
 struct LatLongLevel {
+  explicit LatLongLevel(Image levelImage);
+  LatLongMap map;
+  Image image;
   int height = 0, width = 0;
-  std::vector<float> rgb;
   std::vector<double> rowCos, rowSin, rowSolidAngle;  // at row centres; solid angle of one texel of the row
   std::vector<double> edgeCos, edgeSin;               // of theta at the H + 1 row edges
   std::vector<double> columnCos, columnSin;           // of phi at column centres
 
   Rgb at(int x, int y) const {
-    const float* p = &rgb[(static_cast<std::size_t>(y) * width + x) * 3];
+    const float* p = image.data() + image.index(x, y);
     return {p[0], p[1], p[2]};
   }
-  // Bilinear at (theta, phi): texel centres at +0.5, wrapped in phi, clamped in theta.
-  Rgb bilinear(double theta, double phi) const;
-  void setGeometry();
+  // First of the row's RGBA floats.
+  const float* row(int y) const { return image.data() + image.index(0, y); }
+  // Direction of texel (x, y)'s centre.
+  Vec3 direction(int x, int y) const { return *map.getDirectionFor(Vec2(x + 0.5, y + 0.5)); }
+  // The library's bilinear filter (sampleBilinear): wrapped in phi, clamped in theta.
+  Rgb bilinear(const Vec3& direction) const { return sampleBilinear(image, map, direction).head<3>(); }
+  // The same at continuous pixel coordinates of this level.
+  Rgb bilinear(const Vec2& pixel) const { return sampleBilinear(image, pixel, map.region(0), true).head<3>(); }
 };
 
-// Direction of (theta, phi) in the environment's frame, and back.
-inline Vec3 latLongDirection(double theta, double phi) {
-  const double s = std::sin(theta);
-  return {s * std::sin(phi), std::cos(theta), -s * std::cos(phi)};
-}
-inline void latLongAngles(const Vec3& d, double& theta, double& phi) {
-  theta = std::acos(std::clamp(d.y(), -1.0, 1.0));
-  phi = std::atan2(d.x(), -d.z());
-}
-
-// The environment as a lat-long image with a power-of-two row count and its solid-angle mip chain.
+// The environment as a lat-long image with a power-of-two row count and its solid-angle mip chain
+// (downsampleEnvironment, env_mips.hpp).
 class LatLongPyramid {
  public:
   explicit LatLongPyramid(const Environment& environment);
@@ -50,7 +53,8 @@ class LatLongPyramid {
   double texelAngle(int index) const { return kPi / levels_[index].height; }
   // The coarsest level whose texels are no wider than `angle` (0 if none is).
   int levelFor(double angle) const;
-  Rgb trilinear(double theta, double phi, double lod) const;
+  // Bilinear within and linear between the two levels about `lod` (clamped to the chain); `direction` unit.
+  Rgb trilinear(const Vec3& direction, double lod) const;
   bool resampled() const { return resampled_; }
   // Solid-angle mean of |L| (RGB norm).
   double meanNorm() const { return meanNorm_; }
@@ -115,7 +119,8 @@ class ShFilter {
 // (Catmull-Rom; wrapped in phi, continued across the poles).
 class LatLongGrid {
  public:
-  explicit LatLongGrid(int height) : height_(height), width_(2 * height), values_(static_cast<std::size_t>(2 * height) * height) {}
+  explicit LatLongGrid(int height)
+      : map_(height), height_(height), width_(2 * height), values_(static_cast<std::size_t>(2 * height) * height) {}
   int height() const { return height_; }
   int width() const { return width_; }
   Vec3 direction(int x, int y) const;
@@ -123,22 +128,39 @@ class LatLongGrid {
   Rgb value(const Vec3& axis) const;
 
  private:
+  LatLongMap map_;
   int height_, width_;
   std::vector<Rgb> values_;
 };
 
 // The exact reference over the environment's own texels (sub-sampled where the lobe is narrow).
+// With a cap (cosCap > -1) only the samples within angle acos(cosCap) of the axis count: the samples
+// are kept sorted into the cells of a coarse lat-long grid, and a value visits only the cells
+// that can meet the cap, so a narrow lobe costs its support, not the sphere (the error probes).
 class ReferenceSummer {
  public:
-  ReferenceSummer(const Environment& environment, const PrefilterLobe& lobe);
+  // `table` (optional): the lobe tabulated on u = sin(theta/2) (RadialTable), read instead of the
+  // exact profile.
+  ReferenceSummer(const Environment& environment, const PrefilterLobe& lobe, double cosCap = -1.0,
+                  std::shared_ptr<const RadialTable> table = nullptr);
   Rgb value(const Vec3& axis) const;
   std::size_t samples() const { return x_.size(); }
   int subdivision() const { return sub_; }
 
  private:
+  void sortIntoCells();
+  // Adds Σ w Ω L and Σ w Ω over samples [begin, end) to out.
+  void sum(const Vec3& axis, std::size_t begin, std::size_t end, double out[4]) const;
   PrefilterLobe lobe_;
+  std::shared_ptr<const RadialTable> table_;
   int sub_ = 1;
+  double capAngle_ = kPi;
   std::vector<double> x_, y_, z_, weight_, r_, g_, b_;  // r, g, b premultiplied by weight
+  // Cells (capped only): samples of cell k are [cellStart_[k], cellStart_[k + 1]).
+  LatLongMap cells_{1};
+  std::vector<std::size_t> cellStart_;
+  std::vector<Vec3> cellCentre_;
+  double cellRadius_ = 0.0;
 };
 
 }  // namespace brdfbake::detail

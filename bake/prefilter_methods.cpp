@@ -1,5 +1,6 @@
 // The prefilter methods at one axis: working pyramid, direct sums, filtered importance sampling,
 // spherical harmonics, interpolation grid, and the exact reference.
+#include <brdfbake/bake/env_mips.hpp>
 #include <brdfbake/bake/latlong_map.hpp>
 #include <brdfbake/core/error.hpp>
 
@@ -36,95 +37,67 @@ void frame(const Vec3& axis, Vec3& t, Vec3& b) {
 
 // ---- lat-long levels -------------------------------------------------------------------------
 
-void LatLongLevel::setGeometry() {
-  const double dTheta = kPi / height, dPhi = kTwoPi / width;
+LatLongLevel::LatLongLevel(Image levelImage)
+    : map(levelImage.height()), image(std::move(levelImage)), height(map.height()), width(map.width()) {
+  require(image.width() == width && image.height() == height, "working lat-long: image is not 2N x N");
+  // Tables from the map's directions: at phi = 0 (pixel x = H) a direction is (0, cos theta, -sin theta),
+  // on the equator (pixel y = H/2) it is (sin phi, 0, -cos phi).
+  auto at = [&](double px, double py) { return *map.getDirectionFor(Vec2(px, py)); };
   rowCos.resize(height), rowSin.resize(height), rowSolidAngle.resize(height);
   edgeCos.resize(height + 1), edgeSin.resize(height + 1);
-  for (int y = 0; y <= height; ++y) edgeCos[y] = std::cos(y * dTheta), edgeSin[y] = std::sin(y * dTheta);
+  for (int y = 0; y <= height; ++y) {
+    const Vec3 d = at(height, y);
+    edgeCos[y] = d.y(), edgeSin[y] = -d.z();
+  }
   for (int y = 0; y < height; ++y) {
-    const double theta = (y + 0.5) * dTheta;
-    rowCos[y] = std::cos(theta), rowSin[y] = std::sin(theta);
-    rowSolidAngle[y] = dPhi * (std::cos(y * dTheta) - std::cos((y + 1) * dTheta));
+    const Vec3 d = at(height, y + 0.5);
+    rowCos[y] = d.y(), rowSin[y] = -d.z();
+    rowSolidAngle[y] = map.texelSolidAngle(0, y);
   }
   columnCos.resize(width), columnSin.resize(width);
   for (int x = 0; x < width; ++x) {
-    const double phi = (x + 0.5) * dPhi - kPi;
-    columnCos[x] = std::cos(phi), columnSin[x] = std::sin(phi);
+    const Vec3 d = at(x + 0.5, 0.5 * height);
+    columnCos[x] = -d.z(), columnSin[x] = d.x();
   }
 }
 
-Rgb LatLongLevel::bilinear(double theta, double phi) const {
-  const double px = (phi / kTwoPi + 0.5) * width - 0.5, py = theta / kPi * height - 0.5;
-  const double fx = std::floor(px), fy = std::floor(py);
-  const double wx = px - fx, wy = py - fy;
-  int x0 = static_cast<int>(fx) % width;
-  if (x0 < 0) x0 += width;
-  const int x1 = x0 + 1 == width ? 0 : x0 + 1;
-  const int y0 = std::clamp(static_cast<int>(fy), 0, height - 1), y1 = std::clamp(static_cast<int>(fy) + 1, 0, height - 1);
-  return (1.0 - wy) * ((1.0 - wx) * at(x0, y0) + wx * at(x1, y0)) + wy * ((1.0 - wx) * at(x0, y1) + wx * at(x1, y1));
-}
+namespace {
 
-LatLongPyramid::LatLongPyramid(const Environment& environment) {
+// Level 0 of the working lat-long: the input itself when it is a power-of-two lat-long image, else
+// the input resampled at enough rows to keep its finest texels (sphere texels ~4/N rad,
+// paraboloid rim and cube texels ~1/N ... 2/N rad), each texel the mean of 2 x 2 bilinear lookups.
+Image workingLatLong(const Environment& environment, bool& resampled) {
   const Parameterization& map = *environment.map;
-  LatLongLevel base;
-  const bool powerOfTwoLatLong = map.kind() == ParameterizationKind::LatLong && std::has_single_bit(static_cast<unsigned>(map.resolution()));
-  if (powerOfTwoLatLong) {
-    base.height = map.resolution();
-  } else {
-    // Rows enough to keep the input's finest texels: sphere texels ~4/N rad, paraboloid rim and
-    // cube texels ~1/N... 2/N rad.
-    const double factor = map.kind() == ParameterizationKind::Sphere ? 0.8 : map.kind() == ParameterizationKind::LatLong ? 1.0 : 1.6;
-    base.height = static_cast<int>(std::bit_ceil(static_cast<unsigned>(std::max(8.0, std::ceil(factor * map.resolution())))));
-    base.height = std::min(base.height, 4096);
-    resampled_ = true;
-  }
-  base.width = 2 * base.height;
-  base.rgb.resize(static_cast<std::size_t>(base.width) * base.height * 3);
-  base.setGeometry();
-  tbb::parallel_for(0, base.height, [&](int y) {
-    for (int x = 0; x < base.width; ++x) {
-      Rgb value;
-      if (powerOfTwoLatLong) {
-        value = environment.image.at(x, y).head<3>();
-      } else {
-        // Mean of 2 x 2 bilinear lookups over the texel's footprint.
-        value = Rgb::Zero();
-        for (int a = 0; a < 2; ++a)
-          for (int b = 0; b < 2; ++b) {
-            const double theta = (y + 0.25 + 0.5 * a) * kPi / base.height;
-            const double phi = (x + 0.25 + 0.5 * b) * kTwoPi / base.width - kPi;
-            value += environment.radiance(latLongDirection(theta, phi));
-          }
-        value *= 0.25;
-      }
-      float* p = &base.rgb[(static_cast<std::size_t>(y) * base.width + x) * 3];
-      p[0] = static_cast<float>(value[0]), p[1] = static_cast<float>(value[1]), p[2] = static_cast<float>(value[2]);
+  resampled = !(map.kind() == ParameterizationKind::LatLong && std::has_single_bit(static_cast<unsigned>(map.resolution())));
+  if (!resampled) return environment.image;
+  const double factor = map.kind() == ParameterizationKind::Sphere ? 0.8 : map.kind() == ParameterizationKind::LatLong ? 1.0 : 1.6;
+  const int rows = std::min(4096, static_cast<int>(std::bit_ceil(static_cast<unsigned>(std::max(8.0, std::ceil(factor * map.resolution()))))));
+  const LatLongMap base(rows);
+  Image image(base.width(), base.height(), Rgba(0, 0, 0, 1));
+  tbb::parallel_for(0, base.height(), [&](int y) {
+    for (int x = 0; x < base.width(); ++x) {
+      Rgb value = Rgb::Zero();
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b) value += environment.radiance(*base.getDirectionFor(Vec2(x + 0.25 + 0.5 * b, y + 0.25 + 0.5 * a)));
+      value *= 0.25;
+      image.set(x, y, Rgba(value[0], value[1], value[2], 1.0));
     }
   });
+  return image;
+}
+
+}  // namespace
+
+LatLongPyramid::LatLongPyramid(const Environment& environment) {
+  levels_.reserve(16);
+  levels_.emplace_back(workingLatLong(environment, resampled_));
+  // The solid-angle mip chain (as environmentMipChain makes it; lat-long levels need no fixup).
+  while (levels_.back().height > 1) levels_.emplace_back(downsampleEnvironment(levels_.back().image, levels_.back().map));
+  const LatLongLevel& L = levels_.front();
   double normSum = 0.0;
-  for (int y = 0; y < base.height; ++y)
-    for (int x = 0; x < base.width; ++x) normSum += base.rowSolidAngle[y] * rgbNorm(base.at(x, y));
+  for (int y = 0; y < L.height; ++y)
+    for (int x = 0; x < L.width; ++x) normSum += L.rowSolidAngle[y] * rgbNorm(L.at(x, y));
   meanNorm_ = normSum / kFourPi;
-  levels_.push_back(std::move(base));
-  while (levels_.back().height > 1) {
-    const LatLongLevel& fine = levels_.back();
-    LatLongLevel coarse;
-    coarse.height = fine.height / 2;
-    coarse.width = 2 * coarse.height;
-    coarse.rgb.resize(static_cast<std::size_t>(coarse.width) * coarse.height * 3);
-    coarse.setGeometry();
-    for (int y = 0; y < coarse.height; ++y) {
-      const double w0 = fine.rowSolidAngle[2 * y], w1 = fine.rowSolidAngle[2 * y + 1];
-      const double norm = 1.0 / (2.0 * (w0 + w1));
-      for (int x = 0; x < coarse.width; ++x) {
-        const Rgb v = (w0 * (fine.at(2 * x, 2 * y) + fine.at(2 * x + 1, 2 * y)) +
-                       w1 * (fine.at(2 * x, 2 * y + 1) + fine.at(2 * x + 1, 2 * y + 1))) * norm;
-        float* p = &coarse.rgb[(static_cast<std::size_t>(y) * coarse.width + x) * 3];
-        p[0] = static_cast<float>(v[0]), p[1] = static_cast<float>(v[1]), p[2] = static_cast<float>(v[2]);
-      }
-    }
-    levels_.push_back(std::move(coarse));
-  }
 }
 
 int LatLongPyramid::levelFor(double angle) const {
@@ -134,13 +107,15 @@ int LatLongPyramid::levelFor(double angle) const {
   return best;
 }
 
-Rgb LatLongPyramid::trilinear(double theta, double phi, double lod) const {
+Rgb LatLongPyramid::trilinear(const Vec3& direction, double lod) const {  // direction: unit
   lod = std::clamp(lod, 0.0, static_cast<double>(levels() - 1));
   const int l0 = static_cast<int>(lod);
   const double f = lod - l0;
-  const Rgb a = levels_[l0].bilinear(theta, phi);
+  // Lat-long pixel coordinates are linear in (phi, theta): address once, scale to each level.
+  const Vec2 pixel = levels_[0].map.pixelForUnit(direction) / levels_[0].height;
+  const Rgb a = levels_[l0].bilinear(Vec2(pixel * levels_[l0].height));
   if (f <= 0.0 || l0 + 1 >= levels()) return a;
-  return (1.0 - f) * a + f * levels_[l0 + 1].bilinear(theta, phi);
+  return (1.0 - f) * a + f * levels_[l0 + 1].bilinear(Vec2(pixel * levels_[l0 + 1].height));
 }
 
 // ---- direct sum over the lobe's support ------------------------------------------------------
@@ -172,9 +147,13 @@ double DirectSummer::texelsPerAxis() const {
 
 void DirectSummer::sum(const Vec3& axis, Rgb& numerator, double& denominator) const {
   const LatLongLevel& L = pyramid_.level(level_);
-  double thetaD, phiD;
-  latLongAngles(axis, thetaD, phiD);
-  const double cosD = std::cos(thetaD), sinD = std::sin(thetaD), cosPhiD = std::cos(phiD), sinPhiD = std::sin(phiD);
+  // The axis in the map's coordinates: theta from the row coordinate, phi's cosine and sine from
+  // the direction on the equator of the axis's column.
+  const Vec2 pixel = L.map.getAddressFor(axis).pixel;
+  const double thetaD = pixel.y() * kPi / L.height;
+  const double cosD = std::cos(thetaD), sinD = std::sin(thetaD);
+  const Vec3 equator = *L.map.getDirectionFor(Vec2(pixel.x(), 0.5 * L.height));
+  const double cosPhiD = -equator.z(), sinPhiD = equator.x();
   const double dTheta = kPi / L.height, dPhi = kTwoPi / L.width;
   const int yFirst = std::max(0, static_cast<int>(std::floor((thetaD - capAngle_) / dTheta)));
   const int yLast = std::min(L.height - 1, static_cast<int>(std::floor((thetaD + capAngle_) / dTheta)));
@@ -182,7 +161,7 @@ void DirectSummer::sum(const Vec3& axis, Rgb& numerator, double& denominator) co
   const RadialTable::View view = exact ? RadialTable::View{nullptr, 0.0, 0} : table_->view();
   const double maxF = static_cast<double>(view.lastInterval) + 0.999999;
   double nr = 0.0, ng = 0.0, nb = 0.0, den = 0.0;
-  const double u0 = (phiD / kTwoPi + 0.5) * L.width - 0.5;  // column coordinate of the axis (centres at integers)
+  const double u0 = pixel.x() - 0.5;  // column coordinate of the axis (centres at integers)
   // The weight of a sample at cosine c to the axis.
   auto weight = [&](double c) {
     if (exact) return lobe_.profile(c);
@@ -216,7 +195,7 @@ void DirectSummer::sum(const Vec3& axis, Rgb& numerator, double& denominator) co
     // The columns as at most two contiguous runs.
     const int firstEnd = std::min(L.width, xFirst + count);
     const int runs[2][2] = {{xFirst, firstEnd}, {0, xFirst + count - firstEnd}};
-    const float* row = &L.rgb[static_cast<std::size_t>(y) * L.width * 3];
+    const float* row = L.row(y);
     if (sub_ == 1) {
       const double a = L.rowCos[y] * cosD, b = L.rowSin[y] * sinD, omega = L.rowSolidAngle[y];
       const double bc = b * cosPhiD, bs = b * sinPhiD;
@@ -226,7 +205,7 @@ void DirectSummer::sum(const Vec3& axis, Rgb& numerator, double& denominator) co
       for (const auto& run : runs) {
         for (int x = run[0]; x < run[1]; ++x) {
           const double w = weight(a + cc[x] * bc + cs[x] * bs);
-          const float* p = row + 3 * x;
+          const float* p = row + 4 * x;
           rr += w * p[0], rg += w * p[1], rb += w * p[2], rw += w;
         }
       }
@@ -239,7 +218,7 @@ void DirectSummer::sum(const Vec3& axis, Rgb& numerator, double& denominator) co
         const double omega = dPhi / sub_ * (std::cos(t0) - std::cos(t1));
         for (const auto& run : runs) {
           for (int x = run[0]; x < run[1]; ++x) {
-            const float* p = row + 3 * x;
+            const float* p = row + 4 * x;
             double wx = 0.0;
             for (int sb = 0; sb < sub_; ++sb) {
               const std::size_t k = static_cast<std::size_t>(x) * sub_ + sb;
@@ -262,9 +241,7 @@ Rgb DirectSummer::value(const Vec3& axis) const {
   sum(axis, numerator, denominator);
   if (denominator > 0.0) return lobe_.mass() * numerator / denominator;
   // The lobe fell between samples: its limit is the value at the axis.
-  double theta, phi;
-  latLongAngles(axis, theta, phi);
-  return lobe_.mass() * pyramid_.level(level_).bilinear(theta, phi);
+  return lobe_.mass() * pyramid_.level(level_).bilinear(axis);
 }
 
 // ---- filtered importance sampling ------------------------------------------------------------
@@ -290,11 +267,10 @@ Rgb ImportanceSampler::value(const Vec3& axis) const {
   frame(axis, t, b);
   Rgb sum = Rgb::Zero();
   for (std::size_t i = 0; i < local_.size(); ++i) {
-    const Vec3 d = local_[i].x() * t + local_[i].y() * b + local_[i].z() * axis;
-    double theta, phi;
-    latLongAngles(d, theta, phi);
-    const double lod = lod_[i] - 0.5 * std::log2(std::max(std::sin(theta), 1e-9));
-    sum += pyramid_.trilinear(theta, phi, lod);
+    const Vec3 d = local_[i].x() * t + local_[i].y() * b + local_[i].z() * axis;  // unit: an orthonormal frame
+    const double sinTheta = std::sqrt(std::max(0.0, 1.0 - d.y() * d.y()));
+    const double lod = lod_[i] - 0.5 * std::log2(std::max(sinTheta, 1e-9));
+    sum += pyramid_.trilinear(d, lod);
   }
   return mass_ * sum / static_cast<double>(local_.size());
 }
@@ -361,14 +337,11 @@ ShFilter::ShFilter(const LatLongPyramid& pyramid, const PrefilterLobe& lobe, int
 
 // ---- interpolation grid ----------------------------------------------------------------------
 
-Vec3 LatLongGrid::direction(int x, int y) const {
-  return latLongDirection((y + 0.5) * kPi / height_, (x + 0.5) * kTwoPi / width_ - kPi);
-}
+Vec3 LatLongGrid::direction(int x, int y) const { return *map_.getDirectionFor(Vec2(x + 0.5, y + 0.5)); }
 
 Rgb LatLongGrid::value(const Vec3& axis) const {
-  double theta, phi;
-  latLongAngles(axis, theta, phi);
-  const double px = (phi / kTwoPi + 0.5) * width_ - 0.5, py = theta / kPi * height_ - 0.5;
+  const Vec2 pixel = map_.getAddressFor(axis).pixel;
+  const double px = pixel.x() - 0.5, py = pixel.y() - 0.5;
   const double fx = std::floor(px), fy = std::floor(py);
   const double tx = px - fx, ty = py - fy;
   auto weights = [](double t, double w[4]) {  // Catmull-Rom
@@ -400,7 +373,9 @@ Rgb LatLongGrid::value(const Vec3& axis) const {
 
 // ---- reference -------------------------------------------------------------------------------
 
-ReferenceSummer::ReferenceSummer(const Environment& environment, const PrefilterLobe& lobe) : lobe_(lobe) {
+ReferenceSummer::ReferenceSummer(const Environment& environment, const PrefilterLobe& lobe, double cosCap,
+                                 std::shared_ptr<const RadialTable> table)
+    : lobe_(lobe), table_(std::move(table)), capAngle_(std::acos(std::clamp(cosCap, -1.0, 1.0))) {
   const Parameterization& map = *environment.map;
   double largest = 0.0;
   for (int y = 0; y < map.height(); ++y)
@@ -410,6 +385,7 @@ ReferenceSummer::ReferenceSummer(const Environment& environment, const Prefilter
   const double texelAngle = std::sqrt(largest);
   sub_ = std::clamp(static_cast<int>(std::ceil(8.0 * texelAngle / std::max(lobe.width(), 1e-12))), 1, 8);
   while (sub_ > 1 && static_cast<double>(map.width()) * map.height() * sub_ * sub_ > 4194304.0) --sub_;
+  std::vector<Vec3> inside;
   for (int y = 0; y < map.height(); ++y) {
     for (int x = 0; x < map.width(); ++x) {
       const double omega = map.texelSolidAngle(x, y);
@@ -417,7 +393,7 @@ ReferenceSummer::ReferenceSummer(const Environment& environment, const Prefilter
       const Rgb radiance = environment.image.at(x, y).head<3>();
       // Keep the sub-samples that lie in the texel's own part of the domain (round trip), and
       // share the texel's exact solid angle among them.
-      std::vector<Vec3> inside;
+      inside.clear();
       const int region = [&] {
         for (int r = 0; r < map.regionCount(); ++r)
           if (map.region(r).contains(x, y)) return r;
@@ -444,41 +420,86 @@ ReferenceSummer::ReferenceSummer(const Environment& environment, const Prefilter
       }
     }
   }
+  if (capAngle_ < kPi) sortIntoCells();
+}
+
+void ReferenceSummer::sortIntoCells() {
+  // Cells of a 64 x 32 lat-long (latlong_map.hpp). A point of a cell lies within (dTheta + dPhi) / 2
+  // of its centre: along the meridian to its polar angle, then along that parallel (sin <= 1).
+  cells_ = LatLongMap(32);
+  const int count = cells_.width() * cells_.height();
+  cellRadius_ = 0.5 * (kPi / cells_.height() + kTwoPi / cells_.width());
+  std::vector<int> cell(x_.size());
+  cellStart_.assign(static_cast<std::size_t>(count) + 1, 0);
+  for (std::size_t i = 0; i < x_.size(); ++i) {
+    const Vec2 p = cells_.pixelForUnit(Vec3(x_[i], y_[i], z_[i]).normalized());
+    const int cx = std::clamp(static_cast<int>(p.x()), 0, cells_.width() - 1), cy = std::clamp(static_cast<int>(p.y()), 0, cells_.height() - 1);
+    cell[i] = cy * cells_.width() + cx;
+    ++cellStart_[static_cast<std::size_t>(cell[i]) + 1];
+  }
+  for (int k = 0; k < count; ++k) cellStart_[k + 1] += cellStart_[k];
+  std::vector<std::size_t> next(cellStart_.begin(), cellStart_.end() - 1);
+  std::vector<std::size_t> order(x_.size());
+  for (std::size_t i = 0; i < x_.size(); ++i) order[next[cell[i]]++] = i;
+  for (auto* v : {&x_, &y_, &z_, &weight_, &r_, &g_, &b_}) {
+    std::vector<double> sorted(v->size());
+    for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = (*v)[order[i]];
+    v->swap(sorted);
+  }
+  cellCentre_.clear();
+  for (int y = 0; y < cells_.height(); ++y)
+    for (int x = 0; x < cells_.width(); ++x) cellCentre_.push_back(*cells_.getDirectionFor(Vec2(x + 0.5, y + 0.5)));
 }
 
 namespace {
 template <class Weight>
-void referenceLoop(const std::vector<double>& xs, const std::vector<double>& ys, const std::vector<double>& zs,
-                   const std::vector<double>& ws, const std::vector<double>& rs, const std::vector<double>& gs,
-                   const std::vector<double>& bs, const Vec3& axis, bool positiveOnly, Weight weight, double out[4]) {
+void referenceLoop(const double* xs, const double* ys, const double* zs, const double* ws, const double* rs, const double* gs,
+                   const double* bs, std::size_t n, const Vec3& axis, bool positiveOnly, Weight weight, double out[4]) {
   double nr = 0.0, ng = 0.0, nb = 0.0, den = 0.0;
   const double ax = axis.x(), ay = axis.y(), az = axis.z();
-  const std::size_t n = xs.size();
   for (std::size_t i = 0; i < n; ++i) {
     const double c = ax * xs[i] + ay * ys[i] + az * zs[i];
     if (positiveOnly && !(c > 0.0)) continue;
     const double w = weight(c);
     nr += w * rs[i], ng += w * gs[i], nb += w * bs[i], den += w * ws[i];
   }
-  out[0] = nr, out[1] = ng, out[2] = nb, out[3] = den;
+  out[0] += nr, out[1] += ng, out[2] += nb, out[3] += den;
 }
 }  // namespace
 
-Rgb ReferenceSummer::value(const Vec3& axis) const {
-  double s[4];
+void ReferenceSummer::sum(const Vec3& axis, std::size_t begin, std::size_t end, double out[4]) const {
+  const std::size_t n = end - begin;
+  const double *xs = x_.data() + begin, *ys = y_.data() + begin, *zs = z_.data() + begin, *ws = weight_.data() + begin;
+  const double *rs = r_.data() + begin, *gs = g_.data() + begin, *bs = b_.data() + begin;
+  if (table_) {
+    const RadialTable::View view = table_->view();
+    referenceLoop(xs, ys, zs, ws, rs, gs, bs, n, axis, false, [&view](double c) { return view(std::sqrt(std::max(0.0, 0.5 - 0.5 * c))); }, out);
+    return;
+  }
   const double scale = lobe_.profile(1.0);  // only ratios matter; keep weights near 1
   switch (lobe_.kind()) {
     case LobeKind::Irradiance:
-      referenceLoop(x_, y_, z_, weight_, r_, g_, b_, axis, true, [](double c) { return c; }, s);
+      referenceLoop(xs, ys, zs, ws, rs, gs, bs, n, axis, true, [](double c) { return c; }, out);
       break;
     case LobeKind::Phong: {
-      const double n = lobe_.phongExponent();
-      referenceLoop(x_, y_, z_, weight_, r_, g_, b_, axis, true, [n](double c) { return n == 0.0 ? 1.0 : std::pow(c, n); }, s);
+      const double e = lobe_.phongExponent();
+      referenceLoop(xs, ys, zs, ws, rs, gs, bs, n, axis, true, [e](double c) { return e == 0.0 ? 1.0 : std::pow(c, e); }, out);
       break;
     }
     default:
-      referenceLoop(x_, y_, z_, weight_, r_, g_, b_, axis, false, [&](double c) { return lobe_.profile(c) / scale; }, s);
+      referenceLoop(xs, ys, zs, ws, rs, gs, bs, n, axis, false, [&](double c) { return lobe_.profile(c) / scale; }, out);
       break;
+  }
+}
+
+Rgb ReferenceSummer::value(const Vec3& axis) const {
+  double s[4] = {0.0, 0.0, 0.0, 0.0};
+  if (cellStart_.empty()) {
+    sum(axis, 0, x_.size(), s);
+  } else {
+    const double reach = std::cos(std::min(kPi, capAngle_ + cellRadius_));
+    for (std::size_t k = 0; k < cellCentre_.size(); ++k)
+      if (cellStart_[k + 1] > cellStart_[k] && axis.dot(cellCentre_[k]) >= reach) sum(axis, cellStart_[k], cellStart_[k + 1], s);
   }
   if (s[3] > 0.0) return lobe_.mass() * Rgb(s[0], s[1], s[2]) / s[3];
   // The lobe fell between every sample: the nearest sample's radiance.

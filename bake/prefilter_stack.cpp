@@ -17,27 +17,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 
-// Folds the summary of one part (a slice, a map of the decomposition) into `into`, labelled.
-void mergeSummary(PrefilterSummary& into, const PrefilterSummary& part, const std::string& label) {
-  if (into.method == PrefilterMethod::Auto || (part.method != PrefilterMethod::Resample && part.method != PrefilterMethod::Reference)) {
-    into.method = part.method;
-  }
-  into.errorEstimated = into.errorEstimated || part.errorEstimated;
-  into.errorEstimate = std::max(into.errorEstimate, part.errorEstimate);
-  into.errorEstimateMax = std::max(into.errorEstimateMax, part.errorEstimateMax);
-  into.metTarget = into.metTarget && part.metTarget;
-  into.estimateSeconds += part.estimateSeconds;
-  into.outputSeconds += part.outputSeconds;
-  into.mipSeconds += part.mipSeconds;
-  into.levels = part.levels;
-  for (auto candidate : part.candidates) {
-    candidate.detail = label + ": " + candidate.detail;
-    into.candidates.push_back(candidate);
-  }
-  for (const auto& note : part.notes) into.notes.push_back(label + ": " + note);
-}
-
-
 // options.progress over [begin, end) of the whole request.
 std::function<void(double)> progressPart(const std::function<void(double)>& progress, double begin, double end) {
   if (!progress) return {};
@@ -90,7 +69,7 @@ PrefilteredStack prefilterLobeModelStack(const Environment& environment, const L
     } catch (const Error& error) {
       throw Error(error.kind(), label.str() + ": " + error.what());
     }
-    mergeSummary(summary, stack.slices.back().summary, label.str());
+    mergePrefilterSummary(summary, stack.slices.back().summary, label.str(), j == 0);
   }
   std::ostringstream detail;
   detail.precision(4);

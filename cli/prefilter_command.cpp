@@ -252,7 +252,7 @@ int runPrefilter(const PrefilterArgs& args) {
   }
   const PrefilterSummary* irradiance = decomposition ? &decomposition->irradiance.summary : nullptr;
   for (const PrefilterSummary* summary : {&s, irradiance}) {
-    if (summary && !summary->metTarget) {
+    if (summary && summary->errorEstimated && !summary->metTarget) {
       std::cerr << "brdfbake: warning: the estimated error " << 100.0 * summary->errorEstimate << " % of " << summary->lobe
                 << " exceeds --max-error " << 100.0 * summary->maxError << " %\n";
     }

@@ -18,6 +18,9 @@ class LatLongMap final : public Parameterization {
   int width() const override { return 2 * resolution(); }
   int height() const override { return resolution(); }
   MapAddress getAddressFor(const Vec3& direction) const override;
+  /// getAddressFor's pixel for a direction the caller guarantees to be unit length (no check, no
+  /// virtual call: for inner loops).
+  Vec2 pixelForUnit(const Vec3& unit) const;
   std::optional<Vec3> getDirectionFor(const Vec2& pixel) const override;
   bool wrapsHorizontally() const override { return true; }
   double texelCoverage(int, int) const override { return 1.0; }

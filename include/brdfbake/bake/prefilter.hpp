@@ -119,10 +119,13 @@ struct PrefilterSummary {
   std::string detail;
   std::string lobe;                ///< canonical lobe name
   double maxError = 0.0;           ///< the bound it was built to
-  double errorEstimate = 0.0;      ///< RMS relative error estimate (0 for reference and mirror)
+  double errorEstimate = 0.0;      ///< RMS relative error estimate (0 when not estimated)
   double errorEstimateMax = 0.0;   ///< largest probe error
-  bool errorEstimated = false;     ///< false for reference and mirror (exact by definition) or when off
-  bool metTarget = true;           ///< errorEstimate <= maxError (or exact)
+  bool errorEstimated = false;     ///< an estimate was made (never for reference and mirror, nor with estimation off)
+  bool exact = false;              ///< every part was made by the reference sum or mirror resampling
+  /// Known to meet the bound: exact, or estimated within maxError. False when the error is unknown
+  /// (a fast method with estimation off): neither exact nor errorEstimated.
+  bool metTarget = false;
   int levels = 1;
   double seconds = 0.0;            ///< everything: setup, selection, probes, output, mips
   double estimateSeconds = 0.0;    ///< probes and their reference
@@ -134,6 +137,13 @@ struct PrefilterSummary {
   std::string briefReport() const;
   nlohmann::json toJson() const;
 };
+
+/// Folds the summary of one part of a request made of several prefilter() runs (a fitted model's
+/// Phong terms, an elevation stack's slices, a Fresnel decomposition's maps) into `into`, its
+/// candidates and notes labelled "label: ". `first`: `part` is the first part (into takes its
+/// error flags as they are; later parts can only lower exact and metTarget). The error estimate
+/// is the largest part's.
+void mergePrefilterSummary(PrefilterSummary& into, const PrefilterSummary& part, const std::string& label, bool first);
 
 /// A prefiltered map: level 0 (and the mip levels, if asked) of `map`.
 struct PrefilteredMap {
