@@ -401,7 +401,7 @@ class MicrofacetPath final : public RowPath {
   void accumulate(const TabulatedMicrofacetLobe& lobe, const SampleRow& row, const std::vector<double>& inverseNorm,
                   double* specular, double* diffuse) const {
     const RadialTable::View table = lobe.distribution.view();
-    const double vx = view_.x(), vy = view_.y(), vz = view_.z();
+    const double vx = view_.x(), vy = view_.y(), vz = view_.z();  // v is unit
     const double lx = lobe.light.x(), ly = lobe.light.y(), lz = lobe.light.z();
     const double hx = lobe.half.x(), hy = lobe.half.y(), hz = lobe.half.z();
     const double twoOverVh = 2.0 / lobe.viewDotHalf;
@@ -412,12 +412,15 @@ class MicrofacetPath final : public RowPath {
         const double w = inverseNorm[s];
         const double nx = (row.x[s] + vx) * w, ny = (row.y[s] + vy) * w, nz = (row.z[s] + vz) * w;
         const double nl = nx * lx + ny * ly + nz * lz;
-        const double nv = nx * vx + ny * vy + nz * vz;
         const double nh = nx * hx + ny * hy + nz * hz;
         const double ex = nx - hx, ey = ny - hy, ez = nz - hz;
         const double d = table(0.5 * std::sqrt(ex * ex + ey * ey + ez * ez));
-        // cookTorranceGOverNlNv for nl > 0, nv > 0, nh > 0, vh > 0, times n.l.
-        const double gNl = std::min(1.0 / nv, twoOverVh * nh * nl / std::max(nl, nv));
+        // cookTorranceGOverNlNv for nl > 0, nv > 0, nh > 0, vh > 0, times n.l, without divisions:
+        // n.v = (1 + r.v) / |r + v| = |r + v| / 2, so 1 / n.v = 2 w, and
+        // min(1 / nv, x nl / max(nl, nv)) = min(1 / nv, x min(1, nl / nv)), x = 2 nh / vh.
+        const double inverseNv = 2.0 * w;
+        const double masked = twoOverVh * nh * std::min(1.0, nl * inverseNv);
+        const double gNl = std::min(inverseNv, masked);
         const bool lit = nl > 0.0 && w > 0.0;
         specularSum += lit && nh > 0.0 ? d * gNl : 0.0;
         diffuseSum += lit ? nl : 0.0;
