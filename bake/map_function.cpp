@@ -29,8 +29,9 @@ Rgb MaterialMapFunction::evaluate(const Vec3& direction) const {
 }
 
 std::optional<std::vector<RadialLobe>> MaterialMapFunction::radialLobes() const {
-  // An unlit part is not expressed as lobes; such materials bake through the general path.
-  if (!material_->usesLights()) return std::nullopt;
+  // Unlit materials: their own lobes, if any. A lit material with an unlit part is not
+  // expressed as lobes; such materials bake through the general path.
+  if (!material_->usesLights()) return material_->unlitRadialLobes(view_);
   std::vector<RadialLobe> all;
   for (const auto& light : lights_) {
     auto lobes = material_->radialLobes(light.direction, view_);
@@ -39,6 +40,19 @@ std::optional<std::vector<RadialLobe>> MaterialMapFunction::radialLobes() const 
       lobe.weight *= light.color;
       all.push_back(std::move(lobe));
     }
+  }
+  return all;
+}
+
+std::optional<std::vector<MicrofacetLobe>> MaterialMapFunction::microfacetLobes() const {
+  if (!material_->usesLights()) return std::nullopt;
+  std::vector<MicrofacetLobe> all;
+  for (const auto& light : lights_) {
+    auto lobe = material_->microfacetLobe(light.direction, view_);
+    if (!lobe) return std::nullopt;
+    lobe->specular *= light.color;
+    lobe->diffuse *= light.color;
+    all.push_back(std::move(*lobe));
   }
   return all;
 }

@@ -93,18 +93,22 @@ void TargetPlainLoop(benchmark::State& state) {
 }
 BENCHMARK(TargetPlainLoop)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
 
-// The same map through brdfbake's baker with every core.
+// The same map through brdfbake's baker, on 1 and 2 threads (argument), with its error bound.
 void TargetBrdfbake(benchmark::State& state) {
   const SphereMap map(1024);
   const auto function = phongFunction();
   BakeOptions options;
   options.samplesPerTexel = 16;
+  options.threads = static_cast<int>(state.range(0));
+  Image image;
   for (auto _ : state) {
-    const Image image = bake(map, function, options);
+    image = bake(map, function, options);
     benchmark::DoNotOptimize(image.data());
   }
+  state.counters["samples/s"] = benchmark::Counter(1024.0 * 1024.0 * 16.0, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["error"] = autoErrorMeasure(measureMapError(image, map, function), ParameterizationKind::Sphere);
 }
-BENCHMARK(TargetBrdfbake)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+BENCHMARK(TargetBrdfbake)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
 
 }  // namespace
 

@@ -21,5 +21,7 @@ for b in data["benchmarks"]:
           f"{b['samples/s'] / 1e6:.0f} | {b['error']:.2e} | {b['highlight_rms']:.2e} | {b['rms_err']:.2e} | {b['max_err']:.2e} |")
 for b in data["benchmarks"]:
     if b["name"].startswith("Target"):
-        print(f"\n{b['name'].split('/')[0]}: {b['real_time']:.0f} ms wall, {b['cpu_time']:.0f} ms CPU", end="")
+        threads = f", {b['name'].split('/')[1]} threads" if b["name"].startswith("TargetBrdfbake/") else ""
+        error = f", error (bound) {b['error']:.2e}" if "error" in b else ""
+        print(f"\n{b['name'].split('/')[0]}{threads}: {b['real_time']:.0f} ms wall, {b['cpu_time']:.0f} ms CPU{error}", end="")
 print()

@@ -64,6 +64,42 @@ Rgb CookTorranceMaterial::unlit(const ShadingGeometry& g) const {
   return reflectance(g.normal.dot(g.view));
 }
 
+std::optional<std::vector<RadialLobe>> CookTorranceMaterial::unlitRadialLobes(const Vec3& view) const {
+  if (params_.mode != CookTorranceMode::Reflectance) return std::nullopt;
+  std::vector<RadialLobe> lobes;
+  for (int channel = 0; channel < 3; ++channel) {
+    Rgb weight = Rgb::Zero();
+    weight[channel] = 1.0;
+    // r.v = 2 (n.v)^2 - 1 for r = v mirrored about n.
+    lobes.push_back({view, weight, [this, channel](double c) {
+                       return reflectance(std::sqrt(std::max(0.0, (1.0 + c) * 0.5)))[channel];
+                     }});
+  }
+  return lobes;
+}
+
+std::optional<MicrofacetLobe> CookTorranceMaterial::microfacetLobe(const Vec3& light, const Vec3& view) const {
+  if (params_.mode != CookTorranceMode::Lighting) return std::nullopt;
+  const Vec3 sum = light + view;
+  if (!(sum.squaredNorm() > 1e-24)) return std::nullopt;
+  MicrofacetLobe lobe;
+  lobe.light = light;
+  lobe.view = view;
+  lobe.halfVector = sum.normalized();  // as brdf() computes h
+  lobe.viewDotHalf = view.dot(lobe.halfVector);
+  if (!(lobe.viewDotHalf > 0.0)) return std::nullopt;
+  const double s = params_.specularWeight;
+  lobe.specular = s * params_.fresnel(lobe.viewDotHalf) / denominator();
+  lobe.diffuse = s < 1.0 ? Rgb((1.0 - s) * params_.diffuse / kPi) : Rgb::Zero();
+  const double m = params_.roughness;
+  if (params_.distribution == MicrofacetDistribution::Beckmann) {
+    lobe.distribution = [m](double nh) { return beckmannD(std::abs(nh), m); };
+  } else {
+    lobe.distribution = [m](double nh) { return ggxD(std::max(std::abs(nh), 1e-300), m); };
+  }
+  return lobe;
+}
+
 MicrofacetDistribution parseMicrofacetDistribution(std::string_view name) {
   if (name == "beckmann") return MicrofacetDistribution::Beckmann;
   if (name == "ggx") return MicrofacetDistribution::Ggx;

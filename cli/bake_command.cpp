@@ -208,7 +208,9 @@ nlohmann::json bakeMaterialMap(const MapSpec& specified, BakeOptions options, co
     }
   } else {
     options.samplesPerTexel = map.samplesPerTexel;
-    image = bake(*makeParameterization(map.parameterization, map.resolution), *function, options, &summary);
+    BakedMap baked = bakeMap(*makeParameterization(map.parameterization, map.resolution), *function, options);
+    image = std::move(baked.image);
+    summary = baked.summary;
   }
   bar.done();
   if (profile) {

@@ -452,8 +452,7 @@ Examples:
               BakeOptions options;
               options.samplesPerTexel = spt;
               options.threads = args->threads;
-              BakeSummary summary;
-              const Image image = bake(*parameterization, *function, options, &summary);
+              const auto [image, summary] = bakeMap(*parameterization, *function, options);
               Point p;
               p.map = map.jsonPath;
               p.parameterization = std::string(toString(kind));

@@ -41,8 +41,7 @@ TEST(Baker, PhongEyeSphereMapMatchesTheAnalyticLobe) {
   // for every direction more than 10 degrees from -z.
   const SphereMap map(256);
   const auto function = phong(50, Vec3::UnitZ());
-  BakeSummary summary;
-  const Image image = bake(map, function, {}, &summary);
+  const auto [image, summary] = bakeMap(map, function);
   EXPECT_EQ(summary.path, "radial-view-axis");
   std::mt19937 rng(3);
   std::normal_distribution<double> g;
@@ -101,8 +100,7 @@ TEST(Baker, RadialPathsAgreeWithTheGeneralPath) {
 TEST(Baker, DiffuseWithEyeLightUsesTheViewAxisTable) {
   const SphereMap map(64);
   const auto function = phong(10, Vec3::UnitZ(), Rgb(0.5, 0.25, 0.0));
-  BakeSummary summary;
-  const Image fast = bake(map, function, {}, &summary);
+  const auto [fast, summary] = bakeMap(map, function);
   EXPECT_EQ(summary.path, "radial-view-axis");
   EXPECT_LT(maxDifference(fast, bake(map, GeneralOnly(function))), 1e-5);
 }
@@ -153,8 +151,8 @@ TEST(Baker, FootprintAveragesASharpLobe) {
   for (int samples : {1, 16, 1024, 4096}) {
     BakeOptions options;
     options.samplesPerTexel = samples;
-    BakeSummary summary;
-    const double value = bake(map, function, options, &summary).at(8, 8)[0];
+    const auto [image, summary] = bakeMap(map, function, options);
+    const double value = image.at(8, 8)[0];
     EXPECT_EQ(summary.deltaLobes, samples <= 16 ? 1 : 0) << samples;
     EXPECT_NEAR(value, expected, 1e-5 * expected) << samples << " samples per texel: " << summary.briefReport();
   }

@@ -31,8 +31,7 @@ TEST_P(Exponent, KeepsTheLobesEnergyAndStaysFinite) {
   const double n = GetParam();
   for (auto kind : {ParameterizationKind::Sphere, ParameterizationKind::Paraboloid}) {
     const auto map = makeParameterization(kind, 64);
-    BakeSummary summary;
-    const Image image = bake(*map, phong(n, Vec3(0.3, 0.2, 1).normalized()), {}, &summary);
+    const auto [image, summary] = bakeMap(*map, phong(n, Vec3(0.3, 0.2, 1).normalized()));
     for (int y = 0; y < image.height(); ++y)
       for (int x = 0; x < image.width(); ++x) ASSERT_TRUE(allFinite(image.at(x, y)));
     EXPECT_NEAR(mapIntegral(image, *map), lobeIntegral(n), 2e-3 * lobeIntegral(n)) << toString(kind) << " n " << n;

@@ -54,8 +54,7 @@ TEST(Resolution, OneTexelMapsAreValid) {
                     ParameterizationKind::LatLong}) {
     const auto map = makeParameterization(kind, 1);
     for (double n : {20.0, 1000.0}) {
-      BakeSummary summary;
-      const Image image = bake(*map, phong(n, light), {}, &summary);
+      const auto [image, summary] = bakeMap(*map, phong(n, light));
       double integral = 0.0;
       for (int y = 0; y < image.height(); ++y)
         for (int x = 0; x < image.width(); ++x) {

@@ -30,8 +30,9 @@ struct BakeOptions {
 };
 
 struct BakeSummary {
-  /// "general" (model per sample), "radial" (tabulated lobes per sample) or "radial-view-axis"
-  /// (sphere map of lobes about the view axis: table indexed by map radius, no inverse mapping).
+  /// "general" (model per sample), "radial" (tabulated lobes per sample), "radial-view-axis"
+  /// (sphere map of lobes about the view axis: table indexed by map radius, no inverse mapping)
+  /// or "microfacet" (Cook-Torrance lobes per light, D tabulated: MapFunction::microfacetLobes).
   std::string path;
   int lobes = 0;              ///< tabulated lobes (radial paths)
   int largestTable = 0;       ///< entries of the largest table
@@ -41,6 +42,12 @@ struct BakeSummary {
   double seconds = 0.0;
 
   std::string briefReport() const;
+};
+
+/// A baked map and how it was made.
+struct BakedMap {
+  Image image;
+  BakeSummary summary;
 };
 
 /// Bakes `function` into an image laid out by `map`: each texel holds the mean of the function
@@ -54,7 +61,14 @@ struct BakeSummary {
 /// the lobe's energy at any resolution.
 ///
 /// Throws Error(Resource) when the image exceeds options.maxTexels, unless allowed.
-Image bake(const Parameterization& map, const MapFunction& function, const BakeOptions& options = {},
-           BakeSummary* summary = nullptr);
+BakedMap bakeMap(const Parameterization& map, const MapFunction& function, const BakeOptions& options = {});
+
+/// bakeMap(...).image, for callers that do not report how the map was made.
+Image bake(const Parameterization& map, const MapFunction& function, const BakeOptions& options = {});
+
+/// Transitional: the former out-pointer form, kept only while cli/map_commands.cpp (edited on
+/// another branch) still calls it. Use bakeMap.
+[[deprecated("use bakeMap, which returns the summary with the image")]] Image bake(
+    const Parameterization& map, const MapFunction& function, const BakeOptions& options, BakeSummary* summary);
 
 }  // namespace brdfbake

@@ -20,6 +20,9 @@ class MapFunction {
   /// If evaluate() is exactly a sum of radial lobes, those lobes: the baker then tabulates each
   /// profile once instead of evaluating the model per sample.
   virtual std::optional<std::vector<RadialLobe>> radialLobes() const { return std::nullopt; }
+  /// If evaluate() is exactly a sum of microfacet lobes (one per light), those lobes, with the
+  /// light colours folded into their weights: the baker then tabulates D once per light.
+  virtual std::optional<std::vector<MicrofacetLobe>> microfacetLobes() const { return std::nullopt; }
   /// If evaluate(d) depends on d only through its angle to one axis, that axis (then a 1-D
   /// radial profile holds the whole map: bake/radial_profile.hpp). The default: the common axis
   /// of radialLobes(), if they share one.
@@ -42,6 +45,7 @@ class MaterialMapFunction final : public MapFunction {
                       const Vec3& view);
   Rgb evaluate(const Vec3& direction) const override;
   std::optional<std::vector<RadialLobe>> radialLobes() const override;
+  std::optional<std::vector<MicrofacetLobe>> microfacetLobes() const override;
   /// The view, for unlit materials whose value depends on n.v only; else as MapFunction's.
   std::optional<Vec3> symmetryAxis() const override;
 

@@ -118,6 +118,13 @@ class CookTorranceMaterial final : public Material {
   bool usesLights() const override { return params_.mode == CookTorranceMode::Lighting; }
   bool viewIndependent() const override { return false; }
   bool unlitSymmetricAboutView() const override { return true; }  // reflectance(N.V); 0 in lighting mode
+  /// Reflectance mode: one lobe per channel about the view, reflectance(n.v) with
+  /// n.v = sqrt((1 + r.v) / 2). Lighting mode: nullopt.
+  std::optional<std::vector<RadialLobe>> unlitRadialLobes(const Vec3& view) const override;
+  /// Lighting mode: shade() as a MicrofacetLobe (F(v.h) folded into its weight; D continued to
+  /// n.h <= 0 as D(|n.h|), GGX's finite limit at 0 included). nullopt in reflectance mode and
+  /// for a light opposite the view (then shade() is 0 everywhere).
+  std::optional<MicrofacetLobe> microfacetLobe(const Vec3& light, const Vec3& view) const override;
 
   /// The BRDF s R_s + d R_d (1/sr) for unit vectors n, v, l. 0 if N.L <= 0 or N.V < 0; finite at
   /// N.V = 0 (see cookTorranceGOverNlNv).

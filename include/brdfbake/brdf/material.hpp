@@ -34,6 +34,23 @@ struct RadialLobe {
   std::function<double(double)> profile;
 };
 
+/// A Cook-Torrance microfacet term for one light and view, as a function of the reflected
+/// direction r through the normal n = normalize(r + v) (geometryForReflection), with the half
+/// vector h = normalize(l + v) fixed, hence v.h and F(v.h) constant (Cook & Torrance 1981):
+///   value(r) = specular * D(n.h) * cookTorranceGOverNlNv(n.h, n.v, n.l, v.h) * n.l
+///            + diffuse * n.l          where n.l > 0 and n.h > 0, else 0.
+/// `distribution` takes n.h in [-1, 1] and must be finite there; only n.h > 0 is used (a
+/// material may continue D smoothly past 0 so a table of it stays small).
+struct MicrofacetLobe {
+  Vec3 light;                ///< l, towards the light
+  Vec3 view;                 ///< v, towards the viewer
+  Vec3 halfVector;           ///< h = normalize(l + v)
+  double viewDotHalf = 1.0;  ///< v.h > 0
+  Rgb specular;              ///< light colour * s F(v.h) / denominator
+  Rgb diffuse;               ///< light colour * (1 - s) rho_d / pi
+  std::function<double(double)> distribution;
+};
+
 /// A reflectance model as the baker sees it.
 class Material {
  public:
@@ -56,6 +73,14 @@ class Material {
   /// If shade(g, light) is exactly a sum of radial lobes about fixed axes as a function of the
   /// reflected direction (for this light and view), those lobes; otherwise nullopt.
   virtual std::optional<std::vector<RadialLobe>> radialLobes(const Vec3& light, const Vec3& view) const {
+    return std::nullopt;
+  }
+  /// If unlit(g) is exactly a sum of radial lobes about fixed axes as a function of the reflected
+  /// direction (for this view), those lobes; otherwise nullopt.
+  virtual std::optional<std::vector<RadialLobe>> unlitRadialLobes(const Vec3& view) const { return std::nullopt; }
+  /// If unlit(g) is zero and shade(g, light) is exactly one MicrofacetLobe for this light and
+  /// view, that lobe (with unit light colour); otherwise nullopt.
+  virtual std::optional<MicrofacetLobe> microfacetLobe(const Vec3& light, const Vec3& view) const {
     return std::nullopt;
   }
 };
