@@ -549,11 +549,4 @@ Image bake(const Parameterization& map, const MapFunction& function, const BakeO
   return bakeMap(map, function, options).image;
 }
 
-Image bake(const Parameterization& map, const MapFunction& function, const BakeOptions& options,
-           BakeSummary* summary) {
-  BakedMap baked = bakeMap(map, function, options);
-  if (summary) *summary = baked.summary;
-  return std::move(baked.image);
-}
-
 }  // namespace brdfbake

@@ -283,8 +283,9 @@ Command addConvertCommand(CLI::App& app) {
     options.samplesPerTexel = args->samples;
     options.threads = args->threads;
     options.progress = bar.callback();
-    BakeSummary summary;
-    const Image image = bake(*target, BakedOutputFunction(source, args->cosView), options, &summary);
+    const BakedMap baked = bakeMap(*target, BakedOutputFunction(source, args->cosView), options);
+    const Image& image = baked.image;
+    const BakeSummary& summary = baked.summary;
     MapInfo info;
     info.parameterization = kind;
     info.resolution = resolution;

@@ -66,9 +66,4 @@ BakedMap bakeMap(const Parameterization& map, const MapFunction& function, const
 /// bakeMap(...).image, for callers that do not report how the map was made.
 Image bake(const Parameterization& map, const MapFunction& function, const BakeOptions& options = {});
 
-/// Transitional: the former out-pointer form, kept only while cli/map_commands.cpp (edited on
-/// another branch) still calls it. Use bakeMap.
-[[deprecated("use bakeMap, which returns the summary with the image")]] Image bake(
-    const Parameterization& map, const MapFunction& function, const BakeOptions& options, BakeSummary* summary);
-
 }  // namespace brdfbake
