@@ -17,17 +17,6 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 // Set-up shared by every path.
 
-void checkImageSize(const Parameterization& map, const BakeOptions& options) {
-  const long long texels = static_cast<long long>(map.width()) * map.height();
-  if (texels <= options.maxTexels || options.allowLarge) return;
-  std::ostringstream message;
-  message << "a " << map.width() << " x " << map.height() << " map needs "
-          << static_cast<double>(texels) * 16.0 / (1u << 30) << " GiB of float RGBA, more than the limit of "
-          << static_cast<double>(options.maxTexels) * 16.0 / (1u << 30)
-          << " GiB; lower the resolution or allow large maps (--allow-large)";
-  throw Error(Error::Kind::Resource, message.str());
-}
-
 /// Where the samples of a texel lie: a columns x rows grid (the most nearly square with
 /// columns rows = samples), at cell centres; px of every sample of a map row, texel by texel.
 struct SampleLayout {
@@ -495,9 +484,8 @@ void describeLobes(const std::vector<TabulatedLobe>& lobes, BakeSummary& summary
 void BakeOptions::validate() const {
   require(samplesPerTexel >= 1 && samplesPerTexel <= 4096,
           "samples_per_texel must be in [1, 4096], got " + std::to_string(samplesPerTexel));
-  require(threads >= 0, "threads must be >= 0 (0 = all cores), got " + std::to_string(threads));
+  validateRun();
   require(profileTolerance > 0.0 && profileTolerance < 1.0, "profile tolerance must be in (0, 1)");
-  require(maxTexels > 0, "maxTexels must be > 0");
 }
 
 std::string BakeSummary::briefReport() const {
@@ -509,7 +497,7 @@ std::string BakeSummary::briefReport() const {
 
 BakedMap bakeMap(const Parameterization& map, const MapFunction& function, const BakeOptions& options) {
   options.validate();
-  checkImageSize(map, options);
+  options.requireImageSize(map.width(), map.height());
   const auto start = std::chrono::steady_clock::now();
   BakedMap result{Image(map.width(), map.height()), BakeSummary{}};
   BakeSummary& summary = result.summary;

@@ -505,14 +505,7 @@ void requireFiniteOutput(const Image& image) {
 // The output map, refused above options.maxTexels unless large maps are allowed.
 std::shared_ptr<const Parameterization> outputMap(const PrefilterOptions& options) {
   std::shared_ptr<const Parameterization> map(makeParameterization(options.parameterization, options.resolution));
-  const long long texels = static_cast<long long>(map->width()) * map->height();
-  if (texels > options.maxTexels && !options.allowLarge) {
-    std::ostringstream message;
-    message << "a " << map->width() << " x " << map->height() << " map needs "
-            << static_cast<double>(texels) * 16.0 / (1u << 30) << " GiB of float RGBA, more than the limit of "
-            << static_cast<double>(options.maxTexels) * 16.0 / (1u << 30) << " GiB; lower the resolution or allow large maps";
-    throw Error(Error::Kind::Resource, message.str());
-  }
+  options.requireImageSize(map->width(), map->height());
   return map;
 }
 
@@ -527,11 +520,8 @@ Image resampleMirror(const Environment& environment, const Parameterization& map
   const Mat3 rotation = options.parameterization == ParameterizationKind::Sphere ? eyeToEnvironment(options) : Mat3::Identity();
   const RotatedEnvironment function(environment, rotation);
   BakeOptions bakeOptions;
+  static_cast<RunOptions&>(bakeOptions) = options;
   bakeOptions.samplesPerTexel = options.mirrorSamples;
-  bakeOptions.threads = options.threads;
-  bakeOptions.maxTexels = options.maxTexels;
-  bakeOptions.allowLarge = options.allowLarge;
-  bakeOptions.progress = options.progress;
   Image image = bake(map, function, bakeOptions);
   summary.method = PrefilterMethod::Resample;
   summary.detail = std::to_string(options.mirrorSamples) + " footprint samples per texel";
@@ -732,8 +722,7 @@ void PrefilterOptions::validate() const {
   require(mirrorSamples >= 1 && mirrorSamples <= 4096, "mirror samples must be in [1, 4096]");
   require(elevations >= 2 && elevations <= 64,
           "elevations (maps in a varying lobe model's stack) must be in [2, 64], got " + std::to_string(elevations));
-  require(threads >= 0, "threads must be >= 0 (0 = all cores), got " + std::to_string(threads));
-  require(maxTexels > 0, "maxTexels must be > 0");
+  validateRun();
 }
 
 std::string PrefilterSummary::briefReport() const {

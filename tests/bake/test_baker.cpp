@@ -9,20 +9,15 @@
 #include <brdfbake/core/error.hpp>
 #include <gtest/gtest.h>
 
+#include "map_function_support.hpp"
+
 #include <random>
 
 namespace brdfbake {
 namespace {
 
-// Hides the radial decomposition, forcing the general path.
-class GeneralOnly final : public MapFunction {
- public:
-  explicit GeneralOnly(const MapFunction& inner) : inner_(inner) {}
-  Rgb evaluate(const Vec3& d) const override { return inner_.evaluate(d); }
+using test::GeneralOnly;
 
- private:
-  const MapFunction& inner_;
-};
 
 MaterialMapFunction phong(double exponent, const Vec3& light, const Rgb& diffuse = Rgb::Zero()) {
   return MaterialMapFunction(std::make_shared<PhongMaterial>(Rgb::Ones(), exponent, diffuse),

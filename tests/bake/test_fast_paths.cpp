@@ -7,18 +7,13 @@
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <gtest/gtest.h>
 
+#include "map_function_support.hpp"
+
 namespace brdfbake {
 namespace {
 
-// Hides every decomposition, forcing the general path.
-class GeneralOnly final : public MapFunction {
- public:
-  explicit GeneralOnly(const MapFunction& inner) : inner_(inner) {}
-  Rgb evaluate(const Vec3& d) const override { return inner_.evaluate(d); }
+using test::GeneralOnly;
 
- private:
-  const MapFunction& inner_;
-};
 
 double maxDifference(const Image& a, const Image& b) {
   double worst = 0.0;

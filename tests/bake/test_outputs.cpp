@@ -12,6 +12,8 @@
 #include <brdfbake/core/error.hpp>
 #include <gtest/gtest.h>
 
+#include "map_function_support.hpp"
+
 #include <OpenImageIO/imageio.h>
 #include <OpenImageIO/texture.h>
 
@@ -21,15 +23,10 @@
 
 namespace brdfbake {
 namespace {
+
+using test::randomDirections;
 namespace fs = std::filesystem;
 
-std::vector<Vec3> randomDirections(int count, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> g;
-  std::vector<Vec3> out;
-  while (static_cast<int>(out.size()) < count) out.push_back(Vec3(g(rng), g(rng), g(rng)).normalized());
-  return out;
-}
 
 // A lat-long environment of `rows` rows whose texels take f at their centres.
 Environment latLongEnvironment(int rows, const std::function<Rgb(const Vec3&)>& f) {

@@ -6,6 +6,8 @@
 #include <brdfbake/core/math.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <gtest/gtest.h>
+
+#include "map_function_support.hpp"
 #include <nlohmann/json.hpp>
 
 #include <fstream>
@@ -16,6 +18,8 @@
 
 namespace brdfbake {
 namespace {
+
+using test::randomDirections;
 namespace fs = std::filesystem;
 using test::q;
 using test::runCli;
@@ -45,13 +49,6 @@ std::vector<Rgb> sampleAll(const fs::path& output, const std::vector<Vec3>& dire
   return values;
 }
 
-std::vector<Vec3> randomDirections(int count, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> g;
-  std::vector<Vec3> out;
-  while (static_cast<int>(out.size()) < count) out.push_back(Vec3(g(rng), g(rng), g(rng)).normalized());
-  return out;
-}
 
 nlohmann::json infoOf(const fs::path& output, const std::string& flags = "") {
   const auto result = runCli("info " + q(output) + " --json " + flags);

@@ -2,6 +2,7 @@
 /// @file
 /// Integrating a MapFunction over every texel's footprint.
 
+#include <brdfbake/core/run_options.hpp>
 #include <brdfbake/bake/image.hpp>
 #include <brdfbake/bake/map_function.hpp>
 
@@ -10,20 +11,13 @@
 
 namespace brdfbake {
 
-struct BakeOptions {
+struct BakeOptions : RunOptions {
   /// Stratified samples per texel footprint (a grid a x b with a b = samples, a <= b as close to
   /// square as the count allows), each mapped through the inverse parameterization. >= 1.
   int samplesPerTexel = 16;
-  /// Worker threads; 0 uses every core.
-  int threads = 0;
   /// Tolerance of tabulated radial profiles, relative to their peak.
   double profileTolerance = 1e-6;
-  /// Largest image the baker allocates without `allowLarge`, in texels (default 8192^2 = 1 GiB
-  /// of float RGBA).
-  long long maxTexels = 8192LL * 8192LL;
-  bool allowLarge = false;
-  /// Called with the fraction done (0..1), serialised, from worker threads. May be empty.
-  std::function<void(double)> progress;
+  // threads, maxTexels, allowLarge, progress: RunOptions.
 
   /// Throws Error(InvalidArgument) for out-of-range values.
   void validate() const;

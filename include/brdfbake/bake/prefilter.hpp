@@ -33,6 +33,7 @@
 /// into sub-samples no wider than width/8, all but 1e-7 of the lobe's mass), weighted to an
 /// unbiased solid-angle RMS.
 
+#include <brdfbake/core/run_options.hpp>
 #include <brdfbake/bake/environment.hpp>
 #include <brdfbake/bake/image.hpp>
 #include <brdfbake/bake/map_file.hpp>
@@ -56,7 +57,7 @@ std::string_view toString(PrefilterMethod method);
 /// Error(InvalidArgument) naming the accepted values.
 PrefilterMethod parsePrefilterMethod(std::string_view name);
 
-struct PrefilterOptions {
+struct PrefilterOptions : RunOptions {
   /// Output parameterization and resolution (per side, per hemisphere, per face, rows).
   ParameterizationKind parameterization = ParameterizationKind::Sphere;
   int resolution = 256;
@@ -91,13 +92,7 @@ struct PrefilterOptions {
   /// Varying lobe models only (prefilterLobeModelStack, prefilter_stack.hpp): the number of maps
   /// in the stack over view elevation, in [2, 64].
   int elevations = 8;
-  /// Worker threads; 0 uses every core.
-  int threads = 0;
-  /// Largest output (level 0) without allowLarge, in texels (8192^2 = 1 GiB of float RGBA).
-  long long maxTexels = 8192LL * 8192LL;
-  bool allowLarge = false;
-  /// Called with the fraction done (0..1), serialised, from worker threads. May be empty.
-  std::function<void(double)> progress;
+  // threads, maxTexels (of level 0), allowLarge, progress: RunOptions.
 
   /// Throws Error(InvalidArgument) for out-of-range values or settings that contradict the method.
   void validate() const;

@@ -1,0 +1,24 @@
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/core/run_options.hpp>
+
+#include <sstream>
+#include <string>
+
+namespace brdfbake {
+
+void RunOptions::validateRun() const {
+  require(threads >= 0, "threads must be >= 0 (0 = all cores), got " + std::to_string(threads));
+  require(maxTexels > 0, "maxTexels must be > 0");
+}
+
+void RunOptions::requireImageSize(int width, int height) const {
+  const long long texels = static_cast<long long>(width) * height;
+  if (texels <= maxTexels || allowLarge) return;
+  std::ostringstream message;
+  message << "a " << width << " x " << height << " map needs " << static_cast<double>(texels) * 16.0 / (1u << 30)
+          << " GiB of float RGBA, more than the limit of " << static_cast<double>(maxTexels) * 16.0 / (1u << 30)
+          << " GiB; lower the resolution or allow large maps (--allow-large)";
+  throw Error(Error::Kind::Resource, message.str());
+}
+
+}  // namespace brdfbake
