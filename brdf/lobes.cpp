@@ -1,4 +1,5 @@
 #include <brdfbake/brdf/lobes.hpp>
+#include <brdfbake/core/named_values.hpp>
 #include <brdfbake/brdf/spectrum.hpp>
 #include <brdfbake/core/error.hpp>
 
@@ -11,10 +12,8 @@ std::string_view toString(LobeElevation elevation) {
   return elevation == LobeElevation::Constant ? "constant" : "varying";
 }
 
-std::optional<LobeElevation> parseLobeElevation(std::string_view name) {
-  if (name == "constant") return LobeElevation::Constant;
-  if (name == "varying") return LobeElevation::Varying;
-  return std::nullopt;
+LobeElevation parseLobeElevation(std::string_view name) {
+  return parseByName(name, std::array{LobeElevation::Constant, LobeElevation::Varying}, "elevation");
 }
 
 std::string_view toString(LobeMaterialMode mode) {
@@ -26,11 +25,9 @@ std::string_view toString(LobeMaterialMode mode) {
   return "reflectance";
 }
 
-std::optional<LobeMaterialMode> parseLobeMaterialMode(std::string_view name) {
-  if (name == "reflectance") return LobeMaterialMode::Reflectance;
-  if (name == "lighting") return LobeMaterialMode::Lighting;
-  if (name == "prefiltered") return LobeMaterialMode::Prefiltered;
-  return std::nullopt;
+LobeMaterialMode parseLobeMaterialMode(std::string_view name) {
+  return parseByName(name, std::array{LobeMaterialMode::Reflectance, LobeMaterialMode::Lighting, LobeMaterialMode::Prefiltered},
+                     "mode");
 }
 
 void LobeModel::validate() const {

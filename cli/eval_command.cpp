@@ -86,8 +86,8 @@ Brdf loadBrdf(const std::string& model, const std::string& formatName) {
               return value.matrix();
             }};
   }
-  const auto format = parseTableFormat(formatName);
-  const TableFormat detected = *format == TableFormat::Auto ? detectTableFormat(path) : *format;
+  const TableFormat format = parseTableFormat(formatName);
+  const TableFormat detected = format == TableFormat::Auto ? detectTableFormat(path) : format;
   if (detected == TableFormat::Merl) {
     auto merl = std::make_shared<MerlTable>(readMerl(path));
     // Unmeasured bins and directions below the horizon give 0.

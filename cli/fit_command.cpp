@@ -53,10 +53,10 @@ int parseLobes(const std::string& text) {
 int runFit(FitArgs args) {
   FitOptions options;
   options.lobes = parseLobes(args.lobes);
-  options.elevation = *parseElevationChoice(args.elevation);  // checked by CLI11
+  options.elevation = parseElevationChoice(args.elevation);  // checked by CLI11
   options.threads = args.threads;
-  options.method = *parseFitMethod(args.method);  // checked by CLI11
-  options.kind = *parseLobeKindChoice(args.kind);
+  options.method = parseFitMethod(args.method);  // checked by CLI11
+  options.kind = parseLobeKindChoice(args.kind);
   options.maxExponent = args.maxExponent;
   options.estimateHeldOut = args.heldOut == "on";
   options.heldOut.folds = args.folds;
@@ -66,7 +66,7 @@ int runFit(FitArgs args) {
                 "--elevation varying needs --method per_channel (the shared method fits constant lobes; Lafortune lobes vary with elevation)");
   }
   options.validate();
-  const TableFormat format = *parseTableFormat(args.format);
+  const TableFormat format = parseTableFormat(args.format);
   const RgbMethod rgbMethod = args.rgb == "cie1931" ? RgbMethod::Cie1931 : RgbMethod::SingleWavelengths;
   // Refuse what cannot be done before the (slow) fit.
   if (!args.report.empty() && !findGnuplot()) {

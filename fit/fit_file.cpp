@@ -252,10 +252,7 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
     LobeModel& model = file.fit.model;
     JsonObjectReader m = root.object("model");
     m.optionalString("description");
-    const std::string elevation = m.string("elevation");
-    const auto parsed = parseLobeElevation(elevation);
-    if (!parsed) throw specError(m.child("elevation"), "must be \"constant\" or \"varying\", got \"" + elevation + "\"");
-    model.elevation = *parsed;
+    model.elevation = m.parsed("elevation", parseLobeElevation);
     JsonObjectReader range = m.object("elevation_range");
     model.minCos = range.number("min_cos", 0.0, 1.0, /*exclusiveMinimum=*/true);
     model.maxCos = range.number("max_cos", model.minCos, 1.0);
@@ -277,23 +274,17 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
       FitOptions& o = file.fit.options;
       const bool fitHasMethod = fit.has("method");
       if (fitHasMethod) {
-        const std::string method = fit.string("method");
-        if (auto m = parseFitMethod(method)) o.method = *m;
-        else throw specError(fit.child("method"), "must be \"shared\" or \"per_channel\", got \"" + method + "\"");
+        o.method = fit.parsed("method", parseFitMethod);
       } else {
         o.method = FitMethod::PerChannel;  // files written before the shared method
       }
       if (fit.has("kind")) {
-        const std::string kind = fit.string("kind");
-        if (auto k = parseLobeKindChoice(kind)) o.kind = *k;
-        else throw specError(fit.child("kind"), "must be \"auto\", \"mirror\" or \"lafortune\", got \"" + kind + "\"");
+        o.kind = fit.parsed("kind", parseLobeKindChoice);
       }
       if (fit.has("max_exponent")) o.maxExponent = fit.number("max_exponent", kMinLobeExponent, kMaxLobeExponent);
       if (fit.has("in_sample_log_error")) file.fit.inSampleError = fit.number("in_sample_log_error", 0.0);
       if (fit.has("held_out")) file.fit.heldOut = heldOutFromJson(fit.object("held_out"));
-      const std::string loss = fit.string("loss");
-      if (auto l = parseRobustLoss(loss)) o.loss = *l;
-      else throw specError(fit.child("loss"), "must be \"cauchy\", \"huber\" or \"none\", got \"" + loss + "\"");
+      o.loss = fit.parsed("loss", parseRobustLoss);
       o.lossScale = fit.number("loss_scale", 0.0, HUGE_VAL, true);
       o.autoMargin = fit.number("auto_margin", 0.0, 1.0, true);
       o.elevationMargin = fit.number("elevation_margin", 0.0, 1.0, true);
@@ -309,9 +300,7 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
           throw specError(fit.child("requested_lobes"), "must be \"auto\" or a positive whole number, got \"" + lobes + "\"");
         }
       }
-      const std::string requested = fit.string("requested_elevation");
-      if (auto e = parseElevationChoice(requested)) o.elevation = *e;
-      else throw specError(fit.child("requested_elevation"), "must be \"auto\", \"constant\" or \"varying\", got \"" + requested + "\"");
+      o.elevation = fit.parsed("requested_elevation", parseElevationChoice);
       file.fit.seconds = fit.number("seconds", 0.0);
       fit.require("usable");  // recomputed from the channels' stats
       const auto& candidates = fit.array("candidates");
@@ -319,9 +308,7 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
         JsonObjectReader c(candidates[i], fit.child("candidates") + "[" + std::to_string(i) + "]");
         ModelCandidate candidate;
         candidate.lobes = c.integer("lobes", 1, kMaxModelLobes);
-        const std::string e = c.string("elevation");
-        if (auto pe = parseLobeElevation(e)) candidate.elevation = *pe;
-        else throw specError(c.child("elevation"), "must be \"constant\" or \"varying\", got \"" + e + "\"");
+        candidate.elevation = c.parsed("elevation", parseLobeElevation);
         if (!fitHasMethod) {
           // Written before held-out selection: {"lobes", "elevation", "error" (in-sample), "chosen"}.
           c.number("error", 0.0);

@@ -1,5 +1,6 @@
 #include <brdfbake/core/progress.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/named_values.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 
 #include "shared_lobe_fit.hpp"
@@ -33,11 +34,8 @@ std::string_view toString(ElevationChoice choice) {
   return "auto";
 }
 
-std::optional<ElevationChoice> parseElevationChoice(std::string_view name) {
-  if (name == "auto") return ElevationChoice::Auto;
-  if (name == "constant") return ElevationChoice::Constant;
-  if (name == "varying") return ElevationChoice::Varying;
-  return std::nullopt;
+ElevationChoice parseElevationChoice(std::string_view name) {
+  return parseByName(name, std::array{ElevationChoice::Auto, ElevationChoice::Constant, ElevationChoice::Varying}, "elevation");
 }
 
 std::string_view toString(RobustLoss loss) {
@@ -49,11 +47,8 @@ std::string_view toString(RobustLoss loss) {
   return "cauchy";
 }
 
-std::optional<RobustLoss> parseRobustLoss(std::string_view name) {
-  if (name == "cauchy") return RobustLoss::Cauchy;
-  if (name == "huber") return RobustLoss::Huber;
-  if (name == "none") return RobustLoss::None;
-  return std::nullopt;
+RobustLoss parseRobustLoss(std::string_view name) {
+  return parseByName(name, std::array{RobustLoss::Cauchy, RobustLoss::Huber, RobustLoss::None}, "loss");
 }
 
 void FitOptions::validate() const {
@@ -785,10 +780,8 @@ LogErrorSum allRowsError(const LobeModel& model, const MeasuredTable& table) {
 
 std::string_view toString(FitMethod method) { return method == FitMethod::Shared ? "shared" : "per_channel"; }
 
-std::optional<FitMethod> parseFitMethod(std::string_view name) {
-  if (name == "shared") return FitMethod::Shared;
-  if (name == "per_channel") return FitMethod::PerChannel;
-  return std::nullopt;
+FitMethod parseFitMethod(std::string_view name) {
+  return parseByName(name, std::array{FitMethod::Shared, FitMethod::PerChannel}, "method");
 }
 
 std::string_view toString(LobeKindChoice kind) {
@@ -800,11 +793,8 @@ std::string_view toString(LobeKindChoice kind) {
   return "auto";
 }
 
-std::optional<LobeKindChoice> parseLobeKindChoice(std::string_view name) {
-  if (name == "auto") return LobeKindChoice::Auto;
-  if (name == "mirror") return LobeKindChoice::Mirror;
-  if (name == "lafortune") return LobeKindChoice::Lafortune;
-  return std::nullopt;
+LobeKindChoice parseLobeKindChoice(std::string_view name) {
+  return parseByName(name, std::array{LobeKindChoice::Auto, LobeKindChoice::Mirror, LobeKindChoice::Lafortune}, "lobe kind");
 }
 
 FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {

@@ -42,10 +42,14 @@ std::string_view tableFormatName(TableFormat format) {
   return "unknown";
 }
 
-std::optional<TableFormat> parseTableFormat(std::string_view name) {
-  for (const auto& [f, known] : kFormatNames)
+TableFormat parseTableFormat(std::string_view name) {
+  std::string accepted;
+  for (const auto& [f, known] : kFormatNames) {
     if (equalsIgnoringCase(name, known)) return f;
-  return std::nullopt;
+    accepted += (accepted.empty() ? "" : ", ") + std::string(known);
+  }
+  const std::string shown = name.size() > 40 ? std::string(name.substr(0, 40)) + "..." : std::string(name);
+  throw Error(Error::Kind::InvalidArgument, "format must be one of " + accepted + " (any case); got \"" + shown + "\"");
 }
 
 Vec3 directionFromAngles(double theta, double phi) {

@@ -8,12 +8,7 @@
 namespace brdfbake::materials {
 
 LobeMaterialMode parseLobeMode(JsonObjectReader& m) {
-  const std::string mode = m.optionalString("mode").value_or("reflectance");
-  const auto parsed = parseLobeMaterialMode(mode);
-  if (!parsed) {
-    throw specError(m.child("mode"), "must be \"reflectance\", \"lighting\" or \"prefiltered\", got \"" + mode + "\"");
-  }
-  return *parsed;
+  return m.parsed("mode", parseLobeMaterialMode, "reflectance");
 }
 
 std::filesystem::path resolveMaterialFile(JsonObjectReader& m, const MaterialContext& context) {

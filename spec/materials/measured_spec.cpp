@@ -14,9 +14,7 @@ namespace brdfbake::materials {
 
 std::shared_ptr<const Material> parseMeasured(JsonObjectReader& m, const MaterialContext& context) {
   const std::filesystem::path file = resolveMaterialFile(m, context);
-  const std::string formatName = m.optionalString("format").value_or("auto");
-  const auto format = parseTableFormat(formatName);
-  if (!format) throw specError(m.child("format"), "must be auto, astm, pbrt, merl or mat, got \"" + formatName + "\"");
+  const TableFormat format = m.parsed("format", parseTableFormat, "auto");
   const std::string method = m.string("method");
   if (method != "mirror" && method != "fit") throw specError(m.child("method"), "must be \"mirror\" or \"fit\", got \"" + method + "\"");
   const std::string rgbName = m.optionalString("rgb").value_or("cie1931");
@@ -42,10 +40,7 @@ std::shared_ptr<const Material> parseMeasured(JsonObjectReader& m, const Materia
         options.lobes = m.integer("lobes", 1, kMaxFitLobes);
       }
     }
-    const std::string elevation = m.optionalString("elevation").value_or("auto");
-    const auto choice = parseElevationChoice(elevation);
-    if (!choice) throw specError(m.child("elevation"), "must be \"auto\", \"constant\" or \"varying\", got \"" + elevation + "\"");
-    options.elevation = *choice;
+    options.elevation = m.parsed("elevation", parseElevationChoice, "auto");
     // Varying lobes are the per-channel method's (the shared one fits constant Lafortune lobes).
     if (options.elevation == ElevationChoice::Varying) options.method = FitMethod::PerChannel;
     options.estimateHeldOut = false;  // a bake needs the model only (auto choices still estimate it)
@@ -54,7 +49,7 @@ std::shared_ptr<const Material> parseMeasured(JsonObjectReader& m, const Materia
 
   MeasuredTable table;
   try {
-    table = readTableForFitting(file, *format).toRgb(rgb);
+    table = readTableForFitting(file, format).toRgb(rgb);
   } catch (const Error& e) {
     throw specError(m.child("file"), e.what());
   }

@@ -221,7 +221,7 @@ TEST(MeasuredIo, FormatNames) {
   for (TableFormat f : {TableFormat::Auto, TableFormat::Astm, TableFormat::Pbrt, TableFormat::Merl, TableFormat::Mat})
     EXPECT_EQ(parseTableFormat(tableFormatName(f)), f);
   EXPECT_EQ(parseTableFormat("ASTM"), TableFormat::Astm);
-  EXPECT_FALSE(parseTableFormat("csv").has_value());
+  EXPECT_THROW(parseTableFormat("csv"), Error);
 }
 
 TEST(MeasuredIo, DetectsTextFormatsByContent) {

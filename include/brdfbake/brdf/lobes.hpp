@@ -77,8 +77,8 @@ enum class LobeElevation {
 
 /// "constant", "varying".
 std::string_view toString(LobeElevation elevation);
-/// Inverse of toString; std::nullopt for other names.
-std::optional<LobeElevation> parseLobeElevation(std::string_view name);
+/// Inverse of toString; throws Error(InvalidArgument) listing the accepted names for others (core/named_values.hpp).
+LobeElevation parseLobeElevation(std::string_view name);
 
 /// Coefficients per lobe parameter: 1 (Constant) or 3 (Varying).
 constexpr int elevationCoefficientCount(LobeElevation elevation) {
@@ -262,8 +262,8 @@ enum class LobeMaterialMode {
 
 /// "reflectance", "lighting", "prefiltered".
 std::string_view toString(LobeMaterialMode mode);
-/// Inverse of toString; std::nullopt for other names.
-std::optional<LobeMaterialMode> parseLobeMaterialMode(std::string_view name);
+/// Inverse of toString; throws Error(InvalidArgument) listing the accepted names for others (core/named_values.hpp).
+LobeMaterialMode parseLobeMaterialMode(std::string_view name);
 
 /// A Material evaluating a LobeModel, channels converted to linear sRGB by LobeModel::rgbWeights.
 class LobeMaterial final : public Material {

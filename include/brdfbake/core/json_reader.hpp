@@ -57,6 +57,19 @@ class JsonObjectReader {
   /// An array member; throws unless it is an array.
   const nlohmann::json& array(const std::string& key);
 
+  /// The string at `key` (or `fallback` when absent and a fallback is given) turned into a value
+  /// by `parse`, a parse* function that throws Error naming the accepted names; its error is
+  /// rethrown as a specError at the key's JSON path.
+  template <class Parse>
+  auto parsed(const std::string& key, Parse&& parse, std::optional<std::string> fallback = std::nullopt) {
+    const std::string text = fallback && !has(key) ? *fallback : string(key);
+    try {
+      return parse(text);
+    } catch (const Error& e) {
+      throw specError(child(key), e.what());
+    }
+  }
+
   /// Throws for the first key that was never read, listing the keys this object accepts.
   void finish() const;
 

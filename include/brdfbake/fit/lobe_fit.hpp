@@ -53,9 +53,9 @@ enum class FitMethod {
   Shared,      ///< lobe shapes shared by every channel, weights by non-negative least squares
   PerChannel,  ///< every channel on its own with Ceres (cube-root residual, robust loss)
 };
-/// "shared", "per_channel"; parse returns std::nullopt for other names.
+/// "shared", "per_channel"; parse throws Error(InvalidArgument) listing the accepted names for others (core/named_values.hpp).
 std::string_view toString(FitMethod method);
-std::optional<FitMethod> parseFitMethod(std::string_view name);
+FitMethod parseFitMethod(std::string_view name);
 
 /// Which lobes FitMethod::Shared fits.
 enum class LobeKindChoice {
@@ -63,9 +63,9 @@ enum class LobeKindChoice {
   Mirror,     ///< Phong lobes about the mirrored view (c_xy = -1)
   Lafortune,  ///< Lafortune lobes, c_xy free per lobe (brdf/lobes.hpp)
 };
-/// "auto", "mirror", "lafortune"; parse returns std::nullopt for other names.
+/// "auto", "mirror", "lafortune"; parse throws Error(InvalidArgument) listing the accepted names for others (core/named_values.hpp).
 std::string_view toString(LobeKindChoice kind);
-std::optional<LobeKindChoice> parseLobeKindChoice(std::string_view name);
+LobeKindChoice parseLobeKindChoice(std::string_view name);
 
 /// Which elevation dependence to fit.
 enum class ElevationChoice {
@@ -73,14 +73,14 @@ enum class ElevationChoice {
   Constant,  ///< LobeElevation::Constant
   Varying,   ///< LobeElevation::Varying
 };
-/// "auto", "constant", "varying"; parse returns std::nullopt for other names.
+/// "auto", "constant", "varying"; parse throws Error(InvalidArgument) listing the accepted names for others (core/named_values.hpp).
 std::string_view toString(ElevationChoice choice);
-std::optional<ElevationChoice> parseElevationChoice(std::string_view name);
+ElevationChoice parseElevationChoice(std::string_view name);
 
 /// The robust loss applied to each residual (ceres::CauchyLoss, ceres::HuberLoss, or none).
 enum class RobustLoss { Cauchy, Huber, None };
 std::string_view toString(RobustLoss loss);
-std::optional<RobustLoss> parseRobustLoss(std::string_view name);
+RobustLoss parseRobustLoss(std::string_view name);
 
 /// Largest lobe count fitLobes accepts.
 inline constexpr int kMaxFitLobes = 6;

@@ -32,8 +32,8 @@ enum class TableFormat { Auto, Astm, Pbrt, Merl, Mat };
 
 /// "auto", "astm", "pbrt", "merl", "mat".
 std::string_view tableFormatName(TableFormat format);
-/// Inverse of tableFormatName; std::nullopt for an unknown name.
-std::optional<TableFormat> parseTableFormat(std::string_view name);
+/// Inverse of tableFormatName (any case); throws Error(InvalidArgument) listing the names for others.
+TableFormat parseTableFormat(std::string_view name);
 
 /// What the channels of a table are.
 enum class ChannelKind {
