@@ -5,6 +5,7 @@
 #include <brdfbake/bake/prefilter.hpp>
 #include <brdfbake/brdf/material.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/named_values.hpp>
 #include <brdfbake/core/version.hpp>
 
 #include <tbb/parallel_for.h>
@@ -698,12 +699,10 @@ std::string_view toString(PrefilterMethod method) {
 }
 
 PrefilterMethod parsePrefilterMethod(std::string_view name) {
-  for (auto m : {PrefilterMethod::Auto, PrefilterMethod::Reference, PrefilterMethod::SphericalHarmonics,
-                 PrefilterMethod::Importance, PrefilterMethod::Direct}) {
-    if (name == toString(m)) return m;
-  }
-  throw Error(Error::Kind::InvalidArgument,
-              "unknown prefilter method '" + std::string(name) + "' (accepted: auto, reference, sh, importance, direct)");
+  return parseByName(name,
+                     std::array{PrefilterMethod::Auto, PrefilterMethod::Reference, PrefilterMethod::SphericalHarmonics,
+                                PrefilterMethod::Importance, PrefilterMethod::Direct},
+                     "prefilter method");
 }
 
 void PrefilterOptions::validate() const {
