@@ -9,6 +9,8 @@
 #include <tbb/task_arena.h>
 
 #include <chrono>
+#include <limits>
+#include <memory>
 #include <sstream>
 
 namespace brdfbake {
@@ -171,6 +173,74 @@ void writeLobeRow(Image& image, int y, const std::vector<TabulatedLobe>& lobes, 
   writeRow(image, y, sums, counted, coverage);
 }
 
+/// The unit normals n = (x, y, sqrt(1 - x^2 - y^2)) of a sphere map's samples, row by row, for
+/// paths that need only n (r = 2 n_z n - v with v = +z): the disc position itself, with the map's
+/// rim pull (SphereMap), and no inverse mapping. 1 / n_z is kept too (n.v = n_z).
+class SphereNormalRow {
+ public:
+  /// withInverse: also 1 / n_z (the microfacet path's 1 / n.v).
+  SphereNormalRow(const Parameterization& map, const SampleLayout& layout, bool withInverse)
+      : twoOverN_(2.0 / map.resolution()), count_(layout.rowSamples()), withInverse_(withInverse),
+        sx_(scratch(count_)), nx_(scratch(count_)), ny_(scratch(count_)), nz_(scratch(count_)),
+        inverseNz_(withInverse ? scratch(count_) : nullptr) {
+    for (int s = 0; s < count_; ++s) sx_[s] = layout.px[s] * twoOverN_ - 1.0;
+  }
+
+  /// The normals of samples [begin, end) at height py (pixels). Samples inside the rim (a middle
+  /// run, as sx increases along the row) in one branch-free loop, those outside pulled one by one.
+  void compute(double py, int begin, int end) {
+    constexpr double kRim2 = (1.0 - 1e-15) * (1.0 - 1e-15);  // SphereMap's rim radius, squared
+    const double sy = 1.0 - py * twoOverN_, sy2 = sy * sy;
+    const double* __restrict sx = sx_.get();
+    double* __restrict nx = nx_.get();
+    double* __restrict ny = ny_.get();
+    double* __restrict nz = nz_.get();
+    int first = begin, last = end;
+    while (first < end && sx[first] * sx[first] + sy2 > kRim2) ++first;
+    while (last > first && sx[last - 1] * sx[last - 1] + sy2 > kRim2) --last;
+    for (int s = first; s < last; ++s) {
+      nx[s] = sx[s];
+      ny[s] = sy;
+      nz[s] = std::sqrt(1.0 - (sx[s] * sx[s] + sy2));
+    }
+    const auto pulled = [&](int s) {
+      const double pull = std::sqrt(kRim2 / (sx[s] * sx[s] + sy2));
+      nx[s] = sx[s] * pull;
+      ny[s] = sy * pull;
+      nz[s] = std::sqrt(1.0 - kRim2);
+    };
+    for (int s = begin; s < first; ++s) pulled(s);
+    for (int s = last; s < end; ++s) pulled(s);
+    if (withInverse_) {
+      double* __restrict inverseNz = inverseNz_.get();
+      for (int s = begin; s < end; ++s) inverseNz[s] = 1.0 / nz[s];
+    }
+  }
+  void compute(double py) { compute(py, 0, count_); }
+  const double* x() const { return nx_.get(); }
+  const double* y() const { return ny_.get(); }
+  const double* z() const { return nz_.get(); }
+  const double* inverseZ() const { return inverseNz_.get(); }
+
+  /// Uninitialised storage for n values (every path writes before it reads).
+  static std::unique_ptr<double[]> scratch(int n) { return std::make_unique_for_overwrite<double[]>(n); }
+
+ private:
+  double twoOverN_;
+  int count_;
+  bool withInverse_;
+  std::unique_ptr<double[]> sx_, nx_, ny_, nz_, inverseNz_;
+};
+
+/// Sums of consecutive runs of `columns` values (a texel's samples in one sample row) into sums[x].
+void addTexelSums(const double* values, int width, int columns, double* sums) {
+  for (int x = 0; x < width; ++x) {
+    double sum = 0.0;
+    for (int i = 0; i < columns; ++i) sum += values[x * columns + i];
+    sums[x] += sum;
+  }
+}
+
 /// Radial lobes about any axes, in any map: samples mapped through the inverse mapping, u = |d - a| / 2.
 class RadialPath final : public RowPath {
  public:
@@ -323,6 +393,121 @@ class ViewAxisPath final : public RowPath {
   double twoOverN_;
 };
 
+/// Radial lobes about any axes in a sphere map (v = +z): r = 2 n_z n - v from the sample's normal
+/// (SphereNormalRow), u = |r - a| / 2 as on the radial path, with no inverse mapping. Texels are
+/// culled in runs of kBlock along a row (cullBlocks).
+class SphereRadialPath final : public RowPath {
+ public:
+  static constexpr int kBlock = 16;
+
+  SphereRadialPath(const Parameterization& map, const std::vector<TabulatedLobe>& lobes, const SampleLayout& layout)
+      : map_(map), lobes_(lobes), layout_(layout), twoOverN_(2.0 / map.resolution()),
+        blocks_((layout.width + kBlock - 1) / kBlock) {}
+
+  void bakeRow(int y, Image& image) const override {
+    const int width = layout_.width, columns = layout_.columns;
+    const std::vector<unsigned char> active = cullBlocks(y);
+    SphereNormalRow normals(map_, layout_, false);
+    const auto u = SphereNormalRow::scratch(layout_.rowSamples());
+    std::vector<double> lobeSums(lobes_.size() * width, 0.0);
+    for (int j = 0; j < layout_.rows; ++j) {
+      const double py = y + layout_.offsetY[j];
+      for (int b = 0; b < blocks_; ++b) {
+        if (active[lobes_.size() * blocks_ + b]) normals.compute(py, sampleBegin(b), sampleEnd(b));
+      }
+      for (std::size_t k = 0; k < lobes_.size(); ++k) {
+        for (int b = 0; b < blocks_; ++b) {
+          if (!active[k * blocks_ + b]) continue;
+          distances(lobes_[k].axis, normals, sampleBegin(b), sampleEnd(b), u.get());
+          const RadialTable::View table = lobes_[k].table.view();
+          double* out = &lobeSums[k * width];
+          for (int x = b * kBlock; x < std::min(width, (b + 1) * kBlock); ++x) {
+            double acc = 0.0;
+            for (int i = 0; i < columns; ++i) acc += table(u[x * columns + i]);
+            out[x] += acc;
+          }
+        }
+      }
+    }
+    const std::vector<int> counted(width, layout_.rows * columns);
+    writeLobeRow(image, y, lobes_, lobeSums, counted, rowCoverage(map_, y));
+  }
+
+ private:
+  int sampleBegin(int block) const { return block * kBlock * layout_.columns; }
+  int sampleEnd(int block) const { return std::min(layout_.width, (block + 1) * kBlock) * layout_.columns; }
+
+  /// u = |r - a| / 2 for samples [begin, end), r = (2 n_z n_x, 2 n_z n_y, 2 n_z^2 - 1).
+  static void distances(const Vec3& axis, const SphereNormalRow& normals, int begin, int end, double* __restrict u) {
+    const double ax = axis.x(), ay = axis.y(), az = axis.z();
+    const double* __restrict nx = normals.x();
+    const double* __restrict ny = normals.y();
+    const double* __restrict nz = normals.z();
+    for (int s = begin; s < end; ++s) {
+      const double twoNz = 2.0 * nz[s];
+      const double ex = twoNz * nx[s] - ax, ey = twoNz * ny[s] - ay, ez = twoNz * nz[s] - 1.0 - az;
+      u[s] = 0.5 * std::sqrt(ex * ex + ey * ey + ez * ez);
+    }
+  }
+
+  /// active[k * blocks + b]: lobe k may be non-zero somewhere in block b of row y (texels
+  /// [b kBlock, (b + 1) kBlock)); active[lobes * blocks + b]: some lobe may. Blocks reaching the
+  /// rim are never culled. Inside the disc the block's normals lie within the chord c of its
+  /// centre's normal found at its corners (n.n_c is concave over the block's rectangle, so its
+  /// minimum is at a corner), i.e. within the angle 2 asin(c / 2); reflection doubles angles at
+  /// most (ds_r^2 = 4 dtheta^2 + sin^2(2 theta) dphi^2 <= 4 ds_n^2), so every sample's angle to
+  /// the axis is within twice that of the centre's. A lobe is culled when that interval misses
+  /// its support [2 asin(minU), 2 asin(maxU)]. Blocks at and beyond the rim use a second bound:
+  /// a normal at disc radius rho reflects to polar angle 2 asin(rho) from +z, so every sample's r
+  /// lies within pi - 2 asin(rho_min) of -z (rho_min: the block's nearest point to the centre;
+  /// samples pulled in at the rim are within 1e-7 of -z).
+  std::vector<unsigned char> cullBlocks(int y) const {
+    constexpr double kRim2 = (1.0 - 1e-15) * (1.0 - 1e-15);
+    const std::size_t lobeCount = lobes_.size();
+    std::vector<unsigned char> active((lobeCount + 1) * blocks_, 0);
+    const double top = 1.0 - y * twoOverN_, bottom = 1.0 - (y + 1) * twoOverN_, middle = 0.5 * (top + bottom);
+    for (int b = 0; b < blocks_; ++b) {
+      const double left = b * kBlock * twoOverN_ - 1.0;
+      const double right = std::min(layout_.width, (b + 1) * kBlock) * twoOverN_ - 1.0;
+      const double far = std::max(left * left, right * right) + std::max(top * top, bottom * bottom);
+      const Vec3 centre = discNormal(0.5 * (left + right), middle);
+      double spread = std::numeric_limits<double>::infinity();
+      if (far < kRim2) {
+        double chord2 = 0.0;
+        for (const double cx : {left, right})
+          for (const double cy : {top, bottom}) chord2 = std::max(chord2, (discNormal(cx, cy) - centre).squaredNorm());
+        spread = 4.0 * std::asin(std::min(1.0, 0.5 * std::sqrt(chord2))) + 1e-9;
+      }
+      const Vec3 reflected(2.0 * centre.z() * centre.x(), 2.0 * centre.z() * centre.y(), 2.0 * centre.z() * centre.z() - 1.0);
+      const double nearX = std::clamp(0.0, left, right), nearY = std::clamp(0.0, bottom, top);
+      const double cap = kPi - 2.0 * std::asin(std::min(1.0, std::sqrt(nearX * nearX + nearY * nearY))) + 1e-6;
+      bool any = false;
+      for (std::size_t k = 0; k < lobeCount; ++k) {
+        const TabulatedLobe& lobe = lobes_[k];
+        const RadialTable& table = lobe.table;
+        if (lobe.delta || table.minU() > table.maxU()) continue;
+        const double angle = angleBetween(reflected, lobe.axis), fromBack = angleBetween(-Vec3::UnitZ(), lobe.axis);
+        const double lo = std::max(angle - spread, fromBack - cap), hi = std::min(angle + spread, fromBack + cap);
+        const bool on = lo <= 2.0 * std::asin(table.maxU()) && hi >= 2.0 * std::asin(table.minU());
+        active[k * blocks_ + b] = on;
+        any = any || on;
+      }
+      active[lobeCount * blocks_ + b] = any;
+    }
+    return active;
+  }
+
+  /// Angle between unit vectors, accurate near 0: 2 asin(|a - b| / 2).
+  static double angleBetween(const Vec3& a, const Vec3& b) { return 2.0 * std::asin(std::min(1.0, 0.5 * (a - b).norm())); }
+  static Vec3 discNormal(double x, double y) { return {x, y, std::sqrt(std::max(0.0, 1.0 - x * x - y * y))}; }
+
+  const Parameterization& map_;
+  const std::vector<TabulatedLobe>& lobes_;
+  const SampleLayout& layout_;
+  double twoOverN_;
+  int blocks_;
+};
+
 // ---------------------------------------------------------------------------------------------
 // Microfacet path: Cook-Torrance lobes (one per light) through n = normalize(r + v), with h, v.h
 // and F(v.h) fixed per light; D tabulated once per light over u = |n - h| / 2.
@@ -426,6 +611,73 @@ class MicrofacetPath final : public RowPath {
   const SampleLayout& layout_;
 };
 
+/// The microfacet path on a sphere map seen along its own axis (v = +z): the normal of a sample
+/// is its disc position (SphereNormalRow), so no direction is mapped and n.v = n_z.
+class SphereMicrofacetPath final : public RowPath {
+ public:
+  SphereMicrofacetPath(const Parameterization& map, const std::vector<TabulatedMicrofacetLobe>& lobes,
+                       const SampleLayout& layout)
+      : map_(map), lobes_(lobes), layout_(layout) {}
+
+  void bakeRow(int y, Image& image) const override {
+    const int width = layout_.width, columns = layout_.columns;
+    SphereNormalRow normals(map_, layout_, true);
+    const auto specular = SphereNormalRow::scratch(layout_.rowSamples()), diffuse = SphereNormalRow::scratch(layout_.rowSamples()),
+               u = SphereNormalRow::scratch(layout_.rowSamples());
+    std::vector<double> lobeSums(2 * lobes_.size() * width, 0.0);  // [lobe][specular, diffuse][texel]
+    for (int j = 0; j < layout_.rows; ++j) {
+      normals.compute(y + layout_.offsetY[j]);
+      for (std::size_t k = 0; k < lobes_.size(); ++k) {
+        shade(lobes_[k], normals, specular.get(), diffuse.get(), u.get());
+        addTexelSums(specular.get(), width, columns, &lobeSums[2 * k * width]);
+        addTexelSums(diffuse.get(), width, columns, &lobeSums[(2 * k + 1) * width]);
+      }
+    }
+    std::vector<Rgb> sums(width, Rgb::Zero());
+    for (int x = 0; x < width; ++x) {
+      for (std::size_t k = 0; k < lobes_.size(); ++k) {
+        sums[x] += lobes_[k].specular * lobeSums[2 * k * width + x] + lobes_[k].diffuse * lobeSums[(2 * k + 1) * width + x];
+      }
+    }
+    const std::vector<int> counted(width, layout_.rows * columns);
+    writeRow(image, y, sums, counted, rowCoverage(map_, y));
+  }
+
+ private:
+  /// D G n.l (specular[s]) and n.l (diffuse[s]) of every sample of the row, as MicrofacetPath
+  /// with 1 / n.v = 1 / n_z and |n - h| / 2 = sqrt((1 - n.h) / 2) (into u[s]): a branch-free
+  /// loop, then the table lookups where G n.l is not zero.
+  void shade(const TabulatedMicrofacetLobe& lobe, const SphereNormalRow& normals, double* __restrict specular,
+             double* __restrict diffuse, double* __restrict u) const {
+    const double lx = lobe.light.x(), ly = lobe.light.y(), lz = lobe.light.z();
+    const double hx = lobe.half.x(), hy = lobe.half.y(), hz = lobe.half.z();
+    const double twoOverVh = 2.0 / lobe.viewDotHalf;
+    const double* __restrict nx = normals.x();
+    const double* __restrict ny = normals.y();
+    const double* __restrict nz = normals.z();
+    const double* __restrict inverseNv = normals.inverseZ();
+    const int count = layout_.rowSamples();
+    for (int s = 0; s < count; ++s) {
+      const double nl = nx[s] * lx + ny[s] * ly + nz[s] * lz;
+      const double nh = nx[s] * hx + ny[s] * hy + nz[s] * hz;
+      const double masked = twoOverVh * nh * std::min(1.0, nl * inverseNv[s]);
+      const double gNl = std::min(inverseNv[s], masked);
+      const double frontGNl = nh > 0.0 ? gNl : 0.0;
+      specular[s] = nl > 0.0 ? frontGNl : 0.0;
+      diffuse[s] = nl > 0.0 ? nl : 0.0;
+      u[s] = std::sqrt(std::max(0.0, 0.5 - 0.5 * nh));
+    }
+    const RadialTable::View table = lobe.distribution.view();
+    for (int s = 0; s < count; ++s) {
+      if (specular[s] != 0.0) specular[s] *= table(u[s]);
+    }
+  }
+
+  const Parameterization& map_;
+  const std::vector<TabulatedMicrofacetLobe>& lobes_;
+  const SampleLayout& layout_;
+};
+
 /// Deposits the delta lobes: a box of half-width = the lobe's half-energy angle, in pixels, around
 /// the axis' address, split among the texels it overlaps (within the axis' region). Returns how many.
 int depositDeltaLobes(const Parameterization& map, const std::vector<TabulatedLobe>& lobes, Image& image) {
@@ -508,6 +760,9 @@ BakedMap bakeMap(const Parameterization& map, const MapFunction& function, const
     if (allAboutViewAxis(map, lobes)) {
       summary.path = "radial-view-axis";
       bakeRows(map, ViewAxisPath(map, lobes, layout), options, result.image);
+    } else if (map.kind() == ParameterizationKind::Sphere) {
+      summary.path = "radial";
+      bakeRows(map, SphereRadialPath(map, lobes, layout), options, result.image);
     } else {
       summary.path = "radial";
       bakeRows(map, RadialPath(map, lobes, layout), options, result.image);
@@ -517,7 +772,12 @@ BakedMap bakeMap(const Parameterization& map, const MapFunction& function, const
   } else if (const auto microfacet = function.microfacetLobes(); microfacet && !microfacet->empty()) {
     const std::vector<TabulatedMicrofacetLobe> lobes = tabulateMicrofacetLobes(*microfacet, options);
     summary.path = "microfacet";
-    bakeRows(map, MicrofacetPath(map, function, microfacet->front().view, lobes, layout), options, result.image);
+    const Vec3& view = microfacet->front().view;
+    if (map.kind() == ParameterizationKind::Sphere && (view - Vec3::UnitZ()).squaredNorm() < 1e-30) {
+      bakeRows(map, SphereMicrofacetPath(map, lobes, layout), options, result.image);
+    } else {
+      bakeRows(map, MicrofacetPath(map, function, view, lobes, layout), options, result.image);
+    }
     summary.lobes = static_cast<int>(lobes.size());
     for (const auto& lobe : lobes) {
       summary.largestTable = std::max(summary.largestTable, lobe.distribution.size());

@@ -15,9 +15,11 @@ function(brdfbake_add_library part)
   target_link_libraries(brdfbake_${part} PUBLIC ${ARG_PUBLIC_DEPS}
                         PRIVATE ${ARG_PRIVATE_DEPS} $<BUILD_INTERFACE:brdfbake_warnings>)
   target_compile_features(brdfbake_${part} PUBLIC cxx_std_20)
-  # Library code never reads errno: let sqrt and friends compile to single instructions.
+  # Library code never reads errno: let sqrt and friends compile to single instructions. Nor does it
+  # read floating-point exception flags: let loops with comparisons and selects vectorise (the
+  # baker's fast paths); values are unchanged (no reassociation).
   if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
-    target_compile_options(brdfbake_${part} PRIVATE -fno-math-errno)
+    target_compile_options(brdfbake_${part} PRIVATE -fno-math-errno -fno-trapping-math)
   endif()
   install(TARGETS brdfbake_${part} EXPORT brdfbake_${part}Targets
           ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
