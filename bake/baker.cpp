@@ -69,7 +69,7 @@ void mapSampleRow(const Parameterization& map, const SampleLayout& layout, doubl
 
 std::vector<double> rowCoverage(const Parameterization& map, int y) {
   std::vector<double> coverage(map.width());
-  for (int x = 0; x < map.width(); ++x) coverage[x] = map.texelCoverage(x, y);
+  map.texelCoverageRow(y, coverage.data());
   return coverage;
 }
 
@@ -167,10 +167,12 @@ struct RowCulling {
 void writeLobeRow(Image& image, int y, const std::vector<TabulatedLobe>& lobes, const std::vector<double>& lobeSums,
                   const std::vector<int>& counted, const std::vector<double>& coverage) {
   const int width = image.width();
-  std::vector<Rgb> sums(width, Rgb::Zero());
-  for (int x = 0; x < width; ++x)
-    for (std::size_t k = 0; k < lobes.size(); ++k) sums[x] += lobes[k].weight * lobeSums[k * width + x];
-  writeRow(image, y, sums, counted, coverage);
+  for (int x = 0; x < width; ++x) {
+    Rgb sum = Rgb::Zero();
+    for (std::size_t k = 0; k < lobes.size(); ++k) sum += lobes[k].weight * lobeSums[k * width + x];
+    const Rgb mean = counted[x] > 0 ? Rgb(sum * (1.0 / counted[x])) : Rgb::Zero();
+    image.set(x, y, Rgba(mean[0], mean[1], mean[2], coverage[x]));
+  }
 }
 
 /// The unit normals n = (x, y, sqrt(1 - x^2 - y^2)) of a sphere map's samples, row by row, for
@@ -402,7 +404,14 @@ class SphereRadialPath final : public RowPath {
 
   SphereRadialPath(const Parameterization& map, const std::vector<TabulatedLobe>& lobes, const SampleLayout& layout)
       : map_(map), lobes_(lobes), layout_(layout), twoOverN_(2.0 / map.resolution()),
-        blocks_((layout.width + kBlock - 1) / kBlock) {}
+        blocks_((layout.width + kBlock - 1) / kBlock) {
+    for (const auto& lobe : lobes) {
+      const RadialTable& table = lobe.table;
+      const bool sampled = !lobe.delta && table.minU() <= table.maxU();
+      supports_.push_back({sampled, 2.0 * std::asin(table.minU()), 2.0 * std::asin(table.maxU()),
+                           angleBetween(-Vec3::UnitZ(), lobe.axis)});
+    }
+  }
 
   void bakeRow(int y, Image& image) const override {
     const int width = layout_.width, columns = layout_.columns;
@@ -483,12 +492,12 @@ class SphereRadialPath final : public RowPath {
       const double cap = kPi - 2.0 * std::asin(std::min(1.0, std::sqrt(nearX * nearX + nearY * nearY))) + 1e-6;
       bool any = false;
       for (std::size_t k = 0; k < lobeCount; ++k) {
-        const TabulatedLobe& lobe = lobes_[k];
-        const RadialTable& table = lobe.table;
-        if (lobe.delta || table.minU() > table.maxU()) continue;
-        const double angle = angleBetween(reflected, lobe.axis), fromBack = angleBetween(-Vec3::UnitZ(), lobe.axis);
-        const double lo = std::max(angle - spread, fromBack - cap), hi = std::min(angle + spread, fromBack + cap);
-        const bool on = lo <= 2.0 * std::asin(table.maxU()) && hi >= 2.0 * std::asin(table.minU());
+        const LobeSupport& support = supports_[k];
+        if (!support.sampled) continue;
+        const double angle = angleBetween(reflected, lobes_[k].axis);
+        const double lo = std::max(angle - spread, support.fromBack - cap);
+        const double hi = std::min(angle + spread, support.fromBack + cap);
+        const bool on = lo <= support.maxAngle && hi >= support.minAngle;
         active[k * blocks_ + b] = on;
         any = any || on;
       }
@@ -501,11 +510,18 @@ class SphereRadialPath final : public RowPath {
   static double angleBetween(const Vec3& a, const Vec3& b) { return 2.0 * std::asin(std::min(1.0, 0.5 * (a - b).norm())); }
   static Vec3 discNormal(double x, double y) { return {x, y, std::sqrt(std::max(0.0, 1.0 - x * x - y * y))}; }
 
+  /// A lobe's support as angles from its axis, and the angle from its axis to -z (radians).
+  struct LobeSupport {
+    bool sampled;  // not a delta lobe, not zero everywhere
+    double minAngle, maxAngle, fromBack;
+  };
+
   const Parameterization& map_;
   const std::vector<TabulatedLobe>& lobes_;
   const SampleLayout& layout_;
   double twoOverN_;
   int blocks_;
+  std::vector<LobeSupport> supports_;
 };
 
 // ---------------------------------------------------------------------------------------------

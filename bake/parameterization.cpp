@@ -41,6 +41,10 @@ Vec3 Parameterization::checkedUnit(const Vec3& direction) {
   return (direction / largest).normalized();
 }
 
+void Parameterization::texelCoverageRow(int y, double* coverage) const {
+  for (int x = 0; x < width(); ++x) coverage[x] = texelCoverage(x, y);
+}
+
 void Parameterization::getDirectionsForRow(double py, const double* px, int count, double* x, double* y, double* z,
                                            unsigned char* valid) const {
   for (int i = 0; i < count; ++i) {

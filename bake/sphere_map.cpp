@@ -79,6 +79,14 @@ double SphereMap::texelCoverage(int x, int y) const {
   return detail::discCoverage(q.x0, q.x1, q.y0, q.y1);
 }
 
+void SphereMap::texelCoverageRow(int y, double* coverage) const {
+  const int n = resolution();  // a local: stores to coverage[] cannot change it
+  for (int x = 0; x < n; ++x) {
+    const Square q = texelSquare(x, y, n);
+    coverage[x] = detail::discCoverage(q.x0, q.x1, q.y0, q.y1);
+  }
+}
+
 double SphereMap::texelSolidAngle(int x, int y) const {
   const Square q = texelSquare(x, y, resolution());
   return detail::integrateOverDiscPart(q.x0, q.x1, q.y0, q.y1, kSphereSolidAngle);

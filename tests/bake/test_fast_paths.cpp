@@ -42,9 +42,9 @@ std::shared_ptr<CookTorranceMaterial> cookTorrance(CookTorranceMode mode, Microf
   return std::make_shared<CookTorranceMaterial>(params);
 }
 
-// Texel-wise within 1e-5 of the peak, and the same error bound (docs/accuracy.md) to 1 % of itself.
+// Texel-wise within `tolerance` of the peak, and the same error bound (docs/accuracy.md) to 1 % of itself.
 void expectMatchesGeneralPath(const Parameterization& map, const MapFunction& function, const std::string& path,
-                              const std::string& what) {
+                              const std::string& what, double tolerance = 1e-5) {
   BakeOptions options;
   options.samplesPerTexel = 4;
   const auto [fast, summary] = bakeMap(map, function, options);
@@ -53,7 +53,7 @@ void expectMatchesGeneralPath(const Parameterization& map, const MapFunction& fu
   EXPECT_EQ(general.path, "general") << what;
   const double peak = peakOf(slow);
   ASSERT_GT(peak, 0.0) << what;
-  EXPECT_LT(maxDifference(fast, slow), 1e-5 * peak) << what;
+  EXPECT_LT(maxDifference(fast, slow), tolerance * peak) << what;
   ErrorOptions errorOptions;
   errorOptions.samples = 4000;
   errorOptions.highlightGrid = 64;
@@ -85,8 +85,9 @@ TEST(FastPaths, CookTorranceLightingTakesTheMicrofacetPath) {
       for (const double roughness : {0.05, 0.3, 1.0}) {
         const auto material = cookTorrance(CookTorranceMode::Lighting, distribution, roughness, 0.7, Rgb(0.2, 0.5, 0.1));
         const MaterialMapFunction function(material, lights, Vec3::UnitZ());
+        // Within 1.4e-7 of the peak on every map (the sphere map's normals computed directly).
         expectMatchesGeneralPath(*makeParameterization(kind, 48), function, "microfacet",
-                                 std::string(toString(kind)) + " m " + std::to_string(roughness));
+                                 std::string(toString(kind)) + " m " + std::to_string(roughness), 1e-6);
       }
     }
   }

@@ -51,6 +51,19 @@ void expectDirectionRoundTrip(const Parameterization& map, double tolerance) {
   }
 }
 
+TEST(Parameterizations, CoverageRowIsTexelCoverage) {
+  // The batch form the baker uses (SphereMap has its own loop) against texelCoverage per texel.
+  for (const auto kind : {ParameterizationKind::Sphere, ParameterizationKind::Paraboloid, ParameterizationKind::Cube,
+                          ParameterizationKind::LatLong}) {
+    const auto map = makeParameterization(kind, 37);
+    std::vector<double> row(map->width());
+    for (int y = 0; y < map->height(); ++y) {
+      map->texelCoverageRow(y, row.data());
+      for (int x = 0; x < map->width(); ++x) ASSERT_EQ(row[x], map->texelCoverage(x, y)) << toString(kind) << " " << x << ", " << y;
+    }
+  }
+}
+
 TEST(SphereMap, RoundTripsAwayFromTheRim) {
   const SphereMap map(512);
   // Singular set: the rim circle (radius 1 in map units), which is the single direction -z.

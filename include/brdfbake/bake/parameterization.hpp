@@ -75,6 +75,9 @@ class Parameterization {
 
   /// Fraction of texel (x, y) inside the valid domain, in [0, 1] (stored as the map's alpha).
   virtual double texelCoverage(int x, int y) const = 0;
+  /// texelCoverage(x, y) of every texel of row y into coverage[0, width()). The default calls
+  /// texelCoverage; maps override it with a tight loop (the baker writes it per row).
+  virtual void texelCoverageRow(int y, double* coverage) const;
   /// Exact solid angle (sr) of the part of texel (x, y) inside the valid domain.
   virtual double texelSolidAngle(int x, int y) const = 0;
 

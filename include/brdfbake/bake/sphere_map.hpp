@@ -32,6 +32,7 @@ class SphereMap final : public Parameterization {
   void getDirectionsForRow(double py, const double* px, int count, double* x, double* y, double* z,
                            unsigned char* valid) const override;
   double texelCoverage(int x, int y) const override;
+  void texelCoverageRow(int y, double* coverage) const override;
   double texelSolidAngle(int x, int y) const override;
 
   /// GL_SPHERE_MAP texture coordinates of a unit reflected direction (total, never NaN).
