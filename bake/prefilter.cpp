@@ -673,9 +673,9 @@ Image filterWithLobe(const Environment& environment, const PrefilterLobe& lobe, 
 
 // Level 0 and, if asked, its solid-angle mip chain; cube edges fixed and paraboloid borders aligned
 // at every level.
-std::vector<Image> outputLevels(Image level0, const Parameterization& map, bool mips) {
+std::vector<Image> outputLevels(Image level0, const Parameterization& map, bool mips, bool cubeEdgeFixup) {
   if (mips) return environmentMipChain(level0, map);
-  if (map.kind() == ParameterizationKind::Cube) fixCubeEdges(level0, static_cast<const CubeMap&>(map));
+  if (map.kind() == ParameterizationKind::Cube && cubeEdgeFixup) fixCubeEdges(level0, static_cast<const CubeMap&>(map));
   if (map.kind() == ParameterizationKind::Paraboloid) alignParaboloidBorder(level0, static_cast<const ParaboloidMap&>(map));
   std::vector<Image> levels;
   levels.push_back(std::move(level0));
@@ -717,6 +717,7 @@ void PrefilterOptions::validate() const {
   require(shOrder == 0 || method == PrefilterMethod::SphericalHarmonics, "an SH order needs the sh method");
   require(importanceSamples == 0 || method == PrefilterMethod::Importance, "importance samples need the importance method");
   require(directTexelsPerWidth == 0.0 || method == PrefilterMethod::Direct, "direct texels per width need the direct method");
+  require(cubeEdgeFixup || !mips, "cube edge fixup can be turned off only without the solid-angle mip chain, which always fixes edges");
   require(probes >= 16 && probes <= 1 << 20, "probes must be in [16, 2^20], got " + std::to_string(probes));
   require(mirrorSamples >= 1 && mirrorSamples <= 4096, "mirror samples must be in [1, 4096]");
   require(elevations >= 2 && elevations <= 64,
@@ -837,7 +838,7 @@ PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lo
                                    : filterWithLobe(environment, lobe, *result.map, options, arena.max_concurrency(), summary);
     requireFiniteOutput(level0);
     const auto mipStart = Clock::now();
-    result.levels = outputLevels(std::move(level0), *result.map, options.mips);
+    result.levels = outputLevels(std::move(level0), *result.map, options.mips, options.cubeEdgeFixup);
     summary.mipSeconds = secondsSince(mipStart);
   });
   summary.levels = static_cast<int>(result.levels.size());
