@@ -206,7 +206,7 @@ std::filesystem::path fresnelProfilePath(const std::filesystem::path& output) { 
 namespace {
 void addLevels(std::vector<FilePlan::Entry>& out, const std::filesystem::path& file, const PrefilterOutputs& o,
                const std::string& role) {
-  const int levels = o.mips && o.mipLayout == MipLayout::Files ? mipLevelCount(o.resolution) : 1;
+  const int levels = o.mips && o.mipLayout == MipLayout::Files ? (o.mipLevels > 0 ? o.mipLevels : mipLevelCount(o.resolution)) : 1;
   const bool cube = o.parameterization == ParameterizationKind::Cube;
   for (int level = 0; level < levels; ++level) {
     const auto files = mapOutputFiles(mipLevelPath(file, level),

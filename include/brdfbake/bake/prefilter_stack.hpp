@@ -103,6 +103,7 @@ struct PrefilterOutputs {
   bool mips = false;                      ///< every mip level as STEM_mipK.EXT
   CubeLayout layout = CubeLayout::Cross;
   MipLayout mipLayout = MipLayout::Files;  ///< Tiled: the mip levels inside each map's file
+  int mipLevels = 0;                      ///< with mips: the levels written (a gloss chain's count), 0 = all
   int elevationSlices = 0;                ///< a stack over elevation (STEM_elevJ.EXT), or 0
   bool fresnel = false;                   ///< a Fresnel decomposition (irradiance map and profile too)
 };
