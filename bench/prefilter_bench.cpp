@@ -1,7 +1,7 @@
 // Prefiltering speed against accuracy (issue 5's bar), and brdfbake's GGX path next to Filament's
 // cmgen where it is installed.
 //
-//   build/bench/prefilter_bench [--quick] [--threads N] [--subset N] [--chart FILE.png] [--no-cmgen]
+//   build/bench/prefilter_bench [--quick] [--threads N] [--subset N] [--chart FILE.png] [--no-cmgen] [--cmft DIR] [--chain-only]
 //
 // Environment: the generated sky (SkyEnvironment: sky, aureole, ground, a 1.5 degree sun of
 // radiance ~2000) as a 1024 x 512 lat-long image (256 x 128 with --quick). For normalised Phong
@@ -18,6 +18,13 @@
 // same environment as a 3-channel float EXR), each compared with brdfbake's reference at its own
 // texel centres. cmgen's faces are the OpenGL faces of the frame (x, y, -z) (found by feeding it a
 // direction-coded environment; see docs/prefilter.md). Skipped with a message if cmgen is absent.
+//
+// Gloss chain (--cmft DIR: a checkout of github.com/dariomanesku/cmft, or $CMFT_SOURCE; --chain-only runs this
+// section alone): cmft's Phong chain (--glossScale 10 --glossBias 1 --mipCount 8, 256^2 faces, no edge fixup)
+// by prefilterGlossChain and by cmft, which the bench builds with g++ in a temporary folder (never vendored;
+// skipped with a message without the checkout or g++) and runs on the CPU with N - 1 = `--threads` workers;
+// wall and CPU seconds (getrusage), and per level the RMS relative error against the reference sum at
+// --subset random texels (cmft's texel centres, mapped to brdfbake's frame by negating z).
 //
 // The chart (gnuplot, time against error per exponent and for GGX) goes to
 // docs/images/prefilter_speed_error.png unless --chart says otherwise; a markdown table of every

@@ -824,6 +824,59 @@ TEST(GlossChain, EachLevelMatchesABruteForceSumWithItsOwnExponent) {
   }
 }
 
+TEST(GlossChain, RowConvolutionGridMatchesABruteForceSum) {
+  // The direct sum on a lat-long grid by row convolutions (chosen where the output has more texels
+  // than the grid needs): phong:200 (width 4 degrees) from a 256 x 128 sky into a 256 x 128 lat-long
+  // map, at 200 random texels, against a plain double loop over every sky texel split into 3 x 3
+  // sub-samples (weights c^n times the sub-sample's share of the texel's exact solid angle, ratio form).
+  static const Environment fine = bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, 128, "sky", 4);
+  const PrefilterLobe lobe = PrefilterLobe::phong(200);
+  PrefilterOptions options;
+  options.parameterization = ParameterizationKind::LatLong;
+  options.resolution = 128;
+  options.method = PrefilterMethod::Direct;
+  options.directTexelsPerWidth = 2.0;
+  options.estimateError = false;
+  const PrefilteredMap map = prefilter(fine, lobe, options);
+  ASSERT_NE(map.summary.detail.find("row convolutions"), std::string::npos) << map.summary.detail;
+  const LatLongMap envMap(fine.image.height());
+  const int s = 3;
+  std::vector<Vec3> directions;
+  std::vector<double> solidAngles;
+  std::vector<Rgb> radiance;
+  for (int y = 0; y < fine.image.height(); ++y)
+    for (int x = 0; x < fine.image.width(); ++x)
+      for (int a = 0; a < s; ++a)
+        for (int b = 0; b < s; ++b) {
+          directions.push_back(*envMap.getDirectionFor(Vec2(x + (b + 0.5) / s, y + (a + 0.5) / s)));
+          solidAngles.push_back(envMap.texelSolidAngle(x, y) / (s * s));
+          radiance.push_back(fine.image.at(x, y).head<3>());
+        }
+  const LatLongMap out(128);
+  const double floor = prefilterErrorFloor(fine, lobe);
+  std::mt19937 rng(5);
+  double sum = 0.0, weights = 0.0, worst = 0.0;
+  for (int i = 0; i < 200; ++i) {
+    const int x = static_cast<int>(rng() % out.width()), y = static_cast<int>(rng() % out.height());
+    const Vec3 axis = *out.getDirectionFor(Vec2(x + 0.5, y + 0.5));
+    Rgb numerator = Rgb::Zero();
+    double denominator = 0.0;
+    for (std::size_t j = 0; j < directions.size(); ++j) {
+      const double c = axis.dot(directions[j]);
+      if (c <= 0.0) continue;
+      const double w = std::pow(c, 200.0) * solidAngles[j];
+      numerator += w * radiance[j], denominator += w;
+    }
+    const Rgb expected = numerator / denominator;
+    const double e = (map.levels[0].at(x, y).head<3>() - expected).matrix().norm() / std::max(expected.matrix().norm(), floor);
+    sum += out.texelSolidAngle(x, y) * e * e, weights += out.texelSolidAngle(x, y), worst = std::max(worst, e);
+  }
+  const double rms = std::sqrt(sum / weights);
+  // Measured 0.16 % RMS, largest 1.3 % (the direct sum with q = 2 on a grid of 3.6 points per width).
+  EXPECT_LT(rms, 0.01) << map.summary.detail;
+  EXPECT_LT(worst, 0.05);
+}
+
 TEST(GlossChain, BadChainsAreRefused) {
   PrefilterOptions options;
   options.parameterization = ParameterizationKind::Cube;
