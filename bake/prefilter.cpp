@@ -270,6 +270,8 @@ bool finishSpec(CandidateSpec& spec, Context& context, const Workload& work) {
       // The direct sum by row convolutions: the grid is a power-of-two multiple of the level's rows
       // (the nearest to the rows asked for, at least 1), and a texel costs a vectorised multiply-add.
       const int levelRows = context.pyramid().level(directLevel(context, spec.q)).height;
+      // Its planar copy of the level holds 6 floats per texel: up to 4096 x 2048 texels (200 MB).
+      if (levelRows > 2048) return false;
       spec.gridMultiple = 1 << std::max(0, static_cast<int>(std::lround(std::log2(rows / levelRows))));
       spec.gridHeight = levelRows * spec.gridMultiple;
       if (spec.gridHeight > 4096) return false;

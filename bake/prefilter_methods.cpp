@@ -253,18 +253,18 @@ LatLongGrid convolvedDirectGrid(const LatLongPyramid& pyramid, const PrefilterLo
   LatLongGrid grid(hs * m);
   const double dTheta = kPi / hs, dPhi = kTwoPi / ws, capAngle = std::acos(std::clamp(cosCap, -1.0, 1.0));
   const double gTheta = kPi / grid.height();
-  // Each source row's channels, planar, three times over: column c of the row at [ws + c], so that
-  // j + k + ws is in range for j in [0, ws) and |k| <= ws / 2 without wrapping.
-  std::vector<float> planar(static_cast<std::size_t>(hs) * 3 * 3 * ws);
+  // Each source row's channels, planar, twice over and shifted by half a row: source column j + k
+  // (j in [0, ws), |k| <= ws / 2) at [j + k + ws / 2] without wrapping.
+  const int half = ws / 2;
+  std::vector<float> planar(static_cast<std::size_t>(hs) * 3 * 2 * ws);
   for (int y = 0; y < hs; ++y)
     for (int ch = 0; ch < 3; ++ch) {
-      float* dst = planar.data() + (static_cast<std::size_t>(y) * 3 + ch) * 3 * ws;
+      float* dst = planar.data() + (static_cast<std::size_t>(y) * 3 + ch) * 2 * ws;
       const float* row = L.row(y);
-      for (int i = 0; i < 3 * ws; ++i) dst[i] = row[4 * (i % ws) + ch];
+      for (int i = 0; i < 2 * ws; ++i) dst[i] = row[4 * ((i - half + ws) % ws) + ch];
     }
   // cos((k - f_p) dPhi) for phase p (f_p = (p + 0.5) / m - 0.5, the grid column's offset within its
   // source column) and k in [-ws/2, ws/2].
-  const int half = ws / 2;
   std::vector<double> cosOffset(static_cast<std::size_t>(m) * (ws + 1));
   for (int p = 0; p < m; ++p)
     for (int k = -half; k <= half; ++k) cosOffset[static_cast<std::size_t>(p) * (ws + 1) + (k + half)] = std::cos((k - ((p + 0.5) / m - 0.5)) * dPhi);
@@ -316,7 +316,7 @@ LatLongGrid convolvedDirectGrid(const LatLongPyramid& pyramid, const PrefilterLo
         den[p] += sum;
         for (int ch = 0; ch < 3; ++ch) {
           float* __restrict out = acc.data() + (static_cast<std::size_t>(p) * 3 + ch) * ws;
-          const float* source = planar.data() + (static_cast<std::size_t>(y) * 3 + ch) * 3 * ws + ws;
+          const float* source = planar.data() + (static_cast<std::size_t>(y) * 3 + ch) * 2 * ws + half;
           for (int k = kLo; k <= kHi; ++k) {
             const float w = kernel[k - kLo];
             if (w == 0.0f) continue;
