@@ -42,6 +42,7 @@ constexpr double kShPerCoefficient = 5e-9;  // evaluation: basis and RGB dot, pe
 constexpr double kShProjectPerCoefficient = 2e-9;
 constexpr double kImportancePerSample = 60e-9;
 constexpr double kGridLookup = 80e-9;
+constexpr double kConvolvedPerSample = 0.6e-9;  // direct sum on a grid by row convolutions, per grid point and texel
 constexpr double kReferencePerSample = 6e-9;
 
 
@@ -95,6 +96,12 @@ struct GridEvaluator final : Evaluator {
   detail::LatLongGrid grid;
 };
 
+struct ConvolvedGridEvaluator final : Evaluator {
+  explicit ConvolvedGridEvaluator(detail::LatLongGrid g) : grid(std::move(g)) {}
+  Rgb value(const Vec3& axis) const override { return grid.value(axis); }
+  detail::LatLongGrid grid;
+};
+
 struct ReferenceEvaluator final : Evaluator {
   ReferenceEvaluator(const Environment& environment, const PrefilterLobe& lobe) : summer(environment, lobe) {}
   Rgb value(const Vec3& axis) const override { return summer.value(axis); }
@@ -110,6 +117,7 @@ struct CandidateSpec {
   double shTail = 0.0;   // SH: max over l > order of |lambda_l| / lambda_0 (the truncation's scale)
   int gridPerWidth = 0;  // > 0: evaluate a lat-long grid with this many points per lobe width, interpolate
   int gridHeight = 0;
+  int gridMultiple = 0;  // > 0: the direct sum's grid by row convolutions, this many grid rows per level row
   double predicted = 0.0;
   std::string detail;
 };
@@ -196,6 +204,12 @@ std::unique_ptr<Evaluator> buildInner(const CandidateSpec& spec, Context& contex
 }
 
 std::unique_ptr<Evaluator> build(const CandidateSpec& spec, Context& context) {
+  if (spec.gridMultiple > 0) {
+    const int level = directLevel(context, spec.q);
+    const double cosCap = std::cos(context.lobe().tailAngle(spec.tail));
+    return std::make_unique<ConvolvedGridEvaluator>(detail::convolvedDirectGrid(
+        context.pyramid(), context.lobe(), level, cosCap, context.correctedTable(context.pyramid().texelAngle(level)), spec.gridMultiple));
+  }
   auto inner = buildInner(spec, context);
   if (spec.gridHeight <= 0) return inner;
   return std::make_unique<GridEvaluator>(*inner, spec.gridHeight);
@@ -251,8 +265,20 @@ bool finishSpec(CandidateSpec& spec, Context& context, const Workload& work) {
     const double rows = std::ceil(spec.gridPerWidth * kPi / std::max(context.lobe().width(), 1e-9) / 2.0) * 2.0;
     if (rows > 4096) return false;
     spec.gridHeight = std::max(8, static_cast<int>(rows));
+    double gridPerPoint = perPoint;
+    if (spec.method == PrefilterMethod::Direct && directSubdivision(context, spec.q) == 1) {
+      // The direct sum by row convolutions: the grid is a power-of-two multiple of the level's rows
+      // (the nearest to the rows asked for, at least 1), and a texel costs a vectorised multiply-add.
+      const int levelRows = context.pyramid().level(directLevel(context, spec.q)).height;
+      // Its planar copy of the level holds 6 floats per texel: up to 4096 x 2048 texels (200 MB).
+      if (levelRows > 2048) return false;
+      spec.gridMultiple = 1 << std::max(0, static_cast<int>(std::lround(std::log2(rows / levelRows))));
+      spec.gridHeight = levelRows * spec.gridMultiple;
+      if (spec.gridHeight > 4096) return false;
+      gridPerPoint = perPoint / kDirectPerSample * kConvolvedPerSample;
+    }
     const double gridPoints = 2.0 * spec.gridHeight * static_cast<double>(spec.gridHeight);
-    seconds = setup + gridPoints * perPoint + work.outputPoints * kGridLookup;
+    seconds = setup + gridPoints * gridPerPoint + work.outputPoints * kGridLookup;
     if (seconds > 0.7 * direct) return false;
   }
   spec.predicted = seconds / work.threads;
@@ -270,6 +296,7 @@ bool finishSpec(CandidateSpec& spec, Context& context, const Workload& work) {
     default: break;
   }
   if (spec.gridHeight > 0) detail << ", via a " << 2 * spec.gridHeight << "x" << spec.gridHeight << " grid";
+  if (spec.gridMultiple > 0) detail << " (row convolutions)";
   spec.detail = detail.str();
   return true;
 }
@@ -407,8 +434,8 @@ Probes makeProbes(Context& context, const PrefilterOptions& options, double floo
   // 1e-6 of its peak. A resampled input (not a power-of-two lat-long) under a lobe narrower than 16
   // texels of the working lat-long is summed over its own texels (ReferenceSummer), not over the
   // pyramid the candidates read, so the resampling error is part of the estimate. Otherwise the
-  // finest pyramid level needed is summed (texels <= width / 16, or level 0 split into sub-samples
-  // <= width / 8): a power-of-two lat-long input is its pyramid's level 0 (coarser levels are exact
+  // finest pyramid level needed is summed (texels <= width / 8 with the lobe corrected for their box,
+  // Context::correctedTable, or level 0 split into sub-samples <= width / 8): a power-of-two lat-long input is its pyramid's level 0 (coarser levels are exact
   // solid-angle means of its texels), and a lobe wider than 16 texels averages the resampling's
   // local error away (its 2 x 2 bilinear means keep each neighbourhood's mean), while summing a
   // hemisphere of input texels per probe would cost seconds.
@@ -422,9 +449,9 @@ Probes makeProbes(Context& context, const PrefilterOptions& options, double floo
     ownTexels.emplace(context.environment(), lobe, cosCap, table);
     reference = [&](const Vec3& axis) { return ownTexels->value(axis); };
   } else {
-    const int level = pyramid.levelFor(lobe.width() / 16.0);
+    const int level = pyramid.levelFor(lobe.width() / 8.0);
     const int sub = std::clamp(static_cast<int>(std::ceil(8.0 * pyramid.texelAngle(level) / std::max(lobe.width(), 1e-12))), 1, 8);
-    pyramidSum.emplace(pyramid, lobe, level, cosCap, sub, table);
+    pyramidSum.emplace(pyramid, lobe, level, cosCap, sub, sub == 1 ? context.correctedTable(pyramid.texelAngle(level)) : table);
     reference = [&](const Vec3& axis) { return pyramidSum->value(axis); };
   }
   tbb::parallel_for(0, static_cast<int>(probes.axes.size()), [&](int p) {
@@ -673,9 +700,9 @@ Image filterWithLobe(const Environment& environment, const PrefilterLobe& lobe, 
 
 // Level 0 and, if asked, its solid-angle mip chain; cube edges fixed and paraboloid borders aligned
 // at every level.
-std::vector<Image> outputLevels(Image level0, const Parameterization& map, bool mips) {
+std::vector<Image> outputLevels(Image level0, const Parameterization& map, bool mips, bool cubeEdgeFixup) {
   if (mips) return environmentMipChain(level0, map);
-  if (map.kind() == ParameterizationKind::Cube) fixCubeEdges(level0, static_cast<const CubeMap&>(map));
+  if (map.kind() == ParameterizationKind::Cube && cubeEdgeFixup) fixCubeEdges(level0, static_cast<const CubeMap&>(map));
   if (map.kind() == ParameterizationKind::Paraboloid) alignParaboloidBorder(level0, static_cast<const ParaboloidMap&>(map));
   std::vector<Image> levels;
   levels.push_back(std::move(level0));
@@ -717,6 +744,7 @@ void PrefilterOptions::validate() const {
   require(shOrder == 0 || method == PrefilterMethod::SphericalHarmonics, "an SH order needs the sh method");
   require(importanceSamples == 0 || method == PrefilterMethod::Importance, "importance samples need the importance method");
   require(directTexelsPerWidth == 0.0 || method == PrefilterMethod::Direct, "direct texels per width need the direct method");
+  require(cubeEdgeFixup || !mips, "cube edge fixup can be turned off only without the solid-angle mip chain, which always fixes edges");
   require(probes >= 16 && probes <= 1 << 20, "probes must be in [16, 2^20], got " + std::to_string(probes));
   require(mirrorSamples >= 1 && mirrorSamples <= 4096, "mirror samples must be in [1, 4096]");
   require(elevations >= 2 && elevations <= 64,
@@ -837,7 +865,7 @@ PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lo
                                    : filterWithLobe(environment, lobe, *result.map, options, arena.max_concurrency(), summary);
     requireFiniteOutput(level0);
     const auto mipStart = Clock::now();
-    result.levels = outputLevels(std::move(level0), *result.map, options.mips);
+    result.levels = outputLevels(std::move(level0), *result.map, options.mips, options.cubeEdgeFixup);
     summary.mipSeconds = secondsSince(mipStart);
   });
   summary.levels = static_cast<int>(result.levels.size());

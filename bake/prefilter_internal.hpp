@@ -133,6 +133,15 @@ class LatLongGrid {
   std::vector<Rgb> values_;
 };
 
+// The direct sum (DirectSummer with sub = 1) at every point of a lat-long grid `multiple` (a power
+// of two >= 1) times as fine as pyramid level `level`, by row convolutions: for one grid row and
+// one source row, the weight of source column x for the grid point of column X depends only on
+// x - X / multiple, so each (grid row, source row, column phase) pair computes its kernel once and
+// adds it, shifted, to every point of the row (float multiply-adds over contiguous columns, which
+// the compiler vectorises). Equal to DirectSummer::value at the grid's points up to float rounding.
+LatLongGrid convolvedDirectGrid(const LatLongPyramid& pyramid, const PrefilterLobe& lobe, int level, double cosCap,
+                                const std::shared_ptr<const RadialTable>& table, int multiple);
+
 // The exact reference over the environment's own texels (sub-sampled where the lobe is narrow).
 // With a cap (cosCap > -1) only the samples within angle acos(cosCap) of the axis count: the samples
 // are kept sorted into the cells of a coarse lat-long grid, and a value visits only the cells

@@ -228,6 +228,7 @@ std::vector<double> PrefilterLobe::zonalCoefficients(int maxOrder) const {
     const double t = data_->theta[k];
     const double c = std::cos(t);
     const double f = kTwoPi * profile(c) * std::sin(t);
+    if (f == 0.0) continue;  // beyond the lobe's support (a Phong lobe's back hemisphere, the far tail)
     p[0] = 1.0;
     if (maxOrder >= 1) p[1] = c;
     for (int l = 2; l <= maxOrder; ++l) p[l] = ((2 * l - 1) * c * p[l - 1] - (l - 1) * p[l - 2]) / l;

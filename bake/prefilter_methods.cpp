@@ -244,6 +244,102 @@ Rgb DirectSummer::value(const Vec3& axis) const {
   return lobe_.mass() * pyramid_.level(level_).bilinear(axis);
 }
 
+// ---- the direct sum on a grid, by row convolutions ----------------------------------------------
+
+LatLongGrid convolvedDirectGrid(const LatLongPyramid& pyramid, const PrefilterLobe& lobe, int level, double cosCap,
+                                const std::shared_ptr<const RadialTable>& table, int multiple) {
+  const LatLongLevel& L = pyramid.level(level);
+  const int ws = L.width, hs = L.height, m = multiple;
+  LatLongGrid grid(hs * m);
+  const double dTheta = kPi / hs, dPhi = kTwoPi / ws, capAngle = std::acos(std::clamp(cosCap, -1.0, 1.0));
+  const double gTheta = kPi / grid.height();
+  // Each source row's channels, planar, twice over and shifted by half a row: source column j + k
+  // (j in [0, ws), |k| <= ws / 2) at [j + k + ws / 2] without wrapping.
+  const int half = ws / 2;
+  std::vector<float> planar(static_cast<std::size_t>(hs) * 3 * 2 * ws);
+  for (int y = 0; y < hs; ++y)
+    for (int ch = 0; ch < 3; ++ch) {
+      float* dst = planar.data() + (static_cast<std::size_t>(y) * 3 + ch) * 2 * ws;
+      const float* row = L.row(y);
+      for (int i = 0; i < 2 * ws; ++i) dst[i] = row[4 * ((i - half + ws) % ws) + ch];
+    }
+  // cos((k - f_p) dPhi) for phase p (f_p = (p + 0.5) / m - 0.5, the grid column's offset within its
+  // source column) and k in [-ws/2, ws/2].
+  std::vector<double> cosOffset(static_cast<std::size_t>(m) * (ws + 1));
+  for (int p = 0; p < m; ++p)
+    for (int k = -half; k <= half; ++k) cosOffset[static_cast<std::size_t>(p) * (ws + 1) + (k + half)] = std::cos((k - ((p + 0.5) / m - 0.5)) * dPhi);
+  const RadialTable::View view = table->view();
+  const double maxF = static_cast<double>(view.lastInterval) + 0.999999;
+  auto weight = [&](double c) {
+    double f = std::sqrt(std::max(0.0, 0.5 - 0.5 * c)) * view.scale;  // u = sin(theta/2)
+    f = f < maxF ? f : maxF;
+    const long i = static_cast<long>(f);
+    const double t = f - static_cast<double>(i);
+    return view.values[i] + t * (view.values[i + 1] - view.values[i]);
+  };
+  const double mass = lobe.mass();
+  tbb::parallel_for(0, grid.height(), [&](int gy) {
+    const double thetaD = (gy + 0.5) * gTheta, cosD = std::cos(thetaD), sinD = std::sin(thetaD);
+    std::vector<float> acc(static_cast<std::size_t>(m) * 3 * ws, 0.0f);
+    std::vector<double> den(static_cast<std::size_t>(m), 0.0);
+    std::vector<float> kernel(static_cast<std::size_t>(ws) + 1);
+    auto kappa = [&](double cosT, double sinT) {
+      if (sinT < 1e-12) return cosT * cosD >= cosCap ? -2.0 : 2.0;
+      return (cosCap - cosT * cosD) / (sinT * sinD);
+    };
+    const double widest = std::acos(std::clamp(cosD / std::max(cosCap, 1e-300), -1.0, 1.0));
+    const int yFirst = std::max(0, static_cast<int>(std::floor((thetaD - capAngle) / dTheta)));
+    const int yLast = std::min(hs - 1, static_cast<int>(std::floor((thetaD + capAngle) / dTheta)));
+    for (int y = yFirst; y <= yLast; ++y) {
+      double halfWidth = kPi;
+      if (capAngle < kPi && sinD > 1e-12) {
+        double k = std::min(kappa(L.edgeCos[y], L.edgeSin[y]), kappa(L.edgeCos[y + 1], L.edgeSin[y + 1]));
+        if (cosCap > 0.0 && widest > y * dTheta && widest < (y + 1) * dTheta) k = std::min(k, kappa(std::cos(widest), std::sin(widest)));
+        if (k > 1.0) continue;
+        halfWidth = k <= -1.0 ? kPi : std::acos(k);
+      }
+      // Taps k in [kLo, kHi]: the whole row (each column once) or the cap's columns and a margin.
+      int kLo = -half, kHi = ws - 1 - half;
+      if (halfWidth < kPi - 2.0 * dPhi) {
+        const int reach = std::min(half - 1, static_cast<int>(std::ceil(halfWidth / dPhi)) + 1);
+        kLo = -reach, kHi = reach;
+      }
+      const double a = L.rowCos[y] * cosD, b = L.rowSin[y] * sinD, omega = L.rowSolidAngle[y];
+      for (int p = 0; p < m; ++p) {
+        const double* co = cosOffset.data() + static_cast<std::size_t>(p) * (ws + 1) + half;
+        double sum = 0.0;
+        for (int k = kLo; k <= kHi; ++k) {
+          const double w = omega * weight(a + b * co[k]);
+          kernel[k - kLo] = static_cast<float>(w);
+          sum += w;
+        }
+        den[p] += sum;
+        for (int ch = 0; ch < 3; ++ch) {
+          float* __restrict out = acc.data() + (static_cast<std::size_t>(p) * 3 + ch) * ws;
+          const float* source = planar.data() + (static_cast<std::size_t>(y) * 3 + ch) * 2 * ws + half;
+          for (int k = kLo; k <= kHi; ++k) {
+            const float w = kernel[k - kLo];
+            if (w == 0.0f) continue;
+            const float* __restrict in = source + k;
+            for (int j = 0; j < ws; ++j) out[j] += w * in[j];
+          }
+        }
+      }
+    }
+    for (int p = 0; p < m; ++p)
+      for (int j = 0; j < ws; ++j) {
+        const std::size_t base = static_cast<std::size_t>(p) * 3 * ws + j;
+        const int x = j * m + p;
+        if (den[p] > 0.0) {
+          grid.set(x, gy, mass * Rgb(acc[base], acc[base + ws], acc[base + 2 * ws]) / den[p]);
+        } else {
+          grid.set(x, gy, mass * L.bilinear(grid.direction(x, gy)));
+        }
+      }
+  });
+  return grid;
+}
+
 // ---- filtered importance sampling ------------------------------------------------------------
 
 ImportanceSampler::ImportanceSampler(const LatLongPyramid& pyramid, const PrefilterLobe& lobe, int samples)

@@ -8,6 +8,7 @@
 #include <brdfbake/bake/prefilter_stack.hpp>
 #include <brdfbake/core/error.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -24,6 +25,60 @@ std::function<void(double)> progressPart(const std::function<void(double)>& prog
 }
 
 }  // namespace
+
+// ---- glossy mip chains ---------------------------------------------------------------------------
+
+std::vector<double> glossLevelExponents(int count, double scale, double bias) {
+  require(count >= 1 && count <= 16, "a gloss chain has 1 to 16 levels, got " + std::to_string(count));
+  require(std::isfinite(scale) && std::isfinite(bias), "gloss scale and bias must be finite");
+  std::vector<double> exponents;
+  for (int k = 0; k < count; ++k) {
+    const double glossiness = count == 1 ? 1.0 : std::max(0.0, 1.0 - static_cast<double>(k) / (count - 1));
+    const double exponent = std::exp2(scale * glossiness + bias);
+    require(exponent >= 0.0 && exponent <= 1e6, "gloss level " + std::to_string(k) + " has Phong exponent " +
+                                                     std::to_string(exponent) + ", outside [0, 1e6]");
+    exponents.push_back(exponent);
+  }
+  return exponents;
+}
+
+PrefilteredMap prefilterGlossChain(const Environment& environment, const std::vector<PrefilterLobe>& lobes,
+                                   const PrefilterOptions& options) {
+  options.validate();
+  require(!lobes.empty(), "a gloss chain needs at least one level");
+  require(!options.mips, "a gloss chain is its own mip chain: turn options.mips off");
+  const int count = static_cast<int>(lobes.size());
+  require((options.resolution >> (count - 1)) >= 1, "a gloss chain of " + std::to_string(count) + " levels needs a resolution of at least " +
+                                                        std::to_string(1 << (count - 1)) + ", got " + std::to_string(options.resolution));
+  const auto start = Clock::now();
+  PrefilteredMap result;
+  PrefilterSummary& summary = result.summary;
+  summary.maxError = options.maxError;
+  std::ostringstream names;
+  for (int k = 0; k < count; ++k) {
+    const PrefilterLobe& lobe = lobes[static_cast<std::size_t>(k)];
+    require(!lobe.isMirror(), "gloss chain level " + std::to_string(k) + ": the mirror lobe is not a filter");
+    PrefilterOptions level = options;
+    level.resolution = options.resolution >> k;
+    level.progress = progressPart(options.progress, static_cast<double>(k) / count, static_cast<double>(k + 1) / count);
+    const std::string label = "level " + std::to_string(k) + " (" + lobe.name() + ")";
+    PrefilteredMap part;
+    try {
+      part = prefilter(environment, lobe, level);
+    } catch (const Error& error) {
+      throw Error(error.kind(), label + ": " + error.what());
+    }
+    if (k == 0) result.map = part.map;
+    result.levels.push_back(std::move(part.levels.front()));
+    mergePrefilterSummary(summary, part.summary, label, k == 0);
+    names << (k ? ", " : "") << lobe.name();
+  }
+  summary.lobe = lobes.front().name() + " ... " + lobes.back().name();
+  summary.detail = "gloss chain: " + names.str();
+  summary.levels = count;
+  summary.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  return result;
+}
 
 // ---- elevation stacks ----------------------------------------------------------------------------
 
@@ -151,7 +206,7 @@ std::filesystem::path fresnelProfilePath(const std::filesystem::path& output) { 
 namespace {
 void addLevels(std::vector<FilePlan::Entry>& out, const std::filesystem::path& file, const PrefilterOutputs& o,
                const std::string& role) {
-  const int levels = o.mips && o.mipLayout == MipLayout::Files ? mipLevelCount(o.resolution) : 1;
+  const int levels = o.mips && o.mipLayout == MipLayout::Files ? (o.mipLevels > 0 ? o.mipLevels : mipLevelCount(o.resolution)) : 1;
   const bool cube = o.parameterization == ParameterizationKind::Cube;
   for (int level = 0; level < levels; ++level) {
     const auto files = mapOutputFiles(mipLevelPath(file, level),

@@ -1,7 +1,7 @@
 // Prefiltering speed against accuracy (issue 5's bar), and brdfbake's GGX path next to Filament's
 // cmgen where it is installed.
 //
-//   build/bench/prefilter_bench [--quick] [--threads N] [--subset N] [--chart FILE.png] [--no-cmgen]
+//   build/bench/prefilter_bench [--quick] [--threads N] [--subset N] [--chart FILE.png] [--no-cmgen] [--cmft DIR] [--chain-only]
 //
 // Environment: the generated sky (SkyEnvironment: sky, aureole, ground, a 1.5 degree sun of
 // radiance ~2000) as a 1024 x 512 lat-long image (256 x 128 with --quick). For normalised Phong
@@ -19,6 +19,13 @@
 // texel centres. cmgen's faces are the OpenGL faces of the frame (x, y, -z) (found by feeding it a
 // direction-coded environment; see docs/prefilter.md). Skipped with a message if cmgen is absent.
 //
+// Gloss chain (--cmft DIR: a checkout of github.com/dariomanesku/cmft, or $CMFT_SOURCE; --chain-only runs this
+// section alone): cmft's Phong chain (--glossScale 10 --glossBias 1 --mipCount 8, 256^2 faces, no edge fixup)
+// by prefilterGlossChain and by cmft, which the bench builds with g++ in a temporary folder (never vendored;
+// skipped with a message without the checkout or g++) and runs on the CPU with N - 1 = `--threads` workers;
+// wall and CPU seconds (getrusage), and per level the RMS relative error against the reference sum at
+// --subset random texels (cmft's texel centres, mapped to brdfbake's frame by negating z).
+//
 // The chart (gnuplot, time against error per exponent and for GGX) goes to
 // docs/images/prefilter_speed_error.png unless --chart says otherwise; a markdown table of every
 // point goes to stdout.
@@ -27,11 +34,16 @@
 #include <brdfbake/bake/environment.hpp>
 #include <brdfbake/bake/image_io.hpp>
 #include <brdfbake/bake/prefilter.hpp>
+#include <brdfbake/bake/prefilter_stack.hpp>
 #include <brdfbake/core/error.hpp>
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -39,6 +51,7 @@
 #include <iostream>
 #include <random>
 #include <sstream>
+#include <sys/resource.h>
 #include <unistd.h>
 
 namespace {
@@ -181,6 +194,214 @@ void ggxComparison(const Environment& environment, int faceSize, int subsetSize,
   fs::remove_all(work, ec);
 }
 
+// ---- the Phong gloss chain next to cmft -------------------------------------------------------
+
+// CPU seconds (user + system) of this process and of its waited-for children.
+double cpuSeconds(int who) {
+  rusage usage{};
+  getrusage(who, &usage);
+  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + 1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+// cmft's face F texel (x, y) of an n^2 face, in brdfbake's frame: cmft's texelCoordToVec
+// (cubemaputils.h, s_faceUvVectors) gives (u, v, face) -> direction in cmft's frame, whose lat-long
+// reading (latLongFromVec: u = (pi + atan2(x, z)) / 2pi, v = acos(y) / pi) is brdfbake's with z
+// negated (latlong_map.cpp: the image centre looks down -z in brdfbake, +z in cmft).
+Vec3 cmftDirection(int face, int x, int y, int n) {
+  static const double uv[6][3][3] = {
+      {{0, 0, -1}, {0, -1, 0}, {1, 0, 0}},  {{0, 0, 1}, {0, -1, 0}, {-1, 0, 0}}, {{1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
+      {{1, 0, 0}, {0, 0, -1}, {0, -1, 0}}, {{1, 0, 0}, {0, -1, 0}, {0, 0, 1}},  {{-1, 0, 0}, {0, -1, 0}, {0, 0, -1}}};
+  const double u = 2.0 * (x + 0.5) / n - 1.0, v = 2.0 * (y + 0.5) / n - 1.0;
+  Vec3 d;
+  for (int c = 0; c < 3; ++c) d[c] = uv[face][0][c] * u + uv[face][1][c] * v + uv[face][2][c];
+  d.normalize();
+  return {d.x(), d.y(), -d.z()};
+}
+
+// cmft's RGBA32F DDS cube with mips: the header (and a DX10 header if its four-cc says so), then
+// face after face, each with its levels (cmft's imageGetMipOffsets order). faces[f][k] is level k.
+std::vector<std::vector<std::vector<float>>> readCmftDds(const fs::path& path, int faceSize, int levels) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() < 128 || std::string(bytes.data(), 4) != "DDS ") throw Error(Error::Kind::Io, path.string() + ": not a DDS file");
+  std::size_t offset = 128 + (std::string(bytes.data() + 84, 4) == "DX10" ? 20 : 0);
+  std::vector<std::vector<std::vector<float>>> faces(6);
+  for (int f = 0; f < 6; ++f)
+    for (int k = 0; k < levels; ++k) {
+      const int n = std::max(1, faceSize >> k);
+      std::vector<float> texels(static_cast<std::size_t>(n) * n * 4);
+      const std::size_t size = texels.size() * sizeof(float);
+      if (offset + size > bytes.size()) throw Error(Error::Kind::Io, path.string() + ": shorter than a " + std::to_string(levels) + "-level cube");
+      std::memcpy(texels.data(), bytes.data() + offset, size);
+      offset += size;
+      faces[f].push_back(std::move(texels));
+    }
+  return faces;
+}
+
+// Builds cmft from a source checkout with g++ alone (its own dependency/ folder holds what it
+// includes), into `work`. Empty path (and a message) if it cannot.
+fs::path buildCmft(const fs::path& source, const fs::path& work) {
+  if (source.empty() || !fs::exists(source / "src" / "cmft" / "cubemapfilter.cpp")) {
+    std::cerr << "cmft: no source checkout (--cmft DIR, a clone of github.com/dariomanesku/cmft): comparison skipped\n";
+    return {};
+  }
+  if (!haveProgram("g++")) {
+    std::cerr << "cmft: g++ not found: comparison skipped\n";
+    return {};
+  }
+  const fs::path binary = work / "cmft";
+  const std::string s = source.string();
+  const std::string command = "g++ -O3 -std=c++11 -w -I" + s + "/include -I" + s + "/src -I" + s + "/src/cmft -I" + s + "/dependency " + s +
+                              "/src/main.cpp " + s + "/src/cmft/*.cpp " + s + "/src/cmft/common/*.cpp -o " + binary.string() +
+                              " -lpthread -ldl > " + (work / "cmft_build.log").string() + " 2>&1";
+  std::cerr << "building cmft (g++ -O3) ...\n";
+  if (std::system(command.c_str()) != 0 || !fs::exists(binary)) {
+    std::cerr << "cmft: build failed (" << (work / "cmft_build.log").string() << "): comparison skipped\n";
+    return {};
+  }
+  return binary;
+}
+
+struct ChainLevel {
+  double exponent = 0.0;
+  int size = 0;
+  std::vector<Vec3> axes;  // brdfbake frame
+  std::vector<double> weights;
+  std::vector<Rgb> reference;
+  std::vector<std::array<int, 3>> texels;  // face, x, y
+};
+
+// Random texels of each level (cmft's face order and texel directions) with the reference sum.
+std::vector<ChainLevel> chainCheckPoints(const Environment& environment, const std::vector<double>& exponents, int faceSize, int count,
+                                         int threads) {
+  std::vector<ChainLevel> levels;
+  std::mt19937 rng(13);
+  for (std::size_t k = 0; k < exponents.size(); ++k) {
+    ChainLevel level;
+    level.exponent = exponents[k];
+    level.size = std::max(1, faceSize >> k);
+    const CubeMap cube(level.size);
+    for (int i = 0; i < count; ++i) {
+      const int f = static_cast<int>(rng() % 6), x = static_cast<int>(rng() % level.size), y = static_cast<int>(rng() % level.size);
+      level.texels.push_back({f, x, y});
+      level.axes.push_back(cmftDirection(f, x, y, level.size));
+      // A cube texel's solid angle depends only on its place in its face.
+      const TexelRect r = cube.region(0);
+      level.weights.push_back(cube.texelSolidAngle(r.x0 + x, r.y0 + y));
+    }
+    level.reference = prefilterReferenceAt(environment, PrefilterLobe::phong(level.exponent), level.axes, threads);
+    levels.push_back(std::move(level));
+  }
+  return levels;
+}
+
+struct ChainResult {
+  std::string tool, detail;
+  double seconds = 0.0, cpu = 0.0;
+  std::vector<PrefilterError> errors;  // per level
+};
+
+// The Phong gloss chain of cmft (--glossScale 10 --glossBias 1 --mipCount 8, 256 faces) made by
+// brdfbake (prefilterGlossChain, auto to 1 %) and by cmft on the same 1024 x 512 sky (written as
+// Radiance HDR), both compared with the reference sum at random texels of every level.
+void cmftComparison(const Environment& environment, const fs::path& cmftSource, int faceSize, int subsetSize, int threads) {
+  const int mipCount = 8;
+  const auto exponents = glossLevelExponents(mipCount, 10.0, 1.0);
+  std::cerr << "gloss chain: reference at " << subsetSize << " texels per level ...\n";
+  const auto levels = chainCheckPoints(environment, exponents, faceSize, subsetSize, threads);
+  std::vector<ChainResult> results;
+  auto errorsOf = [&](const std::function<Rgb(std::size_t level, const std::array<int, 3>& texel)>& value) {
+    std::vector<PrefilterError> errors;
+    for (std::size_t k = 0; k < levels.size(); ++k) {
+      std::vector<Rgb> values;
+      for (const auto& t : levels[k].texels) values.push_back(value(k, t));
+      errors.push_back(prefilterPointsError(values, levels[k].reference, levels[k].weights,
+                                            prefilterErrorFloor(environment, PrefilterLobe::phong(levels[k].exponent))));
+    }
+    return errors;
+  };
+  {
+    std::vector<PrefilterLobe> lobes;
+    for (double n : exponents) lobes.push_back(PrefilterLobe::phong(n));
+    PrefilterOptions options;
+    options.parameterization = ParameterizationKind::Cube;
+    options.resolution = faceSize;
+    options.threads = threads;
+    options.cubeEdgeFixup = false;  // as cmft's --edgeFixup none: every texel its own value
+    const double cpu0 = cpuSeconds(RUSAGE_SELF);
+    const auto start = Clock::now();
+    const PrefilteredMap chain = prefilterGlossChain(environment, lobes, options);
+    ChainResult r;
+    r.seconds = since(start);
+    r.cpu = cpuSeconds(RUSAGE_SELF) - cpu0;
+    r.tool = "brdfbake";
+    r.detail = "prefilterGlossChain, auto to 1 % (largest estimate " + format(100.0 * chain.summary.errorEstimate, 2) + " %)";
+    r.errors = errorsOf([&](std::size_t k, const std::array<int, 3>& t) {
+      const CubeMap cube(levels[k].size);
+      // brdfbake's face holding cmft's texel direction, read at that direction's texel.
+      const auto address = cube.getAddressFor(levels[k].axes[&t - levels[k].texels.data()]);
+      const int x = std::clamp(static_cast<int>(address.pixel.x()), 0, cube.width() - 1);
+      const int y = std::clamp(static_cast<int>(address.pixel.y()), 0, cube.height() - 1);
+      return Rgb(chain.levels[k].at(x, y).head<3>());
+    });
+    results.push_back(r);
+    for (const auto& c : chain.summary.candidates)
+      std::cerr << "  brdfbake " << (c.chosen ? "chose " : "tried ") << c.detail << ": setup " << format(c.seconds) << " s, estimate "
+                << format(100.0 * c.errorEstimate, 2) << " %\n";
+    std::cerr << "  brdfbake total " << format(chain.summary.seconds) << " s: probes and estimates " << format(chain.summary.estimateSeconds)
+              << " s, output " << format(chain.summary.outputSeconds) << " s\n";
+  }
+  const fs::path work = fs::temp_directory_path() / ("brdfbake-cmft-bench-" + std::to_string(::getpid()));
+  fs::create_directories(work);
+  if (const fs::path cmft = buildCmft(cmftSource, work); !cmft.empty()) {
+    const fs::path input = work / "sky.hdr";
+    writeFloatRgbExr(environment, input);  // 3-channel float: Radiance HDR here
+    // --numCpuProcessingThreads N runs N - 1 workers: N = threads + 1.
+    const int workers = threads > 0 ? threads : 2;
+    const std::string command = cmft.string() + " --input " + input.string() +
+                                " --filter radiance --lightingModel phong --mipCount 8 --glossScale 10 --glossBias 1 --srcFaceSize " +
+                                std::to_string(faceSize) + " --dstFaceSize " + std::to_string(faceSize) +
+                                " --excludeBase false --edgeFixup none --useOpenCL false --numCpuProcessingThreads " +
+                                std::to_string(workers + 1) + " --outputNum 1 --output0 " + (work / "out").string() +
+                                " --output0params dds,rgba32f,cubemap --silent > " + (work / "cmft_run.log").string() + " 2>&1";
+    const double cpu0 = cpuSeconds(RUSAGE_CHILDREN);
+    const auto start = Clock::now();
+    const int status = std::system(command.c_str());
+    ChainResult r;
+    r.seconds = since(start);
+    r.cpu = cpuSeconds(RUSAGE_CHILDREN) - cpu0;
+    if (status != 0) {
+      std::cerr << "cmft failed (" << status << "): " << command << "\n";
+    } else {
+      const auto faces = readCmftDds(work / "out.dds", faceSize, mipCount);
+      r.tool = "cmft";
+      r.detail = "CPU, " + std::to_string(workers) + " worker(s), its 256^2 cube of the sky as source";
+      r.errors = errorsOf([&](std::size_t k, const std::array<int, 3>& t) {
+        const float* p = faces[t[0]][k].data() + 4 * (static_cast<std::size_t>(t[2]) * levels[k].size + t[1]);
+        return Rgb(p[0], p[1], p[2]);
+      });
+      results.push_back(r);
+    }
+  }
+  std::error_code ec;
+  fs::remove_all(work, ec);
+  std::cout << "\nPhong gloss chain (cmft --glossScale 10 --glossBias 1 --mipCount 8), " << faceSize << "^2 cube, "
+            << environment.image.width() << "x" << environment.image.height() << " sky, threads " << (threads > 0 ? threads : 0)
+            << " (0: all); RMS relative error against the reference sum at " << subsetSize << " random texels per level\n\n"
+            << "| tool | seconds (wall) | CPU seconds | worst level RMS | per level RMS (exponent) | setting |\n|---|---:|---:|---:|---|---|\n";
+  for (const auto& r : results) {
+    double worst = 0.0;
+    std::ostringstream perLevel;
+    for (std::size_t k = 0; k < r.errors.size(); ++k) {
+      worst = std::max(worst, r.errors[k].rms);
+      perLevel << (k ? ", " : "") << format(100.0 * r.errors[k].rms, 2) << " % (" << format(levels[k].exponent, 4) << ")";
+    }
+    std::cout << "| " << r.tool << " | " << format(r.seconds) << " | " << format(r.cpu) << " | " << format(100.0 * worst, 3) << " % | "
+              << perLevel.str() << " | " << r.detail << " |\n";
+  }
+}
+
 void chart(const std::vector<Row>& rows, const fs::path& png, const std::vector<std::string>& groups) {
   if (!haveProgram("gnuplot")) {
     std::cerr << "gnuplot not found: no chart written\n";
@@ -249,8 +470,9 @@ void chart(const std::vector<Row>& rows, const fs::path& png, const std::vector<
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false, useCmgen = true;
+  bool quick = false, useCmgen = true, chainOnly = false;
   int threads = 0, subsetSize = 256;
+  fs::path cmftSource = std::getenv("CMFT_SOURCE") ? std::getenv("CMFT_SOURCE") : "";
   fs::path png = "docs/images/prefilter_speed_error.png";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -259,8 +481,10 @@ int main(int argc, char** argv) {
     else if (a == "--threads" && i + 1 < argc) threads = std::stoi(argv[++i]);
     else if (a == "--subset" && i + 1 < argc) subsetSize = std::stoi(argv[++i]);
     else if (a == "--chart" && i + 1 < argc) png = argv[++i];
+    else if (a == "--cmft" && i + 1 < argc) cmftSource = argv[++i];
+    else if (a == "--chain-only") chainOnly = true;
     else {
-      std::cerr << "usage: prefilter_bench [--quick] [--threads N] [--subset N] [--chart FILE.png] [--no-cmgen]\n";
+      std::cerr << "usage: prefilter_bench [--quick] [--threads N] [--subset N] [--chart FILE.png] [--no-cmgen] [--cmft DIR] [--chain-only]\n";
       return 2;
     }
   }
@@ -269,6 +493,10 @@ int main(int argc, char** argv) {
     auto start = Clock::now();
     const Environment sky = bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, rowsOfSky, "sky", 16, threads);
     std::cerr << "sky " << sky.image.width() << "x" << sky.image.height() << " in " << since(start) << " s\n";
+    if (chainOnly) {
+      cmftComparison(sky, cmftSource, outputResolution, subsetSize, threads);
+      return 0;
+    }
     std::vector<Row> rows;
     std::vector<std::string> groups;
     for (double exponent : {1.0, 10.0, 100.0, 1000.0}) {
@@ -327,6 +555,7 @@ int main(int argc, char** argv) {
                 << (r.method == "reference" ? "1" : format(referenceSeconds / r.seconds, 3)) << " |\n";
     }
     chart(rows, png, groups);
+    cmftComparison(sky, cmftSource, outputResolution, subsetSize, threads);
   } catch (const Error& e) {
     std::cerr << "prefilter_bench: " << e.what() << "\n";
     return 1;

@@ -62,6 +62,12 @@ per face) or a 2 x 1 paraboloid or lat-long level is followed by levels holding 
 The output's metadata records the lobe, the method, the error bound and estimate, and the
 environment.
 
+--gloss-scale S [--gloss-bias B] [--mip-count M] with --lobe phong (or blinn) makes a gloss mip
+chain as cmft (--glossScale, --glossBias, --mipCount) and CubeMapGen do: level k (resolution N >> k,
+written as STEM_mipK.EXT) is the environment filtered with its own exponent 2^(S g_k + B),
+g_k = 1 - k/(M - 1); S = 10, B = 1, M = 8 give 2048 at level 0 falling to 2 at level 7. Each level
+is made to --max-error; --no-edge-fixup keeps cube texels unaveraged (cmft's --edgeFixup none).
+
 --sh-output FILE.json (with --lobe irradiance) also writes the irradiance as 3 bands of
 spherical harmonics, 9 RGB coefficients, as cmgen does. Convention (stated in the file):
 E(n)/pi = sum_i c_i Y_i(n), radiance-equivalent (a constant environment L gives L); the
@@ -89,7 +95,10 @@ struct PrefilterArgs {
   std::string environment, lobe, to, from, method = "auto", output, view, up, combine, shOutput;
   int resolution = 256, threads = 0, samples = 16, elevations = 0;  // elevations 0: not given (8)
   double maxError = 0.01, fresnelIor = 0.0;                         // fresnelIor 0: no decomposition
-  bool mips = false, tiled = false, json = false, quiet = false, faces = false, allowLarge = false;
+  std::optional<double> glossScale;                                 // a gloss chain (cmft's mapping)
+  double glossBias = 1.0;
+  int mipCount = 0;                                                 // 0: down to 1 texel
+  bool mips = false, tiled = false, json = false, quiet = false, faces = false, allowLarge = false, noEdgeFixup = false;
 };
 
 int runPrefilter(const PrefilterArgs& args) {
@@ -105,9 +114,28 @@ int runPrefilter(const PrefilterArgs& args) {
     if (file.empty()) throw Error(Error::Kind::InvalidArgument, "--lobe lobes:FILE needs the fit.json written by brdfbake fit");
     model = readFitFile(file).fit.model;
     inputs.push_back(file);
-  } else {
+  } else if (!args.glossScale) {
     lobe = PrefilterLobe::parse(args.lobe, fs::current_path());
     lobeName = lobe->name();
+  }
+  // A gloss chain: --lobe phong or blinn without an exponent, one exponent per level.
+  std::vector<PrefilterLobe> chainLobes;
+  if (args.glossScale) {
+    if (args.lobe != "phong" && args.lobe != "blinn") {
+      throw Error(Error::Kind::InvalidArgument, "--gloss-scale: makes a chain of Phong or Blinn-Phong levels: use --lobe phong or "
+                                                "--lobe blinn (no exponent; each level gets its own), got --lobe " + args.lobe);
+    }
+    if (args.mips || args.tiled || args.fresnelIor != 0.0 || !args.shOutput.empty()) {
+      throw Error(Error::Kind::InvalidArgument, "--gloss-scale: the chain is its own mip levels (written as STEM_mipK.EXT); it "
+                                                "does not combine with --mips, --tiled, --fresnel-ior or --sh-output");
+    }
+    const int count = args.mipCount > 0 ? args.mipCount : std::min(16, mipLevelCount(args.resolution));
+    for (double exponent : glossLevelExponents(count, *args.glossScale, args.glossBias)) {
+      chainLobes.push_back(args.lobe == "phong" ? PrefilterLobe::phong(exponent) : PrefilterLobe::blinn(exponent));
+    }
+    lobeName = chainLobes.front().name() + " ... " + chainLobes.back().name();
+  } else if (args.mipCount != 0) {
+    throw Error(Error::Kind::InvalidArgument, "--mip-count: the number of levels of a gloss chain; needs --gloss-scale");
   }
   const bool stack = model && model->elevation == LobeElevation::Varying;
   if (args.elevations != 0 && !stack) {
@@ -126,6 +154,8 @@ int runPrefilter(const PrefilterArgs& args) {
   options.parameterization = parseParameterizationKind(args.to);
   options.resolution = args.resolution;
   options.mips = args.mips;
+  if (!chainLobes.empty()) options.cubeEdgeFixup = !args.noEdgeFixup;
+  else if (args.noEdgeFixup) throw Error(Error::Kind::InvalidArgument, "--no-edge-fixup: only with --gloss-scale");
   options.method = parsePrefilterMethod(args.method);
   options.maxError = args.maxError;
   options.threads = args.threads;
@@ -162,8 +192,9 @@ int runPrefilter(const PrefilterArgs& args) {
   plan.addInput(args.environment, "environment");
   if (model) plan.addInput(args.lobe.substr(6), "--lobe");
   const MipLayout mipLayout = args.tiled ? MipLayout::Tiled : MipLayout::Files;
-  const PrefilterOutputs outputs{options.parameterization, options.resolution, options.mips,
-                                 args.faces ? CubeLayout::Faces : CubeLayout::Cross, mipLayout, stack ? options.elevations : 0, fresnel};
+  PrefilterOutputs outputs{options.parameterization, options.resolution, options.mips,
+                           args.faces ? CubeLayout::Faces : CubeLayout::Cross, mipLayout, stack ? options.elevations : 0, fresnel};
+  if (!chainLobes.empty()) outputs.mips = true, outputs.mipLevels = static_cast<int>(chainLobes.size());
   for (const auto& output : prefilterOutputFiles(args.output, outputs, "-o")) plan.addOutput(output.file, output.role);
   if (!args.shOutput.empty()) plan.addOutput(args.shOutput, "--sh-output");
   plan.check();
@@ -186,6 +217,8 @@ int runPrefilter(const PrefilterArgs& args) {
     decomposition = prefilterFresnelDecomposition(environment, *lobe, *fresnelTerm, combine, options, options.resolution);
     map.summary = decomposition->specular.summary;
     map.map = decomposition->specular.map;
+  } else if (!chainLobes.empty()) {
+    map = prefilterGlossChain(environment, chainLobes, options);
   } else {
     map = model ? prefilterLobeModel(environment, *model, lobeName, options) : prefilter(environment, *lobe, options);
   }
@@ -213,6 +246,12 @@ int runPrefilter(const PrefilterArgs& args) {
   const double writeSeconds = secondsSince(writeStart);
   bar.done();
   nlohmann::json extra = nlohmann::json::object();
+  if (!chainLobes.empty()) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (std::size_t k = 0; k < chainLobes.size(); ++k) levels.push_back({{"level", k}, {"lobe", chainLobes[k].name()},
+                                                                         {"resolution", std::max(1, options.resolution >> k)}});
+    extra["gloss_chain"] = {{"scale", *args.glossScale}, {"bias", args.glossBias}, {"levels", levels}};
+  }
   if (slices) extra["elevations"] = {{"slices", slices->slices.size()}, {"cos_theta", slices->cosines}, {"t", slices->coordinates}};
   if (decomposition) {
     extra["fresnel"] = {{"combine", std::string(toString(combine))},
@@ -298,6 +337,13 @@ Command addPrefilterCommand(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   command->add_option("--combine", args->combine, "Fresnel decomposition: add (F L_m + k_d E/pi) | mix (F L_m + (1-F) k_d E/pi)")
       ->check(CLI::IsMember({"add", "mix"}));
+  command->add_option("--gloss-scale", args->glossScale,
+                      "A gloss mip chain as cmft makes it (with --lobe phong or blinn): level k filtered with exponent "
+                      "2^(SCALE g + BIAS), g = 1 - k/(levels - 1), at resolution N >> k");
+  command->add_option("--gloss-bias", args->glossBias, "Gloss chain: BIAS above (default 1)");
+  command->add_option("--mip-count", args->mipCount, "Gloss chain: number of levels (default: down to 1 texel)")->check(CLI::Range(1, 16));
+  command->add_flag("--no-edge-fixup", args->noEdgeFixup,
+                    "Gloss chain: keep every cube texel's own value (cmft's --edgeFixup none) instead of averaging across edges");
   command->add_flag("--faces", args->faces, "Write a cube map as six files STEM_posx.EXT ... instead of a cross");
   command->add_flag("--allow-large", args->allowLarge, "Allow maps over 8192^2 texels (1 GiB of float RGBA)");
   command->add_option("-o,--output", args->output, "Output map (.exr, .hdr, .tif, .png)")->required();

@@ -5,6 +5,7 @@
 #include <brdfbake/bake/env_mips.hpp>
 #include <brdfbake/bake/environment.hpp>
 #include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/bake/latlong_map.hpp>
 #include <brdfbake/bake/map_file.hpp>
 #include <brdfbake/bake/paraboloid_map.hpp>
 #include <brdfbake/bake/prefilter.hpp>
@@ -742,6 +743,151 @@ TEST(Prefilter, FastMethodsReportTheErrorTheyHaveOnTheSky) {
       }
     }
   }
+}
+
+// ---- glossy mip chains --------------------------------------------------------------------------
+
+TEST(GlossChain, ExponentsFollowCmftsGlossMapping) {
+  // cmft's specularPowerFor: 2^(scale (1 - k / (count - 1)) + bias), worked out by hand.
+  const auto n = glossLevelExponents(8, 10.0, 1.0);
+  ASSERT_EQ(n.size(), 8u);
+  EXPECT_DOUBLE_EQ(n[0], 2048.0);
+  EXPECT_NEAR(n[1], std::pow(2.0, 10.0 * 6.0 / 7.0 + 1.0), 1e-9);  // 761.1
+  EXPECT_NEAR(n[1], 760.83, 0.01);
+  EXPECT_NEAR(n[4], std::pow(2.0, 10.0 * 3.0 / 7.0 + 1.0), 1e-9);  // 39.0
+  EXPECT_DOUBLE_EQ(n[7], 2.0);
+  EXPECT_EQ(glossLevelExponents(1, 10.0, 1.0), std::vector<double>{2048.0});
+  EXPECT_NE(errorOf([] { glossLevelExponents(0, 10.0, 1.0); }).find("1 to 16 levels"), std::string::npos);
+  EXPECT_NE(errorOf([] { glossLevelExponents(4, 30.0, 1.0); }).find("outside [0, 1e6]"), std::string::npos);
+}
+
+TEST(GlossChain, EachLevelMatchesABruteForceSumWithItsOwnExponent) {
+  // The 64 x 32 sky with its sun; a chain of 4 levels into a 16^2 cube (exponents 256, 40, 6.3, 1).
+  // Independent reference: a plain double loop over every environment texel split into 4 x 4
+  // sub-samples (each an equal share of the texel's exact solid angle), weights c^n with c the
+  // cosine to the texel's axis, in ratio form (the normalisation cancels).
+  const auto exponents = glossLevelExponents(4, 8.0, 0.0);
+  std::vector<PrefilterLobe> lobes;
+  for (double n : exponents) lobes.push_back(PrefilterLobe::phong(n));
+  PrefilterOptions options;
+  options.parameterization = ParameterizationKind::Cube;
+  options.resolution = 16;
+  options.maxError = 0.02;
+  options.cubeEdgeFixup = false;
+  const PrefilteredMap chain = prefilterGlossChain(sky(), lobes, options);
+  ASSERT_EQ(chain.levels.size(), 4u);
+  EXPECT_EQ(chain.summary.levels, 4);
+  const Image& env = sky().image;
+  const LatLongMap envMap(env.height());
+  const int s = 4;
+  std::vector<Vec3> directions;
+  std::vector<double> solidAngles;
+  std::vector<Rgb> radiance;
+  for (int y = 0; y < env.height(); ++y)
+    for (int x = 0; x < env.width(); ++x)
+      for (int a = 0; a < s; ++a)
+        for (int b = 0; b < s; ++b) {
+          directions.push_back(*envMap.getDirectionFor(Vec2(x + (b + 0.5) / s, y + (a + 0.5) / s)));
+          solidAngles.push_back(envMap.texelSolidAngle(x, y) / (s * s));
+          radiance.push_back(env.at(x, y).head<3>());
+        }
+  for (std::size_t k = 0; k < chain.levels.size(); ++k) {
+    const CubeMap cube(16 >> k);
+    ASSERT_EQ(chain.levels[k].width(), cube.width());
+    const double floor = prefilterErrorFloor(sky(), lobes[k]);
+    double sum = 0.0, weights = 0.0;
+    for (int y = 0; y < cube.height(); ++y)
+      for (int x = 0; x < cube.width(); ++x) {
+        const auto axis = cube.getDirectionFor(Vec2(x + 0.5, y + 0.5));
+        if (!axis || cube.texelSolidAngle(x, y) <= 0.0) continue;
+        Rgb numerator = Rgb::Zero();
+        double denominator = 0.0;
+        for (std::size_t i = 0; i < directions.size(); ++i) {
+          const double c = axis->normalized().dot(directions[i]);
+          if (c <= 0.0) continue;
+          const double w = std::pow(c, exponents[k]) * solidAngles[i];
+          numerator += w * radiance[i], denominator += w;
+        }
+        const Rgb expected = numerator / denominator;
+        const Rgb got = chain.levels[k].at(x, y).head<3>();
+        const double e = (got - expected).matrix().norm() / std::max(expected.matrix().norm(), floor);
+        sum += cube.texelSolidAngle(x, y) * e * e, weights += cube.texelSolidAngle(x, y);
+      }
+    const double rms = std::sqrt(sum / weights);
+    SCOPED_TRACE("level " + std::to_string(k) + " " + lobes[k].name() + " rms " + std::to_string(rms) + ": " +
+                 chain.summary.briefReport());
+    // Measured 1.6 %, 0.8 %, 0.6 %, 2.2 %; the largest level estimate is 1.5 %. The last level has
+    // 24 texels, a small sample of the sphere next to the estimate's 512 probes: within a factor 2
+    // of the estimate, and 1.5 x the bound.
+    EXPECT_LT(rms, 2.0 * chain.summary.errorEstimate + 1e-3);
+    EXPECT_LT(rms, 1.5 * options.maxError);
+  }
+}
+
+TEST(GlossChain, RowConvolutionGridMatchesABruteForceSum) {
+  // The direct sum on a lat-long grid by row convolutions (chosen where the output has more texels
+  // than the grid needs): phong:200 (width 4 degrees) from a 256 x 128 sky into a 256 x 128 lat-long
+  // map, at 200 random texels, against a plain double loop over every sky texel split into 3 x 3
+  // sub-samples (weights c^n times the sub-sample's share of the texel's exact solid angle, ratio form).
+  static const Environment fine = bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, 128, "sky", 4);
+  const PrefilterLobe lobe = PrefilterLobe::phong(200);
+  PrefilterOptions options;
+  options.parameterization = ParameterizationKind::LatLong;
+  options.resolution = 128;
+  options.method = PrefilterMethod::Direct;
+  options.directTexelsPerWidth = 2.0;
+  options.estimateError = false;
+  const PrefilteredMap map = prefilter(fine, lobe, options);
+  ASSERT_NE(map.summary.detail.find("row convolutions"), std::string::npos) << map.summary.detail;
+  const LatLongMap envMap(fine.image.height());
+  const int s = 3;
+  std::vector<Vec3> directions;
+  std::vector<double> solidAngles;
+  std::vector<Rgb> radiance;
+  for (int y = 0; y < fine.image.height(); ++y)
+    for (int x = 0; x < fine.image.width(); ++x)
+      for (int a = 0; a < s; ++a)
+        for (int b = 0; b < s; ++b) {
+          directions.push_back(*envMap.getDirectionFor(Vec2(x + (b + 0.5) / s, y + (a + 0.5) / s)));
+          solidAngles.push_back(envMap.texelSolidAngle(x, y) / (s * s));
+          radiance.push_back(fine.image.at(x, y).head<3>());
+        }
+  const LatLongMap out(128);
+  const double floor = prefilterErrorFloor(fine, lobe);
+  std::mt19937 rng(5);
+  double sum = 0.0, weights = 0.0, worst = 0.0;
+  for (int i = 0; i < 200; ++i) {
+    const int x = static_cast<int>(rng() % out.width()), y = static_cast<int>(rng() % out.height());
+    const Vec3 axis = *out.getDirectionFor(Vec2(x + 0.5, y + 0.5));
+    Rgb numerator = Rgb::Zero();
+    double denominator = 0.0;
+    for (std::size_t j = 0; j < directions.size(); ++j) {
+      const double c = axis.dot(directions[j]);
+      if (c <= 0.0) continue;
+      const double w = std::pow(c, 200.0) * solidAngles[j];
+      numerator += w * radiance[j], denominator += w;
+    }
+    const Rgb expected = numerator / denominator;
+    const double e = (map.levels[0].at(x, y).head<3>() - expected).matrix().norm() / std::max(expected.matrix().norm(), floor);
+    sum += out.texelSolidAngle(x, y) * e * e, weights += out.texelSolidAngle(x, y), worst = std::max(worst, e);
+  }
+  const double rms = std::sqrt(sum / weights);
+  // Measured 0.16 % RMS, largest 1.3 % (the direct sum with q = 2 on a grid of 3.6 points per width).
+  EXPECT_LT(rms, 0.01) << map.summary.detail;
+  EXPECT_LT(worst, 0.05);
+}
+
+TEST(GlossChain, BadChainsAreRefused) {
+  PrefilterOptions options;
+  options.parameterization = ParameterizationKind::Cube;
+  options.resolution = 4;
+  EXPECT_NE(errorOf([&] { prefilterGlossChain(sky(), {}, options); }).find("at least one level"), std::string::npos);
+  const std::vector<PrefilterLobe> four(4, PrefilterLobe::phong(10));
+  EXPECT_NE(errorOf([&] { prefilterGlossChain(sky(), four, options); }).find("resolution of at least 8"), std::string::npos);
+  EXPECT_NE(errorOf([&] { prefilterGlossChain(sky(), {PrefilterLobe::mirror()}, options); }).find("mirror"), std::string::npos);
+  options.mips = true;
+  EXPECT_NE(errorOf([&] { prefilterGlossChain(sky(), {PrefilterLobe::phong(10)}, options); }).find("its own mip chain"),
+            std::string::npos);
 }
 
 TEST(Prefilter, EstimateSeesTheResamplingOfACubeOrParaboloidEnvironment) {

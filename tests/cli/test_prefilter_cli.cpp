@@ -2,6 +2,7 @@
 // the library's reference sum, metadata, exit codes for bad flags and bad environments.
 #include <brdfbake/bake/environment.hpp>
 #include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/bake/map_file.hpp>
 #include <brdfbake/bake/prefilter.hpp>
 #include <brdfbake/brdf/fresnel.hpp>
 #include <brdfbake/core/error.hpp>
@@ -70,6 +71,46 @@ TEST(PrefilterCli, GlossyParaboloidWithMipsMatchesTheReferenceAndRecordsItself) 
   EXPECT_EQ(metadata["spec"]["prefilter"]["lobe"], "phong:50");
   EXPECT_EQ(metadata["spec"]["prefilter"]["max_error"], 0.01);
   EXPECT_EQ(metadata["spec"]["prefilter"]["mip_level"], 2);
+}
+
+TEST(PrefilterCli, GlossChainWritesOneLevelPerExponentEachMatchingTheReference) {
+  // --gloss-scale 6 --gloss-bias 1 --mip-count 3: exponents 2^7 = 128, 2^4 = 16, 2^1 = 2 (cmft's
+  // mapping worked by hand) at 16, 8 and 4 texels per face; each level's texel against the
+  // reference sum with its own exponent.
+  test::TempDir dir;
+  const fs::path out = dir / "chain.exr";
+  const auto result = runCli("prefilter " + q(kSky) + " --lobe phong --gloss-scale 6 --gloss-bias 1 --mip-count 3 --to cube "
+                             "--resolution 16 --no-edge-fixup --json -o " + q(out));
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  const auto report = nlohmann::json::parse(result.output);
+  ASSERT_EQ(report["gloss_chain"]["levels"].size(), 3u);
+  EXPECT_EQ(report["gloss_chain"]["levels"][0]["lobe"], "phong:128");
+  EXPECT_EQ(report["gloss_chain"]["levels"][1]["lobe"], "phong:16");
+  EXPECT_EQ(report["gloss_chain"]["levels"][2]["lobe"], "phong:2");
+  EXPECT_EQ(report["files"].size(), 3u);
+  EXPECT_FALSE(fs::exists(dir / "chain_mip3.exr"));
+  const Environment sky = loadEnvironment(kSky);
+  const double exponents[3] = {128.0, 16.0, 2.0};
+  for (int level = 0; level < 3; ++level) {
+    const fs::path file = level == 0 ? out : dir / ("chain_mip" + std::to_string(level) + ".exr");
+    const MapFile map = readMap(file);
+    const auto cube = makeParameterization(ParameterizationKind::Cube, 16 >> level);
+    ASSERT_EQ(map.image.width(), cube->width());
+    // Texel centres on the +z face's middle row and one near a corner of the +y face.
+    std::vector<Vec2> texels{Vec2(cube->width() / 2 + 0.5, cube->height() / 2 + 0.5), Vec2(cube->width() / 4 + 0.5, 0.5)};
+    for (const Vec2& t : texels) {
+      const auto axis = cube->getDirectionFor(t);
+      if (!axis) continue;
+      const Rgb reference = prefilterReferenceAt(sky, PrefilterLobe::phong(exponents[level]), {*axis})[0];
+      const Rgb value = map.image.at(static_cast<int>(t.x()), static_cast<int>(t.y())).head<3>();
+      EXPECT_LT((value - reference).matrix().norm() / reference.matrix().norm(), 0.03) << "level " << level << " " << axis->transpose();
+    }
+  }
+  // Bad combinations name the flag.
+  EXPECT_EQ(runCli("prefilter " + q(kSky) + " --lobe phong:10 --gloss-scale 6 --to cube -o " + q(dir / "x.exr")).exitCode, 2);
+  const auto mips = runCli("prefilter " + q(kSky) + " --lobe phong --gloss-scale 6 --mips --to cube -o " + q(dir / "x.exr"));
+  EXPECT_EQ(mips.exitCode, 2);
+  EXPECT_NE(mips.output.find("--gloss-scale"), std::string::npos) << mips.output;
 }
 
 TEST(PrefilterCli, FurnaceIrradianceIsPi) {

@@ -67,6 +67,11 @@ struct PrefilterOptions : RunOptions {
   Vec3 up = Vec3::UnitY();
   /// Also make the solid-angle mip chain (env_mips.hpp).
   bool mips = false;
+  /// Cube maps: each edge texel and the texel facing it across the edge become their mean at every
+  /// level (fixCubeEdges, env_mips.hpp), so clamp-to-face lookups meet at the seams. Off keeps every
+  /// texel's own prefiltered value (cmft's --edgeFixup none), e.g. to compare texels with a reference;
+  /// the solid-angle mip chain (mips) always fixes edges, so off requires mips off.
+  bool cubeEdgeFixup = true;
   /// Auto picks the cheapest candidate whose estimated error is within 0.8 maxError (a margin
   /// for the estimate's own spread); a named fast method picks its cheapest such setting; when
   /// no fast candidate qualifies, auto falls back to reference and a named method uses its most

@@ -79,6 +79,23 @@ FresnelDecomposition prefilterFresnelDecomposition(const Environment& environmen
 Rgb combineFresnelDecomposition(FresnelCombine combine, const Rgb& fresnel, const Rgb& specular, const Rgb& irradiance,
                                 const Rgb& diffuseAlbedo);
 
+/// cmft's gloss mapping (Manesku's cmft, cubemapfilter.cpp, specularPowerFor): mip level k of
+/// `count` gets the Phong exponent 2^(scale g_k + bias), glossiness g_k = max(0, 1 - k / (count - 1))
+/// (g = 1 for a single level). Scale 10, bias 1 and 8 levels give 2048, 761, 283, 105, 39, 14.5, 5.4
+/// and 2. Throws Error(InvalidArgument) unless count is in [1, 16] and scale and bias are finite
+/// with every exponent in [0, 1e6].
+std::vector<double> glossLevelExponents(int count, double scale, double bias);
+
+/// A glossy mip chain (as cmft and CubeMapGen make them): level k is the environment filtered
+/// with lobes[k] at resolution max(1, options.resolution >> k), each level a prefilter() run to
+/// options' method and bound (options.mips must be off: the levels are the chain), cube edges
+/// fixed and paraboloid borders aligned at every level. The summary's error estimate is the
+/// largest level's, its seconds the total; `levels` is lobes.size(). Throws Error(InvalidArgument)
+/// for no lobes, more levels than the resolution halves into, a mirror lobe, or options.mips, and
+/// everything prefilter() throws.
+PrefilteredMap prefilterGlossChain(const Environment& environment, const std::vector<PrefilterLobe>& lobes,
+                                   const PrefilterOptions& options = {});
+
 /// What a prefilter run writes, for prefilterOutputFiles.
 struct PrefilterOutputs {
   ParameterizationKind parameterization = ParameterizationKind::Sphere;
@@ -86,6 +103,7 @@ struct PrefilterOutputs {
   bool mips = false;                      ///< every mip level as STEM_mipK.EXT
   CubeLayout layout = CubeLayout::Cross;
   MipLayout mipLayout = MipLayout::Files;  ///< Tiled: the mip levels inside each map's file
+  int mipLevels = 0;                      ///< with mips: the levels written (a gloss chain's count), 0 = all
   int elevationSlices = 0;                ///< a stack over elevation (STEM_elevJ.EXT), or 0
   bool fresnel = false;                   ///< a Fresnel decomposition (irradiance map and profile too)
 };
