@@ -1,13 +1,16 @@
 #include <brdfbake/bake/accuracy.hpp>
+#include <brdfbake/bake/baker.hpp>
 #include <brdfbake/bake/cube_map.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <unordered_map>
 
 namespace brdfbake {
 
@@ -143,29 +146,89 @@ ErrorProbes::ErrorProbes(const MapFunction& exact, const ErrorOptions& options) 
 }
 
 ErrorStats ErrorProbes::measure(const std::function<Rgb(const Vec3&)>& lookup, double rimCos, bool visibleSphere) const {
+  return measureAt([&](std::size_t, const Vec3& direction) { return lookup(direction); }, rimCos, visibleSphere);
+}
+
+ErrorStats ErrorProbes::measureValues(const std::vector<Rgb>& looked, double rimCos, bool visibleSphere) const {
+  const std::size_t expected = uniform_.size() + (visibleSphere ? visible_.size() : 0) + highlight_.size();
+  require(looked.size() == expected, "measureValues needs one value per direction of directions()");
+  return measureAt([&](std::size_t index, const Vec3&) { return looked[index]; }, rimCos, visibleSphere);
+}
+
+ErrorStats ErrorProbes::measureAt(const std::function<Rgb(std::size_t, const Vec3&)>& lookup, double rimCos,
+                                  bool visibleSphere) const {
   double peak = 0.0;
-  auto accumulate = [&](const std::vector<Probe>& set, bool weighted) {
+  // `first`: the index of the set's first direction in directions(visibleSphere).
+  auto accumulate = [&](const std::vector<Probe>& set, std::size_t first, bool weighted) {
     Accumulator acc;
-    for (const Probe& probe : set) {
+    for (std::size_t i = 0; i < set.size(); ++i) {
+      const Probe& probe = set[i];
       if (-probe.direction.z() > rimCos) continue;
-      const Rgb error = lookup(probe.direction) - probe.exact;
+      const Rgb error = lookup(first + i, probe.direction) - probe.exact;
       peak = std::max(peak, signal(probe.exact));
       acc.add(error.square().sum() / 3.0, error.abs().maxCoeff(), weighted ? probe.weight : 1.0);
     }
     return acc;
   };
-  const Accumulator uniform = accumulate(uniform_, false);
-  const Accumulator highlight = accumulate(highlight_, true);
-  const Accumulator visible = visibleSphere && !visible_.empty() ? accumulate(visible_, false) : uniform;
+  const bool visible = visibleSphere && !visible_.empty();
+  const std::size_t highlightFirst = uniform_.size() + (visibleSphere ? visible_.size() : 0);
+  const Accumulator uniform = accumulate(uniform_, 0, false);
+  const Accumulator highlight = accumulate(highlight_, highlightFirst, true);
+  const Accumulator visibleAcc = visible ? accumulate(visible_, uniform_.size(), false) : uniform;
   ErrorStats stats;
   stats.peak = peak;
   const double scale = peak > 0.0 ? 1.0 / peak : 1.0;
   stats.rms = uniform.rms() * scale;
   stats.max = uniform.worst * scale;
-  stats.visibleRms = visible.rms() * scale;
+  stats.visibleRms = visibleAcc.rms() * scale;
   stats.highlightRms = highlight.weight > 0.0 ? highlight.rms() * scale : stats.rms;
   stats.highlightMax = highlight.worst * scale;
   return stats;
+}
+
+std::vector<Vec3> ErrorProbes::directions(bool visibleSphere) const {
+  std::vector<Vec3> out;
+  out.reserve(uniform_.size() + visible_.size() + highlight_.size());
+  for (const auto* set : {&uniform_, &visible_, &highlight_}) {
+    if (set == &visible_ && !visibleSphere) continue;
+    for (const Probe& probe : *set) out.push_back(probe.direction);
+  }
+  return out;
+}
+
+ErrorStats measureSparseLookups(const ErrorProbes& probes, long long texelCount,
+                                const std::function<void(const Vec3&, TexelTaps&)>& taps,
+                                const std::function<Rgb(long long)>& texel, double rimCos, bool visibleSphere,
+                                int threads) {
+  require(texelCount >= 1, "a map needs at least one texel");
+  // Each texel any probe reads gets an id, in the order first read: a table over the texels
+  // while it is small, a hash map beyond.
+  constexpr long long kDenseLimit = 1LL << 24;
+  std::vector<int> denseId(texelCount <= kDenseLimit ? static_cast<std::size_t>(texelCount) : 0, -1);
+  std::unordered_map<long long, int> sparseId;
+  std::vector<long long> keys;
+  auto idOf = [&](long long key) {
+    require(key >= 0 && key < texelCount, "a lookup tap lies outside the map");
+    int& id = denseId.empty() ? sparseId.try_emplace(key, -1).first->second : denseId[static_cast<std::size_t>(key)];
+    if (id < 0) {
+      id = static_cast<int>(keys.size());
+      keys.push_back(key);
+    }
+    return id;
+  };
+  const std::vector<Vec3> directions = probes.directions(visibleSphere);
+  std::vector<TexelTaps> read(directions.size());
+  for (std::size_t i = 0; i < directions.size(); ++i) {
+    taps(directions[i], read[i]);
+    for (int k = 0; k < read[i].count; ++k) read[i].index[k] = idOf(read[i].index[k]);
+  }
+  std::vector<Rgb> texels(keys.size());
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute([&] { tbb::parallel_for(std::size_t(0), keys.size(), [&](std::size_t i) { texels[i] = texel(keys[i]); }); });
+  std::vector<Rgb> looked(directions.size(), Rgb::Zero());
+  for (std::size_t i = 0; i < directions.size(); ++i)
+    for (int k = 0; k < read[i].count; ++k) looked[i] += read[i].weight[k] * texels[static_cast<std::size_t>(read[i].index[k])];
+  return probes.measureValues(looked, rimCos, visibleSphere);
 }
 
 ErrorStats measureLookupError(const std::function<Rgb(const Vec3&)>& lookup, const MapFunction& exact,
@@ -175,6 +238,15 @@ ErrorStats measureLookupError(const std::function<Rgb(const Vec3&)>& lookup, con
   return ErrorProbes(exact, drawn).measure(lookup, rimCos, visibleSphere);
 }
 
+namespace {
+
+// Sphere maps are also measured over a visible sphere's lookups.
+bool visibleLookups(const Parameterization& map, bool visibleSphere) {
+  return map.kind() == ParameterizationKind::Sphere && visibleSphere;
+}
+
+}  // namespace
+
 double mapRimCos(ParameterizationKind kind, int resolution) {
   if (kind != ParameterizationKind::Sphere) return 2.0;
   // The angle two rim texels span, 4 sqrt(2/N) (docs/conventions.md).
@@ -182,9 +254,28 @@ double mapRimCos(ParameterizationKind kind, int resolution) {
 }
 
 ErrorStats measureMapError(const Image& image, const Parameterization& map, const ErrorProbes& probes, bool visibleSphere) {
-  const bool sphere = map.kind() == ParameterizationKind::Sphere;
   return probes.measure([&](const Vec3& r) -> Rgb { return sampleBilinear(image, map, r).head<3>(); },
-                        mapRimCos(map.kind(), map.resolution()), sphere && visibleSphere);
+                        mapRimCos(map.kind(), map.resolution()), visibleLookups(map, visibleSphere));
+}
+
+ErrorStats estimateMapError(const Parameterization& map, const MapFunction& function, int samplesPerTexel,
+                            const ErrorProbes& probes, bool visibleSphere, int threads) {
+  require(samplesPerTexel >= 1, "samples per texel must be >= 1");
+  const long long width = map.width();
+  auto taps = [&](const Vec3& r, TexelTaps& out) {
+    const BilinearTaps b = bilinearTaps(map, r);
+    out.count = 4;
+    out.index[0] = b.ya * width + b.xa, out.weight[0] = (1 - b.wx) * (1 - b.wy);
+    out.index[1] = b.ya * width + b.xb, out.weight[1] = b.wx * (1 - b.wy);
+    out.index[2] = b.yb * width + b.xa, out.weight[2] = (1 - b.wx) * b.wy;
+    out.index[3] = b.yb * width + b.xb, out.weight[3] = b.wx * b.wy;
+  };
+  auto texel = [&](long long index) -> Rgb {
+    const Rgb value = bakeTexel(map, function, static_cast<int>(index % width), static_cast<int>(index / width), samplesPerTexel);
+    return value.cast<float>().cast<double>();  // as an Image stores it
+  };
+  return measureSparseLookups(probes, width * map.height(), taps, texel, mapRimCos(map.kind(), map.resolution()), visibleLookups(map, visibleSphere),
+                              threads);
 }
 
 ErrorStats measureMapError(const Image& image, const Parameterization& map, const MapFunction& exact,

@@ -19,6 +19,13 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 // Set-up shared by every path.
 
+/// Rows of the most nearly square grid of `samples` cells (rows <= columns, rows columns = samples).
+int gridRows(int samples) {
+  int rows = static_cast<int>(std::sqrt(static_cast<double>(samples)));
+  while (samples % rows != 0) --rows;
+  return rows;
+}
+
 /// Where the samples of a texel lie: a columns x rows grid (the most nearly square with
 /// columns rows = samples), at cell centres; px of every sample of a map row, texel by texel.
 struct SampleLayout {
@@ -27,8 +34,7 @@ struct SampleLayout {
   std::vector<double> px;       // [width * columns]: x + offset of sample i of texel x
 
   SampleLayout(int samplesPerTexel, int mapWidth) : width(mapWidth) {
-    rows = static_cast<int>(std::sqrt(static_cast<double>(samplesPerTexel)));
-    while (samplesPerTexel % rows != 0) --rows;
+    rows = gridRows(samplesPerTexel);
     columns = samplesPerTexel / rows;
     for (int j = 0; j < rows; ++j) offsetY.push_back((j + 0.5) / rows);
     px.resize(static_cast<std::size_t>(width) * columns);
@@ -807,6 +813,27 @@ BakedMap bakeMap(const Parameterization& map, const MapFunction& function, const
   summary.samples = static_cast<long long>(map.width()) * map.height() * options.samplesPerTexel;
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
+}
+
+Rgb bakeTexel(const Parameterization& map, const MapFunction& function, int x, int y, int samplesPerTexel) {
+  // The general path's samples, mapped the same way (getDirectionsForRow), for the same values.
+  const int rows = gridRows(samplesPerTexel), columns = samplesPerTexel / rows;
+  thread_local std::vector<double> px, dx, dy, dz;  // reused: a texel at a time is the caller's hot loop
+  thread_local std::vector<unsigned char> valid;
+  for (auto* v : {&px, &dx, &dy, &dz}) v->resize(columns);
+  valid.resize(columns);
+  for (int i = 0; i < columns; ++i) px[i] = x + (i + 0.5) / columns;
+  Rgb sum = Rgb::Zero();
+  int counted = 0;
+  for (int j = 0; j < rows; ++j) {
+    map.getDirectionsForRow(y + (j + 0.5) / rows, px.data(), columns, dx.data(), dy.data(), dz.data(), valid.data());
+    for (int i = 0; i < columns; ++i) {
+      if (!valid[i]) continue;
+      sum += function.evaluate(Vec3(dx[i], dy[i], dz[i]));
+      ++counted;
+    }
+  }
+  return counted > 0 ? Rgb(sum / counted) : Rgb::Zero();
 }
 
 Image bake(const Parameterization& map, const MapFunction& function, const BakeOptions& options) {

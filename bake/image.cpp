@@ -4,6 +4,7 @@
 #include <brdfbake/core/version.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 namespace brdfbake {
 
@@ -54,19 +55,21 @@ MapInfo MapInfo::fromJson(const nlohmann::json& metadata) {
   return info;
 }
 
-Rgb sampleLinear1d(const std::vector<Rgb>& texels, double s) {
-  if (texels.empty()) throw Error(Error::Kind::InvalidArgument, "a 1-D texture needs at least one texel");
-  const int n = static_cast<int>(texels.size());
-  const double x = std::clamp(s * n - 0.5, 0.0, static_cast<double>(n - 1));
-  const int i0 = std::min(static_cast<int>(x), n - 1), i1 = std::min(i0 + 1, n - 1);
-  const double f = x - i0;
-  return (1.0 - f) * texels[static_cast<std::size_t>(i0)] + f * texels[static_cast<std::size_t>(i1)];
+LinearTaps linearTaps(int texels, double s) {
+  const double x = std::clamp(s * texels - 0.5, 0.0, static_cast<double>(texels - 1));
+  const int i0 = std::min(static_cast<int>(x), texels - 1), i1 = std::min(i0 + 1, texels - 1);
+  return {i0, i1, x - i0};
 }
 
-Rgba sampleBilinear(const Image& image, const Vec2& pixel, const TexelRect& region, bool wrapX) {
+Rgb sampleLinear1d(const std::vector<Rgb>& texels, double s) {
+  if (texels.empty()) throw Error(Error::Kind::InvalidArgument, "a 1-D texture needs at least one texel");
+  const LinearTaps taps = linearTaps(static_cast<int>(texels.size()), s);
+  return (1.0 - taps.w) * texels[static_cast<std::size_t>(taps.i0)] + taps.w * texels[static_cast<std::size_t>(taps.i1)];
+}
+
+BilinearTaps bilinearTaps(const Vec2& pixel, const TexelRect& region, bool wrapX) {
   const double fx = pixel.x() - 0.5 - region.x0, fy = pixel.y() - 0.5 - region.y0;
   const double x0f = std::floor(fx), y0f = std::floor(fy);
-  const double wx = fx - x0f, wy = fy - y0f;
   int xa, xb;
   if (wrapX) {
     xa = static_cast<int>(x0f) % region.width;
@@ -78,10 +81,22 @@ Rgba sampleBilinear(const Image& image, const Vec2& pixel, const TexelRect& regi
   }
   const int ya = std::clamp(static_cast<int>(y0f), 0, region.height - 1);
   const int yb = std::clamp(static_cast<int>(y0f) + 1, 0, region.height - 1);
-  const float* p00 = image.data() + image.index(region.x0 + xa, region.y0 + ya);
-  const float* p10 = image.data() + image.index(region.x0 + xb, region.y0 + ya);
-  const float* p01 = image.data() + image.index(region.x0 + xa, region.y0 + yb);
-  const float* p11 = image.data() + image.index(region.x0 + xb, region.y0 + yb);
+  return {region.x0 + xa, region.x0 + xb, region.y0 + ya, region.y0 + yb, fx - x0f, fy - y0f};
+}
+
+BilinearTaps bilinearTaps(const Parameterization& map, const Vec3& direction) {
+  const MapAddress address = map.getAddressFor(direction);
+  return bilinearTaps(address.pixel, map.region(address.region), map.wrapsHorizontally());
+}
+
+namespace {
+
+Rgba blend(const Image& image, const BilinearTaps& t) {
+  const double wx = t.wx, wy = t.wy;
+  const float* p00 = image.data() + image.index(t.xa, t.ya);
+  const float* p10 = image.data() + image.index(t.xb, t.ya);
+  const float* p01 = image.data() + image.index(t.xa, t.yb);
+  const float* p11 = image.data() + image.index(t.xb, t.yb);
   Rgba value;
   for (int k = 0; k < 4; ++k) {
     value[k] = (1 - wy) * ((1 - wx) * p00[k] + wx * p10[k]) + wy * ((1 - wx) * p01[k] + wx * p11[k]);
@@ -89,11 +104,16 @@ Rgba sampleBilinear(const Image& image, const Vec2& pixel, const TexelRect& regi
   return value;
 }
 
+}  // namespace
+
+Rgba sampleBilinear(const Image& image, const Vec2& pixel, const TexelRect& region, bool wrapX) {
+  return blend(image, bilinearTaps(pixel, region, wrapX));
+}
+
 Rgba sampleBilinear(const Image& image, const Parameterization& map, const Vec3& direction) {
   require(image.width() == map.width() && image.height() == map.height(),
           "image size does not match the parameterization");
-  const MapAddress address = map.getAddressFor(direction);
-  return sampleBilinear(image, address.pixel, map.region(address.region), map.wrapsHorizontally());
+  return blend(image, bilinearTaps(map, direction));
 }
 
 }  // namespace brdfbake

@@ -51,29 +51,46 @@ Image RadialProfile::toImage() const {
   return image;
 }
 
+namespace {
+
+// A profile with a placeholder texel: the frame (coordinateFor, directionFor) about `axis`.
+RadialProfile profileFrame(const Vec3& axis) { return RadialProfile(axis, std::vector<Rgb>(1, Rgb::Zero())); }
+
+// Texel i of N: the mean over samplesPerTexel directions equal in solid angle (u^2 stratified
+// uniformly over the ring [i/N, (i+1)/N]), each at its own azimuth (golden-angle sequence).
+Rgb profileTexel(const MapFunction& function, const RadialProfile& frame, int i, int resolution, int samplesPerTexel) {
+  const double goldenAngle = kPi * (3.0 - std::sqrt(5.0));
+  const double a = static_cast<double>(i) / resolution, b = static_cast<double>(i + 1) / resolution;
+  Rgb sum = Rgb::Zero();
+  for (int k = 0; k < samplesPerTexel; ++k) {
+    const double u2 = a * a + (b * b - a * a) * (k + 0.5) / samplesPerTexel;
+    const double phi = goldenAngle * (static_cast<double>(i) * samplesPerTexel + k);
+    sum += function.evaluate(frame.directionFor(std::sqrt(u2), phi));
+  }
+  return sum / samplesPerTexel;
+}
+
+// About the view, a profile is looked up through sphere-map coordinates: skip the rim band the
+// sphere-map measure skips, for a sphere map of the same radial texel size (2N across).
+bool aboutView(const Vec3& axis) { return (axis.normalized() - Vec3::UnitZ()).norm() < 1e-12; }
+double profileRimCos(const Vec3& axis, int resolution) {
+  return aboutView(axis) ? mapRimCos(ParameterizationKind::Sphere, 2 * resolution) : 2.0;
+}
+
+}  // namespace
+
 RadialProfile bakeRadialProfile(const MapFunction& function, const Vec3& axis, int resolution, int samplesPerTexel,
                                 const BakeOptions& options) {
   require(resolution >= 1, "profile resolution must be >= 1");
   require(samplesPerTexel >= 1, "samples per texel must be >= 1");
   require(options.threads >= 0, "threads must be >= 0");
-  // A profile with placeholder texels gives the frame; the real texels replace them below.
-  const RadialProfile frame(axis, std::vector<Rgb>(1, Rgb::Zero()));
+  const RadialProfile frame = profileFrame(axis);
   std::vector<Rgb> texels(static_cast<std::size_t>(resolution), Rgb::Zero());
-  const double goldenAngle = kPi * (3.0 - std::sqrt(5.0));
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, resolution), [&](const tbb::blocked_range<int>& range) {
-      for (int i = range.begin(); i < range.end(); ++i) {
-        // Equal solid angle per sample: u^2 stratified uniformly over the ring [i/N, (i+1)/N].
-        const double a = static_cast<double>(i) / resolution, b = static_cast<double>(i + 1) / resolution;
-        Rgb sum = Rgb::Zero();
-        for (int k = 0; k < samplesPerTexel; ++k) {
-          const double u2 = a * a + (b * b - a * a) * (k + 0.5) / samplesPerTexel;
-          const double phi = goldenAngle * (static_cast<double>(i) * samplesPerTexel + k);
-          sum += function.evaluate(frame.directionFor(std::sqrt(u2), phi));
-        }
-        texels[static_cast<std::size_t>(i)] = sum / samplesPerTexel;
-      }
+      for (int i = range.begin(); i < range.end(); ++i)
+        texels[static_cast<std::size_t>(i)] = profileTexel(function, frame, i, resolution, samplesPerTexel);
     });
   });
   if (options.progress) options.progress(1.0);
@@ -81,11 +98,23 @@ RadialProfile bakeRadialProfile(const MapFunction& function, const Vec3& axis, i
 }
 
 ErrorStats measureProfileError(const RadialProfile& profile, const ErrorProbes& probes, bool visibleSphere) {
-  // About the view, a profile is looked up through sphere-map coordinates: skip the rim band the
-  // sphere-map measure skips, for a sphere map of the same radial texel size (2N across).
-  const bool aboutView = (profile.axis() - Vec3::UnitZ()).norm() < 1e-12;
-  const double rimCos = aboutView ? mapRimCos(ParameterizationKind::Sphere, 2 * profile.resolution()) : 2.0;
-  return probes.measure([&](const Vec3& r) { return profile.lookup(r); }, rimCos, aboutView && visibleSphere);
+  return probes.measure([&](const Vec3& r) { return profile.lookup(r); }, profileRimCos(profile.axis(), profile.resolution()),
+                        aboutView(profile.axis()) && visibleSphere);
+}
+
+ErrorStats estimateProfileError(const MapFunction& function, const Vec3& axis, int resolution, int samplesPerTexel,
+                                const ErrorProbes& probes, bool visibleSphere, int threads) {
+  require(resolution >= 1, "profile resolution must be >= 1");
+  require(samplesPerTexel >= 1, "samples per texel must be >= 1");
+  const RadialProfile frame = profileFrame(axis);
+  auto taps = [&](const Vec3& r, TexelTaps& out) {
+    const LinearTaps t = linearTaps(resolution, frame.coordinateFor(r));
+    out.count = 2;
+    out.index[0] = t.i0, out.weight[0] = 1.0 - t.w;
+    out.index[1] = t.i1, out.weight[1] = t.w;
+  };
+  auto texel = [&](long long i) { return profileTexel(function, frame, static_cast<int>(i), resolution, samplesPerTexel); };
+  return measureSparseLookups(probes, resolution, taps, texel, profileRimCos(axis, resolution), aboutView(axis) && visibleSphere, threads);
 }
 
 ErrorStats measureProfileError(const RadialProfile& profile, const MapFunction& exact, const ErrorOptions& options) {

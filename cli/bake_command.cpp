@@ -125,7 +125,8 @@ void printAutoChoice(const nlohmann::json& autoReport, double maxError) {
   if (autoReport.is_null()) return;
   std::cout << "  auto: chose " << autoReport["chosen"].get<std::string>() << ", measured error "
             << autoReport["measured_error"].get<double>() << " <= " << maxError << " ("
-            << autoReport["configurations_tried"].get<int>() << " configurations tried, cheapest first)\n";
+            << autoReport["configurations_estimated"].get<int>() << " configurations estimated, "
+            << autoReport["bakes"].get<int>() << " baked)\n";
 }
 
 // A 1-D radial profile ("parameterization": "profile", or chosen by "auto"): written as an N x 1
@@ -180,7 +181,7 @@ nlohmann::json bakeMaterialMap(const MapSpec& specified, BakeOptions options, co
     summary.path = "profile";
     summary.seconds = secondsSince(start);
   } else if (map.anyAuto()) {
-    // The cheapest configuration meeting max_error (each candidate baked and measured).
+    // The cheapest configuration meeting max_error (candidates estimated, the choice baked and measured).
     AutoOptions autoOptions = map.autoOptions();
     autoOptions.bake = options;
     autoOptions.bake.progress = {};
@@ -201,10 +202,11 @@ nlohmann::json bakeMaterialMap(const MapSpec& specified, BakeOptions options, co
                                             (profile && (profile->axis() - Vec3::UnitZ()).norm() < 1e-12)
                                         ? "RMS over a visible sphere's lookups, relative to the peak"
                                         : "RMS over directions uniform on the sphere, relative to the peak"},
-                  {"configurations_tried", chosen.tried}};
+                  {"bakes", chosen.bakes},
+                  {"configurations_estimated", chosen.estimated}};
     if (!chosen.rejected.empty()) {
       autoReport["next_cheaper"] = {{"configuration", chosen.rejected.back().first.describe()},
-                                    {"measured_error", chosen.rejected.back().second}};
+                                    {"error", chosen.rejected.back().second}};
     }
   } else {
     options.samplesPerTexel = map.samplesPerTexel;

@@ -59,14 +59,41 @@ class ErrorProbes {
   /// visible set out (visibleRms = rms).
   ErrorStats measure(const std::function<Rgb(const Vec3&)>& lookup, double rimCos, bool visibleSphere) const;
 
+  /// Every direction measure() may look up (the visible set only with `visibleSphere`), rim
+  /// directions included.
+  std::vector<Vec3> directions(bool visibleSphere) const;
+  /// measure() of lookups already made: `looked[i]` the value at directions(visibleSphere)[i].
+  /// Throws Error(InvalidArgument) for a size mismatch.
+  ErrorStats measureValues(const std::vector<Rgb>& looked, double rimCos, bool visibleSphere) const;
+
  private:
   struct Probe {
     Vec3 direction;
     Rgb exact;
     double weight = 1.0;  ///< self-normalised importance weight (highlight set), else 1
   };
+  // measure(), with lookup(index into directions(visibleSphere), direction).
+  ErrorStats measureAt(const std::function<Rgb(std::size_t, const Vec3&)>& lookup, double rimCos, bool visibleSphere) const;
+
   std::vector<Probe> uniform_, visible_, highlight_;
 };
+
+/// The texels one lookup blends: `count` (up to 4) texel indices and their weights.
+struct TexelTaps {
+  int count = 0;
+  long long index[4] = {0, 0, 0, 0};
+  double weight[4] = {0.0, 0.0, 0.0, 0.0};
+};
+
+/// ErrorProbes::measure of a lookup that blends texels of a map never stored whole: `taps` names
+/// the texels (indices in [0, texelCount)) a lookup at a direction reads, `texel` computes one
+/// (called once for each texel any probe reads, in parallel on `threads`, 0 = every core). So a
+/// map's error costs model evaluations for the texels the probes read (at most 4 per probe),
+/// whatever its resolution.
+ErrorStats measureSparseLookups(const ErrorProbes& probes, long long texelCount,
+                                const std::function<void(const Vec3&, TexelTaps&)>& taps,
+                                const std::function<Rgb(long long)>& texel, double rimCos, bool visibleSphere,
+                                int threads = 0);
 
 /// Errors of any lookup against the exact function (builds ErrorProbes; see there).
 ErrorStats measureLookupError(const std::function<Rgb(const Vec3&)>& lookup, const MapFunction& exact,
@@ -83,5 +110,13 @@ ErrorStats measureMapError(const Image& image, const Parameterization& map, cons
 /// The same against probes already drawn for the function.
 ErrorStats measureMapError(const Image& image, const Parameterization& map, const ErrorProbes& probes,
                            bool visibleSphere = true);
+
+/// What measureMapError reports for the map bakeMap's general path makes of `function` with
+/// `samplesPerTexel` samples (texels by bakeTexel, rounded to float as an Image stores them),
+/// without baking it: only the texels the probes' lookups read are computed
+/// (measureSparseLookups), so the cost is bounded by the probes, not the resolution, and no
+/// image is allocated. bakeMap's tabulated paths give slightly different texels (bakeTexel).
+ErrorStats estimateMapError(const Parameterization& map, const MapFunction& function, int samplesPerTexel,
+                            const ErrorProbes& probes, bool visibleSphere = true, int threads = 0);
 
 }  // namespace brdfbake

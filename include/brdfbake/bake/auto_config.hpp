@@ -23,6 +23,7 @@ struct MapConfiguration {
   bool profile = false;
   /// Cost: texels x samples per texel (memory and bake time both follow it).
   long long cost() const;
+  long long texels() const;  ///< width x height (N for a profile)
   std::string describe() const;  ///< "sphere 64^2, 4 samples/texel" or "profile 64 texels, 4 samples/texel"
 };
 
@@ -40,8 +41,8 @@ struct AutoOptions {
   double maxError = 0.01;
   ErrorOptions error;      ///< how errors are measured
   BakeOptions bake;        ///< threads, limits (samplesPerTexel and progress are overridden)
-  /// Called with the fraction of the whole search done (candidates weighted by their texels),
-  /// so a search that will end in "no configuration meets max_error" is never silent.
+  /// Called with the fraction of the work done as far as it is known, never decreasing: the
+  /// search (estimates) fills the first 30 %, each bake most of what is left.
   std::function<void(double)> progress;
 
   void validate() const;
@@ -52,8 +53,10 @@ struct AutoResult {
   double error = 0.0;      ///< its measured error
   Image image;             ///< the chosen map, baked (a profile: N x 1, RadialProfile::toImage)
   std::optional<RadialProfile> profile;  ///< set when a profile was chosen
-  int tried = 0;           ///< configurations baked and measured, the chosen one included
-  /// The errors of the cheaper configurations tried (all above maxError).
+  int bakes = 0;           ///< configurations baked in full and measured, the chosen one included
+  int estimated = 0;       ///< configurations whose error was estimated (estimateMapError) without a bake
+  /// The cheaper configurations looked at and their errors (all above maxError), cheapest first:
+  /// estimates, and the measured error of any bake that missed.
   std::vector<std::pair<MapConfiguration, double>> rejected;
 };
 
@@ -62,10 +65,20 @@ struct AutoResult {
 double autoErrorMeasure(const ErrorStats& stats, ParameterizationKind kind);
 double autoErrorMeasure(const ErrorStats& stats, const MapConfiguration& configuration, const Vec3& profileAxis);
 
-/// Tries every combination of the options' parameterizations, resolutions and samples in order of
-/// increasing cost, and returns the first (so the cheapest) whose measured error meets maxError;
-/// every cheaper combination was tried and missed it. Throws Error(InvalidInput) naming the best
-/// error reached when none does.
+/// The cheapest combination (cost, then fewer samples, then the options' order) of the options'
+/// parameterizations, resolutions and samples whose error meets maxError, baked.
+///
+/// Candidates are not baked to be measured: their error is estimated from the texels the error
+/// probes read (estimateMapError, estimateProfileError; cost bounded by the probes, not the
+/// resolution). Per parameterization and sample count, the resolution is predicted from error ~
+/// N^-p (p = 2 for one estimate, bilinear lookups being second order; measured from the last two
+/// otherwise) and bracketed until the chosen resolution meets the bound and the next smaller one
+/// misses it; a family is only looked at below the cost of the best so far, assuming the error
+/// falls as the resolution grows. The choice is then baked and measured (ErrorStats::bound against
+/// the same probes); if the bake misses, the next resolution is baked (docs/accuracy.md).
+/// Candidates over the memory budget (BakeOptions::maxTexels, memoryBudgetBytes) are left out.
+/// Throws Error(InvalidInput) naming the best error reached, and the resolution error ~ N^-2 puts
+/// the bound at, when none meets it; Error(Resource) when every candidate is over the budget.
 AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& options);
 
 }  // namespace brdfbake

@@ -60,6 +60,12 @@ struct BakedMap {
 /// Throws Error(Resource) when the image exceeds options.maxTexels, unless allowed.
 BakedMap bakeMap(const Parameterization& map, const MapFunction& function, const BakeOptions& options = {});
 
+/// Texel (x, y) as bakeMap's general path computes it: the mean of `function` over the texel's
+/// `samplesPerTexel` stratified samples (the same grid), 0 when none lies in the domain. The other
+/// paths tabulate the model (to BakeOptions::profileTolerance) and deposit lobes narrower than a
+/// sample, so their texels differ slightly. For computing a few texels of a map without baking it.
+Rgb bakeTexel(const Parameterization& map, const MapFunction& function, int x, int y, int samplesPerTexel);
+
 /// bakeMap(...).image, for callers that do not report how the map was made.
 Image bake(const Parameterization& map, const MapFunction& function, const BakeOptions& options = {});
 

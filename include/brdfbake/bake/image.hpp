@@ -70,4 +70,23 @@ Rgb sampleLinear1d(const std::vector<Rgb>& texels, double s);
 /// Bilinear lookup at continuous pixel coordinates inside one region.
 Rgba sampleBilinear(const Image& image, const Vec2& pixel, const TexelRect& region, bool wrapX);
 
+/// The four texels a bilinear lookup reads, in image coordinates (columns xa, xb; rows ya, yb),
+/// and the weights of xb and yb: value = (1 - wy)((1 - wx) [xa, ya] + wx [xb, ya]) + wy (...yb).
+struct BilinearTaps {
+  int xa = 0, xb = 0, ya = 0, yb = 0;
+  double wx = 0.0, wy = 0.0;
+};
+/// The texels sampleBilinear reads at `pixel` in `region` (clamped to it, wrapped for wrapX).
+BilinearTaps bilinearTaps(const Vec2& pixel, const TexelRect& region, bool wrapX);
+/// The texels sampleBilinear(image, map, direction) reads, for any image laid out by `map`.
+BilinearTaps bilinearTaps(const Parameterization& map, const Vec3& direction);
+
+/// The two texels sampleLinear1d reads (i0, i1 = i0 or i0 + 1) and the weight of i1.
+struct LinearTaps {
+  int i0 = 0, i1 = 0;
+  double w = 0.0;
+};
+/// The texels of an N-texel 1-D texture (N >= 1) sampleLinear1d reads at s.
+LinearTaps linearTaps(int texels, double s);
+
 }  // namespace brdfbake

@@ -67,5 +67,9 @@ RadialProfile bakeRadialProfile(const MapFunction& function, const Vec3& axis, i
 ErrorStats measureProfileError(const RadialProfile& profile, const MapFunction& exact, const ErrorOptions& options = {});
 /// The same against probes already drawn for the function.
 ErrorStats measureProfileError(const RadialProfile& profile, const ErrorProbes& probes, bool visibleSphere = true);
+/// What measureProfileError reports for bakeRadialProfile(function, axis, resolution,
+/// samplesPerTexel), computing only the texels the probes' lookups read (measureSparseLookups).
+ErrorStats estimateProfileError(const MapFunction& function, const Vec3& axis, int resolution, int samplesPerTexel,
+                                const ErrorProbes& probes, bool visibleSphere = true, int threads = 0);
 
 }  // namespace brdfbake
