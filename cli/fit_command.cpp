@@ -148,7 +148,7 @@ int runFit(FitArgs args) {
     if (!file.fit.candidates.empty()) {
       std::cout << "  models tried (held-out score = mean of the k-fold and elevation ratios to Lambert):\n";
       for (const auto& c : file.fit.candidates) {
-        std::cout << "    " << c.lobes << " " << (c.lafortune ? "lafortune" : "mirror") << " " << toString(c.elevation) << ", "
+        std::cout << "    " << c.lobes << " " << toString(c.kind) << " " << toString(c.elevation) << ", "
                   << c.parameters << " parameters: " << std::setprecision(3) << c.heldOutScore << " (k-fold " << c.kfoldRatio
                   << "x, elevations " << c.elevationRatio << "x, " << std::setprecision(1) << c.seconds << " s)"
                   << (c.chosen ? " chosen" : "") << "\n";
@@ -207,7 +207,7 @@ Then bake a map from it: {"model": "lobes", "file": "fit.json"} in a spec (data_
       ->check(CLI::IsMember({"shared", "per_channel"}));
   command->add_option("--kind", args->kind, "Lobes of the shared method: mirror (Phong), lafortune (c_xy free), or auto")
       ->default_val("auto")
-      ->check(CLI::IsMember({"auto", "mirror", "lafortune"}));
+      ->check(CLI::IsMember({"auto", "mirror", "lafortune", "half_vector"}));
   command->add_option("--max-exponent", args->maxExponent, "Largest lobe exponent of the shared method")
       ->default_val(1e4)
       ->check(CLI::Range(1.0, 1e5));
