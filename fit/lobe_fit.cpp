@@ -16,7 +16,6 @@
 #include <optional>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 #include <iomanip>
 #include <memory>
 #include <mutex>
@@ -709,9 +708,8 @@ FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeK
   detail::SharedFitConfig config;
   config.lobes = options.lobes;
   config.mirror = kind == LobeKindChoice::Mirror;
-  config.lafortune = kind == LobeKindChoice::Lafortune || (kind == LobeKindChoice::HalfVector && std::getenv("BRDFBAKE_HV_MIX"));
+  config.lafortune = kind == LobeKindChoice::Lafortune;
   config.halfVector = kind == LobeKindChoice::HalfVector;
-  config.fresnel = !std::getenv("BRDFBAKE_HV_NOFRESNEL");
   config.maxExponent = options.maxExponent;
   std::size_t usable = 0;
   for (std::size_t i = 0; i < table.size(); ++i) {

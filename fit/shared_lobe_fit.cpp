@@ -102,8 +102,8 @@ class SharedFitter {
     }
   }
 
-  // Weight columns of one lobe: 1, or 2 for a half-vector lobe with its Fresnel weight.
-  int columns(const Shape& shape) const { return shape.halfVector && config_.fresnel ? 2 : 1; }
+  // Weight columns of one lobe: 1, or 2 for a half-vector lobe (C and its Fresnel weight C_F).
+  static int columns(const Shape& shape) { return shape.halfVector ? 2 : 1; }
 
   // The design matrix: 1/pi for the diffuse term, then the columns of each lobe of unit weight (a
   // half-vector lobe's C, then its C_F).
@@ -122,7 +122,7 @@ class SharedFitter {
           a(i, column) = normalizedLobe(1.0, exponent, g.cosine(shape.cxy));
         } else {
           a(i, column) = halfVectorLobe(1.0, 0.0, exponent, g);
-          if (columns(shape) == 2) a(i, column + 1) = halfVectorLobe(0.0, 1.0, exponent, g);
+          a(i, column + 1) = halfVectorLobe(0.0, 1.0, exponent, g);
         }
       }
       column += columns(shape);
@@ -327,8 +327,8 @@ SharedFitOutcome fitSharedLobes(const MeasuredTable& table, const SharedFitConfi
       lobe.exponent = {std::clamp(std::exp(shape.logExponent), kMinLobeExponent, kMaxLobeExponent)};
       lobe.cxy = shape.halfVector ? -1.0 : shape.cxy;
       lobe.halfVector = shape.halfVector;
-      if (fitter.columns(shape) == 2) lobe.fresnel = x[column + 1];
-      column += fitter.columns(shape);
+      if (shape.halfVector) lobe.fresnel = x[column + 1];
+      column += SharedFitter::columns(shape);
       channel.lobes.push_back(std::move(lobe));
     }
     outcome.model.channels.push_back(std::move(channel));

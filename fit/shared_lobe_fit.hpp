@@ -22,11 +22,12 @@ namespace brdfbake::detail {
 struct SharedFitConfig {
   int lobes = 1;            // 0 = diffuse only
   // Lobe axes a new lobe may take (at least one): Phong lobes about the mirrored view (c_xy = -1),
-  // Lafortune lobes (c_xy free, includes the mirror), half-vector lobes (halfVectorLobe).
+  // Lafortune lobes (c_xy free, includes the mirror), half-vector lobes (halfVectorLobe, weights C
+  // and C_F). Half-vector lobes alone: mixing in Lafortune ones measured no better held out
+  // (docs/fitting.md) and costs a c_xy search.
   bool mirror = true;
   bool lafortune = false;
   bool halfVector = false;
-  bool fresnel = true;      // half-vector lobes get a Fresnel weight C_F
   double maxExponent = 1e4; // cap on n
   int searchChannels = 6;   // channels the shape search looks at (evenly spread; all if fewer)
   int maxEvaluations = 600; // shape trials in the compass search

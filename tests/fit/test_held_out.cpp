@@ -422,10 +422,10 @@ TEST(HeldOut, OptionsAreValidated) {
   EXPECT_EQ(estimateHeldOutError(table, oracle, options).elevations.size(), 3u);
 }
 
-// The real tables. Issue 11's target is 0.4x Lambert on every split; asserted here is what the
-// shared fit with three Lafortune lobes reaches on the RGB tables (measured: garnet red 0.75x /
-// 0.29x / 0.45x / 0.58x, krylon blue 0.86x / 0.47x / 0.87x / 0.53x: short of the target except at
-// 30 degrees on garnet red; docs/fitting.md has every table).
+// The real tables. Issue 11's target is 0.4x Lambert on every split; asserted here, with a margin,
+// is what the shared fit with three half-vector lobes reaches on the RGB tables (docs/fitting.md has
+// every table, measured by ../shared/tools/fit_heldout_check.py; this is the fit's own estimate,
+// another shuffle of the folds).
 struct RealTarget {
   const char* file;
   double kfold, at30, at50, at70;
@@ -439,7 +439,7 @@ TEST_P(RealTableHeldOut, MeetsTheMeasuredRatios) {
   const MeasuredTable table = readTableForFitting(dir / target.file).toRgb();
   FitOptions options;
   options.lobes = 3;
-  options.kind = LobeKindChoice::Lafortune;
+  options.kind = LobeKindChoice::HalfVector;
   options.heldOut.elevationsDegrees = {30.0, 50.0, 70.0};
   const FitResult fit = fitLobes(table, options);
   ASSERT_TRUE(fit.heldOut);
@@ -453,8 +453,8 @@ TEST_P(RealTableHeldOut, MeetsTheMeasuredRatios) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Cornell, RealTableHeldOut,
-                         ::testing::Values(RealTarget{"garnet_red_RGB.astm", 0.80, 0.35, 0.50, 0.65},
-                                           RealTarget{"krylon_blue_RGB.astm", 0.90, 0.52, 0.92, 0.60}),
+                         ::testing::Values(RealTarget{"garnet_red_RGB.astm", 0.20, 0.35, 0.30, 0.15},
+                                           RealTarget{"krylon_blue_RGB.astm", 0.20, 0.40, 0.60, 0.30}),
                          [](const ::testing::TestParamInfo<RealTarget>& param) {
                            std::string name = param.param.file;
                            for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';

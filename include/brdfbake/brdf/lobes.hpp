@@ -29,6 +29,13 @@
 /// of measured paints; |c_xy| < 1 the opposite. The model is reciprocal in l and v for every c_xy.
 /// (n + 2) / (2 pi) normalises the lobe exactly only for c_xy = -1.
 ///
+/// A lobe may also be a half-vector lobe (Lobe::halfVector, halfVectorLobe): Cook & Torrance
+/// 1982's microfacet form with Blinn 1977's distribution and a Fresnel weight,
+/// (C + C_F (1 - l.h)^5) (n + 2) / (2 pi) (n.h)^n / (4 (n.l)(n.v)). In a fixed view it is not
+/// radially symmetric about any axis: it is stretched in the plane of incidence towards grazing,
+/// as measured lacquers are. It evaluates (lighting and reflectance maps) like the others, but
+/// does not prefilter through the radial path.
+///
 /// C_k and n_k are either constant (LobeElevation::Constant: one 2-D lobe, so an environment can
 /// be prefiltered into a single map) or vary smoothly with u (LobeElevation::Varying: a 3-D map).
 /// A varying parameter has three positive values p0, p1, p2 and is their weighted geometric mean

@@ -4,7 +4,8 @@
 /// their reasons: docs/fitting.md.
 ///
 /// Two methods. FitMethod::Shared (the default): every channel shares each lobe's shape (exponent
-/// and Lafortune coefficient c_xy); the diffuse terms and weights of each channel are solved by
+/// and Lafortune coefficient c_xy, or a half-vector lobe's exponent); the diffuse terms and weights
+/// (a half-vector lobe's C and C_F) of each channel are solved by
 /// non-negative least squares on the cosine-weighted log error of fit/held_out.hpp, the shapes by
 /// a search around them (variable projection). Constant elevation only: Lafortune lobes (c_xy !=
 /// -1) carry the variation with elevation. FitMethod::PerChannel: Ceres per channel, as follows.
