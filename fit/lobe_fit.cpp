@@ -718,7 +718,7 @@ FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeK
   if (usable == 0) {
     throw Error(Error::Kind::InvalidInput, label + ": no sample has both directions above the horizon; nothing to fit");
   }
-  const std::size_t perChannel = 1 + static_cast<std::size_t>(options.lobes);
+  const std::size_t perChannel = 1 + static_cast<std::size_t>(options.lobes) * (kind == LobeKindChoice::HalfVector ? 2 : 1);
   if (usable < perChannel) {
     throw Error(Error::Kind::InvalidArgument, label + ": " + std::to_string(usable) + " usable sample(s) cannot determine " +
                                                   std::to_string(perChannel) + " weights per channel");

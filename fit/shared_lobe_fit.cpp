@@ -81,7 +81,7 @@ struct Row {
 struct Shape {
   double logExponent;
   double cxy;               // -1 for half-vector lobes
-  bool halfVector = false;  // halfVectorLobe (weight columns: C, and C_F when fitted)
+  bool halfVector = false;  // halfVectorLobe (weight columns C and C_F)
 };
 
 // The fitted rows and their targets.

@@ -9,7 +9,8 @@
 //
 // through Gauss-Newton steps (each one non-negative least squares of the linearised residual).
 // The shapes are found greedily (each new lobe from a grid of exponents and c_xy, the others kept)
-// and refined together by a compass search (Kolda, Lewis & Torczon 2003) on ln n and c_xy.
+// and refined together by a compass search (Kolda, Lewis & Torczon 2003) on ln n and c_xy. A
+// half-vector lobe (halfVectorLobe) has the shape ln n alone and two weights per channel, C and C_F.
 #include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/measured/measured_table.hpp>
 

@@ -125,7 +125,7 @@ TEST(LafortuneLobe, ValidationAndFitFileCarryCxy) {
   EXPECT_FALSE(back.fit.model.allAboutMirror());
 }
 
-// Cook & Torrance 1982's microfacet BRDF typed out from the vectors, with Blinn 1977's normalised
+// Cook & Torrance 1981's microfacet BRDF typed out from the vectors, with Blinn 1977's normalised
 // distribution (n + 2) / (2 pi) (n.h)^n and Schlick 1994's Fresnel shape with free weights, no
 // shadowing: (C + C_F (1 - l.h)^5) D(h) / (4 (n.l) (n.v)).
 double halfVectorByHand(double c, double cf, double n, const Vec3& l, const Vec3& v) {

@@ -173,7 +173,7 @@ struct LobeGeometry {
   }
 };
 
-/// A lobe about the half-vector (Lobe::halfVector; docs/fitting.md): Cook & Torrance 1982's
+/// A lobe about the half-vector (Lobe::halfVector; docs/fitting.md): Cook & Torrance 1981's
 /// microfacet form with Blinn 1977's normalised distribution D = (n + 2) / (2 pi) (n.h)^n
 /// (integral of D (n.h) over the hemisphere of h = 1), Schlick's (1994) Fresnel shape with free
 /// weights and no shadowing term,
