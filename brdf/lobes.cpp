@@ -56,6 +56,9 @@ void LobeModel::validate() const {
       }
       require(std::isfinite(lobe.cxy) && std::abs(lobe.cxy) <= kMaxLobeCxy,
               at + ": cxy must be finite with |cxy| <= " + std::to_string(static_cast<int>(kMaxLobeCxy)));
+      require(std::isfinite(lobe.fresnel) && lobe.fresnel >= 0.0, at + ": fresnel must be finite and >= 0");
+      require(lobe.halfVector || lobe.fresnel == 0.0, at + ": fresnel applies to half-vector lobes only");
+      require(!lobe.halfVector || lobe.cxy == -1.0, at + ": a half-vector lobe has no cxy");
       for (double n : lobe.exponent) {
         require(n * std::log(std::max(1.0, std::abs(lobe.cxy))) <= kMaxLobeGrowthLog,
                 at + ": exponent * ln|cxy| must be <= " + std::to_string(static_cast<int>(kMaxLobeGrowthLog)) +
@@ -106,20 +109,26 @@ LobeModel LobeModel::atElevation(double u) const {
 }
 
 namespace {
-// Evaluates lobeBrdf for one channel from its stored coefficients.
+// Evaluates lobeBrdf for one channel from its stored coefficients, plus its half-vector lobes.
 double channelBrdf(const LobeModel& model, const LobeChannel& channel, double u, const LobeGeometry& geometry) {
   const int count = elevationCoefficientCount(model.elevation);
+  const double t = model.elevationCoordinate(u);
   std::vector<double> packed, cosToAxis;
   packed.reserve(channel.lobes.size() * 2 * count);
+  double halfVectorSum = 0.0;
   for (const auto& lobe : channel.lobes) {
+    if (lobe.halfVector) {
+      halfVectorSum += halfVectorLobe(elevationBlend(lobe.weight.data(), count, t), lobe.fresnel,
+                                      elevationBlend(lobe.exponent.data(), count, t), geometry);
+      continue;
+    }
     packed.insert(packed.end(), lobe.weight.begin(), lobe.weight.end());
     packed.insert(packed.end(), lobe.exponent.begin(), lobe.exponent.end());
     cosToAxis.push_back(geometry.cosine(lobe.cxy));
   }
-  std::vector<const double*> lobes(channel.lobes.size());
+  std::vector<const double*> lobes(cosToAxis.size());
   for (std::size_t k = 0; k < lobes.size(); ++k) lobes[k] = packed.data() + k * 2 * count;
-  return lobeBrdf(channel.diffuse, lobes.data(), static_cast<int>(lobes.size()), count, model.elevationCoordinate(u),
-                  cosToAxis.data());
+  return lobeBrdf(channel.diffuse, lobes.data(), static_cast<int>(lobes.size()), count, t, cosToAxis.data()) + halfVectorSum;
 }
 }  // namespace
 
@@ -135,8 +144,8 @@ Eigen::VectorXd LobeModel::evaluate(const Vec3& wi, const Vec3& wo) const {
 }
 
 double LobeModel::mirrorValue(std::size_t channel, double u) const {
-  // l = v mirrored: l_x v_x + l_y v_y = -(1 - u^2), l_z v_z = u^2 (r_v . l = 1).
-  return channelBrdf(*this, channels.at(channel), u, {-(1.0 - u * u), u * u});
+  // l = v mirrored: l_x v_x + l_y v_y = -(1 - u^2), l_z v_z = u^2 (r_v . l = 1), h = n.
+  return channelBrdf(*this, channels.at(channel), u, {-(1.0 - u * u), u * u, u, u});
 }
 
 bool LobeModel::allAboutMirror() const {
@@ -173,7 +182,7 @@ bool LobeMaterial::viewIndependent() const {
 Rgb LobeMaterial::brdf(const Vec3& normal, const Vec3& view, const Vec3& light) const {
   const double nv = normal.dot(view), nl = normal.dot(light);
   if (!(nv > 0.0) || !(nl > 0.0)) return Rgb::Zero();
-  const LobeGeometry geometry{light.dot(view) - nl * nv, nl * nv};
+  const LobeGeometry geometry = LobeGeometry::of(normal, light, view);
   Eigen::VectorXd values(static_cast<Eigen::Index>(model_.channelCount()));
   for (std::size_t c = 0; c < model_.channelCount(); ++c) {
     values[static_cast<Eigen::Index>(c)] = channelBrdf(model_, model_.channels[c], nv, geometry);
@@ -202,14 +211,18 @@ Rgb LobeMaterial::shade(const ShadingGeometry& g, const Vec3& light) const {
   }
   const double u = clampFinite(g.normal.dot(g.view), 0.0, 1.0);
   const double cosToMirror = g.reflected.dot(light);
-  const double nl = g.normal.dot(light), nv = g.normal.dot(g.view);
-  const LobeGeometry geometry{light.dot(g.view) - nl * nv, nl * nv};
+  const LobeGeometry geometry = LobeGeometry::of(g.normal, light, g.view);
   Eigen::VectorXd values = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(model_.channelCount()));
   for (std::size_t c = 0; c < model_.channelCount(); ++c) {
     for (std::size_t k = 0; k < model_.channels[c].lobes.size(); ++k) {
       const Lobe& lobe = model_.channels[c].lobes[k];
       // A mirror lobe depends on the reflected direction alone (also below the horizon of the
       // light, as Kautz & McCool's prefiltered map); a Lafortune lobe on its own axis.
+      if (lobe.halfVector) {
+        values[static_cast<Eigen::Index>(c)] +=
+            halfVectorLobe(model_.weight(c, k, u), lobe.fresnel, model_.exponent(c, k, u), geometry);
+        continue;
+      }
       const double cosToAxis = lobe.aboutMirror() ? cosToMirror : geometry.cosine(lobe.cxy);
       values[static_cast<Eigen::Index>(c)] += normalizedLobe(model_.weight(c, k, u), model_.exponent(c, k, u), cosToAxis);
     }

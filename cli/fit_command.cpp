@@ -19,6 +19,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// " mirror", " Lafortune", " half-vector" or " mixed", for the report title.
+const char* lobeKindName(const LobeModel& model) {
+  if (model.allAboutMirror()) return " mirror";
+  bool half = false, other = false;
+  for (const auto& lobe : model.channels[0].lobes) (lobe.halfVector ? half : other) = true;
+  return half ? (other ? " mixed" : " half-vector") : " Lafortune";
+}
+
 struct FitArgs {
   std::string table;
   std::string format = "auto";
@@ -116,7 +124,7 @@ int runFit(FitArgs args) {
   if (!args.report.empty()) {
     std::ostringstream title;
     title << fs::path(args.table).filename().string() << ": " << file.fit.model.channels[0].lobes.size() << " "
-          << toString(file.fit.model.elevation) << (file.fit.model.allAboutMirror() ? " mirror" : " Lafortune") << " lobe(s)";
+          << toString(file.fit.model.elevation) << lobeKindName(file.fit.model) << " lobe(s)";
     if (const auto& h = file.fit.heldOut) {
       title << std::fixed << std::setprecision(2) << "; held-out / Lambert: k-fold " << h->kfold.ratio() << "x, elevations";
       for (const auto& e : h->elevations) title << " " << std::lround(e.elevationDegrees) << ":" << e.ratio() << "x";
@@ -148,7 +156,7 @@ int runFit(FitArgs args) {
     if (!file.fit.candidates.empty()) {
       std::cout << "  models tried (held-out score = mean of the k-fold and elevation ratios to Lambert):\n";
       for (const auto& c : file.fit.candidates) {
-        std::cout << "    " << c.lobes << " " << (c.lafortune ? "lafortune" : "mirror") << " " << toString(c.elevation) << ", "
+        std::cout << "    " << c.lobes << " " << toString(c.kind) << " " << toString(c.elevation) << ", "
                   << c.parameters << " parameters: " << std::setprecision(3) << c.heldOutScore << " (k-fold " << c.kfoldRatio
                   << "x, elevations " << c.elevationRatio << "x, " << std::setprecision(1) << c.seconds << " s)"
                   << (c.chosen ? " chosen" : "") << "\n";
@@ -205,9 +213,9 @@ Then bake a map from it: {"model": "lobes", "file": "fit.json"} in a spec (data_
   command->add_option("--method", args->method, "shared: lobe shapes shared by every channel, weights by NNLS; per_channel: Ceres per channel")
       ->default_val("shared")
       ->check(CLI::IsMember({"shared", "per_channel"}));
-  command->add_option("--kind", args->kind, "Lobes of the shared method: mirror (Phong), lafortune (c_xy free), or auto")
+  command->add_option("--kind", args->kind, "Lobes of the shared method: mirror (Phong), lafortune (c_xy free), half_vector (microfacet form with a Fresnel weight; does not prefilter), or auto")
       ->default_val("auto")
-      ->check(CLI::IsMember({"auto", "mirror", "lafortune"}));
+      ->check(CLI::IsMember({"auto", "mirror", "lafortune", "half_vector"}));
   command->add_option("--max-exponent", args->maxExponent, "Largest lobe exponent of the shared method")
       ->default_val(1e4)
       ->check(CLI::Range(1.0, 1e5));

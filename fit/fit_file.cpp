@@ -152,7 +152,7 @@ nlohmann::ordered_json fitFileToJson(const FitFile& file) {
     for (const auto& c : file.fit.candidates) {
       candidates.push_back({{"lobes", c.lobes},
                             {"elevation", std::string(toString(c.elevation))},
-                            {"kind", c.lafortune ? "lafortune" : "mirror"},
+                            {"kind", std::string(toString(c.kind))},
                             {"parameters", c.parameters},
                             {"held_out_score", finite(c.heldOutScore, "held-out score")},
                             {"kfold_ratio", finite(c.kfoldRatio, "k-fold ratio")},
@@ -184,7 +184,12 @@ nlohmann::ordered_json fitFileToJson(const FitFile& file) {
     nlohmann::ordered_json lobeArray = nlohmann::ordered_json::array();
     for (const auto& lobe : channel.lobes) {
       nlohmann::ordered_json entry = {{"weight", numbers(lobe.weight, "lobe weight")}, {"exponent", numbers(lobe.exponent, "lobe exponent")}};
-      if (!lobe.aboutMirror()) entry["cxy"] = finite(lobe.cxy, "lobe cxy");
+      if (lobe.halfVector) {
+        entry["axis"] = "half_vector";
+        entry["fresnel"] = finite(lobe.fresnel, "lobe fresnel");
+      } else if (!lobe.aboutMirror()) {
+        entry["cxy"] = finite(lobe.cxy, "lobe cxy");
+      }
       lobeArray.push_back(entry);
     }
     nlohmann::ordered_json entry = {{"name", channel.name}, {"diffuse", finite(channel.diffuse, "diffuse")}, {"lobes", lobeArray}};
@@ -314,8 +319,10 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
           c.number("error", 0.0);
         } else {
           const std::string kind = c.string("kind");
-          if (kind != "mirror" && kind != "lafortune") throw specError(c.child("kind"), "must be \"mirror\" or \"lafortune\", got \"" + kind + "\"");
-          candidate.lafortune = kind == "lafortune";
+          if (kind != "mirror" && kind != "lafortune" && kind != "half_vector") {
+            throw specError(c.child("kind"), "must be \"mirror\", \"lafortune\" or \"half_vector\", got \"" + kind + "\"");
+          }
+          candidate.kind = parseLobeKindChoice(kind);
           candidate.parameters = c.integer("parameters", 0, 1 << 30);
           candidate.heldOutScore = c.number("held_out_score", 0.0);
           candidate.kfoldRatio = c.number("kfold_ratio", 0.0);
@@ -353,7 +360,15 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
         Lobe l;
         l.weight = readNumbers(lobe, "weight", count, count == 1 ? 0.0 : 1e-300, HUGE_VAL);
         l.exponent = readNumbers(lobe, "exponent", count, kMinLobeExponent, kMaxLobeExponent);
-        l.cxy = lobe.number("cxy", -1.0, -kMaxLobeCxy, kMaxLobeCxy, false);
+        const std::string axis = lobe.optionalString("axis").value_or("lafortune");
+        if (axis == "half_vector") {
+          l.halfVector = true;
+          l.fresnel = lobe.number("fresnel", 0.0, 0.0, HUGE_VAL, false);
+        } else if (axis == "lafortune") {
+          l.cxy = lobe.number("cxy", -1.0, -kMaxLobeCxy, kMaxLobeCxy, false);
+        } else {
+          throw specError(lobe.child("axis"), "must be \"lafortune\" (the default) or \"half_vector\", got \"" + axis + "\"");
+        }
         lobe.finish();
         channel.lobes.push_back(std::move(l));
       }

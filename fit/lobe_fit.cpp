@@ -701,13 +701,15 @@ FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options) {
 }
 
 // FitMethod::Shared of one explicit lobe count and kind.
-FitResult fitShared(const MeasuredTable& table, const FitOptions& options, bool lafortune) {
+FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeKindChoice kind) {
   const auto start = Clock::now();
   const std::string label = table.sourceFile.empty() ? std::string("table") : table.sourceFile;
   if (table.channelCount() == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
   detail::SharedFitConfig config;
   config.lobes = options.lobes;
-  config.lafortune = lafortune;
+  config.mirror = kind == LobeKindChoice::Mirror;
+  config.lafortune = kind == LobeKindChoice::Lafortune;
+  config.halfVector = kind == LobeKindChoice::HalfVector;
   config.maxExponent = options.maxExponent;
   std::size_t usable = 0;
   for (std::size_t i = 0; i < table.size(); ++i) {
@@ -716,7 +718,7 @@ FitResult fitShared(const MeasuredTable& table, const FitOptions& options, bool 
   if (usable == 0) {
     throw Error(Error::Kind::InvalidInput, label + ": no sample has both directions above the horizon; nothing to fit");
   }
-  const std::size_t perChannel = 1 + static_cast<std::size_t>(options.lobes);
+  const std::size_t perChannel = 1 + static_cast<std::size_t>(options.lobes) * (kind == LobeKindChoice::HalfVector ? 2 : 1);
   if (usable < perChannel) {
     throw Error(Error::Kind::InvalidArgument, label + ": " + std::to_string(usable) + " usable sample(s) cannot determine " +
                                                   std::to_string(perChannel) + " weights per channel");
@@ -750,23 +752,26 @@ FitResult fitShared(const MeasuredTable& table, const FitOptions& options, bool 
 struct CandidateConfig {
   int lobes = 1;
   LobeElevation elevation = LobeElevation::Constant;
-  bool lafortune = false;
+  LobeKindChoice kind = LobeKindChoice::Mirror;  // Mirror, Lafortune or HalfVector
 };
 
 FitResult fitCandidate(const MeasuredTable& table, FitOptions options, const CandidateConfig& config) {
   options.lobes = config.lobes;
   options.elevation = config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
-  options.kind = config.lafortune ? LobeKindChoice::Lafortune : LobeKindChoice::Mirror;
+  options.kind = config.kind;
   options.threads = 1;  // parallel over splits
   options.progress = nullptr;
-  if (options.method == FitMethod::Shared) return fitShared(table, options, config.lafortune);
+  if (options.method == FitMethod::Shared) return fitShared(table, options, config.kind);
   return fitPerChannel(table, options);
 }
 
 int parameterTotal(const CandidateConfig& config, FitMethod method, std::size_t channels) {
   const int count = elevationCoefficientCount(config.elevation);
   const int perChannel = 1 + config.lobes * (method == FitMethod::Shared ? 1 : 2 * count);
-  const int shared = method == FitMethod::Shared ? config.lobes * (config.lafortune ? 2 : 1) : 0;
+  // Shared: a Lafortune lobe's n and c_xy, a half-vector lobe's n (and one more weight per channel, C_F).
+  const int shapeParameters = config.kind == LobeKindChoice::Lafortune ? 2 : 1;
+  const int extraWeights = config.kind == LobeKindChoice::HalfVector ? config.lobes * static_cast<int>(channels) : 0;
+  const int shared = method == FitMethod::Shared ? config.lobes * shapeParameters + extraWeights : 0;
   return perChannel * static_cast<int>(channels) + shared;
 }
 
@@ -789,12 +794,13 @@ std::string_view toString(LobeKindChoice kind) {
     case LobeKindChoice::Auto: return "auto";
     case LobeKindChoice::Mirror: return "mirror";
     case LobeKindChoice::Lafortune: return "lafortune";
+    case LobeKindChoice::HalfVector: return "half_vector";
   }
   return "auto";
 }
 
 LobeKindChoice parseLobeKindChoice(std::string_view name) {
-  return parseByName(name, std::array{LobeKindChoice::Auto, LobeKindChoice::Mirror, LobeKindChoice::Lafortune}, "lobe kind");
+  return parseByName(name, std::array{LobeKindChoice::Auto, LobeKindChoice::Mirror, LobeKindChoice::Lafortune, LobeKindChoice::HalfVector}, "lobe kind");
 }
 
 FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
@@ -810,10 +816,10 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
   std::vector<int> counts;
   if (options.lobes > 0) counts = {options.lobes};
   else for (int k = 1; k <= options.maxAutoLobes; ++k) counts.push_back(k);
-  std::vector<bool> kinds;
-  if (!shared || options.kind == LobeKindChoice::Mirror) kinds = {false};
-  else if (options.kind == LobeKindChoice::Lafortune) kinds = {true};
-  else kinds = {false, true};
+  std::vector<LobeKindChoice> kinds;
+  if (!shared) kinds = {LobeKindChoice::Mirror};
+  else if (options.kind != LobeKindChoice::Auto) kinds = {options.kind};
+  else kinds = {LobeKindChoice::Mirror, LobeKindChoice::Lafortune, LobeKindChoice::HalfVector};
   std::vector<LobeElevation> elevations;
   if (shared || options.elevation == ElevationChoice::Constant) elevations = {LobeElevation::Constant};
   else if (options.elevation == ElevationChoice::Varying) elevations = {LobeElevation::Varying};
@@ -837,8 +843,8 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
     FitOptions explicitOptions = options;  // every choice made (auto ones without a held-out estimate: the fewest parameters)
     explicitOptions.lobes = config.lobes;
     explicitOptions.elevation = config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
-    explicitOptions.kind = config.lafortune ? LobeKindChoice::Lafortune : LobeKindChoice::Mirror;
-    result = shared ? fitShared(table, explicitOptions, config.lafortune) : fitPerChannel(table, explicitOptions);
+    explicitOptions.kind = config.kind;
+    result = shared ? fitShared(table, explicitOptions, config.kind) : fitPerChannel(table, explicitOptions);
     if (options.estimateHeldOut && heldOutFeasible) {
       result.heldOut = estimateHeldOutError(
           table, [&](const MeasuredTable& training) { return fitCandidate(training, options, config).model; }, options.heldOut);
@@ -847,11 +853,11 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
     // Every (kind, elevation) sequence grows the lobe count while the held-out score falls by the margin.
     std::vector<std::pair<CandidateConfig, HeldOutReport>> tried;
     std::size_t total = kinds.size() * elevations.size() * counts.size(), done = 0;
-    for (bool lafortune : kinds) {
+    for (LobeKindChoice kind : kinds) {
       for (LobeElevation elevation : elevations) {
         double previous = HUGE_VAL;
         for (int lobes : counts) {
-          const CandidateConfig config{lobes, elevation, lafortune};
+          const CandidateConfig config{lobes, elevation, kind};
           HeldOutReport report = estimateHeldOutError(
               table, [&](const MeasuredTable& training) { return fitCandidate(training, options, config).model; }, options.heldOut);
           const double score = report.score();
@@ -880,7 +886,7 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
       ModelCandidate c;
       c.lobes = config.lobes;
       c.elevation = config.elevation;
-      c.lafortune = config.lafortune;
+      c.kind = config.kind;
       c.parameters = parameterTotal(config, options.method, channels);
       c.heldOutScore = report.score();
       c.kfoldRatio = report.kfold.ratio();

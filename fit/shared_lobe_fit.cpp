@@ -80,7 +80,8 @@ struct Row {
 
 struct Shape {
   double logExponent;
-  double cxy;
+  double cxy;               // -1 for half-vector lobes
+  bool halfVector = false;  // halfVectorLobe (weight columns C and C_F)
 };
 
 // The fitted rows and their targets.
@@ -101,17 +102,30 @@ class SharedFitter {
     }
   }
 
-  // The design matrix: 1/pi for the diffuse term, then one column per lobe of unit weight.
+  // Weight columns of one lobe: 1, or 2 for a half-vector lobe (C and its Fresnel weight C_F).
+  static int columns(const Shape& shape) { return shape.halfVector ? 2 : 1; }
+
+  // The design matrix: 1/pi for the diffuse term, then the columns of each lobe of unit weight (a
+  // half-vector lobe's C, then its C_F).
   Eigen::MatrixXd design(const std::vector<Shape>& shapes) const {
     const auto n = static_cast<Eigen::Index>(data_.rows.size());
-    Eigen::MatrixXd a(n, static_cast<Eigen::Index>(shapes.size()) + 1);
+    Eigen::Index total = 1;
+    for (const auto& shape : shapes) total += columns(shape);
+    Eigen::MatrixXd a(n, total);
     a.col(0).setConstant(1.0 / std::numbers::pi);
-    for (std::size_t k = 0; k < shapes.size(); ++k) {
-      const double exponent = std::exp(shapes[k].logExponent);
+    Eigen::Index column = 1;
+    for (const auto& shape : shapes) {
+      const double exponent = std::exp(shape.logExponent);
       for (Eigen::Index i = 0; i < n; ++i) {
-        a(i, static_cast<Eigen::Index>(k) + 1) =
-            normalizedLobe(1.0, exponent, data_.rows[static_cast<std::size_t>(i)].geometry.cosine(shapes[k].cxy));
+        const LobeGeometry& g = data_.rows[static_cast<std::size_t>(i)].geometry;
+        if (!shape.halfVector) {
+          a(i, column) = normalizedLobe(1.0, exponent, g.cosine(shape.cxy));
+        } else {
+          a(i, column) = halfVectorLobe(1.0, 0.0, exponent, g);
+          a(i, column + 1) = halfVectorLobe(0.0, 1.0, exponent, g);
+        }
       }
+      column += columns(shape);
     }
     return a;
   }
@@ -196,14 +210,18 @@ class SharedFitter {
 
   // Greedy start for one more lobe: a grid of exponents (and c_xy), the others fixed.
   std::vector<Shape> withNewLobe(const std::vector<Shape>& shapes) {
-    std::vector<double> cxys{-1.0};
+    std::vector<double> cxys;
+    if (config_.mirror) cxys = {-1.0};
     if (config_.lafortune) cxys = {-1.0, -1.3, -2.0, -0.7, 0.0, 0.7, 1.0, 1.3, 2.0};
+    std::vector<std::pair<double, bool>> axes;  // (c_xy, half-vector)
+    if (config_.halfVector) axes.emplace_back(-1.0, true);
+    for (double cxy : cxys) axes.emplace_back(cxy, false);
     double best = HUGE_VAL;
     std::vector<Shape> chosen = shapes;
-    for (double cxy : cxys) {
+    for (const auto& [cxy, halfVector] : axes) {
       for (double n = 2.0; n <= config_.maxExponent * 1.0001; n *= 2.0) {
         std::vector<Shape> trial = shapes;
-        trial.push_back({std::log(n), cxy});
+        trial.push_back({std::log(n), cxy, halfVector});
         const double value = searchObjective(trial);
         if (value < best) {
           best = value;
@@ -222,7 +240,7 @@ class SharedFitter {
     while ((logStep > 0.01 || (config_.lafortune && cxyStep > 0.005)) && evaluations < budget) {
       bool improved = false;
       for (std::size_t k = 0; k < shapes.size(); ++k) {
-        for (int coordinate = 0; coordinate < (config_.lafortune ? 2 : 1); ++coordinate) {
+        for (int coordinate = 0; coordinate < (config_.lafortune && !shapes[k].halfVector ? 2 : 1); ++coordinate) {
           for (double sign : {1.0, -1.0}) {
             std::vector<Shape> trial = shapes;
             (coordinate == 0 ? trial[k].logExponent : trial[k].cxy) += sign * (coordinate == 0 ? logStep : cxyStep);
@@ -302,11 +320,15 @@ SharedFitOutcome fitSharedLobes(const MeasuredTable& table, const SharedFitConfi
     channel.name = static_cast<std::size_t>(c) < table.channelNames.size() ? table.channelNames[static_cast<std::size_t>(c)]
                                                                             : std::to_string(c);
     channel.diffuse = x[0];
-    for (std::size_t k = 0; k < shapes.size(); ++k) {
+    Eigen::Index column = 1;
+    for (const auto& shape : shapes) {
       Lobe lobe;
-      lobe.weight = {x[static_cast<Eigen::Index>(k) + 1]};
-      lobe.exponent = {std::clamp(std::exp(shapes[k].logExponent), kMinLobeExponent, kMaxLobeExponent)};
-      lobe.cxy = config.lafortune ? shapes[k].cxy : -1.0;
+      lobe.weight = {x[column]};
+      lobe.exponent = {std::clamp(std::exp(shape.logExponent), kMinLobeExponent, kMaxLobeExponent)};
+      lobe.cxy = shape.halfVector ? -1.0 : shape.cxy;
+      lobe.halfVector = shape.halfVector;
+      if (shape.halfVector) lobe.fresnel = x[column + 1];
+      column += SharedFitter::columns(shape);
       channel.lobes.push_back(std::move(lobe));
     }
     outcome.model.channels.push_back(std::move(channel));

@@ -9,7 +9,8 @@
 //
 // through Gauss-Newton steps (each one non-negative least squares of the linearised residual).
 // The shapes are found greedily (each new lobe from a grid of exponents and c_xy, the others kept)
-// and refined together by a compass search (Kolda, Lewis & Torczon 2003) on ln n and c_xy.
+// and refined together by a compass search (Kolda, Lewis & Torczon 2003) on ln n and c_xy. A
+// half-vector lobe (halfVectorLobe) has the shape ln n alone and two weights per channel, C and C_F.
 #include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/measured/measured_table.hpp>
 
@@ -21,7 +22,13 @@ namespace brdfbake::detail {
 
 struct SharedFitConfig {
   int lobes = 1;            // 0 = diffuse only
-  bool lafortune = false;   // c_xy free (else -1: Phong lobes about the mirrored view)
+  // Lobe axes a new lobe may take (at least one): Phong lobes about the mirrored view (c_xy = -1),
+  // Lafortune lobes (c_xy free, includes the mirror), half-vector lobes (halfVectorLobe, weights C
+  // and C_F). Half-vector lobes alone: mixing in Lafortune ones measured no better held out
+  // (docs/fitting.md) and costs a c_xy search.
+  bool mirror = true;
+  bool lafortune = false;
+  bool halfVector = false;
   double maxExponent = 1e4; // cap on n
   int searchChannels = 6;   // channels the shape search looks at (evenly spread; all if fewer)
   int maxEvaluations = 600; // shape trials in the compass search

@@ -5,7 +5,8 @@ estimate the fit makes itself (fit.held_out: off-mirror 5-fold and each interior
 as ratios to a per-channel Lambertian fit) and the fit's own time (a second run with --held-out off), writes
 docs/images/fit_held_out.csv and draws docs/images/fit_held_out.png with gnuplot.
 
-usage: scripts/fit_held_out_chart.py BRDFBAKE [SHARED_DATA_DIR] [--tables a.astm,b.astm] [--plot-only]
+usage: scripts/fit_held_out_chart.py BRDFBAKE [SHARED_DATA_DIR] [--tables a.astm,b.astm] [--only LABEL] [--plot-only]
+(--only "shared half_vector" reruns that candidate family and keeps the CSV's other rows)
 (krylon_blue.brdf holds the numbers of krylon_blue.astm, so the default list leaves it out)
 Standard library only. Spectral tables are fitted per wavelength; the per-channel method only on RGB tables
 (its spectral fits take minutes per candidate)."""
@@ -18,7 +19,7 @@ TABLES = ["garnet_red_RGB.astm", "krylon_blue_RGB.astm", "garnet_red.astm", "kry
 
 def candidates(table):
     out = []
-    for kind in ("mirror", "lafortune"):
+    for kind in ("mirror", "lafortune", "half_vector"):
         for k in (1, 2, 3):
             out.append((f"shared {kind}", ["--method", "shared", "--kind", kind, "--lobes", str(k)], k))
     if "RGB" in table:
@@ -40,10 +41,11 @@ def run(exe, path, args, tmp):
 def parameters(fit):
     model = fit["channels"]
     lafortune = any("cxy" in lobe for lobe in model[0]["lobes"])
+    fresnel = sum("fresnel" in lobe for lobe in model[0]["lobes"])  # half-vector lobes: C and C_F per channel
     shared = fit["fit"]["method"] == "shared"
     count = 1 if fit["model"]["elevation"] == "constant" else 3
     lobes = fit["model"]["lobes"]
-    per_channel = 1 + lobes * (1 if shared else 2 * count)
+    per_channel = 1 + fresnel + lobes * (1 if shared else 2 * count)
     return per_channel * len(model) + (lobes * (2 if lafortune else 1) if shared else 0)
 
 
@@ -60,12 +62,19 @@ def main(argv):
     if "--plot-only" in argv:
         plot(csv, tables, os.path.join(REPO, "docs", "images", "fit_held_out.png"))
         return 0
+    only = argv[argv.index("--only") + 1] if "--only" in argv else None
+    kept = []
+    if only and os.path.exists(csv):
+        kept = [line for line in open(csv) if not line.startswith("#") and line.split(",")[1] != only]
     with open(csv, "w") as f:
         f.write(header)
+        f.writelines(kept)
     with tempfile.TemporaryDirectory() as tmp:
         for table in tables:
             path = os.path.join(data, table)
             for label, args, k in candidates(table):
+                if only and label != only:
+                    continue
                 held = run(exe, path, [*args, "--held-out", "on"], tmp)["fit"]
                 timed = run(exe, path, [*args, "--held-out", "off", "--threads", "1"], tmp)
                 h = held["fit"]["held_out"]
@@ -90,6 +99,7 @@ def plot(csv, tables, png):
             lines.append(f"set xlabel '{xlabel}'")
             series = []
             for label, style in (("shared mirror", "pt 7 lc 1"), ("shared lafortune", "pt 5 lc 2"),
+                                 ("shared half_vector", "pt 13 lc 7"),
                                  ("per-channel constant", "pt 9 lc 3"), ("per-channel varying", "pt 11 lc 4")):
                 series.append(f"'{csv}' using (strcol(1) eq '{table}' && strcol(2) eq '{label}' ? ${column} : 1/0):10 "
                               f"with linespoints {style} title '{label}'")

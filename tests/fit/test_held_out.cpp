@@ -125,6 +125,144 @@ TEST(LafortuneLobe, ValidationAndFitFileCarryCxy) {
   EXPECT_FALSE(back.fit.model.allAboutMirror());
 }
 
+// Cook & Torrance 1981's microfacet BRDF typed out from the vectors, with Blinn 1977's normalised
+// distribution (n + 2) / (2 pi) (n.h)^n and Schlick 1994's Fresnel shape with free weights, no
+// shadowing: (C + C_F (1 - l.h)^5) D(h) / (4 (n.l) (n.v)).
+double halfVectorByHand(double c, double cf, double n, const Vec3& l, const Vec3& v) {
+  if (l.z() <= 0.0 || v.z() <= 0.0) return 0.0;
+  const Vec3 h = (l + v).normalized();
+  const double d = h.z() > 0.0 ? (n + 2.0) / (2.0 * kPi) * std::pow(h.z(), n) : 0.0;
+  return (c + cf * std::pow(1.0 - l.dot(h), 5.0)) * d / (4.0 * l.z() * v.z());
+}
+
+LobeModel halfVectorModel(double c, double cf, double n, double diffuse) {
+  LobeModel m;
+  Lobe lobe{{c}, {n}};
+  lobe.halfVector = true;
+  lobe.fresnel = cf;
+  m.channels = {{"R", diffuse, {lobe}}};
+  return m;
+}
+
+TEST(HalfVectorLobe, MatchesMicrofacetFormTypedOut) {
+  const LobeModel m = halfVectorModel(0.05, 0.6, 80.0, 0.1);
+  m.validate();
+  for (const auto& [l, v] : std::vector<std::pair<Vec3, Vec3>>{{direction(0.5, 0.0), direction(0.6, kPi)},
+                                                               {direction(1.2, 0.0), direction(1.35, 3.0)},
+                                                               {direction(0.2, 1.0), direction(0.9, -2.0)},
+                                                               {direction(1.3, 0.4), direction(1.1, 0.4)}}) {
+    const double expected = 0.1 / kPi + halfVectorByHand(0.05, 0.6, 80.0, l, v);
+    EXPECT_NEAR(m.evaluate(0, l, v), expected, 1e-12 * expected);
+    EXPECT_NEAR(m.evaluate(0, v, l), expected, 1e-12 * expected);  // reciprocal
+  }
+  // On the mirror direction h = n, l.h = u: (C + C_F (1 - u)^5) (n + 2) / (2 pi) / (4 u^2).
+  const double u = std::cos(radians(70.0));
+  EXPECT_NEAR(m.mirrorValue(0, u), 0.1 / kPi + (0.05 + 0.6 * std::pow(1.0 - u, 5.0)) * 82.0 / (2.0 * kPi) / (4.0 * u * u), 1e-12);
+  // The lighting material evaluates the same BRDF (in a frame where the normal is not z).
+  const Vec3 l = direction(1.2, 0.0), v = direction(1.35, 3.0);
+  const LobeMaterial material(m, LobeMaterialMode::Lighting);
+  const Eigen::Matrix3d rotation = Eigen::AngleAxisd(0.4, Vec3(1.0, 2.0, 3.0).normalized()).toRotationMatrix();
+  const Rgb rgb = material.brdf(rotation * Vec3::UnitZ(), rotation * v, rotation * l);
+  EXPECT_NEAR(rgb[0], 0.1 / kPi + halfVectorByHand(0.05, 0.6, 80.0, l, v), 1e-12);
+}
+
+TEST(HalfVectorLobe, IsStretchedInThePlaneOfIncidenceAtGrazing) {
+  // Light at 70 degrees, views 9 degrees from the mirror direction m: in the plane of incidence
+  // (towards grazing, as the Cornell lacquers' ridge at theta_s = 79) h turns by 4.5 degrees, across
+  // the plane by about 9 / (2 cos 70) degrees (h = (l + v) / |l + v|, |l + v| = 2 cos 70): the
+  // in-plane view sees far more. Checked against the typed-out form.
+  const double n = 200.0;
+  const LobeModel m = halfVectorModel(1.0, 0.0, n, 0.0);
+  const Vec3 l = direction(radians(70.0), 0.0);
+  const Vec3 mirror = direction(radians(70.0), kPi);
+  const Vec3 inPlane = direction(radians(79.0), kPi);
+  const Vec3 axis = mirror.cross(Vec3::UnitY()).normalized();  // in the plane, perpendicular to m
+  const Vec3 across = Eigen::AngleAxisd(radians(9.0), axis) * mirror;
+  ASSERT_NEAR(std::abs(across.y()), std::sin(radians(9.0)), 1e-12);
+  const double along = m.evaluate(0, l, inPlane), sideways = m.evaluate(0, l, across);
+  EXPECT_NEAR(along, halfVectorByHand(1.0, 0.0, n, l, inPlane), 1e-12 * along);
+  EXPECT_NEAR(sideways, halfVectorByHand(1.0, 0.0, n, l, across), 1e-12 * along);
+  EXPECT_GT(along, 10.0 * sideways);
+}
+
+// Midpoint quadrature of integral f(l, v) (n.v) dv over the hemisphere of views, light l.
+double reflectedFraction(const LobeModel& m, const Vec3& l, int rings = 4000, int sectors = 64) {
+  double sum = 0.0;
+  for (int i = 0; i < rings; ++i) {
+    const double theta = (i + 0.5) * (kPi / 2.0) / rings;
+    for (int j = 0; j < sectors; ++j) {
+      const double phi = (j + 0.5) * 2.0 * kPi / sectors;
+      const Vec3 v = direction(theta, phi);
+      sum += m.evaluate(0, l, v) * v.z() * std::sin(theta) * (kPi / 2.0 / rings) * (2.0 * kPi / sectors);
+    }
+  }
+  return sum;
+}
+
+TEST(HalfVectorLobe, ReflectsCAtNormalIncidence) {
+  // l = n: h = (n + v) / |n + v| is at theta_h = theta_v / 2, dv = 4 (n.h) dh, so the reflected
+  // fraction is C times integral D (n.h) dh over theta_h < 45 degrees = C (1 - cos^(n+2) 45 deg),
+  // plus C_F (n + 2) integral_{cos 45}^1 (1 - x)^5 x^(n+1) dx (x = n.h = l.h), done here by Simpson's rule.
+  const double n = 10.0;
+  EXPECT_NEAR(reflectedFraction(halfVectorModel(0.3, 0.0, n, 0.0), Vec3::UnitZ()), 0.3 * (1.0 - std::pow(0.5, 6.0)), 2e-5);
+  const double a = std::sqrt(0.5);
+  const int steps = 2000;
+  double simpson = 0.0;
+  for (int i = 0; i <= steps; ++i) {
+    const double x = a + (1.0 - a) * i / steps;
+    const double w = (i == 0 || i == steps) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+    simpson += w * std::pow(1.0 - x, 5.0) * std::pow(x, n + 1.0);
+  }
+  simpson *= (1.0 - a) / steps / 3.0 * (n + 2.0);
+  EXPECT_NEAR(reflectedFraction(halfVectorModel(0.0, 1.0, n, 0.0), Vec3::UnitZ()), simpson, 1e-3 * simpson);
+}
+
+TEST(HalfVectorLobe, ValidationAndFitFileCarryAxisAndFresnel) {
+  LobeModel bad = lafortuneModel(-1.0, 10.0, 0.1, 0.0);
+  bad.channels[0].lobes[0].fresnel = 0.2;  // Fresnel weight on a Lafortune lobe
+  EXPECT_THROW(bad.validate(), Error);
+  EXPECT_THROW(halfVectorModel(0.1, -0.1, 10.0, 0.0).validate(), Error);
+  test::TempDir dir;
+  FitFile file;
+  file.hasFitInfo = false;
+  file.hasSource = false;
+  file.fit.model = halfVectorModel(0.05, 0.7, 120.0, 0.1);
+  writeFitFile(dir / "fit.json", file);
+  const FitFile back = readFitFile(dir / "fit.json");
+  EXPECT_TRUE(back.fit.model.channels[0].lobes[0].halfVector);
+  EXPECT_EQ(back.fit.model.channels[0].lobes[0].fresnel, 0.7);
+  EXPECT_FALSE(back.fit.model.allAboutMirror());
+  const Vec3 l = direction(1.0, 0.0), v = direction(1.1, 3.0);
+  EXPECT_DOUBLE_EQ(back.fit.model.evaluate(0, l, v), file.fit.model.evaluate(0, l, v));
+}
+
+TEST(HalfVectorLobe, SharedFitRecoversTheLobe) {
+  // Three channels sharing one half-vector lobe shape, weights differing: the fit finds n, C, C_F.
+  LobeModel truth;
+  auto lobe = [](double c, double cf) {
+    Lobe l{{c}, {300.0}};
+    l.halfVector = true;
+    l.fresnel = cf;
+    return l;
+  };
+  truth.channels = {{"R", 0.30, {lobe(0.04, 0.9)}}, {"G", 0.15, {lobe(0.05, 0.7)}}, {"B", 0.05, {lobe(0.03, 0.5)}}};
+  const MeasuredTable table = makeSyntheticTable(truth, 0.01, 11);
+  FitOptions options;
+  options.lobes = 1;
+  options.kind = LobeKindChoice::HalfVector;
+  options.estimateHeldOut = false;
+  const FitResult fit = fitLobes(table, options);
+  for (std::size_t c = 0; c < 3; ++c) {
+    const Lobe& got = fit.model.channels[c].lobes[0];
+    const Lobe& want = truth.channels[c].lobes[0];
+    ASSERT_TRUE(got.halfVector);
+    EXPECT_NEAR(got.exponent[0], 300.0, 15.0);
+    EXPECT_NEAR(got.weight[0], want.weight[0], 0.1 * want.weight[0]) << c;
+    EXPECT_NEAR(got.fresnel, want.fresnel, 0.1 * want.fresnel) << c;
+    EXPECT_NEAR(fit.model.channels[c].diffuse, truth.channels[c].diffuse, 0.03 * truth.channels[c].diffuse) << c;
+  }
+}
+
 // The log term of fit/held_out.hpp typed out.
 double logTerm(double cosIn, double f) { return std::log(1.0 + cosIn * std::max(f, 0.0)); }
 
@@ -253,7 +391,7 @@ TEST(HeldOut, AutoChoosesByHeldOutScore) {
       EXPECT_GT(c.heldOutScore * (1.0 - options.autoMargin), chosen->heldOutScore - 1e-12);
     }
   }
-  EXPECT_TRUE(chosen->lafortune);  // the table has a back-scatter lobe mirror lobes cannot make
+  EXPECT_EQ(chosen->kind, LobeKindChoice::Lafortune);  // the table has a back-scatter lobe mirror lobes cannot make
   EXPECT_EQ(chosen->lobes, 2);
   ASSERT_TRUE(fit.heldOut);
   EXPECT_NEAR(fit.heldOut->score(), chosen->heldOutScore, 1e-12);
@@ -284,10 +422,10 @@ TEST(HeldOut, OptionsAreValidated) {
   EXPECT_EQ(estimateHeldOutError(table, oracle, options).elevations.size(), 3u);
 }
 
-// The real tables. Issue 11's target is 0.4x Lambert on every split; asserted here is what the
-// shared fit with three Lafortune lobes reaches on the RGB tables (measured: garnet red 0.75x /
-// 0.29x / 0.45x / 0.58x, krylon blue 0.86x / 0.47x / 0.87x / 0.53x: short of the target except at
-// 30 degrees on garnet red; docs/fitting.md has every table).
+// The real tables. Issue 11's target is 0.4x Lambert on every split; asserted here, with a margin,
+// is what the shared fit with three half-vector lobes reaches on the RGB tables (docs/fitting.md has
+// every table, measured by ../shared/tools/fit_heldout_check.py; this is the fit's own estimate,
+// another shuffle of the folds).
 struct RealTarget {
   const char* file;
   double kfold, at30, at50, at70;
@@ -301,7 +439,7 @@ TEST_P(RealTableHeldOut, MeetsTheMeasuredRatios) {
   const MeasuredTable table = readTableForFitting(dir / target.file).toRgb();
   FitOptions options;
   options.lobes = 3;
-  options.kind = LobeKindChoice::Lafortune;
+  options.kind = LobeKindChoice::HalfVector;
   options.heldOut.elevationsDegrees = {30.0, 50.0, 70.0};
   const FitResult fit = fitLobes(table, options);
   ASSERT_TRUE(fit.heldOut);
@@ -315,8 +453,8 @@ TEST_P(RealTableHeldOut, MeetsTheMeasuredRatios) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Cornell, RealTableHeldOut,
-                         ::testing::Values(RealTarget{"garnet_red_RGB.astm", 0.80, 0.35, 0.50, 0.65},
-                                           RealTarget{"krylon_blue_RGB.astm", 0.90, 0.52, 0.92, 0.60}),
+                         ::testing::Values(RealTarget{"garnet_red_RGB.astm", 0.20, 0.35, 0.30, 0.15},
+                                           RealTarget{"krylon_blue_RGB.astm", 0.20, 0.40, 0.60, 0.30}),
                          [](const ::testing::TestParamInfo<RealTarget>& param) {
                            std::string name = param.param.file;
                            for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';

@@ -29,6 +29,13 @@
 /// of measured paints; |c_xy| < 1 the opposite. The model is reciprocal in l and v for every c_xy.
 /// (n + 2) / (2 pi) normalises the lobe exactly only for c_xy = -1.
 ///
+/// A lobe may also be a half-vector lobe (Lobe::halfVector, halfVectorLobe): Cook & Torrance
+/// 1982's microfacet form with Blinn 1977's distribution and a Fresnel weight,
+/// (C + C_F (1 - l.h)^5) (n + 2) / (2 pi) (n.h)^n / (4 (n.l)(n.v)). In a fixed view it is not
+/// radially symmetric about any axis: it is stretched in the plane of incidence towards grazing,
+/// as measured lacquers are. It evaluates (lighting and reflectance maps) like the others, but
+/// does not prefilter through the radial path.
+///
 /// C_k and n_k are either constant (LobeElevation::Constant: one 2-D lobe, so an environment can
 /// be prefiltered into a single map) or vary smoothly with u (LobeElevation::Varying: a 3-D map).
 /// A varying parameter has three positive values p0, p1, p2 and is their weighted geometric mean
@@ -135,18 +142,51 @@ T normalizedLobe(const T& weight, const T& exponent, double cosToAxis) {
 /// The pair of products a Lafortune lobe depends on (Lafortune et al. 1997, Eq. 4 with C_x = C_y):
 /// horizontal = l_x v_x + l_y v_y and vertical = l_z v_z in the local frame (z = normal), i.e.
 /// l.v - (n.l)(n.v) and (n.l)(n.v) in any frame.
+/// lightZ = n.l and viewZ = n.v serve the half-vector lobes.
 struct LobeGeometry {
   double horizontal = 0.0;
   double vertical = 0.0;
+  double lightZ = 0.0;
+  double viewZ = 0.0;
   /// From unit light and view directions in the local frame.
   static LobeGeometry local(const Vec3& light, const Vec3& view) {
-    return {light.x() * view.x() + light.y() * view.y(), light.z() * view.z()};
+    return {light.x() * view.x() + light.y() * view.y(), light.z() * view.z(), light.z(), view.z()};
+  }
+  /// From unit normal, light and view in any frame.
+  static LobeGeometry of(const Vec3& normal, const Vec3& light, const Vec3& view) {
+    const double nl = normal.dot(light), nv = normal.dot(view);
+    return {light.dot(view) - nl * nv, nl * nv, nl, nv};
   }
   /// The lobe's argument c_xy (l_x v_x + l_y v_y) + l_z v_z (see @file). c_xy = -1 gives r_v . l,
   /// the cosine to the mirrored view (Phong); c_xy = +1 gives l . v, a lobe about the view
   /// (retro-reflection).
   double cosine(double cxy) const { return cxy * horizontal + vertical; }
+  /// n.h, h = (l + v) / |l + v| the half-vector: (n.l + n.v) / sqrt(2 (1 + l.v)); 0 when l = -v.
+  double cosHalf() const {
+    const double sum = 2.0 * (1.0 + horizontal + vertical);  // |l + v|^2
+    return sum > 0.0 ? (lightZ + viewZ) / std::sqrt(sum) : 0.0;
+  }
+  /// Schlick's (1994) Fresnel shape (1 - l.h)^5, l.h = sqrt((1 + l.v) / 2).
+  double schlick() const {
+    const double lh = std::sqrt(std::clamp(0.5 * (1.0 + horizontal + vertical), 0.0, 1.0));
+    return std::pow(1.0 - lh, 5.0);
+  }
 };
+
+/// A lobe about the half-vector (Lobe::halfVector; docs/fitting.md): Cook & Torrance 1981's
+/// microfacet form with Blinn 1977's normalised distribution D = (n + 2) / (2 pi) (n.h)^n
+/// (integral of D (n.h) over the hemisphere of h = 1), Schlick's (1994) Fresnel shape with free
+/// weights and no shadowing term,
+///
+///     f = (C + C_F (1 - l.h)^5) D(h) / (4 (n.l) (n.v))     [1/sr]
+///
+/// 0 when n.l <= 0 or n.v <= 0. Reciprocal; in a fixed view it is stretched in the plane of
+/// incidence towards grazing (h moves half as fast as l there) and grows as 1 / (n.l n.v).
+template <class T>
+T halfVectorLobe(const T& weight, const T& fresnelWeight, const T& exponent, const LobeGeometry& g) {
+  if (!(g.lightZ > 0.0) || !(g.viewZ > 0.0)) return T(0.0);
+  return normalizedLobe(weight + fresnelWeight * T(g.schlick()), exponent, g.cosHalf()) * T(0.25 / (g.lightZ * g.viewZ));
+}
 
 /// diffuse / pi plus the lobes of the given weights and exponents (already evaluated at the
 /// elevation), lobe k at cosToAxis[k] (LobeGeometry::cosine of its c_xy).
@@ -187,8 +227,14 @@ struct Lobe {
   /// default) is the Phong lobe about the mirrored view, +1 a lobe about the view (back-scatter),
   /// |c_xy| > 1 a lobe that grows towards grazing. |c_xy| <= kMaxLobeCxy.
   double cxy = -1.0;
+  /// A lobe about the half-vector (halfVectorLobe) instead: weight C, exponent n, `fresnel` C_F;
+  /// cxy stays -1 (unused). Constant over elevation, so `weight` and `exponent` hold one value each
+  /// in a Constant model (a Varying model blends them as for other lobes).
+  bool halfVector = false;
+  /// C_F of a half-vector lobe (>= 0); 0 for other lobes.
+  double fresnel = 0.0;
   /// True for the Phong lobe about the mirrored view (c_xy = -1).
-  bool aboutMirror() const { return cxy == -1.0; }
+  bool aboutMirror() const { return cxy == -1.0 && !halfVector; }
 };
 
 /// One channel of a lobe model: Lambertian albedo k_d (>= 0; the term is k_d / pi) and the lobes.

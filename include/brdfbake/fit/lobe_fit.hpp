@@ -4,7 +4,8 @@
 /// their reasons: docs/fitting.md.
 ///
 /// Two methods. FitMethod::Shared (the default): every channel shares each lobe's shape (exponent
-/// and Lafortune coefficient c_xy); the diffuse terms and weights of each channel are solved by
+/// and Lafortune coefficient c_xy, or a half-vector lobe's exponent); the diffuse terms and weights
+/// (a half-vector lobe's C and C_F) of each channel are solved by
 /// non-negative least squares on the cosine-weighted log error of fit/held_out.hpp, the shapes by
 /// a search around them (variable projection). Constant elevation only: Lafortune lobes (c_xy !=
 /// -1) carry the variation with elevation. FitMethod::PerChannel: Ceres per channel, as follows.
@@ -62,8 +63,9 @@ enum class LobeKindChoice {
   Auto,       ///< mirror or Lafortune, by held-out error
   Mirror,     ///< Phong lobes about the mirrored view (c_xy = -1)
   Lafortune,  ///< Lafortune lobes, c_xy free per lobe (brdf/lobes.hpp)
+  HalfVector, ///< half-vector lobes with a Fresnel weight (halfVectorLobe), or Lafortune ones where they fit better
 };
-/// "auto", "mirror", "lafortune"; parse throws Error(InvalidArgument) listing the accepted names for others (core/named_values.hpp).
+/// "auto", "mirror", "lafortune", "half_vector"; parse throws Error(InvalidArgument) listing the accepted names for others (core/named_values.hpp).
 std::string_view toString(LobeKindChoice kind);
 LobeKindChoice parseLobeKindChoice(std::string_view name);
 
@@ -93,7 +95,7 @@ struct FitOptions {
   /// Largest count `lobes = 0` tries, 1..kMaxFitLobes.
   int maxAutoLobes = 3;
   ElevationChoice elevation = ElevationChoice::Auto;
-  /// FitMethod::Shared: mirror lobes, Lafortune lobes, or auto (by held-out error).
+  /// FitMethod::Shared: mirror, Lafortune or half-vector lobes, or auto (by held-out error).
   LobeKindChoice kind = LobeKindChoice::Auto;
   /// FitMethod::Shared: largest lobe exponent, in [1, 1e5]. 1e4 (a lobe 0.7 degrees wide at half
   /// maximum) is as sharp as the Cornell grid's spacing near the mirror can support.
@@ -163,7 +165,7 @@ struct ChannelFitStats {
 struct ModelCandidate {
   int lobes = 0;
   LobeElevation elevation = LobeElevation::Constant;
-  bool lafortune = false;   ///< Lafortune lobes (else mirror lobes)
+  LobeKindChoice kind = LobeKindChoice::Mirror;  ///< Mirror, Lafortune or HalfVector
   int parameters = 0;       ///< free parameters of the model, all channels
   double inSampleError = 0.0;  ///< E of fit/held_out.hpp on every row of the table, fitted on all of them
   double heldOutScore = 0.0;   ///< HeldOutReport::score
