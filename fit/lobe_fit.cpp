@@ -601,7 +601,6 @@ FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options) {
     }
   }
 
-  const bool tryConstant = true;  // varying models start from the constant ones
   const bool tryVarying = options.elevation != ElevationChoice::Constant;
   ProgressCounter progress(options.progress, channels * static_cast<std::size_t>(maxLobes) * (tryVarying ? 2 : 1));
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
@@ -655,9 +654,9 @@ FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options) {
     return chosen;
   };
 
-  int constantLobes = 0, varyingLobes = 0;
-  if (tryConstant) constantLobes = sequence(LobeElevation::Constant);
-  if (tryVarying) varyingLobes = sequence(LobeElevation::Varying);
+  // Constant models always: varying ones start from them.
+  const int constantLobes = sequence(LobeElevation::Constant);
+  const int varyingLobes = tryVarying ? sequence(LobeElevation::Varying) : 0;
 
   LobeElevation elevation = LobeElevation::Constant;
   int lobes = constantLobes;
@@ -797,101 +796,135 @@ LobeKindChoice parseLobeKindChoice(std::string_view name) {
   return parseByName(name, std::array{LobeKindChoice::Auto, LobeKindChoice::Mirror, LobeKindChoice::Lafortune}, "lobe kind");
 }
 
-FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
-  options.validate();
-  table.validate();
-  const auto start = Clock::now();
-  const bool shared = options.method == FitMethod::Shared;
-  if (shared && options.elevation == ElevationChoice::Varying) {
-    throw Error(Error::Kind::InvalidArgument,
-                "fit: the shared method fits constant lobes (Lafortune lobes vary with elevation); use the per_channel method for varying ones");
-  }
-  // The candidates: explicit choices fix a dimension, auto ones span it.
+namespace {
+
+// The candidates fitLobes may choose between: explicit choices fix a dimension, auto ones span it.
+struct CandidateSpace {
   std::vector<int> counts;
-  if (options.lobes > 0) counts = {options.lobes};
-  else for (int k = 1; k <= options.maxAutoLobes; ++k) counts.push_back(k);
-  std::vector<bool> kinds;
-  if (!shared || options.kind == LobeKindChoice::Mirror) kinds = {false};
-  else if (options.kind == LobeKindChoice::Lafortune) kinds = {true};
-  else kinds = {false, true};
+  std::vector<bool> kinds;  // Lafortune lobes?
   std::vector<LobeElevation> elevations;
-  if (shared || options.elevation == ElevationChoice::Constant) elevations = {LobeElevation::Constant};
-  else if (options.elevation == ElevationChoice::Varying) elevations = {LobeElevation::Varying};
-  else elevations = {LobeElevation::Constant, LobeElevation::Varying};
+  bool heldOutFeasible = false;  // enough rows away from the mirror for held-out splits
+
+  std::size_t size() const { return counts.size() * kinds.size() * elevations.size(); }
+};
+
+CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& options) {
+  const bool shared = options.method == FitMethod::Shared;
+  CandidateSpace space;
+  if (options.lobes > 0) space.counts = {options.lobes};
+  else for (int k = 1; k <= options.maxAutoLobes; ++k) space.counts.push_back(k);
+  if (!shared || options.kind == LobeKindChoice::Mirror) space.kinds = {false};
+  else if (options.kind == LobeKindChoice::Lafortune) space.kinds = {true};
+  else space.kinds = {false, true};
+  if (shared || options.elevation == ElevationChoice::Constant) space.elevations = {LobeElevation::Constant};
+  else if (options.elevation == ElevationChoice::Varying) space.elevations = {LobeElevation::Varying};
+  else space.elevations = {LobeElevation::Constant, LobeElevation::Varying};
   // Held-out splits need enough rows away from the mirror (two per fold); without them an auto
   // choice takes the fewest parameters and no estimate is made.
   std::size_t offMirror = 0;
   for (std::size_t i = 0; i < table.size(); ++i) offMirror += mirrorOffsetDegrees(table, i) > options.heldOut.minMirrorOffsetDegrees;
-  const bool heldOutFeasible = offMirror >= 2 * static_cast<std::size_t>(options.heldOut.folds);
-  if (!heldOutFeasible) {
-    counts.resize(1);
-    kinds.resize(1);
-    elevations.resize(1);
+  space.heldOutFeasible = offMirror >= 2 * static_cast<std::size_t>(options.heldOut.folds);
+  if (!space.heldOutFeasible) {
+    space.counts.resize(1);
+    space.kinds.resize(1);
+    space.elevations.resize(1);
   }
-  const bool choosing = counts.size() * kinds.size() * elevations.size() > 1;
+  return space;
+}
 
-  FitResult result;
-  const std::size_t channels = table.channelCount();
-  if (!choosing) {
-    const CandidateConfig config{counts[0], elevations[0], kinds[0]};
-    FitOptions explicitOptions = options;  // every choice made (auto ones without a held-out estimate: the fewest parameters)
-    explicitOptions.lobes = config.lobes;
-    explicitOptions.elevation = config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
-    explicitOptions.kind = config.lafortune ? LobeKindChoice::Lafortune : LobeKindChoice::Mirror;
-    result = shared ? fitShared(table, explicitOptions, config.lafortune) : fitPerChannel(table, explicitOptions);
-    if (options.estimateHeldOut && heldOutFeasible) {
-      result.heldOut = estimateHeldOutError(
-          table, [&](const MeasuredTable& training) { return fitCandidate(training, options, config).model; }, options.heldOut);
-    }
-  } else {
-    // Every (kind, elevation) sequence grows the lobe count while the held-out score falls by the margin.
-    std::vector<std::pair<CandidateConfig, HeldOutReport>> tried;
-    std::size_t total = kinds.size() * elevations.size() * counts.size(), done = 0;
-    for (bool lafortune : kinds) {
-      for (LobeElevation elevation : elevations) {
-        double previous = HUGE_VAL;
-        for (int lobes : counts) {
-          const CandidateConfig config{lobes, elevation, lafortune};
-          HeldOutReport report = estimateHeldOutError(
-              table, [&](const MeasuredTable& training) { return fitCandidate(training, options, config).model; }, options.heldOut);
-          const double score = report.score();
-          tried.emplace_back(config, std::move(report));
-          if (options.progress) options.progress(static_cast<double>(++done) / static_cast<double>(total + 1));
-          if (!(score < (1.0 - options.autoMargin) * previous)) break;
-          previous = score;
-        }
+// One configuration, every choice made (auto ones without a held-out estimate: the fewest
+// parameters), with its held-out estimate when asked for and feasible.
+FitResult fitOneConfiguration(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
+  const CandidateConfig config{space.counts[0], space.elevations[0], space.kinds[0]};
+  FitOptions explicitOptions = options;
+  explicitOptions.lobes = config.lobes;
+  explicitOptions.elevation = config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
+  explicitOptions.kind = config.lafortune ? LobeKindChoice::Lafortune : LobeKindChoice::Mirror;
+  FitResult result = options.method == FitMethod::Shared ? fitShared(table, explicitOptions, config.lafortune)
+                                                         : fitPerChannel(table, explicitOptions);
+  if (options.estimateHeldOut && space.heldOutFeasible) {
+    result.heldOut = estimateHeldOutError(
+        table, [&](const MeasuredTable& training) { return fitCandidate(training, options, config).model; }, options.heldOut);
+  }
+  return result;
+}
+
+using Tried = std::vector<std::pair<CandidateConfig, HeldOutReport>>;
+
+// Every (kind, elevation) sequence grows the lobe count while the held-out score falls by the margin.
+Tried scoreCandidates(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
+  Tried tried;
+  const std::size_t total = space.size();
+  std::size_t done = 0;
+  for (bool lafortune : space.kinds) {
+    for (LobeElevation elevation : space.elevations) {
+      double previous = HUGE_VAL;
+      for (int lobes : space.counts) {
+        const CandidateConfig config{lobes, elevation, lafortune};
+        HeldOutReport report = estimateHeldOutError(
+            table, [&](const MeasuredTable& training) { return fitCandidate(training, options, config).model; }, options.heldOut);
+        const double score = report.score();
+        tried.emplace_back(config, std::move(report));
+        if (options.progress) options.progress(static_cast<double>(++done) / static_cast<double>(total + 1));
+        if (!(score < (1.0 - options.autoMargin) * previous)) break;
+        previous = score;
       }
     }
-    // The fewest parameters whose score is within the margin of every candidate with fewer.
-    std::vector<std::size_t> order(tried.size());
-    std::iota(order.begin(), order.end(), std::size_t(0));
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      return parameterTotal(tried[a].first, options.method, channels) < parameterTotal(tried[b].first, options.method, channels);
-    });
-    std::size_t best = order.front();
-    for (std::size_t i : order) {
-      if (tried[i].second.score() < (1.0 - options.autoMargin) * tried[best].second.score()) best = i;
-    }
-    const CandidateConfig chosen = tried[best].first;
-    result = fitCandidate(table, options, chosen);
-    result.options = options;
-    for (std::size_t i = 0; i < tried.size(); ++i) {
-      const auto& [config, report] = tried[i];
-      ModelCandidate c;
-      c.lobes = config.lobes;
-      c.elevation = config.elevation;
-      c.lafortune = config.lafortune;
-      c.parameters = parameterTotal(config, options.method, channels);
-      c.heldOutScore = report.score();
-      c.kfoldRatio = report.kfold.ratio();
-      c.elevationRatio = report.pooledElevations().ratio();
-      c.seconds = report.seconds;
-      c.chosen = i == best;
-      if (c.chosen) c.inSampleError = allRowsError(result.model, table).rms();
-      result.candidates.push_back(c);
-    }
-    result.heldOut = tried[best].second;
   }
+  return tried;
+}
+
+// The fewest parameters whose score is within the margin of every candidate with fewer.
+std::size_t fewestParametersWithinMargin(const Tried& tried, const FitOptions& options, std::size_t channels) {
+  std::vector<std::size_t> order(tried.size());
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return parameterTotal(tried[a].first, options.method, channels) < parameterTotal(tried[b].first, options.method, channels);
+  });
+  std::size_t best = order.front();
+  for (std::size_t i : order) {
+    if (tried[i].second.score() < (1.0 - options.autoMargin) * tried[best].second.score()) best = i;
+  }
+  return best;
+}
+
+// Scores the candidates by held-out error, fits the chosen one to the whole table and lists them all.
+FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
+  const std::size_t channels = table.channelCount();
+  const Tried tried = scoreCandidates(table, options, space);
+  const std::size_t best = fewestParametersWithinMargin(tried, options, channels);
+  FitResult result = fitCandidate(table, options, tried[best].first);
+  for (std::size_t i = 0; i < tried.size(); ++i) {
+    const auto& [config, report] = tried[i];
+    ModelCandidate c;
+    c.lobes = config.lobes;
+    c.elevation = config.elevation;
+    c.lafortune = config.lafortune;
+    c.parameters = parameterTotal(config, options.method, channels);
+    c.heldOutScore = report.score();
+    c.kfoldRatio = report.kfold.ratio();
+    c.elevationRatio = report.pooledElevations().ratio();
+    c.seconds = report.seconds;
+    c.chosen = i == best;
+    if (c.chosen) c.inSampleError = allRowsError(result.model, table).rms();
+    result.candidates.push_back(c);
+  }
+  result.heldOut = tried[best].second;
+  return result;
+}
+
+}  // namespace
+
+FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
+  options.validate();
+  table.validate();
+  const auto start = Clock::now();
+  if (options.method == FitMethod::Shared && options.elevation == ElevationChoice::Varying) {
+    throw Error(Error::Kind::InvalidArgument,
+                "fit: the shared method fits constant lobes (Lafortune lobes vary with elevation); use the per_channel method for varying ones");
+  }
+  const CandidateSpace space = candidateSpace(table, options);
+  FitResult result = space.size() > 1 ? chooseByHeldOutError(table, options, space) : fitOneConfiguration(table, options, space);
   result.options = options;
   result.options.progress = nullptr;
   result.inSampleError = allRowsError(result.model, table).rms();
