@@ -6,14 +6,14 @@
 namespace brdfbake {
 
 long long MapConfiguration::cost() const {
-  if (profile) return static_cast<long long>(resolution) * samplesPerTexel;
+  if (radialProfile) return static_cast<long long>(resolution) * samplesPerTexel;
   const auto map = makeParameterization(parameterization, resolution);
   return static_cast<long long>(map->width()) * map->height() * samplesPerTexel;
 }
 
 std::string MapConfiguration::describe() const {
   std::ostringstream out;
-  if (profile) {
+  if (radialProfile) {
     out << "profile " << resolution << " texels, " << samplesPerTexel << " samples/texel";
     return out.str();
   }
@@ -22,7 +22,7 @@ std::string MapConfiguration::describe() const {
 }
 
 void AutoOptions::validate() const {
-  require((!parameterizations.empty() || allowProfile) && !resolutions.empty() && !samplesPerTexel.empty(),
+  require((!parameterizations.empty() || allowRadialProfile) && !resolutions.empty() && !samplesPerTexel.empty(),
           "auto selection needs at least one candidate of each kind");
   require(maxError > 0.0 && maxError < 1.0, "max_error must be in (0, 1), got " + std::to_string(maxError));
   for (int r : resolutions) require(r >= 1, "candidate resolutions must be >= 1");
@@ -34,7 +34,7 @@ double autoErrorMeasure(const ErrorStats& stats, ParameterizationKind kind) {
 }
 
 double autoErrorMeasure(const ErrorStats& stats, const MapConfiguration& configuration, const Vec3& profileAxis) {
-  if (!configuration.profile) return autoErrorMeasure(stats, configuration.parameterization);
+  if (!configuration.radialProfile) return autoErrorMeasure(stats, configuration.parameterization);
   return stats.bound((profileAxis - Vec3::UnitZ()).norm() < 1e-12);
 }
 
@@ -44,7 +44,7 @@ AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& o
   for (auto kind : options.parameterizations)
     for (int resolution : options.resolutions)
       for (int spt : options.samplesPerTexel) candidates.push_back({kind, resolution, spt});
-  const std::optional<Vec3> axis = options.allowProfile ? function.symmetryAxis() : std::nullopt;
+  const std::optional<Vec3> axis = options.allowRadialProfile ? function.symmetryAxis() : std::nullopt;
   if (axis) {
     for (int resolution : options.resolutions)
       for (int spt : options.samplesPerTexel) candidates.push_back({ParameterizationKind::Sphere, resolution, spt, true});
@@ -66,7 +66,7 @@ AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& o
       if (options.progress) options.progress((doneCost + fraction * cost) / totalCost);
     };
     doneCost += cost;
-    if (candidate.profile) {
+    if (candidate.radialProfile) {
       RadialProfile profile = bakeRadialProfile(function, *axis, candidate.resolution, candidate.samplesPerTexel, bakeOptions);
       const double error = autoErrorMeasure(measureProfileError(profile, probes, options.error.visibleSphere), candidate, *axis);
       ++result.tried;
@@ -74,7 +74,7 @@ AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& o
         result.chosen = candidate;
         result.error = error;
         result.image = profile.toImage();
-        result.profile = std::move(profile);
+        result.radialProfile = std::move(profile);
         return result;
       }
       result.rejected.emplace_back(candidate, error);

@@ -166,7 +166,7 @@ TEST(HighlightError, AutoMapsMeetTheBoundUnderAnIndependentLobeSampler) {
     // And the most expensive rejected map of the chosen kind (usually half the resolution).
     std::optional<MapConfiguration> sameKind;
     for (const auto& [candidate, error] : result.rejected)
-      if (candidate.parameterization == result.chosen.parameterization && !candidate.profile) sameKind = candidate;
+      if (candidate.parameterization == result.chosen.parameterization && !candidate.radialProfile) sameKind = candidate;
     ASSERT_TRUE(sameKind.has_value()) << c.name;
     const double sameKindMissed = independentMapError(*sameKind, function, lobes);
     EXPECT_GT(sameKindMissed, options.maxError) << c.name << ": " << sameKind->describe();
