@@ -41,7 +41,7 @@ std::string_view toString(OutputKind kind);
 /// The Fresnel texture F(cos theta) (fresnelTable, entry i at cos theta = (i + 0.5) / N) as an
 /// N x 1 image (alpha 1) whose metadata ("parameterization": "fresnel_table", "resolution",
 /// "coordinate", "convention_version") lets BakedOutput read it back.
-Image fresnelTableImage(const std::vector<Rgb>& profile);
+Image fresnelTableImage(const std::vector<Rgb>& table);
 
 struct OpenOutputOptions {
   /// A plain image (no brdfbake metadata) is read as a map of this kind; without it, an error.

@@ -45,7 +45,7 @@ struct EnvironmentMapSpec {
   int elevations = 8;
   /// "fresnel" (a specular lobe only): the Fresnel term as the fresnel material's "fresnel" object;
   /// then OUTPUT is the specular map, STEM_irradiance.EXT the irradiance map and STEM_fresnel.EXT
-  /// the 1-D profile of `resolution` texels (prefilterFresnelDecomposition).
+  /// the 1-D Fresnel table of `resolution` texels (prefilterFresnelDecomposition).
   std::optional<FresnelTerm> fresnel;
   FresnelCombine combine = FresnelCombine::Add;  ///< "combine": "add" (default) | "mix"; needs "fresnel"
 
