@@ -701,7 +701,8 @@ FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options) {
 }
 
 // FitMethod::Shared of one explicit lobe count and kind.
-FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeKindChoice kind) {
+// `start`: a fit of the same table with fewer lobes of this kind, whose shapes the fit keeps (a warm start).
+FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeKindChoice kind, const LobeModel* warmStart = nullptr) {
   const auto start = Clock::now();
   const std::string label = table.sourceFile.empty() ? std::string("table") : table.sourceFile;
   if (table.channelCount() == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
@@ -711,6 +712,7 @@ FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeK
   config.lafortune = kind == LobeKindChoice::Lafortune;
   config.halfVector = kind == LobeKindChoice::HalfVector;
   config.maxExponent = options.maxExponent;
+  if (warmStart && !warmStart->channels.empty()) config.startLobes = warmStart->channels[0].lobes;
   std::size_t usable = 0;
   for (std::size_t i = 0; i < table.size(); ++i) {
     if (table.incidentDirection(i).z() > 0.0 && table.outgoingDirection(i).z() > 0.0) ++usable;
@@ -755,13 +757,14 @@ struct CandidateConfig {
   LobeKindChoice kind = LobeKindChoice::Mirror;  // Mirror, Lafortune or HalfVector
 };
 
-FitResult fitCandidate(const MeasuredTable& table, FitOptions options, const CandidateConfig& config) {
+FitResult fitCandidate(const MeasuredTable& table, FitOptions options, const CandidateConfig& config,
+                       const LobeModel* start = nullptr) {
   options.lobes = config.lobes;
   options.elevation = config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
   options.kind = config.kind;
   options.threads = 1;  // parallel over splits
   options.progress = nullptr;
-  if (options.method == FitMethod::Shared) return fitShared(table, options, config.kind);
+  if (options.method == FitMethod::Shared) return fitShared(table, options, config.kind, start);
   return fitPerChannel(table, options);
 }
 
@@ -774,6 +777,35 @@ int parameterTotal(const CandidateConfig& config, FitMethod method, std::size_t 
   const int shared = method == FitMethod::Shared ? config.lobes * shapeParameters + extraWeights : 0;
   return perChannel * static_cast<int>(channels) + shared;
 }
+
+// Fits of the held-out splits, found again by their training rows: the next lobe count of the same
+// kind starts from them (shared method; the greedy lobes are the same, so only time is saved).
+class SplitFits {
+ public:
+  const LobeModel* find(const MeasuredTable& training) const {
+    for (const auto& [angles, model] : fits_) {
+      if (sameAngles(angles, training.angles)) return &model;
+    }
+    return nullptr;
+  }
+  void add(const MeasuredTable& training, const LobeModel& model) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    fits_.emplace_back(training.angles, model);
+  }
+
+ private:
+  static bool sameAngles(const std::vector<SampleAngles>& a, const std::vector<SampleAngles>& b) {
+    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](const SampleAngles& x, const SampleAngles& y) {
+             return x.thetaIn == y.thetaIn && x.phiIn == y.phiIn && x.thetaOut == y.thetaOut && x.phiOut == y.phiOut;
+           });
+  }
+  std::vector<std::pair<std::vector<SampleAngles>, LobeModel>> fits_;
+  std::mutex mutex_;
+};
+
+// A kind whose score is more than this factor above the best score so far stops adding lobes:
+// on the Cornell tables no lobe lowered a score by more than 1.9x (docs/fitting.md).
+constexpr double kHopelessScoreFactor = 2.0;
 
 LogErrorSum allRowsError(const LobeModel& model, const MeasuredTable& table) {
   std::vector<std::size_t> rows(table.size());
@@ -819,7 +851,7 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
   std::vector<LobeKindChoice> kinds;
   if (!shared) kinds = {LobeKindChoice::Mirror};
   else if (options.kind != LobeKindChoice::Auto) kinds = {options.kind};
-  else kinds = {LobeKindChoice::Mirror, LobeKindChoice::Lafortune, LobeKindChoice::HalfVector};
+  else kinds = {LobeKindChoice::HalfVector, LobeKindChoice::Lafortune, LobeKindChoice::Mirror};  // likeliest first
   std::vector<LobeElevation> elevations;
   if (shared || options.elevation == ElevationChoice::Constant) elevations = {LobeElevation::Constant};
   else if (options.elevation == ElevationChoice::Varying) elevations = {LobeElevation::Varying};
@@ -852,17 +884,30 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
   } else {
     // Every (kind, elevation) sequence grows the lobe count while the held-out score falls by the margin.
     std::vector<std::pair<CandidateConfig, HeldOutReport>> tried;
+    // A kind scoring more than kHopelessScoreFactor times the best so far stops there.
     std::size_t total = kinds.size() * elevations.size() * counts.size(), done = 0;
+    double bestScore = HUGE_VAL;
     for (LobeKindChoice kind : kinds) {
       for (LobeElevation elevation : elevations) {
         double previous = HUGE_VAL;
+        auto fewer = std::make_unique<SplitFits>();
         for (int lobes : counts) {
           const CandidateConfig config{lobes, elevation, kind};
+          auto these = std::make_unique<SplitFits>();
           HeldOutReport report = estimateHeldOutError(
-              table, [&](const MeasuredTable& training) { return fitCandidate(training, options, config).model; }, options.heldOut);
+              table,
+              [&](const MeasuredTable& training) {
+                LobeModel model = fitCandidate(training, options, config, fewer->find(training)).model;
+                these->add(training, model);
+                return model;
+              },
+              options.heldOut);
+          fewer = std::move(these);
           const double score = report.score();
           tried.emplace_back(config, std::move(report));
           if (options.progress) options.progress(static_cast<double>(++done) / static_cast<double>(total + 1));
+          bestScore = std::min(bestScore, score);
+          if (score > kHopelessScoreFactor * bestScore) break;
           if (!(score < (1.0 - options.autoMargin) * previous)) break;
           previous = score;
         }
