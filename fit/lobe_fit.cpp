@@ -755,6 +755,7 @@ struct CandidateConfig {
   int lobes = 1;
   LobeElevation elevation = LobeElevation::Constant;
   LobeKindChoice kind = LobeKindChoice::Mirror;  // Mirror, Lafortune or HalfVector
+  double maxExponent = 0.0;                      // the shared method's cap; 0 = the options'
 };
 
 FitResult fitCandidate(const MeasuredTable& table, FitOptions options, const CandidateConfig& config,
@@ -762,6 +763,7 @@ FitResult fitCandidate(const MeasuredTable& table, FitOptions options, const Can
   options.lobes = config.lobes;
   options.elevation = config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
   options.kind = config.kind;
+  if (config.maxExponent > 0.0) options.maxExponent = config.maxExponent;
   options.threads = 1;  // parallel over splits
   options.progress = nullptr;
   if (options.method == FitMethod::Shared) return fitShared(table, options, config.kind, start);
@@ -923,6 +925,19 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
     for (std::size_t i : order) {
       if (tried[i].second.score() < (1.0 - options.autoMargin) * tried[best].second.score()) best = i;
     }
+    // The exponent cap, lowered while that lowers the score by the margin (same parameters).
+    if (shared && options.chooseMaxExponent) {
+      for (double factor : {0.3, 0.1}) {
+        CandidateConfig capped = tried[best].first;
+        capped.maxExponent = std::max(kMinLobeExponent, factor * options.maxExponent);
+        HeldOutReport report = estimateHeldOutError(
+            table, [&](const MeasuredTable& training) { return fitCandidate(training, options, capped).model; }, options.heldOut);
+        const double score = report.score();
+        tried.emplace_back(capped, std::move(report));
+        if (!(score < (1.0 - options.autoMargin) * tried[best].second.score())) break;
+        best = tried.size() - 1;
+      }
+    }
     const CandidateConfig chosen = tried[best].first;
     result = fitCandidate(table, options, chosen);
     result.options = options;
@@ -937,6 +952,7 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
       c.kfoldRatio = report.kfold.ratio();
       c.elevationRatio = report.pooledElevations().ratio();
       c.seconds = report.seconds;
+      c.maxExponent = shared ? (config.maxExponent > 0.0 ? config.maxExponent : options.maxExponent) : 0.0;
       c.chosen = i == best;
       if (c.chosen) c.inSampleError = allRowsError(result.model, table).rms();
       result.candidates.push_back(c);
@@ -945,6 +961,9 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
   }
   result.options = options;
   result.options.progress = nullptr;
+  for (const auto& c : result.candidates) {
+    if (c.chosen && c.maxExponent > 0.0) result.options.maxExponent = c.maxExponent;
+  }
   result.inSampleError = allRowsError(result.model, table).rms();
   result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   if (options.progress) options.progress(1.0);
