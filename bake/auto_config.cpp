@@ -13,14 +13,14 @@ namespace brdfbake {
 long long MapConfiguration::cost() const { return texels() * samplesPerTexel; }
 
 long long MapConfiguration::texels() const {
-  if (profile) return resolution;
+  if (radialProfile) return resolution;
   const auto map = makeParameterization(parameterization, resolution);
   return static_cast<long long>(map->width()) * map->height();
 }
 
 std::string MapConfiguration::describe() const {
   std::ostringstream out;
-  if (profile) {
+  if (radialProfile) {
     out << "profile " << resolution << " texels, " << samplesPerTexel << " samples/texel";
     return out.str();
   }
@@ -29,7 +29,7 @@ std::string MapConfiguration::describe() const {
 }
 
 void AutoOptions::validate() const {
-  require((!parameterizations.empty() || allowProfile) && !resolutions.empty() && !samplesPerTexel.empty(),
+  require((!parameterizations.empty() || allowRadialProfile) && !resolutions.empty() && !samplesPerTexel.empty(),
           "auto selection needs at least one candidate of each kind");
   require(maxError > 0.0 && maxError < 1.0, "max_error must be in (0, 1), got " + std::to_string(maxError));
   for (int r : resolutions) require(r >= 1, "candidate resolutions must be >= 1");
@@ -41,7 +41,7 @@ double autoErrorMeasure(const ErrorStats& stats, ParameterizationKind kind) {
 }
 
 double autoErrorMeasure(const ErrorStats& stats, const MapConfiguration& configuration, const Vec3& profileAxis) {
-  if (!configuration.profile) return autoErrorMeasure(stats, configuration.parameterization);
+  if (!configuration.radialProfile) return autoErrorMeasure(stats, configuration.parameterization);
   return stats.bound((profileAxis - Vec3::UnitZ()).norm() < 1e-12);
 }
 
@@ -79,7 +79,7 @@ class Search {
   Search(const MapFunction& function, const AutoOptions& options)
       : function_(function),
         options_(options),
-        axis_(options.allowProfile ? function.symmetryAxis() : std::nullopt),
+        axis_(options.allowRadialProfile ? function.symmetryAxis() : std::nullopt),
         probes_(function, options.error) {
     makeFamilies();
   }
@@ -150,7 +150,7 @@ class Search {
     const int threads = options_.bake.threads;
     const bool visible = options_.error.visibleSphere;
     double error;
-    if (c.profile) {
+    if (c.radialProfile) {
       error = autoErrorMeasure(estimateProfileError(function_, *axis_, resolution, c.samplesPerTexel, probes_, visible, threads),
                                c, *axis_);
     } else {
@@ -220,7 +220,7 @@ class Search {
     bakeOptions.progress = [this, start, share](double fraction) { report(start + share * fraction); };
     ++result.bakes;
     Baked baked;
-    if (c.profile) {
+    if (c.radialProfile) {
       RadialProfile profile = bakeRadialProfile(function_, *axis_, c.resolution, c.samplesPerTexel, bakeOptions);
       baked.error = autoErrorMeasure(measureProfileError(profile, probes_, options_.error.visibleSphere), c, *axis_);
       baked.image = profile.toImage();
@@ -246,7 +246,7 @@ class Search {
         result.chosen = chosen;
         result.error = baked.error;
         result.image = std::move(baked.image);
-        result.profile = std::move(baked.profile);
+        result.radialProfile = std::move(baked.profile);
         break;
       }
       bakedMisses.emplace_back(chosen, baked.error);
@@ -288,7 +288,7 @@ class Search {
     message << "no configuration meets max_error " << options_.maxError << ": the best, " << c.describe() << ", reaches "
             << error << " (" << how << ")";
     // The resolution the N^-2 law of bilinear lookups puts it at (docs/accuracy.md).
-    if (error > 0.0 && !c.profile) {
+    if (error > 0.0 && !c.radialProfile) {
       const double needed = c.resolution * std::sqrt(error / options_.maxError);
       message << "; at error ~ N^-2 that takes about " << toString(c.parameterization) << " "
               << static_cast<long long>(std::ceil(needed)) << "^2";

@@ -103,21 +103,21 @@ std::string_view toString(OutputKind kind) {
     case OutputKind::Map: return "map";
     case OutputKind::RadialProfile: return "radial_profile";
     case OutputKind::ElevationStack: return "elevation_stack";
-    case OutputKind::FresnelProfile: return "fresnel_profile";
+    case OutputKind::FresnelTable: return "fresnel_table";
     case OutputKind::ShIrradiance: return "sh_irradiance";
   }
   return "map";
 }
 
-Image fresnelProfileImage(const std::vector<Rgb>& profile) {
-  require(!profile.empty(), "a Fresnel profile needs at least one texel");
-  const int n = static_cast<int>(profile.size());
+Image fresnelTableImage(const std::vector<Rgb>& table) {
+  require(!table.empty(), "a Fresnel table needs at least one texel");
+  const int n = static_cast<int>(table.size());
   Image image(n, 1);
   for (int i = 0; i < n; ++i) {
-    const Rgb& f = profile[static_cast<std::size_t>(i)];
+    const Rgb& f = table[static_cast<std::size_t>(i)];
     image.set(i, 0, Rgba(f[0], f[1], f[2], 1.0));
   }
-  image.metadata = {{"parameterization", "fresnel_profile"},
+  image.metadata = {{"parameterization", kFresnelTableParameterization},
                     {"resolution", n},
                     {"convention_version", kConventionVersion},
                     {"coordinate", "F(cos theta), cos theta = n.v; texel i at cos theta = (i + 0.5) / " + std::to_string(n) +
@@ -192,10 +192,10 @@ BakedOutput BakedOutput::open(const fs::path& path, const OpenOutputOptions& opt
       out.eyeSpace_ = true;
       return out;
     }
-    if (parameterization == "fresnel_profile") {
-      requireNoMipLevel(options.mipLevel, path, "a Fresnel profile");
+    if (isFresnelTableParameterization(parameterization)) {
+      requireNoMipLevel(options.mipLevel, path, "a Fresnel table");
       checkProfileImage(image, path);
-      out.kind_ = OutputKind::FresnelProfile;
+      out.kind_ = OutputKind::FresnelTable;
       out.fresnel_ = rowTexels(image);
       out.metadata_ = image.metadata;
       return out;
@@ -247,7 +247,7 @@ Rgba BakedOutput::lookup(const Vec3& direction, std::optional<double> cosView) c
       return (1.0 - f) * sampleBilinear(a.image, *a.parameterization, direction) +
              f * sampleBilinear(b.image, *b.parameterization, direction);
     }
-    case OutputKind::FresnelProfile: {
+    case OutputKind::FresnelTable: {
       const Rgb v = sampleLinear1d(fresnel_, checkedCosView(cosView, kind_));
       return {v[0], v[1], v[2], 1.0};
     }
@@ -301,7 +301,7 @@ nlohmann::json BakedOutput::describe() const {
                     "sphere-map radius)";
       break;
     }
-    case OutputKind::FresnelProfile:
+    case OutputKind::FresnelTable:
       d["resolution"] = fresnel_.size();
       d["lookup"] = "F at cos theta = n.v: linear, texel i at (i + 0.5) / N, clamped";
       break;
@@ -317,15 +317,15 @@ nlohmann::json BakedOutput::describe() const {
 
 BakedOutputFunction::BakedOutputFunction(const BakedOutput& output, std::optional<double> cosView)
     : output_(output), cosView_(cosView) {
-  if (output.kind() == OutputKind::FresnelProfile) {
-    require(!cosView, "a Fresnel profile is resampled as seen from +z (n.v from the direction): no fixed n.v");
+  if (output.kind() == OutputKind::FresnelTable) {
+    require(!cosView, "a Fresnel table is resampled as seen from +z (n.v from the direction): no fixed n.v");
   } else if (output.usesCosView()) {
     checkedCosView(cosView, output.kind());
   }
 }
 
 Rgb BakedOutputFunction::evaluate(const Vec3& direction) const {
-  if (output_.kind() == OutputKind::FresnelProfile) {
+  if (output_.kind() == OutputKind::FresnelTable) {
     // The eye-space view +z: n = normalize(d + z), so n.v = sqrt((1 + d.z) / 2).
     const double cosView = std::sqrt(std::clamp((1.0 + direction.normalized().z()) / 2.0, 0.0, 1.0));
     return output_.lookup(direction, cosView).head<3>();

@@ -34,8 +34,8 @@ MapInfo MapInfo::fromJson(const nlohmann::json& metadata) {
   MapInfo info;
   const auto p = metadata.find("parameterization");
   if (p == metadata.end() || !p->is_string()) throw missing("parameterization");
-  if (*p == "profile" || *p == "fresnel_profile") {
-    throw Error(Error::Kind::InvalidInput, std::string(*p == "profile" ? "a 1-D radial profile" : "a 1-D Fresnel profile") +
+  if (*p == "profile" || isFresnelTableParameterization(*p)) {
+    throw Error(Error::Kind::InvalidInput, std::string(*p == "profile" ? "a 1-D radial profile" : "a 1-D Fresnel table") +
                                                ", not a 2-D map (brdfbake sample, info, convert and preview read it: "
                                                "BakedOutput::open)");
   }
@@ -53,6 +53,10 @@ MapInfo MapInfo::fromJson(const nlohmann::json& metadata) {
   }
   info.spec = metadata.value("spec", nlohmann::json::object());
   return info;
+}
+
+bool isFresnelTableParameterization(const std::string& parameterization) {
+  return parameterization == kFresnelTableParameterization || parameterization == "fresnel_profile";
 }
 
 LinearTaps linearTaps(int texels, double s) {

@@ -139,7 +139,7 @@ class Context {
   std::shared_ptr<const RadialTable> table() {
     if (!table_) {
       const PrefilterLobe lobe = lobe_;
-      table_ = std::make_shared<RadialTable>([lobe](double c) { return lobe.profile(c); }, 1e-6, (1 << 20) + 1);
+      table_ = std::make_shared<RadialTable>([lobe](double c) { return lobe.weight(c); }, 1e-6, (1 << 20) + 1);
     }
     return table_;
   }
@@ -155,7 +155,7 @@ class Context {
     if (!entry) {
       const PrefilterLobe lobe = lobe_;
       entry = std::make_shared<RadialTable>(
-          [lobe, scale](double c) { return lobe.profile(std::cos(std::min(kPi, scale * std::acos(std::clamp(c, -1.0, 1.0))))); },
+          [lobe, scale](double c) { return lobe.weight(std::cos(std::min(kPi, scale * std::acos(std::clamp(c, -1.0, 1.0))))); },
           1e-6, (1 << 20) + 1);
     }
     return entry;
@@ -440,7 +440,7 @@ Probes makeProbes(Context& context, const PrefilterOptions& options, double floo
   // local error away (its 2 x 2 bilinear means keep each neighbourhood's mean), while summing a
   // hemisphere of input texels per probe would cost seconds.
   const auto table = context.table();
-  const RadialTable::View profile = table->view();
+  const RadialTable::View weight = table->view();
   const double cosCap = std::cos(lobe.tailAngle(1e-7));
   std::function<Rgb(const Vec3&)> reference;
   std::optional<detail::DirectSummer> pyramidSum;
@@ -461,7 +461,7 @@ Probes makeProbes(Context& context, const PrefilterOptions& options, double floo
       double density = 0.0;
       for (std::size_t i = 0; i < centres.size(); ++i) {
         const double pi = cdf[i + 1] - cdf[i];
-        if (pi > 0.0) density += pi * profile(0.5 * (d - centres[i]).norm());  // u = sin(theta / 2)
+        if (pi > 0.0) density += pi * weight(0.5 * (d - centres[i]).norm());  // u = sin(theta / 2)
       }
       density /= total * lobe.mass();
       const double q = (static_cast<double>(uniformCount) / count) / kFourPi + (static_cast<double>(guided) / count) * density;

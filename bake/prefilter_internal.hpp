@@ -67,7 +67,7 @@ class LatLongPyramid {
 
 // Σ w Ω L and Σ w Ω over the texels of one pyramid level whose centres lie within the cap
 // cos(angle to axis) >= cosCap, each texel split into sub x sub samples; w from `table` (on
-// u = sin(theta/2)) or, if null, the exact profile.
+// u = sin(theta/2)) or, if null, the exact weight.
 class DirectSummer {
  public:
   DirectSummer(const LatLongPyramid& pyramid, const PrefilterLobe& lobe, int level, double cosCap, int sub,
@@ -149,7 +149,7 @@ LatLongGrid convolvedDirectGrid(const LatLongPyramid& pyramid, const PrefilterLo
 class ReferenceSummer {
  public:
   // `table` (optional): the lobe tabulated on u = sin(theta/2) (RadialTable), read instead of the
-  // exact profile.
+  // exact weight.
   ReferenceSummer(const Environment& environment, const PrefilterLobe& lobe, double cosCap = -1.0,
                   std::shared_ptr<const RadialTable> table = nullptr);
   Rgb value(const Vec3& axis) const;

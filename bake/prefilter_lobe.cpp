@@ -18,11 +18,11 @@ struct PrefilterLobe::Data {
   std::string name, description;
   double exponent = 0.0;   // Phong
   double alpha = 0.0;      // GGX
-  double scale = 1.0;      // normalisation factor applied to the raw profile
+  double scale = 1.0;      // normalisation factor applied to the raw weight
   double mass = 0.0;       // analytic where known, else the grid's integral
   std::vector<double> theta, cumulative;  // cumulative mass over theta (scaled to `mass` at pi)
 
-  double rawProfile(double c) const {
+  double rawWeight(double c) const {
     switch (kind) {
       case LobeKind::Mirror: return 0.0;
       case LobeKind::Irradiance: return c > 0.0 ? c : 0.0;
@@ -53,9 +53,9 @@ std::shared_ptr<PrefilterLobe::Data> finish(std::shared_ptr<PrefilterLobe::Data>
   for (int k = 0; k <= kGrid; ++k) {
     const double s = static_cast<double>(k) / kGrid;
     d->theta[k] = kPi * s * s;
-    const double value = d->rawProfile(std::cos(d->theta[k]));
+    const double value = d->rawWeight(std::cos(d->theta[k]));
     if (!std::isfinite(value) || value < 0.0) {
-      throw Error(Error::Kind::InvalidArgument, "lobe " + d->name + ": profile must be finite and >= 0, got " +
+      throw Error(Error::Kind::InvalidArgument, "lobe " + d->name + ": weight must be finite and >= 0, got " +
                                                     std::to_string(value) + " at cos " + std::to_string(std::cos(d->theta[k])));
     }
     integrand[k] = kTwoPi * value * std::sin(d->theta[k]);
@@ -65,7 +65,7 @@ std::shared_ptr<PrefilterLobe::Data> finish(std::shared_ptr<PrefilterLobe::Data>
     d->cumulative[k] = d->cumulative[k - 1] + 0.5 * (integrand[k] + integrand[k - 1]) * (d->theta[k] - d->theta[k - 1]);
   }
   const double gridMass = d->cumulative[kGrid];
-  if (!(gridMass > 0.0)) throw Error(Error::Kind::InvalidArgument, "lobe " + d->name + ": profile integrates to 0");
+  if (!(gridMass > 0.0)) throw Error(Error::Kind::InvalidArgument, "lobe " + d->name + ": weight integrates to 0");
   if (analyticMass > 0.0) {
     d->scale = 1.0;
     d->mass = analyticMass;
@@ -191,7 +191,7 @@ double PrefilterLobe::phongExponent() const { return data_->kind == LobeKind::Ph
 double PrefilterLobe::ggxAlpha() const { return data_->alpha; }
 double PrefilterLobe::mass() const { return data_->mass; }
 
-double PrefilterLobe::profile(double c) const { return data_->scale * data_->rawProfile(c); }
+double PrefilterLobe::weight(double c) const { return data_->scale * data_->rawWeight(c); }
 
 double PrefilterLobe::sampleAngle(double u) const {
   const auto& cdf = data_->cumulative;
@@ -227,7 +227,7 @@ std::vector<double> PrefilterLobe::zonalCoefficients(int maxOrder) const {
   for (int k = 0; k <= kGrid; ++k) {
     const double t = data_->theta[k];
     const double c = std::cos(t);
-    const double f = kTwoPi * profile(c) * std::sin(t);
+    const double f = kTwoPi * weight(c) * std::sin(t);
     if (f == 0.0) continue;  // beyond the lobe's support (a Phong lobe's back hemisphere, the far tail)
     p[0] = 1.0;
     if (maxOrder >= 1) p[1] = c;

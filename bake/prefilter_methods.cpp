@@ -164,7 +164,7 @@ void DirectSummer::sum(const Vec3& axis, Rgb& numerator, double& denominator) co
   const double u0 = pixel.x() - 0.5;  // column coordinate of the axis (centres at integers)
   // The weight of a sample at cosine c to the axis.
   auto weight = [&](double c) {
-    if (exact) return lobe_.profile(c);
+    if (exact) return lobe_.weight(c);
     double f = std::sqrt(std::max(0.0, 0.5 - 0.5 * c)) * view.scale;  // u = sin(theta/2)
     f = f < maxF ? f : maxF;
     const long i = static_cast<long>(f);
@@ -351,7 +351,7 @@ ImportanceSampler::ImportanceSampler(const LatLongPyramid& pyramid, const Prefil
     const double theta = lobe.sampleAngle(u), phi = kTwoPi * v;
     const double c = std::cos(theta), s = std::sin(theta);
     local_.emplace_back(s * std::cos(phi), s * std::sin(phi), c);
-    const double pdf = lobe.profile(c) / mass_;
+    const double pdf = lobe.weight(c) / mass_;
     // Solid angle of the sample 1/(K pdf); one level coarser (Křivánek's bias, log4 K = 1 in Filament).
     const double omega = pdf > 0.0 ? 1.0 / (samples * pdf) : kFourPi;
     lod_.push_back(0.5 * std::log2(omega / equatorTexel) + 1.0);
@@ -572,7 +572,7 @@ void ReferenceSummer::sum(const Vec3& axis, std::size_t begin, std::size_t end, 
     referenceLoop(xs, ys, zs, ws, rs, gs, bs, n, axis, false, [&view](double c) { return view(std::sqrt(std::max(0.0, 0.5 - 0.5 * c))); }, out);
     return;
   }
-  const double scale = lobe_.profile(1.0);  // only ratios matter; keep weights near 1
+  const double scale = lobe_.weight(1.0);  // only ratios matter; keep weights near 1
   switch (lobe_.kind()) {
     case LobeKind::Irradiance:
       referenceLoop(xs, ys, zs, ws, rs, gs, bs, n, axis, true, [](double c) { return c; }, out);
@@ -583,7 +583,7 @@ void ReferenceSummer::sum(const Vec3& axis, std::size_t begin, std::size_t end, 
       break;
     }
     default:
-      referenceLoop(xs, ys, zs, ws, rs, gs, bs, n, axis, false, [&](double c) { return lobe_.profile(c) / scale; }, out);
+      referenceLoop(xs, ys, zs, ws, rs, gs, bs, n, axis, false, [&](double c) { return lobe_.weight(c) / scale; }, out);
       break;
   }
 }

@@ -173,13 +173,13 @@ MapWriteReport writePrefilteredStack(const PrefilteredStack& stack, const std::f
 
 FresnelDecomposition prefilterFresnelDecomposition(const Environment& environment, const PrefilterLobe& specular,
                                                    const FresnelTerm& fresnel, FresnelCombine combine,
-                                                   const PrefilterOptions& options, int profileSize) {
+                                                   const PrefilterOptions& options, int tableSize) {
   if (specular.indexedByNormal()) {
     throw Error(Error::Kind::InvalidArgument, "a Fresnel decomposition needs a specular lobe (mirror, phong, blinn, ggx) for "
                                               "its specular map; the irradiance map is made anyway");
   }
-  require(profileSize >= 1 && profileSize <= 65536,
-          "the Fresnel profile needs 1 to 65536 texels, got " + std::to_string(profileSize));
+  require(tableSize >= 1 && tableSize <= 65536,
+          "the Fresnel table needs 1 to 65536 texels, got " + std::to_string(tableSize));
   options.validate();
   FresnelDecomposition result;
   result.fresnel = fresnel;
@@ -189,8 +189,8 @@ FresnelDecomposition prefilterFresnelDecomposition(const Environment& environmen
   result.specular = prefilter(environment, specular, part);
   part.progress = progressPart(options.progress, 0.5, 1.0);
   result.irradiance = prefilter(environment, PrefilterLobe::irradiance(), part);
-  result.profile = fresnelProfile(fresnel, profileSize);
-  for (const Rgb& f : result.profile) require(f.allFinite(), "the Fresnel profile came out non-finite");
+  result.table = fresnelTable(fresnel, tableSize);
+  for (const Rgb& f : result.table) require(f.allFinite(), "the Fresnel table came out non-finite");
   return result;
 }
 
@@ -201,7 +201,7 @@ Rgb combineFresnelDecomposition(FresnelCombine combine, const Rgb& fresnel, cons
 }
 
 std::filesystem::path fresnelIrradiancePath(const std::filesystem::path& output) { return siblingWithSuffix(output, "_irradiance"); }
-std::filesystem::path fresnelProfilePath(const std::filesystem::path& output) { return siblingWithSuffix(output, "_fresnel"); }
+std::filesystem::path fresnelTablePath(const std::filesystem::path& output) { return siblingWithSuffix(output, "_fresnel"); }
 
 namespace {
 void addLevels(std::vector<FilePlan::Entry>& out, const std::filesystem::path& file, const PrefilterOutputs& o,
@@ -228,8 +228,8 @@ std::vector<FilePlan::Entry> prefilterOutputFiles(const std::filesystem::path& o
   addLevels(out, output, o, role);
   if (o.fresnel) {
     addLevels(out, fresnelIrradiancePath(output), o, role + " (Fresnel irradiance map)");
-    const auto profile = mapOutputFiles(fresnelProfilePath(output), role + " (Fresnel profile)");
-    out.insert(out.end(), profile.begin(), profile.end());
+    const auto table = mapOutputFiles(fresnelTablePath(output), role + " (Fresnel table)");
+    out.insert(out.end(), table.begin(), table.end());
   }
   return out;
 }
@@ -237,11 +237,11 @@ std::vector<FilePlan::Entry> prefilterOutputFiles(const std::filesystem::path& o
 MapWriteReport writeFresnelDecomposition(const FresnelDecomposition& decomposition, const std::filesystem::path& output,
                                          nlohmann::json spec, CubeLayout layout, const WriteOptions& options,
                                          MipLayout mipLayout) {
-  const int size = static_cast<int>(decomposition.profile.size());
-  require(size >= 1, "writeFresnelDecomposition: no Fresnel profile");
+  const int size = static_cast<int>(decomposition.table.size());
+  require(size >= 1, "writeFresnelDecomposition: no Fresnel table");
   if (!spec.is_object()) spec = nlohmann::json::object();
   if (!spec["prefilter"].is_object()) spec["prefilter"] = nlohmann::json::object();
-  const std::filesystem::path irradiancePath = fresnelIrradiancePath(output), profilePath = fresnelProfilePath(output);
+  const std::filesystem::path irradiancePath = fresnelIrradiancePath(output), tablePath = fresnelTablePath(output);
   const Rgb f0 = decomposition.fresnel.f0();
   const bool mix = decomposition.combine == FresnelCombine::Mix;
   nlohmann::json fresnel = {
@@ -250,19 +250,19 @@ MapWriteReport writeFresnelDecomposition(const FresnelDecomposition& decompositi
                       : "L = F(n.v) specular(r) + k_d irradiance(n) / pi"},
       {"specular", output.filename().string()},
       {"irradiance", irradiancePath.filename().string()},
-      {"profile", profilePath.filename().string()},
-      {"profile_size", size},
-      {"profile_texels", "texel i holds F at cos theta = n.v = (i + 0.5) / " + std::to_string(size) +
+      {"table", tablePath.filename().string()},
+      {"table_size", size},
+      {"table_texels", "texel i holds F at cos theta = n.v = (i + 0.5) / " + std::to_string(size) +
                              ": a linear lookup at s = n.v returns F"},
       {"f0", {f0[0], f0[1], f0[2]}}};
 
-  // The profile first (cheapest to fail), then the two maps.
-  Image image = fresnelProfileImage(decomposition.profile);
+  // The table first (cheapest to fail), then the two maps.
+  Image image = fresnelTableImage(decomposition.table);
   image.metadata["spec"] = spec;
   image.metadata["spec"]["prefilter"]["fresnel"] = fresnel;
-  image.metadata["spec"]["prefilter"]["fresnel"]["role"] = "profile";
+  image.metadata["spec"]["prefilter"]["fresnel"]["role"] = "table";
   MapWriteReport report;
-  const WriteReport profileWritten = writeImage(image, profilePath, options);
+  const WriteReport tableWritten = writeImage(image, tablePath, options);
   fresnel["role"] = "specular";
   spec["prefilter"]["fresnel"] = fresnel;
   const MapWriteReport specular = writePrefilteredMap(decomposition.specular, output, spec, layout, options, mipLayout);
@@ -273,9 +273,9 @@ MapWriteReport writeFresnelDecomposition(const FresnelDecomposition& decompositi
     report.files.insert(report.files.end(), part->files.begin(), part->files.end());
     report.notes.insert(report.notes.end(), part->notes.begin(), part->notes.end());
   }
-  report.files.push_back(profilePath);
-  report.notes.insert(report.notes.end(), profileWritten.notes.begin(), profileWritten.notes.end());
-  report.notes.push_back(profilePath.filename().string() + ": 1-D Fresnel profile, texel i holds F at cos theta = (i + 0.5) / " +
+  report.files.push_back(tablePath);
+  report.notes.insert(report.notes.end(), tableWritten.notes.begin(), tableWritten.notes.end());
+  report.notes.push_back(tablePath.filename().string() + ": 1-D Fresnel table, texel i holds F at cos theta = (i + 0.5) / " +
                          std::to_string(size) + "; combine " + std::string(toString(decomposition.combine)) + ": " +
                          fresnel["formula"].get<std::string>());
   return report;

@@ -91,7 +91,7 @@ int main() {
   p.error.samples = 4000;
   C copperC{"copper reflectance", std::make_shared<CookTorranceMaterial>(cr), {}};
   run("profile off", copperC, p);
-  p.allowProfile = true;
+  p.allowRadialProfile = true;
   run("profile on", copperC, p);
   // The example of issue 11: Phong 200, two lights, view free (paraboloid, cube, lat-long), 0.5 %.
   AutoOptions free;

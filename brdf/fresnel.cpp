@@ -133,11 +133,11 @@ Rgb FresnelTerm::operator()(double cosTheta) const {
   return f;
 }
 
-std::vector<Rgb> fresnelProfile(const FresnelTerm& fresnel, int size) {
-  require(size >= 1, "profile size must be >= 1, got " + std::to_string(size));
-  std::vector<Rgb> profile(static_cast<std::size_t>(size));
-  for (int i = 0; i < size; ++i) profile[static_cast<std::size_t>(i)] = fresnel((i + 0.5) / size);
-  return profile;
+std::vector<Rgb> fresnelTable(const FresnelTerm& fresnel, int size) {
+  require(size >= 1, "Fresnel table size must be >= 1, got " + std::to_string(size));
+  std::vector<Rgb> table(static_cast<std::size_t>(size));
+  for (int i = 0; i < size; ++i) table[static_cast<std::size_t>(i)] = fresnel((i + 0.5) / size);
+  return table;
 }
 
 FresnelCombine parseFresnelCombine(std::string_view name) {

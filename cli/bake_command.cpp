@@ -57,8 +57,8 @@ nlohmann::json reportEntry(const MapSpec& map, const EntryFacts& facts, const st
 }
 
 // A map with "environment" (docs/prefilter.md): prefilter instead of bake; returns its report entry.
-nlohmann::json bakeEnvironmentMap(const MapSpec& map, const Environment& environment, const BakeArgs& args) {
-  const EnvironmentMapSpec& e = *map.environment;
+nlohmann::json bakeEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e, const Environment& environment,
+                                  const BakeArgs& args) {
   PrefilterOptions options = map.prefilterOptions();
   options.threads = args.threads;
   options.allowLarge = args.allowLarge;
@@ -89,7 +89,7 @@ nlohmann::json bakeEnvironmentMap(const MapSpec& map, const Environment& environ
     irradianceReport = decomposition.irradiance.summary.briefReport();
     extra["fresnel"] = {{"combine", std::string(toString(e.combine))},
                         {"irradiance", fresnelIrradiancePath(map.output).string()},
-                        {"profile", fresnelProfilePath(map.output).string()},
+                        {"table", fresnelTablePath(map.output).string()},
                         {"irradiance_prefilter", decomposition.irradiance.summary.toJson()}};
   } else {
     const PrefilteredMap result =
@@ -162,8 +162,8 @@ nlohmann::json writeProfile(const RadialProfile& profile, const MapSpec& map, co
 // A map baked from a material (and lights); returns its report entry.
 nlohmann::json bakeMaterialMap(const MapSpec& specified, BakeOptions options, const BakeArgs& args) {
   MapSpec map = specified;
-  if (map.deferredFit) {  // a measured material's fit runs now, not while the spec was parsed
-    ProgressBar fitting(map.jsonPath + " fitting lobes to " + std::filesystem::path(map.deferredFit->table.sourceFile).filename().string(),
+  if (const auto& fit = map.materialMap()->deferredFit) {  // a measured material's fit runs now, not while the spec was parsed
+    ProgressBar fitting(map.jsonPath + " fitting lobes to " + std::filesystem::path(fit->table.sourceFile).filename().string(),
                         !args.quiet && !args.json);
     map.prepare(fitting.callback());
   }
@@ -174,7 +174,7 @@ nlohmann::json bakeMaterialMap(const MapSpec& specified, BakeOptions options, co
   Image image;
   nlohmann::json autoReport;
   std::optional<RadialProfile> profile;
-  if (map.profile && !map.anyAuto()) {
+  if (map.radialProfile && !map.anyAuto()) {
     const auto start = std::chrono::steady_clock::now();
     options.samplesPerTexel = map.samplesPerTexel;
     profile = bakeRadialProfile(*function, *function->symmetryAxis(), map.resolution, map.samplesPerTexel, options);
@@ -194,7 +194,7 @@ nlohmann::json bakeMaterialMap(const MapSpec& specified, BakeOptions options, co
     map.resolution = chosen.chosen.resolution;
     map.samplesPerTexel = chosen.chosen.samplesPerTexel;
     image = std::move(chosen.image);
-    profile = std::move(chosen.profile);
+    profile = std::move(chosen.radialProfile);
     autoReport = {{"chosen", chosen.chosen.describe()},
                   {"measured_error", chosen.error},
                   {"max_error", map.autoSelect.maxError},
@@ -228,7 +228,7 @@ nlohmann::json bakeMaterialMap(const MapSpec& specified, BakeOptions options, co
   if (!autoReport.is_null()) info.spec["auto"] = autoReport;
   const auto writeStart = std::chrono::steady_clock::now();
   MapWriteReport written = writeMap(image, info, map.output, map.cubeLayout, {{fs::path(args.spec)}});
-  // Extra files the spec asks for: silhouette mip levels ("mips"), the 1-D Fresnel profile ("profile_output").
+  // Extra files the spec asks for: silhouette mip levels ("mips"), the 1-D Fresnel table ("fresnel_table_output").
   const MapWriteReport extras = writeMapExtras(map, options, {{fs::path(args.spec)}});
   written.files.insert(written.files.end(), extras.files.begin(), extras.files.end());
   written.notes.insert(written.notes.end(), extras.notes.begin(), extras.notes.end());
@@ -299,7 +299,7 @@ int runBake(const BakeArgs& args) {
   // Environments of prefiltered maps are read (and checked) before any work, too.
   std::vector<std::optional<Environment>> environments(spec.maps.size());
   for (std::size_t i = 0; i < spec.maps.size(); ++i) {
-    if (const auto& e = spec.maps[i].environment) {
+    if (const EnvironmentMapSpec* e = spec.maps[i].environmentMap()) {
       environments[i] = loadEnvironment(e->file, EnvironmentLoadOptions{e->from});
     }
   }
@@ -313,7 +313,9 @@ int runBake(const BakeArgs& args) {
     const MapSpec& map = spec.maps[i];
     nlohmann::json entry;
     try {
-      entry = map.environment ? bakeEnvironmentMap(map, *environments[i], args) : bakeMaterialMap(map, options, args);
+      entry = std::visit(Overloaded{[&](const EnvironmentMapSpec& e) { return bakeEnvironmentMap(map, e, *environments[i], args); },
+                                    [&](const MaterialMapSpec&) { return bakeMaterialMap(map, options, args); }},
+                         map.content);
       entry["status"] = "written";
       for (const auto& note : map.notes) {
         entry["notes"].push_back(note);

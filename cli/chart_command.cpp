@@ -222,15 +222,76 @@ struct EnvironmentSweep {
   int threads = 0;
 };
 
-// One prefiltered environment map swept over parameterization x resolution x method. Each
-// (parameterization, resolution) pays the reference once, on a random texel subset and on random
-// lookup directions; combinations that fail are skipped with a note.
-std::vector<Point> sweepEnvironment(const MapSpec& map, const Environment& environment, const EnvironmentSweep& sweep,
-                                    std::vector<Skipped>& skipped, ProgressBar& bar) {
-  const EnvironmentMapSpec& e = *map.environment;
+// What one (parameterization, resolution) of an environment sweep compares against: the reference
+// prefilter at a random texel subset and at random lookup directions, computed once for every method.
+struct SweepReference {
+  PrefilterCheckPoints texels, lookups;
+  std::vector<Rgb> texelValues, lookupValues;
+  long long mapTexels = 0;
+  double seconds = 0.0;  // the reference over the whole map, scaled from the subset
+};
+
+SweepReference sweepReference(const Environment& environment, const EnvironmentMapSpec& e, const Parameterization& map,
+                              const PrefilterOptions& options, const EnvironmentSweep& sweep) {
   const PrefilterLobe* lobe = e.analyticLobe();
   // Axes of a lobe model are the reflected directions, as phong's.
   const PrefilterLobe axisLobe = lobe ? *lobe : PrefilterLobe::phong(1.0);
+  SweepReference r;
+  r.texels = prefilterTexelSubset(map, axisLobe, options, sweep.subset, 7);
+  r.lookups = prefilterLookupSet(map, axisLobe, options, sweep.subset, 8);
+  std::vector<Vec3> axes = r.texels.axes;
+  axes.insert(axes.end(), r.lookups.axes.begin(), r.lookups.axes.end());
+  const auto start = Clock::now();
+  const std::vector<Rgb> reference = lobe ? prefilterReferenceAt(environment, *lobe, axes, sweep.threads)
+                                          : prefilterLobeModelReferenceAt(environment, *e.lobeModel(), axes, sweep.threads);
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  const auto split = reference.begin() + static_cast<std::ptrdiff_t>(r.texels.size());
+  r.texelValues.assign(reference.begin(), split);
+  r.lookupValues.assign(split, reference.end());
+  r.mapTexels = static_cast<long long>(map.width()) * map.height();
+  r.seconds = seconds * double(r.mapTexels) / double(axes.size());
+  return r;
+}
+
+// One prefilter of an environment map, timed and measured against the reference. Throws Error when
+// the method cannot make the map.
+Point environmentPoint(const MapSpec& map, const EnvironmentMapSpec& e, const Environment& environment,
+                       const PrefilterOptions& options, const SweepReference& reference, double floor) {
+  const PrefilterLobe* lobe = e.analyticLobe();
+  const auto start = Clock::now();
+  const PrefilteredMap result = lobe ? prefilter(environment, *lobe, options)
+                                     : prefilterLobeModel(environment, *e.lobeModel(), e.lobeName, options);
+  Point p;
+  p.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  p.environment = true;
+  p.map = map.jsonPath;
+  p.parameterization = std::string(toString(options.parameterization));
+  p.resolution = options.resolution;
+  p.method = std::string(toString(options.method));
+  p.detail = result.summary.detail;
+  if (options.method == PrefilterMethod::Auto && lobe) p.detail = std::string(toString(result.summary.method)) + ": " + p.detail;
+  p.texels = reference.mapTexels;
+  const PrefilterError texelError = prefilterPointsError(prefilterValuesAt(result.levels[0], *result.map, reference.texels),
+                                                         reference.texelValues, reference.texels.weights, floor);
+  const PrefilterError lookupError = prefilterPointsError(prefilterValuesAt(result.levels[0], *result.map, reference.lookups),
+                                                          reference.lookupValues, reference.lookups.weights, floor);
+  p.rms = texelError.rms;
+  p.max = texelError.max;
+  p.visibleRms = texelError.rms;
+  p.lookupRms = lookupError.rms;
+  p.lookupMax = lookupError.max;
+  if (result.summary.errorEstimated) p.estimate = result.summary.errorEstimate;
+  p.metBound = result.summary.metTarget;
+  p.referenceSeconds = reference.seconds;
+  return p;
+}
+
+// One prefiltered environment map swept over parameterization x resolution x method. Each
+// (parameterization, resolution) pays the reference once, on a random texel subset and on random
+// lookup directions; combinations that fail are skipped with a note.
+std::vector<Point> sweepEnvironment(const MapSpec& map, const EnvironmentMapSpec& e, const Environment& environment,
+                                    const EnvironmentSweep& sweep, std::vector<Skipped>& skipped, ProgressBar& bar) {
+  const PrefilterLobe* lobe = e.analyticLobe();
   const double floor = lobe ? prefilterErrorFloor(environment, *lobe) : prefilterLobeModelErrorFloor(environment, *e.lobeModel());
   std::vector<Point> points;
   const double total = double(sweep.kinds.size() * sweep.resolutions.size() * sweep.methods.size());
@@ -244,50 +305,14 @@ std::vector<Point> sweepEnvironment(const MapSpec& map, const Environment& envir
       options.mips = false;
       if (sweep.maxError > 0.0) options.maxError = sweep.maxError;
       options.threads = sweep.threads;
-      const auto parameterization = makeParameterization(kind, resolution);
-      const PrefilterCheckPoints texels = prefilterTexelSubset(*parameterization, axisLobe, options, sweep.subset, 7);
-      const PrefilterCheckPoints lookups = prefilterLookupSet(*parameterization, axisLobe, options, sweep.subset, 8);
-      std::vector<Vec3> axes = texels.axes;
-      axes.insert(axes.end(), lookups.axes.begin(), lookups.axes.end());
-      const auto referenceStart = Clock::now();
-      const std::vector<Rgb> reference = lobe ? prefilterReferenceAt(environment, *lobe, axes, sweep.threads)
-                                              : prefilterLobeModelReferenceAt(environment, *e.lobeModel(), axes, sweep.threads);
-      const double referenceSeconds = std::chrono::duration<double>(Clock::now() - referenceStart).count();
-      const std::vector<Rgb> texelReference(reference.begin(), reference.begin() + static_cast<std::ptrdiff_t>(texels.size()));
-      const std::vector<Rgb> lookupReference(reference.begin() + static_cast<std::ptrdiff_t>(texels.size()), reference.end());
-      const long long mapTexels = static_cast<long long>(parameterization->width()) * parameterization->height();
+      const SweepReference reference =
+          sweepReference(environment, e, *makeParameterization(kind, resolution), options, sweep);
       for (const auto method : sweep.methods) {
         options.method = method;
-        const std::string methodName(toString(method));
         try {
-          const auto start = Clock::now();
-          const PrefilteredMap result = lobe ? prefilter(environment, *lobe, options)
-                                             : prefilterLobeModel(environment, *e.lobeModel(), e.lobeName, options);
-          Point p;
-          p.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-          p.environment = true;
-          p.map = map.jsonPath;
-          p.parameterization = std::string(toString(kind));
-          p.resolution = resolution;
-          p.method = methodName;
-          p.detail = result.summary.detail;
-          if (method == PrefilterMethod::Auto && lobe) p.detail = std::string(toString(result.summary.method)) + ": " + p.detail;
-          p.texels = mapTexels;
-          const PrefilterError texelError =
-              prefilterPointsError(prefilterValuesAt(result.levels[0], *result.map, texels), texelReference, texels.weights, floor);
-          const PrefilterError lookupError =
-              prefilterPointsError(prefilterValuesAt(result.levels[0], *result.map, lookups), lookupReference, lookups.weights, floor);
-          p.rms = texelError.rms;
-          p.max = texelError.max;
-          p.visibleRms = texelError.rms;
-          p.lookupRms = lookupError.rms;
-          p.lookupMax = lookupError.max;
-          if (result.summary.errorEstimated) p.estimate = result.summary.errorEstimate;
-          p.metBound = result.summary.metTarget;
-          p.referenceSeconds = referenceSeconds * double(mapTexels) / double(axes.size());
-          points.push_back(p);
+          points.push_back(environmentPoint(map, e, environment, options, reference, floor));
         } catch (const Error& error) {
-          skipped.push_back({map.jsonPath, std::string(toString(kind)), methodName, error.what(), resolution});
+          skipped.push_back({map.jsonPath, std::string(toString(kind)), std::string(toString(method)), error.what(), resolution});
         }
         if (progress) progress(++done / total);
       }
@@ -296,17 +321,274 @@ std::vector<Point> sweepEnvironment(const MapSpec& map, const Environment& envir
   return points;
 }
 
+// The flags, as given.
+struct Args {
+  std::string spec, output, csv;
+  std::string resolutions = kMaterialResolutions, samples = "1,4,16", parameterizations = "sphere,paraboloid,cube,latlong";
+  std::string methods = "auto,sh,direct,importance", environmentError = "texel";
+  int threads = 0, lookups = 20000, subset = 256;
+  double maxError = 0.0;
+  bool json = false, quiet = false;
+  bool resolutionsGiven = false;  // --resolutions was given: it sets both kinds of map
+};
+
+// The flags, parsed and checked.
+struct Settings {
+  std::vector<int> resolutions, environmentResolutions, samples;
+  std::vector<ParameterizationKind> kinds;
+  std::vector<PrefilterMethod> methods;
+  fs::path output;
+  bool lookupError = false;  // --environment-error lookup
+  bool progress = true;      // progress bars and notes on the terminal
+};
+
+// One map's points and its panel's title (no points: nothing to draw).
+struct MapChart {
+  std::vector<Point> points;
+  std::string title;
+  bool environment = false;  // drawn with environmentScript, else materialScript
+};
+
+void registerOptions(CLI::App* command, Args& args, CLI::Option*& resolutionsOption) {
+  command->add_option("spec", args.spec, "Spec file")->required();
+  command->add_option("-o,--output", args.output, "Chart (.png or .svg); several maps: one panel each in this picture");
+  command->add_option("--csv", args.csv, "Also write the points as CSV");
+  resolutionsOption = command->add_option("--resolutions", args.resolutions,
+                                          "Comma-separated resolutions (default 32,64,128,256,512 for materials, "
+                                          "16,32,64 for environment maps)");
+  command->add_option("--samples", args.samples, "Comma-separated samples per texel (material maps)")->default_str(args.samples);
+  command->add_option("--parameterizations", args.parameterizations, "Comma-separated parameterizations")->default_str(args.parameterizations);
+  command->add_option("--methods", args.methods, "Comma-separated prefilter methods (environment maps): auto, sh, direct, importance, reference")
+      ->default_str(args.methods);
+  addEnvironmentMaxErrorOption(command, args.maxError,
+                               "Environment maps: the bound methods choose their settings for (default: the map's max_error)");
+  command->add_option("--subset", args.subset, "Environment maps: random output texels (and lookup directions) compared with the reference")
+      ->default_val(256)
+      ->check(CLI::Range(16, 1000000));
+  command->add_option("--environment-error", args.environmentError,
+                      "Environment maps: the error charted and the Pareto front taken on: texel (at texel centres) or lookup (bilinear lookups)")
+      ->default_str(args.environmentError)
+      ->check(CLI::IsMember({"texel", "lookup"}));
+  command->add_option("--lookups", args.lookups, "Material maps: random directions per error measurement")->default_val(20000)->check(CLI::Range(100, 10000000));
+  addThreadsOption(command, args.threads);
+  addQuietFlag(command, args.quiet);
+  addJsonFlag(command, args.json, "the points (skipped ones with \"skipped\": true)");
+}
+
+Settings parseSettings(const Args& args) {
+  const auto toInt = [](const std::string& s) {
+    std::size_t used = 0;
+    const int v = std::stoi(s, &used);
+    if (used != s.size() || v < 1) throw std::invalid_argument(s);
+    return v;
+  };
+  Settings settings;
+  settings.resolutions = parseList<int>(args.resolutions, "--resolutions", toInt);
+  settings.environmentResolutions =
+      args.resolutionsGiven ? settings.resolutions : parseList<int>(kEnvironmentResolutions, "--resolutions", toInt);
+  settings.samples = parseList<int>(args.samples, "--samples", toInt);
+  settings.kinds = parseList<ParameterizationKind>(args.parameterizations, "--parameterizations",
+                                                   [](const std::string& s) { return parseParameterizationKind(s); });
+  settings.methods =
+      parseList<PrefilterMethod>(args.methods, "--methods", [](const std::string& s) { return parsePrefilterMethod(s); });
+  if (args.output.empty() && args.csv.empty() && !args.json) {
+    throw Error(Error::Kind::InvalidArgument, "chart: give -o CHART.png, --csv FILE or --json (nothing to write)");
+  }
+  settings.output = args.output;
+  if (!settings.output.empty()) checkChartPath(settings.output);
+  settings.lookupError = args.environmentError == "lookup";
+  settings.progress = !args.json && !args.quiet;
+  return settings;
+}
+
+// Every input and output checked before any work.
+void checkFiles(const BakeSpec& spec, const Args& args) {
+  FilePlan plan;
+  plan.addInput(args.spec, "spec");
+  for (const auto& map : spec.maps) {
+    for (const auto& input : map.inputs) plan.addInput(input.file, input.role);
+  }
+  if (!args.output.empty()) plan.addOutput(args.output, "-o");
+  if (!args.csv.empty()) plan.addOutput(args.csv, "--csv");
+  plan.check();
+}
+
+// Why an environment map cannot be charted, or empty.
+std::string environmentSkipReason(const EnvironmentMapSpec& e) {
+  if (e.analyticLobe() && e.analyticLobe()->isMirror()) {
+    return "the mirror lobe is a resampling with no reference to chart against; map skipped";
+  }
+  if (e.lobeModel() && e.lobeModel()->elevation != LobeElevation::Constant) {
+    return "lobes that vary with elevation prefilter into a stack of maps (one per elevation); chart a slice's "
+           "constant model instead; map skipped";
+  }
+  return "";
+}
+
+MapChart chartEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e, const Environment& environment,
+                             const Args& args, const Settings& settings, std::vector<Skipped>& skipped) {
+  if (const std::string reason = environmentSkipReason(e); !reason.empty()) {
+    skipped.push_back({map.jsonPath, "", "", reason, 0});
+    return {};
+  }
+  EnvironmentSweep sweep;
+  sweep.kinds = settings.kinds;
+  sweep.resolutions = settings.environmentResolutions;
+  sweep.methods = settings.methods;
+  sweep.subset = args.subset;
+  sweep.maxError = args.maxError;
+  sweep.threads = args.threads;
+  ProgressBar bar(map.jsonPath, settings.progress);
+  MapChart chart;
+  chart.environment = true;
+  chart.points = sweepEnvironment(map, e, environment, sweep, skipped, bar);
+  chart.title = map.jsonPath + ": " + e.lobeName + " of " + e.file.filename().string() + ", bound " +
+                percent(args.maxError > 0.0 ? args.maxError : e.maxError) + " (" + map.output.filename().string() + ")";
+  return chart;
+}
+
+// One bake of a material map, timed and measured against the exact model.
+Point materialPoint(const MapSpec& map, const MapFunction& function, const ErrorProbes& probes, ParameterizationKind kind,
+                    int resolution, int samplesPerTexel, int threads) {
+  const auto parameterization = makeParameterization(kind, resolution);
+  BakeOptions options;
+  options.samplesPerTexel = samplesPerTexel;
+  options.threads = threads;
+  const auto [image, summary] = bakeMap(*parameterization, function, options);
+  Point p;
+  p.map = map.jsonPath;
+  p.parameterization = std::string(toString(kind));
+  p.resolution = resolution;
+  p.samples = samplesPerTexel;
+  p.texels = static_cast<long long>(parameterization->width()) * parameterization->height();
+  p.seconds = summary.seconds;
+  const ErrorStats error = measureMapError(image, *parameterization, probes);
+  p.rms = error.rms;
+  p.max = error.max;
+  p.visibleRms = error.visibleRms;
+  p.highlightRms = error.highlightRms;
+  p.highlightMax = error.highlightMax;
+  p.bound = autoErrorMeasure(error, kind);
+  return p;
+}
+
+MapChart chartMaterialMap(MapSpec& map, const Args& args, const Settings& settings) {
+  if (map.materialMap()->deferredFit) {
+    ProgressBar fitting(map.jsonPath + " fitting lobes", settings.progress);
+    map.prepare(fitting.callback());
+  }
+  const auto function = map.makeFunction();
+  ProgressBar bar(map.jsonPath, settings.progress);
+  const auto progress = bar.callback();
+  const double total = double(settings.kinds.size() * settings.resolutions.size() * settings.samples.size());
+  int done = 0;
+  ErrorOptions errorOptions;
+  errorOptions.samples = args.lookups;
+  const ErrorProbes probes(*function, errorOptions);
+  MapChart chart;
+  for (const auto kind : settings.kinds)
+    for (const int resolution : settings.resolutions)
+      for (const int spt : settings.samples) {
+        chart.points.push_back(materialPoint(map, *function, probes, kind, resolution, spt, args.threads));
+        if (progress) progress(++done / total);
+      }
+  chart.title = map.jsonPath + ": " + map.modelName() + " (" + map.output.filename().string() + ")";
+  return chart;
+}
+
+// A point as --json reports it; `chart` is the picture holding its panel (empty: none).
+nlohmann::json pointEntry(const Point& p, const fs::path& chart) {
+  nlohmann::json entry = {{"map", p.map}, {"parameterization", p.parameterization}, {"resolution", p.resolution},
+                          {"samples_per_texel", p.samples}, {"texels", p.texels}, {"seconds", p.seconds},
+                          {"rms", p.rms}, {"max", p.max}, {"visible_rms", p.visibleRms},
+                          {"pareto", p.pareto}, {"method", p.method}};
+  if (!chart.empty()) entry["chart"] = chart.string();
+  if (!p.environment) {
+    entry["highlight_rms"] = p.highlightRms;
+    entry["highlight_max"] = p.highlightMax;
+    entry["error"] = p.bound;
+  } else {
+    entry["detail"] = p.detail;
+    entry["estimate"] = p.estimate >= 0.0 ? nlohmann::json(p.estimate) : nlohmann::json(nullptr);
+    entry["met_bound"] = p.metBound;
+    entry["lookup_rms"] = p.lookupRms;
+    entry["lookup_max"] = p.lookupMax;
+    entry["reference_seconds"] = p.referenceSeconds;
+  }
+  return entry;
+}
+
+// A skipped map or combination as --json reports it, also noted on the terminal.
+nlohmann::json skippedEntry(const Skipped& k, bool print) {
+  nlohmann::json entry = {{"map", k.map}, {"skipped", true}, {"note", k.note}};
+  if (!k.method.empty()) {
+    entry["parameterization"] = k.parameterization;
+    entry["resolution"] = k.resolution;
+    entry["method"] = k.method;
+  }
+  if (print) {
+    std::cout << "note: " << k.map;
+    if (!k.method.empty()) std::cout << " " << k.parameterization << " " << k.resolution << " " << k.method << " skipped";
+    std::cout << ": " << k.note << "\n";
+  }
+  return entry;
+}
+
+// The chart (one panel per map with points), the CSV and the JSON report.
+void writeOutputs(const Args& args, const Settings& settings, const std::vector<std::string>& panels,
+                  const std::vector<Point>& points, const nlohmann::json& report) {
+  if (!panels.empty()) {
+    renderWithGnuplot(panels, settings.output);
+    if (settings.progress) {
+      std::cout << "wrote " << settings.output.string() << " (" << panels.size()
+                << (panels.size() == 1 ? " chart)" : " charts, one per map)") << "\n";
+    }
+  }
+  if (!args.csv.empty()) writeCsv(points, args.csv);
+  if (args.json) std::cout << report.dump(2) << "\n";
+}
+
+int run(const Args& args) {
+  const Settings settings = parseSettings(args);
+  BakeSpec spec = loadBakeSpec(args.spec);
+  checkFiles(spec, args);
+  // Environments are read (and checked) before any work, as `bake` does.
+  std::vector<std::optional<Environment>> environments(spec.maps.size());
+  for (std::size_t i = 0; i < spec.maps.size(); ++i)
+    if (const EnvironmentMapSpec* e = spec.maps[i].environmentMap()) {
+      environments[i] = loadEnvironment(e->file, EnvironmentLoadOptions{e->from});
+    }
+  // Warm up the thread pool, so the first point does not carry its start-up.
+  bake(*makeParameterization(ParameterizationKind::Sphere, 8), ConstantEnvironment());
+
+  nlohmann::json report = nlohmann::json::array();
+  std::vector<Point> all;
+  std::vector<Skipped> skipped;
+  std::vector<std::string> panels;  // one chart per map, drawn into -o as one picture
+  for (std::size_t m = 0; m < spec.maps.size(); ++m) {
+    MapSpec& map = spec.maps[m];
+    const std::size_t skippedBefore = skipped.size();
+    MapChart chart = std::visit(
+        Overloaded{[&](const EnvironmentMapSpec& e) { return chartEnvironmentMap(map, e, *environments[m], args, settings, skipped); },
+                   [&](const MaterialMapSpec&) { return chartMaterialMap(map, args, settings); }},
+        map.content);
+    markPareto(chart.points, settings.lookupError);
+    const bool drawn = !settings.output.empty() && !chart.points.empty();
+    if (drawn) {
+      panels.push_back(chart.environment ? environmentScript(chart.points, chart.title, settings.lookupError)
+                                         : materialScript(chart.points, chart.title));
+    }
+    for (const auto& p : chart.points) report.push_back(pointEntry(p, drawn ? settings.output : fs::path()));
+    for (std::size_t s = skippedBefore; s < skipped.size(); ++s) report.push_back(skippedEntry(skipped[s], settings.progress));
+    all.insert(all.end(), chart.points.begin(), chart.points.end());
+  }
+  writeOutputs(args, settings, panels, all, report);
+  return 0;
+}
+
 }  // namespace
 
 Command addChartCommand(CLI::App& app) {
-  struct Args {
-    std::string spec, output, csv;
-    std::string resolutions = kMaterialResolutions, samples = "1,4,16", parameterizations = "sphere,paraboloid,cube,latlong";
-    std::string methods = "auto,sh,direct,importance", environmentError = "texel";
-    int threads = 0, lookups = 20000, subset = 256;
-    double maxError = 0.0;
-    bool json = false, quiet = false;
-  };
   auto args = std::make_shared<Args>();
   auto* command = app.add_subcommand("chart", "Chart bake or prefilter time against accuracy for the maps of a spec");
   command->footer(R"(Material maps: bakes every combination of parameterization x resolution x samples per texel,
@@ -338,193 +620,11 @@ Examples:
   brdfbake chart data_samples/specs/phong_eye.json -o phong_chart.png --csv phong_chart.csv
   brdfbake chart spec.json -o c.svg --resolutions 64,256 --samples 1,16 --parameterizations sphere,cube
   brdfbake chart data_samples/specs/prefilter_sky.json -o sky.png --csv sky.csv --methods auto,sh,direct)");
-  command->add_option("spec", args->spec, "Spec file")->required();
-  command->add_option("-o,--output", args->output, "Chart (.png or .svg); several maps: one panel each in this picture");
-  command->add_option("--csv", args->csv, "Also write the points as CSV");
-  auto* resolutionsOption = command->add_option("--resolutions", args->resolutions,
-                                                "Comma-separated resolutions (default 32,64,128,256,512 for materials, "
-                                                "16,32,64 for environment maps)");
-  command->add_option("--samples", args->samples, "Comma-separated samples per texel (material maps)")->default_str(args->samples);
-  command->add_option("--parameterizations", args->parameterizations, "Comma-separated parameterizations")->default_str(args->parameterizations);
-  command->add_option("--methods", args->methods, "Comma-separated prefilter methods (environment maps): auto, sh, direct, importance, reference")
-      ->default_str(args->methods);
-  addEnvironmentMaxErrorOption(command, args->maxError,
-                               "Environment maps: the bound methods choose their settings for (default: the map's max_error)");
-  command->add_option("--subset", args->subset, "Environment maps: random output texels (and lookup directions) compared with the reference")
-      ->default_val(256)
-      ->check(CLI::Range(16, 1000000));
-  command->add_option("--environment-error", args->environmentError,
-                      "Environment maps: the error charted and the Pareto front taken on: texel (at texel centres) or lookup (bilinear lookups)")
-      ->default_str(args->environmentError)
-      ->check(CLI::IsMember({"texel", "lookup"}));
-  command->add_option("--lookups", args->lookups, "Material maps: random directions per error measurement")->default_val(20000)->check(CLI::Range(100, 10000000));
-  addThreadsOption(command, args->threads);
-  addQuietFlag(command, args->quiet);
-  addJsonFlag(command, args->json, "the points (skipped ones with \"skipped\": true)");
+  CLI::Option* resolutionsOption = nullptr;
+  registerOptions(command, *args, resolutionsOption);
   return [args, resolutionsOption] {
-    const auto toInt = [](const std::string& s) {
-      std::size_t used = 0;
-      const int v = std::stoi(s, &used);
-      if (used != s.size() || v < 1) throw std::invalid_argument(s);
-      return v;
-    };
-    const bool resolutionsGiven = resolutionsOption->count() > 0;
-    const auto resolutions = parseList<int>(args->resolutions, "--resolutions", toInt);
-    const auto environmentResolutions =
-        resolutionsGiven ? resolutions : parseList<int>(kEnvironmentResolutions, "--resolutions", toInt);
-    const auto samples = parseList<int>(args->samples, "--samples", toInt);
-    const auto kinds = parseList<ParameterizationKind>(args->parameterizations, "--parameterizations",
-                                                       [](const std::string& s) { return parseParameterizationKind(s); });
-    const auto methods = parseList<PrefilterMethod>(args->methods, "--methods", [](const std::string& s) { return parsePrefilterMethod(s); });
-    if (args->output.empty() && args->csv.empty() && !args->json) {
-      throw Error(Error::Kind::InvalidArgument, "chart: give -o CHART.png, --csv FILE or --json (nothing to write)");
-    }
-    const fs::path output = args->output;
-    if (!output.empty()) checkChartPath(output);
-    const bool lookupError = args->environmentError == "lookup";
-    BakeSpec spec = loadBakeSpec(args->spec);
-    FilePlan plan;
-    plan.addInput(args->spec, "spec");
-    for (const auto& map : spec.maps) {
-      for (const auto& input : map.inputs) plan.addInput(input.file, input.role);
-    }
-    if (!output.empty()) plan.addOutput(output, "-o");
-    if (!args->csv.empty()) plan.addOutput(args->csv, "--csv");
-    plan.check();
-
-    // Environments are read (and checked) before any work, as `bake` does.
-    std::vector<std::optional<Environment>> environments(spec.maps.size());
-    for (std::size_t i = 0; i < spec.maps.size(); ++i)
-      if (const auto& e = spec.maps[i].environment) environments[i] = loadEnvironment(e->file, EnvironmentLoadOptions{e->from});
-
-    // Warm up the thread pool, so the first point does not carry its start-up.
-    for (const auto& map : spec.maps) {
-      if (map.environment) continue;
-      bake(*makeParameterization(ParameterizationKind::Sphere, 8), *map.makeFunction());
-      break;
-    }
-    nlohmann::json report = nlohmann::json::array();
-    std::vector<Point> all;
-    std::vector<Skipped> skipped;
-    std::vector<std::string> panels;  // one chart per map, drawn into -o as one picture
-    for (std::size_t m = 0; m < spec.maps.size(); ++m) {
-      MapSpec& map = spec.maps[m];
-      std::vector<Point> points;
-      std::string title;
-      const std::size_t skippedBefore = skipped.size();
-      if (map.environment) {
-        const EnvironmentMapSpec& e = *map.environment;
-        if (e.analyticLobe() && e.analyticLobe()->isMirror()) {
-          skipped.push_back({map.jsonPath, "", "", "the mirror lobe is a resampling with no reference to chart against; map skipped", 0});
-        } else if (e.lobeModel() && e.lobeModel()->elevation != LobeElevation::Constant) {
-          skipped.push_back({map.jsonPath, "", "", "lobes that vary with elevation prefilter into a stack of maps (one per "
-                                                   "elevation); chart a slice's constant model instead; map skipped", 0});
-        } else {
-          EnvironmentSweep sweep;
-          sweep.kinds = kinds;
-          sweep.resolutions = environmentResolutions;
-          sweep.methods = methods;
-          sweep.subset = args->subset;
-          sweep.maxError = args->maxError;
-          sweep.threads = args->threads;
-          ProgressBar bar(map.jsonPath, !args->json && !args->quiet);
-          points = sweepEnvironment(map, *environments[m], sweep, skipped, bar);
-          title = map.jsonPath + ": " + e.lobeName + " of " + e.file.filename().string() + ", bound " +
-                  percent(args->maxError > 0.0 ? args->maxError : e.maxError) + " (" + map.output.filename().string() + ")";
-        }
-      } else {
-        if (map.deferredFit) {
-          ProgressBar fitting(map.jsonPath + " fitting lobes", !args->json && !args->quiet);
-          map.prepare(fitting.callback());
-        }
-        const auto function = map.makeFunction();
-        ProgressBar bar(map.jsonPath, !args->json && !args->quiet);
-        const auto progress = bar.callback();
-        const double total = double(kinds.size() * resolutions.size() * samples.size());
-        int done = 0;
-        ErrorOptions errorOptions;
-        errorOptions.samples = args->lookups;
-        const ErrorProbes probes(*function, errorOptions);
-        for (const auto kind : kinds) {
-          for (const int resolution : resolutions) {
-            for (const int spt : samples) {
-              const auto parameterization = makeParameterization(kind, resolution);
-              BakeOptions options;
-              options.samplesPerTexel = spt;
-              options.threads = args->threads;
-              const auto [image, summary] = bakeMap(*parameterization, *function, options);
-              Point p;
-              p.map = map.jsonPath;
-              p.parameterization = std::string(toString(kind));
-              p.resolution = resolution;
-              p.samples = spt;
-              p.texels = static_cast<long long>(parameterization->width()) * parameterization->height();
-              p.seconds = summary.seconds;
-              const ErrorStats error = measureMapError(image, *parameterization, probes);
-              p.rms = error.rms;
-              p.max = error.max;
-              p.visibleRms = error.visibleRms;
-              p.highlightRms = error.highlightRms;
-              p.highlightMax = error.highlightMax;
-              p.bound = autoErrorMeasure(error, kind);
-              points.push_back(p);
-              if (progress) progress(++done / total);
-            }
-          }
-        }
-        title = map.jsonPath + ": " + std::string(map.material->model()) + " (" + map.output.filename().string() + ")";
-      }
-      markPareto(points, lookupError);
-      fs::path chart;
-      if (!output.empty() && !points.empty()) {
-        chart = output;
-        panels.push_back(map.environment ? environmentScript(points, title, lookupError) : materialScript(points, title));
-      }
-      for (const auto& p : points) {
-        nlohmann::json entry = {{"map", p.map}, {"parameterization", p.parameterization}, {"resolution", p.resolution},
-                                {"samples_per_texel", p.samples}, {"texels", p.texels}, {"seconds", p.seconds},
-                                {"rms", p.rms}, {"max", p.max}, {"visible_rms", p.visibleRms},
-                                {"pareto", p.pareto}, {"method", p.method}};
-        if (!chart.empty()) entry["chart"] = chart.string();
-        if (!p.environment) {
-          entry["highlight_rms"] = p.highlightRms;
-          entry["highlight_max"] = p.highlightMax;
-          entry["error"] = p.bound;
-        }
-        if (p.environment) {
-          entry["detail"] = p.detail;
-          entry["estimate"] = p.estimate >= 0.0 ? nlohmann::json(p.estimate) : nlohmann::json(nullptr);
-          entry["met_bound"] = p.metBound;
-          entry["lookup_rms"] = p.lookupRms;
-          entry["lookup_max"] = p.lookupMax;
-          entry["reference_seconds"] = p.referenceSeconds;
-        }
-        report.push_back(entry);
-      }
-      for (std::size_t s = skippedBefore; s < skipped.size(); ++s) {
-        const Skipped& k = skipped[s];
-        nlohmann::json entry = {{"map", k.map}, {"skipped", true}, {"note", k.note}};
-        if (!k.method.empty()) {
-          entry["parameterization"] = k.parameterization;
-          entry["resolution"] = k.resolution;
-          entry["method"] = k.method;
-        }
-        report.push_back(entry);
-        if (!args->json && !args->quiet) {
-          std::cout << "note: " << k.map;
-          if (!k.method.empty()) std::cout << " " << k.parameterization << " " << k.resolution << " " << k.method << " skipped";
-          std::cout << ": " << k.note << "\n";
-        }
-      }
-      all.insert(all.end(), points.begin(), points.end());
-    }
-    if (!panels.empty()) {
-      renderWithGnuplot(panels, output);
-      if (!args->json && !args->quiet) std::cout << "wrote " << output.string() << " (" << panels.size() << (panels.size() == 1 ? " chart)" : " charts, one per map)") << "\n";
-    }
-    if (!args->csv.empty()) writeCsv(all, args->csv);
-    if (args->json) std::cout << report.dump(2) << "\n";
-    return 0;
+    args->resolutionsGiven = resolutionsOption->count() > 0;
+    return run(*args);
   };
 }
 

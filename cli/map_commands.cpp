@@ -82,12 +82,12 @@ Command addSampleCommand(CLI::App& app) {
   command->footer(R"(MAP is any output of bake or prefilter: a map (sphere, paraboloid, cube, lat-long; a mip level
 STEM_mipK.EXT, or --mip-level K of a tiled MIP-mapped file or of STEM.EXT), a cube written as six faces
 (pass STEM.EXT or any face), a 1-D radial profile, an elevation stack STEM_elev0.EXT ... (pass STEM.EXT,
-and --cos-view), a 1-D Fresnel profile (--cos-view only, no direction), or an SH irradiance JSON.
+and --cos-view), a 1-D Fresnel table (--cos-view only, no direction), or an SH irradiance JSON.
 
 The direction is the one the map is indexed by, in the map's frame: the reflected direction r (eye
 space for sphere maps and profiles: +z towards the viewer, y up), or the normal n for irradiance
 (irradiance maps other than sphere maps, SH). --cos-view is n.v: an elevation stack is interpolated
-between its slices at t = clamp(ln(n.v / min_cos) / ln(max_cos / min_cos), 0, 1), a Fresnel profile
+between its slices at t = clamp(ln(n.v / min_cos) / ln(max_cos / min_cos), 0, 1), a Fresnel table
 is read at cos theta = n.v. Kinds that do not use n.v refuse it.
 
 Prints R G B A (alpha: the map's coverage, 1 for profiles and SH), one line per direction. With
@@ -122,12 +122,12 @@ Examples:
     if (!args->dirs.empty()) directions = readDirectionsFile(args->dirs);
     if (!output.usesDirection() && !directions.empty()) {
       throw Error(Error::Kind::InvalidArgument, std::string(args->dirs.empty() ? "--dir" : "--dirs") +
-                                                    ": a Fresnel profile is a function of n.v alone: give --cos-view only");
+                                                    ": a Fresnel table is a function of n.v alone: give --cos-view only");
     }
     if (output.usesDirection() && directions.empty()) {
       throw Error(Error::Kind::InvalidArgument, "--dir or --dirs: a " + std::string(toString(output.kind())) + " is looked up at a direction");
     }
-    if (directions.empty()) directions.push_back({Vec3::UnitZ(), 0});  // a Fresnel profile: n.v alone
+    if (directions.empty()) directions.push_back({Vec3::UnitZ(), 0});  // a Fresnel table: n.v alone
     nlohmann::json array = nlohmann::json::array();
     std::ostringstream text;
     for (const auto& [direction, line] : directions) {
@@ -183,7 +183,7 @@ Command addInfoCommand(CLI::App& app) {
       const nlohmann::json& metadata = output->metadata();
       switch (output->kind()) {
         case OutputKind::RadialProfile:
-        case OutputKind::FresnelProfile:
+        case OutputKind::FresnelTable:
           info["parameterization"] = metadata.value("parameterization", "");
           info["width"] = info["resolution"];
           info["height"] = 1;
@@ -243,7 +243,7 @@ Command addConvertCommand(CLI::App& app) {
   auto* command = app.add_subcommand("convert", "Resample a map into another parameterization");
   command->footer("Each output texel averages lookups of the input over its footprint, the lookups a renderer\n"
                   "makes (brdfbake sample --help): any output of bake or prefilter converts. An elevation stack\n"
-                  "needs --cos-view (the map at that n.v); a Fresnel profile converts --to sphere only, as\n"
+                  "needs --cos-view (the map at that n.v); a Fresnel table converts --to sphere only, as\n"
                   "seen from +z (the texel at r holds F(n.v), n = normalize(r + z)). Plain environment images\n"
                   "(no brdfbake metadata) need --from.");
   command->add_option("map", args->map, "Input map or image")->required();
@@ -262,8 +262,8 @@ Command addConvertCommand(CLI::App& app) {
     const BakedOutput source = openOutput(args->map, args->from, args->mipLevel);
     checkCosView(source, args->cosView, false);
     const ParameterizationKind kind = parseParameterizationKind(args->to);
-    if (source.kind() == OutputKind::FresnelProfile && kind != ParameterizationKind::Sphere) {
-      throw Error(Error::Kind::InvalidArgument, "--to: a Fresnel profile is a function of n.v; only a sphere map (eye space, view "
+    if (source.kind() == OutputKind::FresnelTable && kind != ParameterizationKind::Sphere) {
+      throw Error(Error::Kind::InvalidArgument, "--to: a Fresnel table is a function of n.v; only a sphere map (eye space, view "
                                                 "+z) holds it as a function of direction");
     }
     const nlohmann::json described = source.describe();

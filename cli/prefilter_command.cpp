@@ -257,7 +257,7 @@ int runPrefilter(const PrefilterArgs& args) {
     extra["fresnel"] = {{"combine", std::string(toString(combine))},
                         {"ior", args.fresnelIor},
                         {"irradiance", fresnelIrradiancePath(args.output).string()},
-                        {"profile", fresnelProfilePath(args.output).string()},
+                        {"table", fresnelTablePath(args.output).string()},
                         {"irradiance_prefilter", decomposition->irradiance.summary.toJson()}};
   }
 
@@ -283,7 +283,7 @@ int runPrefilter(const PrefilterArgs& args) {
               << map.map->height() << "): " << s.briefReport() << "; write " << writeSeconds << " s\n";
     if (written.files.size() > 1) {
       std::cout << "  " << written.files.size() - 1 << " more files (" << (slices ? "elevation slices, " : "")
-                << (decomposition ? "irradiance map and Fresnel profile, " : "") << "mip levels or cube faces)\n";
+                << (decomposition ? "irradiance map and Fresnel table, " : "") << "mip levels or cube faces)\n";
     }
     if (decomposition) std::cout << "  irradiance map: " << decomposition->irradiance.summary.briefReport() << "\n";
     for (const auto& note : s.notes) std::cout << "  note: " << note << "\n";
@@ -332,7 +332,7 @@ Command addPrefilterCommand(CLI::App& app) {
                       "Lobe models varying with elevation: maps in the stack STEM_elev0.EXT ... (default 8)")
       ->check(CLI::Range(2, 64));
   command->add_option("--fresnel-ior", args->fresnelIor,
-                      "Fresnel decomposition: also write STEM_irradiance.EXT and the 1-D Fresnel profile STEM_fresnel.EXT "
+                      "Fresnel decomposition: also write STEM_irradiance.EXT and the 1-D Fresnel table STEM_fresnel.EXT "
                       "of a dielectric of this index")
       ->check(CLI::PositiveNumber);
   command->add_option("--combine", args->combine, "Fresnel decomposition: add (F L_m + k_d E/pi) | mix (F L_m + (1-F) k_d E/pi)")

@@ -32,7 +32,7 @@ Examples:
   brdfbake preview out/phong_paraboloid.exr -o side.png --object torus --view 1,0.5,0
 
 Every output of bake and prefilter previews as a renderer shades it: a 1-D radial profile at r, an
-elevation stack at r and each pixel's n.v, a Fresnel profile at n.v, irradiance (maps other than
+elevation stack at r and each pixel's n.v, a Fresnel table at n.v, irradiance (maps other than
 sphere maps, SH JSON) at the normal. --per-vertex applies to 2-D maps looked up at r.)");
   command->add_option("map", args->map, "Output of bake or prefilter (or a plain image with --from)")->required();
   command->add_option("-o,--output", args->output, "Output image (.png is 8-bit sRGB; .exr keeps HDR values)")->required();

@@ -68,7 +68,7 @@ BakedOutput openOutput(const std::string& path, const std::string& from, int mip
 void addCosViewOption(CLI::App* command, std::optional<double>& cosView) {
   command->add_option("--cos-view", cosView,
                       "n.v in [0, 1], the cosine between the surface normal and the direction towards the viewer: where an "
-                      "elevation stack is interpolated, and where a Fresnel profile is read")
+                      "elevation stack is interpolated, and where a Fresnel table is read")
       ->check(CLI::Range(0.0, 1.0));
 }
 
@@ -80,12 +80,12 @@ void addMipLevelOption(CLI::App* command, int& mipLevel) {
 }
 
 void checkCosView(const BakedOutput& output, const std::optional<double>& cosView, bool fresnelNeedsIt) {
-  const bool needs = output.kind() == OutputKind::ElevationStack || (fresnelNeedsIt && output.kind() == OutputKind::FresnelProfile);
-  const bool uses = needs || output.kind() == OutputKind::FresnelProfile;
+  const bool needs = output.kind() == OutputKind::ElevationStack || (fresnelNeedsIt && output.kind() == OutputKind::FresnelTable);
+  const bool uses = needs || output.kind() == OutputKind::FresnelTable;
   if (needs && !cosView) {
     throw Error(Error::Kind::InvalidArgument, "--cos-view: a" + std::string(output.kind() == OutputKind::ElevationStack
                                                                                 ? "n elevation stack is interpolated at n.v"
-                                                                                : " Fresnel profile is read at n.v") +
+                                                                                : " Fresnel table is read at n.v") +
                                                   "; give --cos-view C (C = n.v in [0, 1])");
   }
   if (cosView && !uses) {
@@ -94,7 +94,7 @@ void checkCosView(const BakedOutput& output, const std::optional<double>& cosVie
                                                   "profiles)");
   }
   if (cosView && !needs) {
-    throw Error(Error::Kind::InvalidArgument, "--cos-view: here a Fresnel profile takes n.v from each direction (the view +z)");
+    throw Error(Error::Kind::InvalidArgument, "--cos-view: here a Fresnel table takes n.v from each direction (the view +z)");
   }
 }
 

@@ -49,7 +49,7 @@ BakedOutput openOutput(const std::string& path, const std::string& from, int mip
 /// --cos-view C and --mip-level L, with one meaning on every command that reads outputs.
 void addCosViewOption(CLI::App* command, std::optional<double>& cosView);
 void addMipLevelOption(CLI::App* command, int& mipLevel);
-/// Checks --cos-view against what `output` uses: required by stacks (and by Fresnel profiles
+/// Checks --cos-view against what `output` uses: required by stacks (and by Fresnel tables
 /// when `fresnelNeedsIt`), refused by kinds that do not use it. Throws Error(InvalidArgument).
 void checkCosView(const BakedOutput& output, const std::optional<double>& cosView, bool fresnelNeedsIt = true);
 

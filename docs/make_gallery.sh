@@ -42,8 +42,7 @@ JSON
 
 
 # Per-vertex interpolation error, and Zimmons 1999's line experiment with one polygon and unit segments.
-"$cli" interpolation -o "$out/interpolation.png" --csv "$out/interpolation.csv" > /dev/null
-mv "$out/interpolation_line.png" "$out/interpolation_line_one_polygon.png"
-"$cli" interpolation -o "$work/i.png" --segment 1 > /dev/null
-mv "$work/i_line.png" "$out/interpolation_line_unit_segments.png"
+"$cli" interpolation -o "$out/interpolation.png" --csv "$out/interpolation.csv" \
+  --line-chart "$out/interpolation_line_one_polygon.png" > /dev/null
+"$cli" interpolation --line-chart "$out/interpolation_line_unit_segments.png" --segment 1 > /dev/null
 echo "gallery and charts written to $out"

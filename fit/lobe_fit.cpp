@@ -563,122 +563,147 @@ LobeModel fittedRange(const MeasuredTable& table) {
   return range;
 }
 
-// The Ceres per-channel fit (FitMethod::PerChannel) of one explicit lobe count and elevation (the
-// in-sample greedy sequence below still grows K from 1).
-FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options) {
-  const auto start = Clock::now();
-  const std::string label = table.sourceFile.empty() ? std::string("table") : table.sourceFile;
-  const std::size_t channels = table.channelCount();
-  if (channels == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
+// The error auto choices compare: RMS of the plain cube-root residuals over every channel (the
+// robust loss shapes the fit, but a highlight it discounts still counts here).
+double jointError(const std::vector<Candidate>& perChannel, std::size_t samples) {
+  double squares = 0.0;
+  for (const auto& c : perChannel) squares += c.valid ? c.squares : HUGE_VAL;
+  return std::sqrt(squares / static_cast<double>(samples * perChannel.size()));
+}
 
-  const LobeModel range = fittedRange(table);
-
-  std::vector<std::unique_ptr<ChannelFitter>> fitters;
-  for (std::size_t c = 0; c < channels; ++c) {
-    fitters.push_back(std::make_unique<ChannelFitter>(channelData(table, c, range), options));
+// The per-channel Ceres fits of K = 1, 2, ... lobes of each elevation, every channel in parallel,
+// each K starting from the fits of K - 1 (and a varying K from the constant K).
+class PerChannelSequences {
+ public:
+  PerChannelSequences(const MeasuredTable& table, const FitOptions& options, const LobeModel& range, int maxLobes)
+      : options_(options), maxLobes_(maxLobes), channels_(table.channelCount()) {
+    for (std::size_t c = 0; c < channels_; ++c) {
+      fitters_.push_back(std::make_unique<ChannelFitter>(channelData(table, c, range), options));
+    }
+    samples_ = fitters_.empty() ? 0 : fitters_[0]->sampleCount();
   }
-  const std::size_t samples = fitters[0]->sampleCount();
+
+  std::size_t samples() const { return samples_; }
+  const ChannelFitter& fitter(std::size_t c) const { return *fitters_[c]; }
+  /// True if the samples determine `lobes` lobes of `elevation` (no more parameters than samples).
+  bool fits(int lobes, LobeElevation elevation) const {
+    return static_cast<std::size_t>(parameterCount(lobes, elevationCoefficientCount(elevation))) <= samples_;
+  }
+  /// The fits of `lobes` lobes of `elevation`, per channel (run() made them).
+  const std::vector<Candidate>& fitted(LobeElevation elevation, int lobes) const {
+    return fitted_[index(elevation)][static_cast<std::size_t>(lobes - 1)];
+  }
+
+  /// Fits K = 1, 2, ... of one elevation; returns the chosen K (0 if none could be fitted). With
+  /// auto lobes, K - 1 is kept unless K lowered the error by at least the margin.
+  int run(LobeElevation elevation, ProgressCounter& progress, tbb::task_arena& arena) {
+    const bool autoLobes = options_.lobes == 0;
+    int chosen = 0;
+    double previousError = 0.0;
+    for (int lobes = 1; lobes <= maxLobes_; ++lobes) {
+      if (!fits(lobes, elevation)) break;
+      std::vector<Candidate> current(channels_);
+      arena.execute([&] {
+        tbb::parallel_for(std::size_t(0), channels_, [&](std::size_t c) {
+          current[c] = fitOne(elevation, lobes, c);
+          progress.step();
+        });
+      });
+      const double error = jointError(current, samples_);
+      fitted_[index(elevation)].push_back(std::move(current));
+      if (autoLobes && lobes > 1 && !(error < (1.0 - options_.autoMargin) * previousError)) break;  // 0 -> 0 is no improvement
+      chosen = lobes;
+      previousError = error;
+    }
+    return chosen;
+  }
+
+ private:
+  static std::size_t index(LobeElevation elevation) { return elevation == LobeElevation::Constant ? 0 : 1; }
+
+  Candidate fitOne(LobeElevation elevation, int lobes, std::size_t c) {
+    const auto& constant = fitted_[0];
+    if (elevation == LobeElevation::Constant) {
+      return fitters_[c]->fitConstant(lobes, lobes > 1 ? &constant[lobes - 2][c] : nullptr);
+    }
+    const Candidate* start = static_cast<int>(constant.size()) >= lobes ? &constant[lobes - 1][c] : nullptr;
+    const Candidate* previous = lobes > 1 ? &fitted_[1][lobes - 2][c] : nullptr;
+    return fitters_[c]->fitVarying(lobes, start, previous);
+  }
+
+  const FitOptions& options_;
+  int maxLobes_;
+  std::size_t channels_, samples_ = 0;
+  std::vector<std::unique_ptr<ChannelFitter>> fitters_;
+  std::vector<std::vector<Candidate>> fitted_[2];  // [elevation][K - 1][channel]
+};
+
+// Throws unless the usable samples determine the model asked for (and at least one constant lobe).
+void checkDeterminable(const PerChannelSequences& sequences, const FitOptions& options, int maxLobes, const std::string& label) {
+  const std::size_t samples = sequences.samples();
   if (samples == 0) {
     throw Error(Error::Kind::InvalidInput, label + ": no sample has both directions above the horizon; nothing to fit");
   }
-  auto fits = [&](int lobes, LobeElevation elevation) {
-    return static_cast<std::size_t>(parameterCount(lobes, elevationCoefficientCount(elevation))) <= samples;
-  };
-  if (!fits(1, LobeElevation::Constant)) {
+  if (!sequences.fits(1, LobeElevation::Constant)) {
     throw Error(Error::Kind::InvalidInput, label + ": " + std::to_string(samples) +
                                                " usable sample(s) cannot determine a lobe model (at least " +
                                                std::to_string(parameterCount(1, 1)) + " needed)");
   }
-  const bool autoLobes = options.lobes == 0;
-  const int maxLobes = autoLobes ? options.maxAutoLobes : options.lobes;
+  if (options.lobes == 0) return;
   for (LobeElevation e : {LobeElevation::Constant, LobeElevation::Varying}) {
     const bool requested = options.elevation == (e == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying);
-    if (!autoLobes && requested && !fits(maxLobes, e)) {
+    if (requested && !sequences.fits(maxLobes, e)) {
       throw Error(Error::Kind::InvalidArgument,
                   label + ": " + std::to_string(samples) + " usable samples cannot determine " +
                       std::to_string(parameterCount(maxLobes, elevationCoefficientCount(e))) + " parameters (" +
                       std::to_string(maxLobes) + " " + std::string(toString(e)) + " lobe(s))");
     }
   }
+}
 
-  const bool tryConstant = true;  // varying models start from the constant ones
+// The elevation and lobe count fitPerChannel returns: the one asked for, or with auto elevation
+// varying lobes only if they beat the constant ones by the margin.
+std::pair<LobeElevation, int> chooseElevation(const PerChannelSequences& sequences, const FitOptions& options,
+                                              int constantLobes, int varyingLobes) {
+  if (options.elevation == ElevationChoice::Varying) return {LobeElevation::Varying, varyingLobes};
+  if (options.elevation == ElevationChoice::Auto && varyingLobes > 0) {
+    const double constantError = jointError(sequences.fitted(LobeElevation::Constant, constantLobes), sequences.samples());
+    const double varyingError = jointError(sequences.fitted(LobeElevation::Varying, varyingLobes), sequences.samples());
+    if (varyingError < (1.0 - options.elevationMargin) * constantError) return {LobeElevation::Varying, varyingLobes};
+  }
+  return {LobeElevation::Constant, constantLobes};
+}
+
+// The Ceres per-channel fit (FitMethod::PerChannel) of one explicit lobe count and elevation (the
+// in-sample greedy sequence still grows K from 1).
+FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options) {
+  const auto start = Clock::now();
+  const std::string label = table.sourceFile.empty() ? std::string("table") : table.sourceFile;
+  const std::size_t channels = table.channelCount();
+  if (channels == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
+  const LobeModel range = fittedRange(table);
+  const int maxLobes = options.lobes == 0 ? options.maxAutoLobes : options.lobes;
+  PerChannelSequences sequences(table, options, range, maxLobes);
+  checkDeterminable(sequences, options, maxLobes, label);
+
   const bool tryVarying = options.elevation != ElevationChoice::Constant;
   ProgressCounter progress(options.progress, channels * static_cast<std::size_t>(maxLobes) * (tryVarying ? 2 : 1));
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
-  auto forChannels = [&](const std::function<void(std::size_t)>& work) {
-    arena.execute([&] {
-      tbb::parallel_for(std::size_t(0), channels, [&](std::size_t c) {
-        work(c);
-        progress.step();
-      });
-    });
-  };
+  // Constant models always: varying ones start from them.
+  const int constantLobes = sequences.run(LobeElevation::Constant, progress, arena);
+  const int varyingLobes = tryVarying ? sequences.run(LobeElevation::Varying, progress, arena) : 0;
+  const auto [elevation, lobes] = chooseElevation(sequences, options, constantLobes, varyingLobes);
+  if (lobes == 0) {
+    throw Error(Error::Kind::InvalidInput, label + ": " + std::to_string(sequences.samples()) +
+                                               " usable samples cannot determine a " + std::string(toString(elevation)) +
+                                               " lobe model");
+  }
 
-  // fitted[e][K - 1][c]
-  std::vector<std::vector<std::vector<Candidate>>> fitted(2);
+  const auto& chosen = sequences.fitted(elevation, lobes);
+  const int count = elevationCoefficientCount(elevation);
   FitResult result;
   result.options = options;
   result.options.progress = nullptr;
-  // The error auto choices compare: RMS of the plain cube-root residuals over every channel (the
-  // robust loss shapes the fit, but a highlight it discounts still counts here).
-  auto jointError = [&](const std::vector<Candidate>& perChannel) {
-    double squares = 0.0;
-    for (const auto& c : perChannel) squares += c.valid ? c.squares : HUGE_VAL;
-    return std::sqrt(squares / static_cast<double>(samples * channels));
-  };
-  // Fits K = 1, 2, ... of one elevation; returns the chosen K (0 if none could be fitted).
-  auto sequence = [&](LobeElevation elevation) {
-    const int e = elevation == LobeElevation::Constant ? 0 : 1;
-    int chosen = 0;
-    double previousError = 0.0;
-    for (int lobes = 1; lobes <= maxLobes; ++lobes) {
-      if (!fits(lobes, elevation)) break;
-      std::vector<Candidate> current(channels);
-      forChannels([&](std::size_t c) {
-        if (elevation == LobeElevation::Constant) {
-          current[c] = fitters[c]->fitConstant(lobes, lobes > 1 ? &fitted[0][lobes - 2][c] : nullptr);
-        } else {
-          const Candidate* constant = static_cast<int>(fitted[0].size()) >= lobes ? &fitted[0][lobes - 1][c] : nullptr;
-          const Candidate* previous = lobes > 1 ? &fitted[1][lobes - 2][c] : nullptr;
-          current[c] = fitters[c]->fitVarying(lobes, constant, previous);
-        }
-      });
-      const double error = jointError(current);
-      fitted[e].push_back(std::move(current));
-      if (autoLobes && lobes > 1) {
-        // Keep K - 1 unless K lowered the error by at least the margin (0 -> 0 is no improvement).
-        if (!(error < (1.0 - options.autoMargin) * previousError)) break;
-      }
-      chosen = lobes;
-      previousError = error;
-    }
-    return chosen;
-  };
-
-  int constantLobes = 0, varyingLobes = 0;
-  if (tryConstant) constantLobes = sequence(LobeElevation::Constant);
-  if (tryVarying) varyingLobes = sequence(LobeElevation::Varying);
-
-  LobeElevation elevation = LobeElevation::Constant;
-  int lobes = constantLobes;
-  if (options.elevation == ElevationChoice::Varying) {
-    elevation = LobeElevation::Varying;
-    lobes = varyingLobes;
-  } else if (options.elevation == ElevationChoice::Auto && varyingLobes > 0) {
-    const double constantError = jointError(fitted[0][constantLobes - 1]);
-    const double varyingError = jointError(fitted[1][varyingLobes - 1]);
-    if (varyingError < (1.0 - options.elevationMargin) * constantError) {
-      elevation = LobeElevation::Varying;
-      lobes = varyingLobes;
-    }
-  }
-  if (lobes == 0) {
-    throw Error(Error::Kind::InvalidInput, label + ": " + std::to_string(samples) + " usable samples cannot determine a " +
-                                               std::string(toString(elevation)) + " lobe model");
-  }
-
-  const auto& chosen = fitted[elevation == LobeElevation::Constant ? 0 : 1][lobes - 1];
-  const int count = elevationCoefficientCount(elevation);
   result.model.elevation = elevation;
   result.model.minCos = range.minCos;
   result.model.maxCos = range.maxCos;
@@ -692,16 +717,15 @@ FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options) {
     ChannelFitStats stats = evaluateFit(result.model, table, c);
     stats.solver = chosen[c].report;
     stats.solver.usable = stats.solver.usable && chosen[c].valid;
-    stats.totalIterations = fitters[c]->totalIterations;
-    stats.seconds = fitters[c]->seconds;
+    stats.totalIterations = sequences.fitter(c).totalIterations;
+    stats.seconds = sequences.fitter(c).seconds;
     result.channels.push_back(std::move(stats));
   }
   result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return result;
 }
 
-// FitMethod::Shared of one explicit lobe count and kind.
-// `start`: a fit of the same table with fewer lobes of this kind, whose shapes the fit keeps (a warm start).
+// `warmStart`: a fit of the same table with fewer lobes of this kind, whose shapes the fit keeps.
 FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeKindChoice kind, const LobeModel* warmStart = nullptr) {
   const auto start = Clock::now();
   const std::string label = table.sourceFile.empty() ? std::string("table") : table.sourceFile;
@@ -837,128 +861,167 @@ LobeKindChoice parseLobeKindChoice(std::string_view name) {
   return parseByName(name, std::array{LobeKindChoice::Auto, LobeKindChoice::Mirror, LobeKindChoice::Lafortune, LobeKindChoice::HalfVector}, "lobe kind");
 }
 
-FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
-  options.validate();
-  table.validate();
-  const auto start = Clock::now();
-  const bool shared = options.method == FitMethod::Shared;
-  if (shared && options.elevation == ElevationChoice::Varying) {
-    throw Error(Error::Kind::InvalidArgument,
-                "fit: the shared method fits constant lobes (Lafortune lobes vary with elevation); use the per_channel method for varying ones");
-  }
-  // The candidates: explicit choices fix a dimension, auto ones span it.
+namespace {
+
+// The candidates fitLobes may choose between: explicit choices fix a dimension, auto ones span it.
+struct CandidateSpace {
   std::vector<int> counts;
-  if (options.lobes > 0) counts = {options.lobes};
-  else for (int k = 1; k <= options.maxAutoLobes; ++k) counts.push_back(k);
   std::vector<LobeKindChoice> kinds;
-  if (!shared) kinds = {LobeKindChoice::Mirror};
-  else if (options.kind != LobeKindChoice::Auto) kinds = {options.kind};
-  else kinds = {LobeKindChoice::HalfVector, LobeKindChoice::Lafortune, LobeKindChoice::Mirror};  // likeliest first
   std::vector<LobeElevation> elevations;
-  if (shared || options.elevation == ElevationChoice::Constant) elevations = {LobeElevation::Constant};
-  else if (options.elevation == ElevationChoice::Varying) elevations = {LobeElevation::Varying};
-  else elevations = {LobeElevation::Constant, LobeElevation::Varying};
+  bool heldOutFeasible = false;  // enough rows away from the mirror for held-out splits
+
+  std::size_t size() const { return counts.size() * kinds.size() * elevations.size(); }
+};
+
+CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& options) {
+  const bool shared = options.method == FitMethod::Shared;
+  CandidateSpace space;
+  if (options.lobes > 0) space.counts = {options.lobes};
+  else for (int k = 1; k <= options.maxAutoLobes; ++k) space.counts.push_back(k);
+  if (!shared) space.kinds = {LobeKindChoice::Mirror};
+  else if (options.kind != LobeKindChoice::Auto) space.kinds = {options.kind};
+  else space.kinds = {LobeKindChoice::HalfVector, LobeKindChoice::Lafortune, LobeKindChoice::Mirror};  // likeliest first
+  if (shared || options.elevation == ElevationChoice::Constant) space.elevations = {LobeElevation::Constant};
+  else if (options.elevation == ElevationChoice::Varying) space.elevations = {LobeElevation::Varying};
+  else space.elevations = {LobeElevation::Constant, LobeElevation::Varying};
   // Held-out splits need enough rows away from the mirror (two per fold); without them an auto
   // choice takes the fewest parameters and no estimate is made.
   std::size_t offMirror = 0;
   for (std::size_t i = 0; i < table.size(); ++i) offMirror += mirrorOffsetDegrees(table, i) > options.heldOut.minMirrorOffsetDegrees;
-  const bool heldOutFeasible = offMirror >= 2 * static_cast<std::size_t>(options.heldOut.folds);
-  if (!heldOutFeasible) {
-    counts.resize(1);
-    kinds.resize(1);
-    elevations.resize(1);
+  space.heldOutFeasible = offMirror >= 2 * static_cast<std::size_t>(options.heldOut.folds);
+  if (!space.heldOutFeasible) {
+    space.counts.resize(1);
+    space.kinds.resize(1);
+    space.elevations.resize(1);
   }
-  const bool choosing = counts.size() * kinds.size() * elevations.size() > 1;
+  return space;
+}
 
-  FitResult result;
-  const std::size_t channels = table.channelCount();
-  if (!choosing) {
-    const CandidateConfig config{counts[0], elevations[0], kinds[0]};
-    FitOptions explicitOptions = options;  // every choice made (auto ones without a held-out estimate: the fewest parameters)
-    explicitOptions.lobes = config.lobes;
-    explicitOptions.elevation = config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
-    explicitOptions.kind = config.kind;
-    result = shared ? fitShared(table, explicitOptions, config.kind) : fitPerChannel(table, explicitOptions);
-    if (options.estimateHeldOut && heldOutFeasible) {
-      result.heldOut = estimateHeldOutError(
-          table, [&](const MeasuredTable& training) { return fitCandidate(training, options, config).model; }, options.heldOut);
-    }
-  } else {
-    // Every (kind, elevation) sequence grows the lobe count while the held-out score falls by the margin.
-    std::vector<std::pair<CandidateConfig, HeldOutReport>> tried;
-    // A kind scoring more than kHopelessScoreFactor times the best so far stops there.
-    std::size_t total = kinds.size() * elevations.size() * counts.size(), done = 0;
-    double bestScore = HUGE_VAL;
-    for (LobeKindChoice kind : kinds) {
-      for (LobeElevation elevation : elevations) {
-        double previous = HUGE_VAL;
-        auto fewer = std::make_unique<SplitFits>();
-        for (int lobes : counts) {
-          const CandidateConfig config{lobes, elevation, kind};
-          auto these = std::make_unique<SplitFits>();
-          HeldOutReport report = estimateHeldOutError(
-              table,
-              [&](const MeasuredTable& training) {
-                LobeModel model = fitCandidate(training, options, config, fewer->find(training)).model;
-                these->add(training, model);
-                return model;
-              },
-              options.heldOut);
-          fewer = std::move(these);
-          const double score = report.score();
-          tried.emplace_back(config, std::move(report));
-          if (options.progress) options.progress(static_cast<double>(++done) / static_cast<double>(total + 1));
-          bestScore = std::min(bestScore, score);
-          if (score > kHopelessScoreFactor * bestScore) break;
-          if (!(score < (1.0 - options.autoMargin) * previous)) break;
-          previous = score;
-        }
-      }
-    }
-    // The fewest parameters whose score is within the margin of every candidate with fewer.
-    std::vector<std::size_t> order(tried.size());
-    std::iota(order.begin(), order.end(), std::size_t(0));
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-      return parameterTotal(tried[a].first, options.method, channels) < parameterTotal(tried[b].first, options.method, channels);
-    });
-    std::size_t best = order.front();
-    for (std::size_t i : order) {
-      if (tried[i].second.score() < (1.0 - options.autoMargin) * tried[best].second.score()) best = i;
-    }
-    // The exponent cap, lowered while that lowers the score by the margin (same parameters).
-    if (shared && options.chooseMaxExponent) {
-      for (double factor : {0.3, 0.1}) {
-        CandidateConfig capped = tried[best].first;
-        capped.maxExponent = std::max(kMinLobeExponent, factor * options.maxExponent);
-        HeldOutReport report = estimateHeldOutError(
-            table, [&](const MeasuredTable& training) { return fitCandidate(training, options, capped).model; }, options.heldOut);
-        const double score = report.score();
-        tried.emplace_back(capped, std::move(report));
-        if (!(score < (1.0 - options.autoMargin) * tried[best].second.score())) break;
-        best = tried.size() - 1;
-      }
-    }
-    const CandidateConfig chosen = tried[best].first;
-    result = fitCandidate(table, options, chosen);
-    result.options = options;
-    for (std::size_t i = 0; i < tried.size(); ++i) {
-      const auto& [config, report] = tried[i];
-      ModelCandidate c;
-      c.lobes = config.lobes;
-      c.elevation = config.elevation;
-      c.kind = config.kind;
-      c.parameters = parameterTotal(config, options.method, channels);
-      c.heldOutScore = report.score();
-      c.kfoldRatio = report.kfold.ratio();
-      c.elevationRatio = report.pooledElevations().ratio();
-      c.seconds = report.seconds;
-      c.maxExponent = shared ? (config.maxExponent > 0.0 ? config.maxExponent : options.maxExponent) : 0.0;
-      c.chosen = i == best;
-      if (c.chosen) c.inSampleError = allRowsError(result.model, table).rms();
-      result.candidates.push_back(c);
-    }
-    result.heldOut = tried[best].second;
+// One configuration, every choice made (auto ones without a held-out estimate: the fewest
+// parameters), with its held-out estimate when asked for and feasible.
+FitResult fitOneConfiguration(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
+  const CandidateConfig config{space.counts[0], space.elevations[0], space.kinds[0]};
+  FitOptions explicitOptions = options;
+  explicitOptions.lobes = config.lobes;
+  explicitOptions.elevation = config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
+  explicitOptions.kind = config.kind;
+  FitResult result = options.method == FitMethod::Shared ? fitShared(table, explicitOptions, config.kind)
+                                                         : fitPerChannel(table, explicitOptions);
+  if (options.estimateHeldOut && space.heldOutFeasible) {
+    result.heldOut = estimateHeldOutError(
+        table, [&](const MeasuredTable& training) { return fitCandidate(training, options, config).model; }, options.heldOut);
   }
+  return result;
+}
+
+using Tried = std::vector<std::pair<CandidateConfig, HeldOutReport>>;
+
+// Every (kind, elevation) sequence grows the lobe count while the held-out score falls by the
+// margin; a kind scoring more than kHopelessScoreFactor times the best so far stops there. Each
+// split's K-lobe fit starts from its (K-1)-lobe fit.
+Tried scoreCandidates(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
+  Tried tried;
+  const std::size_t total = space.size();
+  std::size_t done = 0;
+  double bestScore = HUGE_VAL;
+  for (LobeKindChoice kind : space.kinds) {
+    for (LobeElevation elevation : space.elevations) {
+      double previous = HUGE_VAL;
+      auto fewer = std::make_unique<SplitFits>();
+      for (int lobes : space.counts) {
+        const CandidateConfig config{lobes, elevation, kind};
+        auto these = std::make_unique<SplitFits>();
+        HeldOutReport report = estimateHeldOutError(
+            table,
+            [&](const MeasuredTable& training) {
+              LobeModel model = fitCandidate(training, options, config, fewer->find(training)).model;
+              these->add(training, model);
+              return model;
+            },
+            options.heldOut);
+        fewer = std::move(these);
+        const double score = report.score();
+        tried.emplace_back(config, std::move(report));
+        if (options.progress) options.progress(static_cast<double>(++done) / static_cast<double>(total + 1));
+        bestScore = std::min(bestScore, score);
+        if (score > kHopelessScoreFactor * bestScore) break;
+        if (!(score < (1.0 - options.autoMargin) * previous)) break;
+        previous = score;
+      }
+    }
+  }
+  return tried;
+}
+
+// The fewest parameters whose score is within the margin of every candidate with fewer.
+std::size_t fewestParametersWithinMargin(const Tried& tried, const FitOptions& options, std::size_t channels) {
+  std::vector<std::size_t> order(tried.size());
+  std::iota(order.begin(), order.end(), std::size_t(0));
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return parameterTotal(tried[a].first, options.method, channels) < parameterTotal(tried[b].first, options.method, channels);
+  });
+  std::size_t best = order.front();
+  for (std::size_t i : order) {
+    if (tried[i].second.score() < (1.0 - options.autoMargin) * tried[best].second.score()) best = i;
+  }
+  return best;
+}
+
+// The shared method's exponent cap, lowered from the chosen candidate's while that lowers the
+// score by the margin (same parameters); returns the index of the candidate kept.
+std::size_t lowerExponentCap(const MeasuredTable& table, const FitOptions& options, Tried& tried, std::size_t best) {
+  if (options.method != FitMethod::Shared || !options.chooseMaxExponent) return best;
+  for (double factor : {0.3, 0.1}) {
+    CandidateConfig capped = tried[best].first;
+    capped.maxExponent = std::max(kMinLobeExponent, factor * options.maxExponent);
+    HeldOutReport report = estimateHeldOutError(
+        table, [&](const MeasuredTable& training) { return fitCandidate(training, options, capped).model; }, options.heldOut);
+    const double score = report.score();
+    tried.emplace_back(capped, std::move(report));
+    if (!(score < (1.0 - options.autoMargin) * tried[best].second.score())) break;
+    best = tried.size() - 1;
+  }
+  return best;
+}
+
+// Scores the candidates by held-out error, fits the chosen one to the whole table and lists them all.
+FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
+  const std::size_t channels = table.channelCount();
+  Tried tried = scoreCandidates(table, options, space);
+  const std::size_t best = lowerExponentCap(table, options, tried, fewestParametersWithinMargin(tried, options, channels));
+  FitResult result = fitCandidate(table, options, tried[best].first);
+  for (std::size_t i = 0; i < tried.size(); ++i) {
+    const auto& [config, report] = tried[i];
+    ModelCandidate c;
+    c.lobes = config.lobes;
+    c.elevation = config.elevation;
+    c.kind = config.kind;
+    c.parameters = parameterTotal(config, options.method, channels);
+    c.heldOutScore = report.score();
+    c.kfoldRatio = report.kfold.ratio();
+    c.elevationRatio = report.pooledElevations().ratio();
+    c.seconds = report.seconds;
+    c.maxExponent = options.method == FitMethod::Shared ? (config.maxExponent > 0.0 ? config.maxExponent : options.maxExponent) : 0.0;
+    c.chosen = i == best;
+    if (c.chosen) c.inSampleError = allRowsError(result.model, table).rms();
+    result.candidates.push_back(c);
+  }
+  result.heldOut = tried[best].second;
+  return result;
+}
+
+}  // namespace
+
+FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
+  options.validate();
+  table.validate();
+  const auto start = Clock::now();
+  if (options.method == FitMethod::Shared && options.elevation == ElevationChoice::Varying) {
+    throw Error(Error::Kind::InvalidArgument,
+                "fit: the shared method fits constant lobes (Lafortune lobes vary with elevation); use the per_channel method for varying ones");
+  }
+  const CandidateSpace space = candidateSpace(table, options);
+  FitResult result = space.size() > 1 ? chooseByHeldOutError(table, options, space) : fitOneConfiguration(table, options, space);
   result.options = options;
   result.options.progress = nullptr;
   for (const auto& c : result.candidates) {

@@ -117,39 +117,69 @@ void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& b
     }
   }
   env.finish();
-  spec.environment = e;
+  spec.content = std::move(e);
 }
 
 // The rules a map's material must meet (lights, view, profile symmetry): at parse time, or after
 // a deferred fit has made the material.
 void checkMaterialMap(const MapSpec& spec) {
-  if (spec.material->usesLights() && spec.lights.empty()) {
-    throw specError(spec.jsonPath + ".lights", std::string(spec.material->model()) + " needs at least one light");
+  const MaterialMapSpec& m = *spec.materialMap();
+  if (m.material->usesLights() && m.lights.empty()) {
+    throw specError(spec.jsonPath + ".lights", std::string(m.material->model()) + " needs at least one light");
   }
-  if (!spec.material->usesLights() && !spec.lights.empty()) {
-    throw specError(spec.jsonPath + ".lights", std::string(spec.material->model()) + " ignores lights; remove them");
+  if (!m.material->usesLights() && !m.lights.empty()) {
+    throw specError(spec.jsonPath + ".lights", std::string(m.material->model()) + " ignores lights; remove them");
   }
-  const bool viewDependent = !spec.material->viewIndependent() || spec.lightAtEye;
+  const bool viewDependent = !m.material->viewIndependent() || m.lightAtEye;
   if (viewDependent && spec.viewNeed == MapSpec::ViewNeed::Free) {
-    throw specError(spec.jsonPath + ".view", std::string(spec.material->model()) + (spec.lightAtEye ? " lit from the eye" : "") +
+    throw specError(spec.jsonPath + ".view", std::string(m.material->model()) + (m.lightAtEye ? " lit from the eye" : "") +
                                            " depends on the view direction, so no environment map can serve a free view;"
                                            " use \"view\": \"fixed\"");
   }
   // A fixed view ("fixed", or a sphere map's eye space) is +z in every candidate map frame.
   const bool viewFixed = spec.viewGiven || spec.viewNeed == MapSpec::ViewNeed::Fixed || spec.autoSelect.parameterization;
   if (spec.parameterization != ParameterizationKind::Sphere && viewDependent && !viewFixed) {
-    throw specError(spec.jsonPath, std::string(spec.material->model()) +
-                              (spec.lightAtEye ? " lit from the eye" : "") +
+    throw specError(spec.jsonPath, std::string(m.material->model()) +
+                              (m.lightAtEye ? " lit from the eye" : "") +
                               " depends on the view direction, but a " + std::string(toString(spec.parameterization)) +
                               " map is indexed by reflected direction only; fix the view with \"view\": [x, y, z]"
                               " or use a sphere map");
   }
-  if (spec.profile && !spec.makeFunction()->symmetryAxis()) {
+  if (spec.radialProfile && !spec.makeFunction()->symmetryAxis()) {
     throw specError(spec.jsonPath + ".parameterization",
                     "a profile needs a map radially symmetric about one axis: reflectance-mode and Fresnel materials, "
                     "silhouettes, untwisted colorgrams, or lobes (Phong, fitted) about one light; " +
-                        std::string(spec.material->model()) + " here is not");
+                        std::string(m.material->model()) + " here is not");
   }
+}
+
+// "material", "lights" and the extra files of some models: a material map.
+void parseMaterialMap(JsonObjectReader& map, MapSpec& spec, const fs::path& baseDirectory) {
+  MaterialMapSpec& m = spec.content.emplace<MaterialMapSpec>();
+  std::optional<DeferredFit> deferred;
+  m.material = parseMaterial(map.require("material"), map.child("material"),
+                             {baseDirectory, &spec.inputs, &spec.notes, &deferred});
+  m.deferredFit = std::move(deferred);
+
+  if (map.has("lights")) {
+    const auto& lights = map.array("lights");
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+      bool atEye = false;
+      m.lights.push_back(parseLight(lights[i], map.child("lights") + "[" + std::to_string(i) + "]", spec.view, atEye));
+      m.lightAtEye = m.lightAtEye || atEye;
+    }
+  }
+  if (m.deferredFit) {
+    // What can be checked before the fit: whether the mode uses lights.
+    const bool usesLights = m.deferredFit->mode != LobeMaterialMode::Reflectance;
+    if (usesLights && m.lights.empty()) throw specError(map.child("lights"), "measured in this mode needs at least one light");
+    if (!usesLights && !m.lights.empty()) throw specError(map.child("lights"), "measured in reflectance mode ignores lights; remove them");
+  } else {
+    checkMaterialMap(spec);
+  }
+  materials::parseMapExtras(map, spec);     // "mips", "fresnel_table_output"
+  if (spec.radialProfile && m.mips) throw specError(map.child("mips"), "a profile has no mip levels of its own");
+  if (!m.deferredFit && !spec.anyAuto() && !spec.radialProfile) materials::checkMaterialSampling(spec);
 }
 
 MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs::path& baseDirectory) {
@@ -175,7 +205,7 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
   if (kind == "auto") {
     spec.autoSelect.parameterization = true;
   } else if (kind == "profile") {
-    spec.profile = true;
+    spec.radialProfile = true;
   } else {
     try {
       spec.parameterization = parseParameterizationKind(kind);
@@ -232,36 +262,13 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
   }
 
   if (map.has("environment")) {  // a prefiltered environment map instead of a material (docs/prefilter.md)
-    if (spec.profile) throw specError(map.child("parameterization"), "environment maps cannot be profiles");
+    if (spec.radialProfile) throw specError(map.child("parameterization"), "environment maps cannot be profiles");
     parseEnvironmentMap(map, spec, baseDirectory);
     map.finish();
     return spec;
   }
 
-  std::optional<DeferredFit> deferred;
-  spec.material = parseMaterial(map.require("material"), map.child("material"),
-                                {baseDirectory, &spec.inputs, &spec.notes, &deferred});
-  spec.deferredFit = std::move(deferred);
-
-  if (map.has("lights")) {
-    const auto& lights = map.array("lights");
-    for (std::size_t i = 0; i < lights.size(); ++i) {
-      bool atEye = false;
-      spec.lights.push_back(parseLight(lights[i], map.child("lights") + "[" + std::to_string(i) + "]", spec.view, atEye));
-      spec.lightAtEye = spec.lightAtEye || atEye;
-    }
-  }
-  if (spec.deferredFit) {
-    // What can be checked before the fit: whether the mode uses lights.
-    const bool usesLights = spec.deferredFit->mode != LobeMaterialMode::Reflectance;
-    if (usesLights && spec.lights.empty()) throw specError(map.child("lights"), "measured in this mode needs at least one light");
-    if (!usesLights && !spec.lights.empty()) throw specError(map.child("lights"), "measured in reflectance mode ignores lights; remove them");
-  } else {
-    checkMaterialMap(spec);
-  }
-  materials::parseMapExtras(map, spec);     // "mips", "profile_output"
-  if (spec.profile && spec.mips) throw specError(map.child("mips"), "a profile has no mip levels of its own");
-  if (!spec.deferredFit && !spec.anyAuto() && !spec.profile) materials::checkMaterialSampling(spec);
+  parseMaterialMap(map, spec, baseDirectory);
   map.finish();
   return spec;
 }
@@ -269,42 +276,49 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
 }  // namespace
 
 void MapSpec::prepare(const std::function<void(double)>& progress) {
-  if (!deferredFit) return;
+  MaterialMapSpec* m = materialMap();
+  if (!m || !m->deferredFit) return;
   try {
-    material = deferredFit->run(progress);
-    deferredFit.reset();
+    m->material = m->deferredFit->run(progress);
+    m->deferredFit.reset();
     checkMaterialMap(*this);
-    if (!anyAuto() && !profile) materials::checkMaterialSampling(*this);
+    if (!anyAuto() && !radialProfile) materials::checkMaterialSampling(*this);
   } catch (const Error& e) {
     throw Error(e.kind(), specLabel.empty() ? std::string(e.what()) : specLabel + ": " + e.what());
   }
 }
 
-std::string MapSpec::modelName() const {
+std::string MaterialMapSpec::modelName() const {
   if (material) return std::string(material->model());
   return deferredFit ? "measured" : "";
 }
 
+std::string MapSpec::modelName() const {
+  const MaterialMapSpec* m = materialMap();
+  return m ? m->modelName() : "";
+}
+
 std::vector<FilePlan::Entry> MapSpec::plannedOutputs() const {
   const std::string role = jsonPath + ".output";
-  if (environment) {
+  if (const EnvironmentMapSpec* environment = environmentMap()) {
     const EnvironmentMapSpec& e = *environment;
     PrefilterOutputs outputs{parameterization, resolution, e.mips, cubeLayout, e.mipLayout};
     if (e.lobeModel() && e.lobeModel()->elevation == LobeElevation::Varying) outputs.elevationSlices = e.elevations;
     outputs.fresnel = e.fresnel.has_value();
     return prefilterOutputFiles(output, outputs, role);
   }
-  const bool cube = parameterization == ParameterizationKind::Cube && !anyAuto() && !profile;
+  const MaterialMapSpec& m = *materialMap();
+  const bool cube = parameterization == ParameterizationKind::Cube && !anyAuto() && !radialProfile;
   std::vector<FilePlan::Entry> out = mapOutputFiles(output, role, cube, cubeLayout);
   auto add = [&out](const std::vector<FilePlan::Entry>& files) { out.insert(out.end(), files.begin(), files.end()); };
-  if (mips && mipLayout == MipLayout::Files) {
+  if (m.mips && m.mipLayout == MipLayout::Files) {
     for (int level = 1; level < mipLevelCount(resolution); ++level) {
       add(mapOutputFiles(mipLevelPath(output, level), role + " (mip level " + std::to_string(level) + ")"));
     }
   }
-  if (profileOutput) {
-    add(mapOutputFiles(profileOutput->is_absolute() ? *profileOutput : output.parent_path() / *profileOutput,
-                       jsonPath + ".profile_output"));
+  if (const auto& table = m.fresnelTableOutput) {
+    add(mapOutputFiles(table->is_absolute() ? *table : output.parent_path() / *table,
+                       jsonPath + ".fresnel_table_output"));
   }
   return out;
 }
@@ -324,8 +338,8 @@ FilePlan planSpecFiles(const BakeSpec& spec, const fs::path& specFile, const fs:
 AutoOptions MapSpec::autoOptions() const {
   AutoOptions options;
   options.maxError = autoSelect.maxError;
-  options.allowProfile = autoSelect.parameterization || profile;
-  if (profile) {
+  options.allowRadialProfile = autoSelect.parameterization || radialProfile;
+  if (radialProfile) {
     options.parameterizations.clear();   // profiles only
   } else if (autoSelect.parameterization) {
     options.parameterizations = viewNeed == ViewNeed::Free
@@ -341,6 +355,7 @@ AutoOptions MapSpec::autoOptions() const {
 }
 
 PrefilterOptions MapSpec::prefilterOptions() const {
+  const EnvironmentMapSpec* environment = environmentMap();
   if (!environment) throw Error(Error::Kind::InvalidArgument, jsonPath + ": a material map has no prefilter options");
   PrefilterOptions options;
   options.parameterization = parameterization;
@@ -356,14 +371,15 @@ PrefilterOptions MapSpec::prefilterOptions() const {
 }
 
 std::shared_ptr<const MapFunction> MapSpec::makeFunction() const {
-  if (environment) {
+  const MaterialMapSpec* m = materialMap();
+  if (!m) {
     throw Error(Error::Kind::InvalidArgument, jsonPath + ": an environment map is prefiltered from its environment "
                                                          "(brdfbake bake or prefilter), not baked from a material");
   }
-  if (!material) {
+  if (!m->material) {
     throw Error(Error::Kind::InvalidArgument, jsonPath + ": the measured material's fit has not run yet; call MapSpec::prepare() first");
   }
-  return std::make_shared<MaterialMapFunction>(material, lights, view);
+  return std::make_shared<MaterialMapFunction>(m->material, m->lights, view);
 }
 
 BakeSpec parseBakeSpec(const nlohmann::json& document, const fs::path& baseDirectory, const std::string& label) {

@@ -70,7 +70,7 @@
 #include <brdfbake/fit/fit_report.hpp>
 #include <brdfbake/fit/gnuplot.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
-#include <brdfbake/fit/mirror_profile.hpp>
+#include <brdfbake/fit/mirror_direction.hpp>
 #include <brdfbake/fit/table_interpolation.hpp>
 #endif
 

@@ -94,7 +94,8 @@ std::shared_ptr<const Material> parseCookTorrance(JsonObjectReader& m, const Mat
 }
 
 void checkMaterialSampling(const MapSpec& spec) {
-  const auto* ct = dynamic_cast<const CookTorranceMaterial*>(spec.material.get());
+  const MaterialMapSpec& m = *spec.materialMap();
+  const auto* ct = dynamic_cast<const CookTorranceMaterial*>(m.material.get());
   if (!ct || ct->params().mode != CookTorranceMode::Lighting) return;
   // Stratified footprint samples integrate a Gaussian-like lobe almost exactly once their spacing
   // is below its 1/e half-width (relative error ~ 2 exp(-pi^2) ~ 1e-4), i.e. 2 samples across
@@ -102,8 +103,8 @@ void checkMaterialSampling(const MapSpec& spec) {
   constexpr double kSamplesNeeded = 2.0;
   const auto map = makeParameterization(spec.parameterization, spec.resolution);
   const double halfWidth = ct->highlightHalfWidth();
-  for (std::size_t i = 0; i < spec.lights.size(); ++i) {
-    const Vec3 sum = spec.lights[i].direction + spec.view;
+  for (std::size_t i = 0; i < m.lights.size(); ++i) {
+    const Vec3 sum = m.lights[i].direction + spec.view;
     if (!(sum.norm() > 1e-9)) continue;  // light opposite the view: its highlight is not in the map
     const double extent = highlightExtentPixels(*map, sum.normalized(), spec.view, halfWidth);
     const double samplesAcross = extent * std::sqrt(static_cast<double>(spec.samplesPerTexel));

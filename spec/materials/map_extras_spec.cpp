@@ -1,4 +1,4 @@
-// Map-level extras: "mips" (silhouette mip chain) and "profile_output" (1-D Fresnel texture), parsed
+// Map-level extras: "mips" (silhouette mip chain) and "fresnel_table_output" (1-D Fresnel table), parsed
 // and written beside the map.
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/bake/baked_output.hpp>
@@ -15,8 +15,21 @@ namespace brdfbake {
 namespace fs = std::filesystem;
 namespace {
 
-fs::path profilePath(const MapSpec& map) {
-  return map.profileOutput->is_absolute() ? *map.profileOutput : map.output.parent_path() / *map.profileOutput;
+fs::path fresnelTablePath(const MapSpec& map) {
+  const fs::path& table = *map.materialMap()->fresnelTableOutput;
+  return table.is_absolute() ? table : map.output.parent_path() / table;
+}
+
+// The key naming the Fresnel table's file: "fresnel_table_output", or "profile_output", its former
+// name (still read, so existing specs keep working); nullopt when neither is given.
+std::optional<std::string> fresnelTableKey(JsonObjectReader& map) {
+  const bool current = map.has("fresnel_table_output"), former = map.has("profile_output");
+  if (current && former) {
+    throw specError(map.child("profile_output"), "the former name of \"fresnel_table_output\": give one of the two");
+  }
+  if (current) return "fresnel_table_output";
+  if (former) return "profile_output";
+  return std::nullopt;
 }
 
 }  // namespace
@@ -36,34 +49,34 @@ MipLayout parseMipLayout(JsonObjectReader& object, bool mips, const fs::path& ou
 
 
 void parseMapExtras(JsonObjectReader& map, MapSpec& spec) {
-  const std::string model = spec.modelName();
+  MaterialMapSpec& m = *spec.materialMap();
+  const std::string model = m.modelName();
   if (const auto* mips = map.find("mips")) {
     if (!mips->is_boolean()) throw specError(map.child("mips"), "must be true or false, got " + describe(*mips));
-    spec.mips = mips->get<bool>();
-    if (spec.mips && model != "silhouette") {
+    m.mips = mips->get<bool>();
+    if (m.mips && model != "silhouette") {
       throw specError(map.child("mips"), "only the silhouette model defines its own mip levels (a ring of constant "
                                          "width in texels); " + model + " has none");
     }
-    if (spec.mips && spec.parameterization != ParameterizationKind::Sphere) {
+    if (m.mips && spec.parameterization != ParameterizationKind::Sphere) {
       throw specError(map.child("mips"), "silhouette mip levels are defined for sphere maps only, where the ring is a "
                                          "circle of one width in texels all round");
     }
   }
-  spec.mipLayout = parseMipLayout(map, spec.mips, spec.output, spec.resolution);
-  if (map.has("profile_output")) {
-    const std::string profile = map.string("profile_output");
+  m.mipLayout = parseMipLayout(map, m.mips, spec.output, spec.resolution);
+  if (const auto key = fresnelTableKey(map)) {
+    const std::string file = map.string(*key);
     if (model != "fresnel") {
-      throw specError(map.child("profile_output"), "only the fresnel model has a 1-D profile F(cos theta); " + model +
-                                                       " has none");
+      throw specError(map.child(*key), "only the fresnel model has a 1-D table F(cos theta); " + model + " has none");
     }
-    if (profile.empty()) throw specError(map.child("profile_output"), "must not be empty");
+    if (file.empty()) throw specError(map.child(*key), "must not be empty");
     try {
-      imageFormatFor(profile);
+      imageFormatFor(file);
     } catch (const Error& e) {
-      throw specError(map.child("profile_output"), e.what());
+      throw specError(map.child(*key), e.what());
     }
-    spec.profileOutput = fs::path(profile);
-    if (sameFile(profilePath(spec), spec.output)) throw specError(map.child("profile_output"), "same file as output");
+    m.fresnelTableOutput = fs::path(file);
+    if (sameFile(fresnelTablePath(spec), spec.output)) throw specError(map.child(*key), "same file as output");
   }
 }
 
@@ -71,14 +84,16 @@ void parseMapExtras(JsonObjectReader& map, MapSpec& spec) {
 
 MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions, const WriteOptions& writeOptions) {
   MapWriteReport report;
-  if (map.mips) {
-    const auto* silhouette = dynamic_cast<const SilhouetteMaterial*>(map.material.get());
+  const MaterialMapSpec* m = map.materialMap();
+  if (!m) return report;  // an environment map's extras are written with it (writeFresnelDecomposition, mips)
+  if (m->mips) {
+    const auto* silhouette = dynamic_cast<const SilhouetteMaterial*>(m->material.get());
     require(silhouette != nullptr, map.jsonPath + ": \"mips\" needs a silhouette material");
     BakeOptions options = bakeOptions;
     options.progress = {};
     options.samplesPerTexel = map.samplesPerTexel;
     const std::vector<Image> chain = silhouetteMipChain(*silhouette, map.resolution, options);
-    if (map.mipLayout == MipLayout::Tiled) {
+    if (m->mipLayout == MipLayout::Tiled) {
       // The whole chain, level 0 included, in the output itself (replacing the single level).
       MapInfo info;
       info.parameterization = ParameterizationKind::Sphere;
@@ -103,17 +118,16 @@ MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions
       if (level == 1) report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());
     }
   }
-  if (map.profileOutput) {
-    const auto* fresnel = dynamic_cast<const FresnelMaterial*>(map.material.get());
-    require(fresnel != nullptr, map.jsonPath + ": \"profile_output\" needs a fresnel material");
-    const std::vector<Rgb> profile = fresnelProfile(fresnel->fresnel(), map.resolution);
-    Image image = fresnelProfileImage(profile);
+  if (m->fresnelTableOutput) {
+    const auto* fresnel = dynamic_cast<const FresnelMaterial*>(m->material.get());
+    require(fresnel != nullptr, map.jsonPath + ": \"fresnel_table_output\" needs a fresnel material");
+    Image image = fresnelTableImage(fresnelTable(fresnel->fresnel(), map.resolution));
     image.metadata["spec"] = map.raw;
-    const fs::path path = profilePath(map);
+    const fs::path path = fresnelTablePath(map);
     const WriteReport written = writeImage(image, path, writeOptions);
     report.files.push_back(path);
     report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());
-    report.notes.push_back(path.filename().string() + ": 1-D Fresnel profile, texel i holds F at cos theta = (i + 0.5) / " +
+    report.notes.push_back(path.filename().string() + ": 1-D Fresnel table, texel i holds F at cos theta = (i + 0.5) / " +
                            std::to_string(map.resolution));
   }
   return report;

@@ -6,7 +6,7 @@
 //    "elevation": "auto" | "constant" | "varying", "mode": "reflectance" | "lighting" | "prefiltered"}
 #include <brdfbake/fit/cornell_grid.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
-#include <brdfbake/fit/mirror_profile.hpp>
+#include <brdfbake/fit/mirror_direction.hpp>
 
 #include "registry_entries.hpp"
 
@@ -64,7 +64,7 @@ std::shared_ptr<const Material> parseMeasured(JsonObjectReader& m, const Materia
     for (const auto& note : table.notes) context.notes->push_back(m.child("file") + ": " + note);
   }
   if (method == "mirror") {
-    return std::make_shared<MirrorProfileMaterial>(strongestNearMirrorProfile(table, radians(window)), "measured");
+    return std::make_shared<MirrorDirectionMaterial>(strongestNearMirrorTable(table, radians(window)), "measured");
   }
   DeferredFit fit{std::move(table), options, mode, m.path()};
   if (context.deferredFit) {

@@ -20,7 +20,7 @@ std::shared_ptr<const Material> parseHatching(JsonObjectReader&, const MaterialC
 FresnelTerm parseFresnelTerm(JsonObjectReader& owner, const std::string& key);
 
 // Map-level hooks called by spec.cpp's parseMap after the material and lights are read:
-// "mips" and "profile_output" (map_extras_spec.cpp), and the check that a map samples a narrow
+// "mips" and "fresnel_table_output" (map_extras_spec.cpp), and the check that a map samples a narrow
 // highlight finely enough (cook_torrance_spec.cpp; throws naming the roughness's JSON path).
 void parseMapExtras(JsonObjectReader& map, MapSpec& spec);
 // "mip_layout": "files" | "tiled" beside "mips" (in a map, or in its "environment"), checked

@@ -136,7 +136,7 @@ TEST(MaterialsBake, FresnelMapAndProfileHoldFOfNDotV) {
                                  {"parameterization", "sphere"},
                                  {"resolution", 48},
                                  {"samples_per_texel", 1},
-                                 {"profile_output", "f_1d.exr"},
+                                 {"fresnel_table_output", "f_1d.exr"},
                                  {"material", {{"model", "fresnel"}, {"fresnel", {{"ior", {1.5, 1.33, 2.4}}}}, {"combine", "mix"}}}}}}};
   const BakeSpec spec = parseBakeSpec(doc, dir.path());
   const MapSpec& map = spec.maps[0];

@@ -162,6 +162,21 @@ TEST(TiledMips, CubeFacesAreSixTiledFilesAndBadRequestsAreRefused) {
   EXPECT_FALSE(fs::exists(dir / "odd.exr"));
 }
 
+// A Fresnel table written before the rename says "parameterization": "fresnel_profile"; it still
+// opens as a Fresnel table. Texels hold 0.1, 0.2, 0.3, 0.4 at cos theta = 0.125, 0.375, ...: at
+// n.v = 0.5, halfway between texels 1 and 2, the linear lookup gives 0.25.
+TEST(FresnelTable, AFileWithTheFormerParameterizationNameStillOpens) {
+  test::TempDir dir;
+  Image image = fresnelTableImage({Rgb::Constant(0.1), Rgb::Constant(0.2), Rgb::Constant(0.3), Rgb::Constant(0.4)});
+  EXPECT_EQ(image.metadata["parameterization"], "fresnel_table");
+  image.metadata["parameterization"] = "fresnel_profile";
+  writeImage(image, dir / "old.exr");
+  const BakedOutput out = BakedOutput::open(dir / "old.exr");
+  EXPECT_EQ(out.kind(), OutputKind::FresnelTable);
+  EXPECT_NEAR(out.lookup(Vec3::UnitZ(), 0.5)[1], 0.25, 1e-6);
+  EXPECT_THROW(MapInfo::fromJson(image.metadata), Error);  // not a 2-D map, under either name
+}
+
 // The basis the JSON states, written out as polynomials, against evaluateShBasis.
 TEST(ShIrradiance, TheDocumentedBasisIsTheOneEvaluated) {
   for (const Vec3& d : randomDirections(20, 5)) {

@@ -58,14 +58,14 @@ TEST(PrefilterLobe, NormalisedLobesIntegrateToOneAndIrradianceToPi) {
                            PrefilterLobe::blinn(40), PrefilterLobe::ggx(0.1), PrefilterLobe::ggx(0.5), PrefilterLobe::ggx(1.0)}) {
     EXPECT_NEAR(lobe.mass(), 1.0, 1e-12) << lobe.name();
     const int intervals = lobe.phongExponent() == 0.0 ? 2000000 : 200000;  // a step at the horizon
-    EXPECT_NEAR(sphereIntegral([&](double t) { return lobe.profile(std::cos(t)); }, intervals), 1.0, 2e-5) << lobe.name();
+    EXPECT_NEAR(sphereIntegral([&](double t) { return lobe.weight(std::cos(t)); }, intervals), 1.0, 2e-5) << lobe.name();
   }
   const auto irradiance = PrefilterLobe::irradiance();
   EXPECT_DOUBLE_EQ(irradiance.mass(), kPi);
-  EXPECT_NEAR(sphereIntegral([&](double t) { return irradiance.profile(std::cos(t)); }), kPi, 1e-6);
+  EXPECT_NEAR(sphereIntegral([&](double t) { return irradiance.weight(std::cos(t)); }), kPi, 1e-6);
   // Phong's factor is (N + 1)/(2 pi); blinn:N is phong:N/4.
-  EXPECT_NEAR(PrefilterLobe::phong(100).profile(1.0), 101.0 / kTwoPi, 1e-12);
-  EXPECT_NEAR(PrefilterLobe::blinn(400).profile(0.99), PrefilterLobe::phong(100).profile(0.99), 1e-12);
+  EXPECT_NEAR(PrefilterLobe::phong(100).weight(1.0), 101.0 / kTwoPi, 1e-12);
+  EXPECT_NEAR(PrefilterLobe::blinn(400).weight(0.99), PrefilterLobe::phong(100).weight(0.99), 1e-12);
   EXPECT_EQ(PrefilterLobe::blinn(400).name(), "blinn:400");
 }
 
@@ -80,7 +80,7 @@ TEST(PrefilterLobe, GgxLobeIsFilamentsSplitSumWeight) {
     return d * c;
   };
   const double norm = sphereIntegral([&](double t) { return raw(std::cos(t)); });
-  for (double c : {1.0, 0.99, 0.9, 0.5, 0.1}) EXPECT_NEAR(lobe.profile(c), raw(c) / norm, 1e-5 * raw(1.0) / norm) << c;
+  for (double c : {1.0, 0.99, 0.9, 0.5, 0.1}) EXPECT_NEAR(lobe.weight(c), raw(c) / norm, 1e-5 * raw(1.0) / norm) << c;
 }
 
 TEST(PrefilterLobe, ZonalCoefficientsMatchClosedForms) {
@@ -603,7 +603,7 @@ double dielectricByHand(double c, double eta) {
 TEST(FresnelDecomposition, RecombinedOutputsMatchABruteForceSum) {
   // A sphere map (view +z) of the linear environment L = a + b (l . e): texel r holds the
   // phong:20 value at r, a + b (21/22) (r . e), and the irradiance at n = normalize(r + v),
-  // pi a + (2 pi / 3) b (n . e). A renderer reads F at c = n.v from the profile (linear lookup)
+  // pi a + (2 pi / 3) b (n . e). A renderer reads F at c = n.v from the table (linear lookup)
   // and combines: add F L_m + k_d E / pi, mix F L_m + (1 - F) k_d E / pi. All typed out here.
   test::TempDir dir;
   PrefilterOptions options;
@@ -619,20 +619,20 @@ TEST(FresnelDecomposition, RecombinedOutputsMatchABruteForceSum) {
     const auto written = writeFresnelDecomposition(decomposition, out, {{"environment", {{"file", "linear.exr"}}}});
     ASSERT_EQ(written.files.size(), 3u);
     const MapFile specular = readMap(out), irradiance = readMap(fresnelIrradiancePath(out));
-    const Image profile = readImage(fresnelProfilePath(out));
-    ASSERT_EQ(profile.width(), 64);
-    ASSERT_EQ(profile.height(), 1);
-    // The profile: texel i holds F at cos theta = (i + 0.5)/64.
+    const Image table = readImage(fresnelTablePath(out));
+    ASSERT_EQ(table.width(), 64);
+    ASSERT_EQ(table.height(), 1);
+    // The table: texel i holds F at cos theta = (i + 0.5)/64.
     for (int i = 0; i < 64; ++i) {
-      EXPECT_NEAR(profile.at(i, 0)[1], dielectricByHand((i + 0.5) / 64.0, 1.5), 1e-6) << i;
+      EXPECT_NEAR(table.at(i, 0)[1], dielectricByHand((i + 0.5) / 64.0, 1.5), 1e-6) << i;
     }
     // Metadata tells how to combine.
     for (const auto* file : {&specular, &irradiance}) {
       const auto& info = file->info.spec["prefilter"]["fresnel"];
       EXPECT_EQ(info["combine"], std::string(toString(combine)));
       EXPECT_EQ(info["irradiance"], fresnelIrradiancePath(out).filename().string());
-      EXPECT_EQ(info["profile"], fresnelProfilePath(out).filename().string());
-      EXPECT_EQ(info["profile_size"], 64);
+      EXPECT_EQ(info["table"], fresnelTablePath(out).filename().string());
+      EXPECT_EQ(info["table_size"], 64);
       EXPECT_NEAR(info["f0"][0].get<double>(), 0.04, 1e-12);
     }
     EXPECT_EQ(specular.info.spec["prefilter"]["fresnel"]["role"], "specular");
@@ -656,7 +656,7 @@ TEST(FresnelDecomposition, RecombinedOutputsMatchABruteForceSum) {
         // What a renderer does: the maps at the texel, F by a linear lookup at s = c.
         const double u = std::clamp(n.z() * 64.0 - 0.5, 0.0, 63.0);
         const int i0 = std::min(62, static_cast<int>(u));
-        const Rgb fLookup = (1.0 - (u - i0)) * profile.at(i0, 0).head<3>() + (u - i0) * profile.at(i0 + 1, 0).head<3>();
+        const Rgb fLookup = (1.0 - (u - i0)) * table.at(i0, 0).head<3>() + (u - i0) * table.at(i0 + 1, 0).head<3>();
         const Rgb rendered = combineFresnelDecomposition(combine, fLookup, specular.image.at(x, y).head<3>(),
                                                          irradiance.image.at(x, y).head<3>(), albedo);
         const double error = (rendered - exact).abs().maxCoeff() / exact.abs().maxCoeff();
@@ -676,20 +676,20 @@ TEST(FresnelDecomposition, FurnaceMixWithWhiteAlbedoIsOne) {
   options.resolution = 8;
   const auto d = prefilterFresnelDecomposition(furnace(), PrefilterLobe::mirror(), FresnelTerm::dielectric(Rgb(1.3, 1.5, 2.4)),
                                                FresnelCombine::Mix, options, 16);
-  ASSERT_EQ(d.profile.size(), 16u);
+  ASSERT_EQ(d.table.size(), 16u);
   double worst = 0.0;
   for (int y = 0; y < d.specular.map->height(); ++y)
     for (int x = 0; x < d.specular.map->width(); ++x) {
       if (d.specular.map->texelCoverage(x, y) == 0.0) continue;
-      for (const Rgb& f : d.profile) {
+      for (const Rgb& f : d.table) {
         const Rgb l = combineFresnelDecomposition(FresnelCombine::Mix, f, d.specular.levels[0].at(x, y).head<3>(),
                                                   d.irradiance.levels[0].at(x, y).head<3>(), Rgb::Ones());
         worst = std::max(worst, (l - 1.0).abs().maxCoeff());
       }
     }
   EXPECT_LT(worst, 1e-3);
-  EXPECT_NEAR(d.profile[15][2], fresnelDielectric(15.5 / 16.0, 2.4), 1e-15);
-  // Refused: an irradiance "specular" lobe, a profile of no texels.
+  EXPECT_NEAR(d.table[15][2], fresnelDielectric(15.5 / 16.0, 2.4), 1e-15);
+  // Refused: an irradiance "specular" lobe, a table of no texels.
   Error::Kind kind{};
   EXPECT_NE(errorOf([&] { prefilterFresnelDecomposition(furnace(), PrefilterLobe::irradiance(), d.fresnel, FresnelCombine::Add, options, 8); },
                     &kind)

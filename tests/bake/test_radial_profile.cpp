@@ -113,11 +113,11 @@ TEST(RadialProfile, AutoPicksAProfileWhenItIsTheCheapestWayToMeetTheTarget) {
   options.maxError = 0.002;
   options.error.samples = 4000;
   const AutoResult map = chooseConfiguration(copper, options);
-  ASSERT_FALSE(map.chosen.profile);
-  options.allowProfile = true;
+  ASSERT_FALSE(map.chosen.radialProfile);
+  options.allowRadialProfile = true;
   const AutoResult profile = chooseConfiguration(copper, options);
-  ASSERT_TRUE(profile.chosen.profile) << profile.chosen.describe();
-  ASSERT_TRUE(profile.profile.has_value());
+  ASSERT_TRUE(profile.chosen.radialProfile) << profile.chosen.describe();
+  ASSERT_TRUE(profile.radialProfile.has_value());
   EXPECT_EQ(profile.image.width(), profile.chosen.resolution);
   EXPECT_EQ(profile.image.height(), 1);
   EXPECT_EQ(profile.image.metadata["parameterization"], "profile");
@@ -125,12 +125,12 @@ TEST(RadialProfile, AutoPicksAProfileWhenItIsTheCheapestWayToMeetTheTarget) {
   // Measured again with other directions, it still meets the target (within sampling noise).
   ErrorOptions other = options.error;
   other.seed = 99;
-  EXPECT_LE(measureProfileError(*profile.profile, copper, other).visibleRms, 1.2 * options.maxError);
+  EXPECT_LE(measureProfileError(*profile.radialProfile, copper, other).visibleRms, 1.2 * options.maxError);
   // The next cheaper profile misses it; the sphere map that meets it costs far more.
   int cheaperProfiles = 0;
   for (const auto& [configuration, error] : profile.rejected) {
     EXPECT_GT(error, options.maxError) << configuration.describe();
-    cheaperProfiles += configuration.profile ? 1 : 0;
+    cheaperProfiles += configuration.radialProfile ? 1 : 0;
   }
   EXPECT_GT(cheaperProfiles, 0) << "the chosen profile was the cheapest candidate: the test would prove nothing";
   EXPECT_LT(profile.chosen.cost() * 16, map.chosen.cost()) << profile.chosen.describe() << " vs " << map.chosen.describe();

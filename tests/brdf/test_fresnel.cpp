@@ -213,14 +213,14 @@ TEST(FresnelTerm, SpectralTablesReduceThroughCie) {
   EXPECT_NEAR(glass(0.5)[1], fresnelDielectric(0.5, 1.5), 2e-6);
 }
 
-TEST(FresnelProfile, TexelCentres) {
+TEST(FresnelTable, TexelCentres) {
   const FresnelTerm f = FresnelTerm::dielectric(Rgb(1.5, 2.0, 3.0));
-  const auto profile = fresnelProfile(f, 8);
+  const auto profile = fresnelTable(f, 8);
   ASSERT_EQ(profile.size(), 8u);
   for (int i = 0; i < 8; ++i) {
     for (int ch = 0; ch < 3; ++ch) EXPECT_DOUBLE_EQ(profile[i][ch], fresnelDielectric((i + 0.5) / 8, f.eta()[ch]));
   }
-  EXPECT_THROW(fresnelProfile(f, 0), Error);
+  EXPECT_THROW(fresnelTable(f, 0), Error);
 }
 
 #ifdef BRDFBAKE_HAVE_JET

@@ -288,13 +288,14 @@ TEST(Cli, RadiallySymmetricMapsAreBakedAsProfiles) {
   EXPECT_FALSE(fs::exists(dir / "g.exr"));
 }
 
-TEST(Cli, InterpolationChartsBothSchemesAndTheSeedLine) {
+TEST(Cli, InterpolationChartsBothSchemesAndTheLineExperiment) {
   test::TempDir dir;
   const auto result = runCli("interpolation -o " + q(dir / "i.png") + " --sizes 2 --places 0,45,80 --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
-  EXPECT_TRUE(fs::exists(dir / "i.png"));
-  EXPECT_TRUE(fs::exists(dir / "i_line.png"));
+  // -o is the one file written: the line chart only with its own flag.
+  EXPECT_EQ(test::filesIn(dir.path()), std::vector<std::string>{"i.png"});
   const auto report = nlohmann::json::parse(result.output);
+  EXPECT_EQ(report["files"], nlohmann::json::array({(dir / "i.png").string()}));
   EXPECT_EQ(report["sweep"].size(), 3u);
   // Zimmons 1999's line, by hand: viewer e = (-8.3, 1, 0) over the plane y = 0 (normal +y), one
   // segment from x = -10 to 10. In the x-y plane the reflected view at x is r(x) = (x - e_x,
@@ -351,7 +352,17 @@ TEST(Cli, InterpolationChartsBothSchemesAndTheSeedLine) {
   EXPECT_EQ(runCli("interpolation -o " + q(dir / "j.png") + " --sizes 0").exitCode, 2);
   EXPECT_EQ(runCli("interpolation -o " + q(dir / "j.png") + " --places 95").exitCode, 2);
   EXPECT_EQ(runCli("interpolation -o " + q(dir / "j.gif")).exitCode, 2);
+  EXPECT_EQ(runCli("interpolation -o " + q(dir / "j.png") + " --line-chart " + q(dir / "j.gif")).exitCode, 2);
+  EXPECT_EQ(runCli("interpolation --line-chart " + q(dir / "j.png") + " -o " + q(dir / "j.png")).exitCode, 2);
+  const auto nothing = runCli("interpolation --sizes 2");
+  EXPECT_EQ(nothing.exitCode, 2);
+  EXPECT_NE(nothing.output.find("nothing to write"), std::string::npos) << nothing.output;
   EXPECT_FALSE(fs::exists(dir / "j.png"));
+
+  // --line-chart writes the line chart, and nothing else is written beside either chart.
+  const auto line = runCli("interpolation --line-chart " + q(dir / "line.svg") + " --sizes 2 --places 0 --quiet");
+  ASSERT_EQ(line.exitCode, 0) << line.output;
+  EXPECT_EQ(test::filesIn(dir.path()), (std::vector<std::string>{"i.png", "line.svg"}));
 }
 
 TEST(Cli, HelpTeaches) {

@@ -37,9 +37,7 @@ TEST(Flags, ChartMinusOIsOneFileForATwoMapSpec) {
                         " --resolutions 16,32 --samples 1 --parameterizations sphere --quiet");
   ASSERT_EQ(r.exitCode, 0) << r.output;
   EXPECT_EQ(r.output, "");
-  std::vector<std::string> files;
-  for (const auto& e : fs::directory_iterator(dir.path())) files.push_back(e.path().filename().string());
-  EXPECT_EQ(files, std::vector<std::string>{"chart.png"});
+  EXPECT_EQ(test::filesIn(dir.path()), std::vector<std::string>{"chart.png"});
   // Two stacked panels: 900 x 1200 pixels (PNG header: width and height at bytes 16..23).
   std::ifstream png(dir / "chart.png", std::ios::binary);
   unsigned char header[24] = {};

@@ -37,13 +37,7 @@ nlohmann::json phongMap(const std::string& output, int resolution = 16) {
           {"lights", {{{"direction", "eye"}}}}};
 }
 
-std::vector<std::string> filesIn(const fs::path& folder) {
-  std::vector<std::string> names;
-  if (!fs::exists(folder)) return names;
-  for (const auto& e : fs::recursive_directory_iterator(folder)) names.push_back(fs::relative(e.path(), folder).string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
+using test::filesIn;
 
 const fs::path kTable = test::sourcePath("data_samples/tables/synthetic_two_lobes.astm");
 

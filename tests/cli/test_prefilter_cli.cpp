@@ -228,15 +228,15 @@ TEST(PrefilterCli, FresnelDecompositionWritesThreeFilesAndSaysHowToCombineThem) 
   const Vec3 d = Vec3(0.3, -0.8, 0.2).normalized();
   EXPECT_NEAR(sampleMap(out, d)[0], 1.0, 1e-3);
   EXPECT_NEAR(sampleMap(dir / "coat_irradiance.exr", d)[0], kPi, 1e-3 * kPi);
-  const Image profile = readImage(dir / "coat_fresnel.exr");
-  ASSERT_EQ(profile.width(), 8);
-  for (int i = 0; i < 8; ++i) EXPECT_NEAR(profile.at(i, 0)[0], fresnelDielectric((i + 0.5) / 8.0, 1.5), 1e-6) << i;
+  const Image table = readImage(dir / "coat_fresnel.exr");
+  ASSERT_EQ(table.width(), 8);
+  for (int i = 0; i < 8; ++i) EXPECT_NEAR(table.at(i, 0)[0], fresnelDielectric((i + 0.5) / 8.0, 1.5), 1e-6) << i;
   for (const char* file : {"coat.exr", "coat_irradiance.exr"}) {
     const auto info = runCli("info " + q(dir / file) + " --json");
     ASSERT_EQ(info.exitCode, 0) << info.output;
     const auto fresnel = nlohmann::json::parse(info.output)["metadata"]["spec"]["prefilter"]["fresnel"];
     EXPECT_EQ(fresnel["combine"], "mix") << file;
-    EXPECT_EQ(fresnel["profile"], "coat_fresnel.exr") << file;
+    EXPECT_EQ(fresnel["table"], "coat_fresnel.exr") << file;
     EXPECT_NE(fresnel["formula"].get<std::string>().find("(1 - F(n.v))"), std::string::npos) << file;
   }
   // Refused: an irradiance lobe, --combine alone, a bad combine, a non-positive index.

@@ -91,7 +91,7 @@ TEST(ReadOutputs, EveryBakedKindSamplesConvertsAndPreviews) {
      "material": {"model": "phong", "exponent": 10}, "lights": [{"direction": [1, 1, 1]}]},
     {"output": "r.exr", "parameterization": "profile", "resolution": 128, "samples_per_texel": 4,
      "material": {"model": "phong", "exponent": 10}, "lights": [{"direction": "eye"}]},
-    {"output": "f.exr", "parameterization": "sphere", "resolution": 32, "profile_output": "f_1d.exr",
+    {"output": "f.exr", "parameterization": "sphere", "resolution": 32, "fresnel_table_output": "f_1d.exr",
      "material": {"model": "fresnel", "fresnel": {"ior": 1.5}, "combine": "add"}}]})";
   const auto baked = runCli("bake " + q(dir / "spec.json") + " --quiet");
   ASSERT_EQ(baked.exitCode, 0) << baked.output;
@@ -148,17 +148,17 @@ TEST(ReadOutputs, EveryBakedKindSamplesConvertsAndPreviews) {
     // 32 texels: linear interpolation of a smooth F is within 2e-3 away from grazing.
     EXPECT_NEAR(f, dielectricFresnel(std::max(c, 0.5 / 32), 1.5), c < 0.1 ? 0.03 : 2e-3) << c;
   }
-  EXPECT_EQ(infoOf(dir / "f_1d.exr")["kind"], "fresnel_profile");
+  EXPECT_EQ(infoOf(dir / "f_1d.exr")["kind"], "fresnel_table");
   expectPreviews(dir / "f_1d.exr");
   // --to sphere: the sphere map of F as seen from +z matches the fresnel model's own sphere map.
   ASSERT_EQ(runCli("convert " + q(dir / "f_1d.exr") + " --to sphere --resolution 32 --quiet -o " + q(dir / "f_conv.exr")).exitCode, 0);
   const std::vector<Vec3> front{Vec3(0, 0, 1), Vec3(0.3, 0.2, 0.9).normalized(), Vec3(-0.6, 0.1, 0.4).normalized()};
-  const auto fromProfile = sampleAll(dir / "f_conv.exr", front), fromModel = sampleAll(dir / "f.exr", front);
-  ASSERT_EQ(fromProfile.size(), front.size());
+  const auto fromTable = sampleAll(dir / "f_conv.exr", front), fromModel = sampleAll(dir / "f.exr", front);
+  ASSERT_EQ(fromTable.size(), front.size());
   for (std::size_t i = 0; i < front.size(); ++i) {
     const double nv = std::sqrt((1.0 + front[i].z()) / 2.0);
-    EXPECT_NEAR(fromProfile[i][0], dielectricFresnel(nv, 1.5), 3e-3) << front[i].transpose();
-    EXPECT_NEAR(fromProfile[i][0], fromModel[i][0], 3e-3) << front[i].transpose();
+    EXPECT_NEAR(fromTable[i][0], dielectricFresnel(nv, 1.5), 3e-3) << front[i].transpose();
+    EXPECT_NEAR(fromTable[i][0], fromModel[i][0], 3e-3) << front[i].transpose();
   }
 }
 
@@ -247,7 +247,7 @@ TEST(ReadOutputs, PrefilterMipLevelsStacksAndFresnelMapsReadBack) {
   EXPECT_NE(withDir.output.find("n.v alone"), std::string::npos) << withDir.output;
   EXPECT_NEAR(sampleAll(dir / "coat_irradiance.exr", {Vec3(0, 0, 1)}).at(0)[0], kPi, 1e-3 * kPi);
   EXPECT_NEAR(sampleAll(dir / "coat.exr", {Vec3(0.1, 0.2, 1)}).at(0)[0], 1.0, 1e-3);
-  EXPECT_EQ(infoOf(dir / "coat_fresnel.exr")["metadata"]["spec"]["prefilter"]["fresnel"]["role"], "profile");
+  EXPECT_EQ(infoOf(dir / "coat_fresnel.exr")["metadata"]["spec"]["prefilter"]["fresnel"]["role"], "table");
   expectPreviews(dir / "coat_fresnel.exr");
   expectPreviews(dir / "coat_irradiance.exr");
 }

@@ -1,6 +1,6 @@
 // Lobe fitting (fit/): the lobe formula against hand-written formulas, the Cornell geometry against
 // the real files, recovery of known lobes from synthetic tables on that geometry (holes, 1 %
-// noise), degenerate tables, fit.json, table interpolation, the mirror-direction profiles and the
+// noise), degenerate tables, fit.json, table interpolation, the mirror-direction tables and the
 // "measured" / "lobes" spec materials.
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/bake/sphere_map.hpp>
@@ -10,7 +10,7 @@
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/fit/fit_report.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
-#include <brdfbake/fit/mirror_profile.hpp>
+#include <brdfbake/fit/mirror_direction.hpp>
 #include <brdfbake/fit/table_interpolation.hpp>
 #include <brdfbake/measured/measured_io.hpp>
 #include <brdfbake/spec/spec.hpp>
@@ -516,9 +516,9 @@ TEST(TableInterpolation, ReturnsSamplesAndUsesSymmetryAndIsotropy) {
   EXPECT_EQ(interpolator.evaluate(wi, Vec3(0, 0, -1)).norm(), 0.0);
 }
 
-TEST(MirrorProfile, SeedsWayTakesTheStrongestSampleNearTheMirror) {
+TEST(MirrorDirectionTable, SeedsWayTakesTheStrongestSampleNearTheMirror) {
   const MeasuredTable table = makeSyntheticTable(constantModel(), 0.0, 1);
-  const MirrorProfile seed = strongestNearMirrorProfile(table, radians(10.0));
+  const MirrorDirectionTable seed = strongestNearMirrorTable(table, radians(10.0));
   ASSERT_EQ(seed.thetas.size(), 8u);
   for (std::size_t r = 0; r < 8; ++r) {
     const Vec3 mirror = reflect(directionFromAngles(seed.thetas[r], 0.0), Vec3(Vec3::UnitZ()));
@@ -533,9 +533,9 @@ TEST(MirrorProfile, SeedsWayTakesTheStrongestSampleNearTheMirror) {
       EXPECT_GT(seed.offsets(static_cast<Eigen::Index>(r), c), radians(0.1));  // never on the mirror itself
     }
   }
-  // The fitted profile is the model on the exact mirror direction, so Zimmons & Bastos 1999's way is lower
+  // The fitted table is the model on the exact mirror direction, so Zimmons & Bastos 1999's way is lower
   // for these sharp lobes.
-  const MirrorProfile fitted = fittedMirrorProfile(constantModel(), seed.thetas);
+  const MirrorDirectionTable fitted = fittedMirrorTable(constantModel(), seed.thetas);
   for (std::size_t r = 0; r < 8; ++r) {
     EXPECT_NEAR(fitted.values(static_cast<Eigen::Index>(r), 0), 0.2 / kPi + 0.3 * 14 / kTwoPi + 0.5 * 302 / kTwoPi, 1e-12);
     EXPECT_LT(seed.values(static_cast<Eigen::Index>(r), 0), fitted.values(static_cast<Eigen::Index>(r), 0));
@@ -598,7 +598,7 @@ TEST(SpecMaterials, LobesAndMeasuredBakeIntoSphereMaps) {
   // Texel centres: the sphere map's normal at a texel is n = (x, y, sqrt(1 - x^2 - y^2)).
   const Image lobes = bake(sphere, *parsed.maps[0].makeFunction(), options);
   const Image mirror = bake(sphere, *parsed.maps[1].makeFunction(), options);
-  const MirrorProfile profile = strongestNearMirrorProfile(makeSyntheticTable(constantModel(), 0.0, 1));
+  const MirrorDirectionTable table = strongestNearMirrorTable(makeSyntheticTable(constantModel(), 0.0, 1));
   for (int y = 2; y < 30; y += 5) {
     for (int x = 2; x < 30; x += 5) {
       const double sx = (x + 0.5) / 32 * 2 - 1, sy = 1 - (y + 0.5) / 32 * 2;
@@ -606,7 +606,7 @@ TEST(SpecMaterials, LobesAndMeasuredBakeIntoSphereMaps) {
       const double nz = std::sqrt(1 - sx * sx - sy * sy);
       for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(lobes.at(x, y)[c], varyingModel().mirrorValue(static_cast<std::size_t>(c), nz), 1e-4 * (1 + lobes.at(x, y)[c]));
-        EXPECT_NEAR(mirror.at(x, y)[c], profile.at(std::acos(nz))[c], 1e-4 * (1 + mirror.at(x, y)[c]));
+        EXPECT_NEAR(mirror.at(x, y)[c], table.at(std::acos(nz))[c], 1e-4 * (1 + mirror.at(x, y)[c]));
       }
     }
   }

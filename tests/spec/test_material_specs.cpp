@@ -51,7 +51,7 @@ std::string errorFor(const json& map) {
 TEST(MaterialSpecs, ContractExamplesParse) {
   // The three examples of the spec contract, verbatim.
   const auto ct = parse(mapWith(cookTorrance()));
-  const auto* m = dynamic_cast<const CookTorranceMaterial*>(ct.maps[0].material.get());
+  const auto* m = dynamic_cast<const CookTorranceMaterial*>(ct.maps[0].materialMap()->material.get());
   ASSERT_NE(m, nullptr);
   EXPECT_EQ(m->params().mode, CookTorranceMode::Reflectance);
   EXPECT_NEAR(m->params().fresnel.f0()[0], 0.04, 1e-15);
@@ -59,13 +59,13 @@ TEST(MaterialSpecs, ContractExamplesParse) {
   EXPECT_FALSE(m->usesLights());
 
   const auto fr = parse(mapWith({{"model", "fresnel"}, {"fresnel", {{"f0", {0.955, 0.638, 0.538}}}}}));
-  const auto* f = dynamic_cast<const FresnelMaterial*>(fr.maps[0].material.get());
+  const auto* f = dynamic_cast<const FresnelMaterial*>(fr.maps[0].materialMap()->material.get());
   ASSERT_NE(f, nullptr);
   EXPECT_NEAR(f->fresnel().f0()[1], 0.638, 1e-12);
   EXPECT_EQ(f->combine(), FresnelCombine::Add);
 
   const auto cg = parse(mapWith(colorgram()));
-  const auto* c = dynamic_cast<const ColorgramMaterial*>(cg.maps[0].material.get());
+  const auto* c = dynamic_cast<const ColorgramMaterial*>(cg.maps[0].materialMap()->material.get());
   ASSERT_NE(c, nullptr);
   EXPECT_EQ(c->blend(), ColorgramBlend::Modulate);
   EXPECT_EQ(c->twist(), 15.0);
@@ -86,7 +86,7 @@ TEST(MaterialSpecs, FresnelForms) {
     json m = cookTorrance();
     m["fresnel"] = f;
     const BakeSpec spec = parse(mapWith(m));
-    const auto* material = dynamic_cast<const CookTorranceMaterial*>(spec.maps[0].material.get());
+    const auto* material = dynamic_cast<const CookTorranceMaterial*>(spec.maps[0].materialMap()->material.get());
     EXPECT_NE(material, nullptr);
     return material->params().fresnel;
   };
@@ -207,11 +207,16 @@ TEST(MaterialSpecs, NamesTheJsonPathOfEveryError) {
       {mapWith({{"model", "silhouette"}, {"width", 10}}, {{"mips", "yes"}}), "maps[0].mips: must be true or false"},
       {mapWith({{"model", "silhouette"}, {"width", 10}}, {{"mips", true}, {"parameterization", "paraboloid"}, {"view", {0, 0, 1}}}),
        "maps[0].mips: silhouette mip levels are defined for sphere maps only"},
-      {mapWith(cookTorrance(), {{"profile_output", "f.exr"}}), "maps[0].profile_output: only the fresnel model has a 1-D profile"},
-      {mapWith({{"model", "fresnel"}, {"fresnel", {{"ior", 1.5}}}}, {{"profile_output", "f.jpg"}}),
-       "maps[0].profile_output: f.jpg: unsupported image extension"},
-      {mapWith({{"model", "fresnel"}, {"fresnel", {{"ior", 1.5}}}}, {{"profile_output", "a.exr"}}),
-       "maps[0].profile_output: same file as output"},
+      {mapWith(cookTorrance(), {{"fresnel_table_output", "f.exr"}}),
+       "maps[0].fresnel_table_output: only the fresnel model has a 1-D table"},
+      {mapWith({{"model", "fresnel"}, {"fresnel", {{"ior", 1.5}}}}, {{"fresnel_table_output", "f.jpg"}}),
+       "maps[0].fresnel_table_output: f.jpg: unsupported image extension"},
+      {mapWith({{"model", "fresnel"}, {"fresnel", {{"ior", 1.5}}}}, {{"fresnel_table_output", "a.exr"}}),
+       "maps[0].fresnel_table_output: same file as output"},
+      // "profile_output", the key's former name, is still read, and errors name it as written.
+      {mapWith(cookTorrance(), {{"profile_output", "f.exr"}}), "maps[0].profile_output: only the fresnel model"},
+      {mapWith({{"model", "fresnel"}, {"fresnel", {{"ior", 1.5}}}}, {{"profile_output", "a.exr"}, {"fresnel_table_output", "b.exr"}}),
+       "maps[0].profile_output: the former name of \"fresnel_table_output\""},
   };
   for (const auto& c : cases) {
     const std::string error = errorFor(c.map);
@@ -266,12 +271,16 @@ TEST(MaterialSpecs, NarrowHighlightsAreRejectedUnlessSampledFinely) {
 
 TEST(MaterialSpecs, ExtraOutputsParse) {
   const auto fresnel = parse(mapWith({{"model", "fresnel"}, {"fresnel", {{"ior", 1.5}}}, {"combine", "mix"}},
-                                     {{"profile_output", "sub/f_1d.exr"}}));
-  ASSERT_TRUE(fresnel.maps[0].profileOutput);
-  EXPECT_EQ(*fresnel.maps[0].profileOutput, std::filesystem::path("sub/f_1d.exr"));
+                                     {{"fresnel_table_output", "sub/f_1d.exr"}}));
+  ASSERT_TRUE(fresnel.maps[0].materialMap()->fresnelTableOutput);
+  EXPECT_EQ(*fresnel.maps[0].materialMap()->fresnelTableOutput, std::filesystem::path("sub/f_1d.exr"));
+  // The former key name reads the same.
+  const auto former = parse(mapWith({{"model", "fresnel"}, {"fresnel", {{"ior", 1.5}}}}, {{"profile_output", "old.exr"}}));
+  ASSERT_TRUE(former.maps[0].materialMap()->fresnelTableOutput);
+  EXPECT_EQ(*former.maps[0].materialMap()->fresnelTableOutput, std::filesystem::path("old.exr"));
   const auto silhouette = parse(mapWith({{"model", "silhouette"}, {"width", 10}}, {{"mips", true}}));
-  EXPECT_TRUE(silhouette.maps[0].mips);
-  EXPECT_FALSE(parse(mapWith({{"model", "silhouette"}, {"width", 10}})).maps[0].mips);
+  EXPECT_TRUE(silhouette.maps[0].materialMap()->mips);
+  EXPECT_FALSE(parse(mapWith({{"model", "silhouette"}, {"width", 10}})).maps[0].materialMap()->mips);
 }
 
 }  // namespace

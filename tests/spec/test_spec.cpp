@@ -47,9 +47,12 @@ TEST(Spec, ParsesAValidSpec) {
   EXPECT_EQ(map.output, std::filesystem::path("/base/a.exr"));
   EXPECT_EQ(map.resolution, 64);
   EXPECT_EQ(map.samplesPerTexel, 4);
-  ASSERT_EQ(map.lights.size(), 1u);
-  EXPECT_EQ(map.lights[0].direction, Vec3::UnitZ());  // "eye" is the view vector
-  EXPECT_EQ(map.material->model(), "phong");
+  const MaterialMapSpec* material = map.materialMap();
+  ASSERT_NE(material, nullptr);
+  EXPECT_EQ(map.environmentMap(), nullptr);
+  ASSERT_EQ(material->lights.size(), 1u);
+  EXPECT_EQ(material->lights[0].direction, Vec3::UnitZ());  // "eye" is the view vector
+  EXPECT_EQ(material->material->model(), "phong");
 }
 
 TEST(Spec, NamesTheJsonPathOfEveryError) {
@@ -242,25 +245,28 @@ TEST(Spec, EverySampleSpecParses) {
       SCOPED_TRACE(name + " maps[" + std::to_string(i) + "]");
       EXPECT_EQ(map.output, entry.path().parent_path() / e.output);
       if (e.model.rfind("environment:", 0) == 0) {
-        ASSERT_TRUE(map.environment.has_value());
-        EXPECT_EQ("environment:" + map.environment->lobeName, e.model);
-        EXPECT_EQ(map.material, nullptr);
+        ASSERT_NE(map.environmentMap(), nullptr);
+        EXPECT_EQ("environment:" + map.environmentMap()->lobeName, e.model);
+        EXPECT_EQ(map.materialMap(), nullptr);
+        EXPECT_EQ(e.lights, 0u);
       } else {
+        const MaterialMapSpec* material = map.materialMap();
+        ASSERT_NE(material, nullptr);
+        EXPECT_EQ(map.environmentMap(), nullptr);
         // A measured material's fit is deferred to prepare(): then there is no material yet.
-        EXPECT_NE(map.material == nullptr, !map.deferredFit.has_value());
-        EXPECT_FALSE(map.environment.has_value());
+        EXPECT_NE(material->material == nullptr, !material->deferredFit.has_value());
         EXPECT_EQ(map.modelName(), e.model);
+        EXPECT_EQ(material->lights.size(), e.lights);
       }
       if (e.parameterization == "auto") {
         EXPECT_TRUE(map.autoSelect.parameterization);
         EXPECT_TRUE(map.autoSelect.resolution);
       } else {
         EXPECT_FALSE(map.autoSelect.parameterization);
-        EXPECT_EQ(map.profile, e.parameterization == "profile");
+        EXPECT_EQ(map.radialProfile, e.parameterization == "profile");
         EXPECT_EQ(std::string(toString(map.parameterization)), e.parameterization == "profile" ? "sphere" : e.parameterization);
         EXPECT_EQ(map.resolution, e.resolution);
       }
-      EXPECT_EQ(map.lights.size(), e.lights);
     }
   }
   EXPECT_EQ(seen.size(), expected.size()) << "a sample spec listed here is missing from data_samples/specs";
@@ -271,15 +277,16 @@ TEST(Spec, EverySampleSpecParses) {
 TEST(Spec, MeasuredFitsRunWhenTheMapIsPreparedNotWhileParsing) {
   BakeSpec spec = loadBakeSpec(test::sourcePath("data_samples/specs/measured_mirror.json"));
   MapSpec& map = spec.maps[1];
-  ASSERT_TRUE(map.deferredFit.has_value());
-  EXPECT_EQ(map.material, nullptr);
-  EXPECT_EQ(map.deferredFit->jsonPath, "maps[1].material");
-  EXPECT_GT(map.deferredFit->table.size(), 100u);  // read and checked while parsing
+  const MaterialMapSpec& material = *map.materialMap();
+  ASSERT_TRUE(material.deferredFit.has_value());
+  EXPECT_EQ(material.material, nullptr);
+  EXPECT_EQ(material.deferredFit->jsonPath, "maps[1].material");
+  EXPECT_GT(material.deferredFit->table.size(), 100u);  // read and checked while parsing
   EXPECT_THROW(map.makeFunction(), Error);
   std::vector<double> progress;
   map.prepare([&](double fraction) { progress.push_back(fraction); });
-  ASSERT_NE(map.material, nullptr);
-  EXPECT_FALSE(map.deferredFit.has_value());
+  ASSERT_NE(material.material, nullptr);
+  EXPECT_FALSE(material.deferredFit.has_value());
   EXPECT_EQ(map.modelName(), "measured");
   ASSERT_FALSE(progress.empty());
   EXPECT_GT(progress.back(), 0.5);  // fitLobes reports per solve; the last solves may be skipped

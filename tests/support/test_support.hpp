@@ -2,10 +2,12 @@
 // Helpers shared by the tests: temporary folders, the shared/ data folder, running the CLI.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <random>
 #include <string>
+#include <vector>
 
 namespace brdfbake::test {
 
@@ -65,5 +67,16 @@ inline std::string q(const std::filesystem::path& p) { return std::string("'").a
 inline CommandResult runCli(const std::string& arguments) { return run(std::string(BRDFBAKE_CLI) + " " + arguments); }
 
 inline std::string sourcePath(const std::string& relative) { return std::string(BRDFBAKE_SOURCE_DIR) + "/" + relative; }
+
+/// Every file and folder under `folder`, relative to it, sorted (empty if it does not exist).
+inline std::vector<std::string> filesIn(const std::filesystem::path& folder) {
+  std::vector<std::string> names;
+  if (!std::filesystem::exists(folder)) return names;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(folder)) {
+    names.push_back(std::filesystem::relative(e.path(), folder).string());
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
 
 }  // namespace brdfbake::test

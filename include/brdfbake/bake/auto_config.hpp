@@ -20,7 +20,7 @@ struct MapConfiguration {
   int samplesPerTexel = 0;
   /// A 1-D radial profile of `resolution` texels instead of a 2-D map (bake/radial_profile.hpp);
   /// `parameterization` is then ignored.
-  bool profile = false;
+  bool radialProfile = false;
   /// Cost: texels x samples per texel (memory and bake time both follow it).
   long long cost() const;
   long long texels() const;  ///< width x height (N for a profile)
@@ -34,7 +34,7 @@ struct AutoOptions {
   /// Also try 1-D radial profiles (each resolution x samples) when the function has a symmetry
   /// axis (MapFunction::symmetryAxis): a radially symmetric map needs only its profile. With no
   /// parameterizations, only profiles are tried.
-  bool allowProfile = false;
+  bool allowRadialProfile = false;
   /// Target, relative to the peak, in (0, 1): ErrorStats::bound, the larger of the
   /// value-weighted RMS (highlightRms: the highlight is within this fraction of its peak) and the
   /// RMS over the lookups a renderer makes (visibleRms for sphere maps, else rms). docs/accuracy.md.
@@ -52,7 +52,7 @@ struct AutoResult {
   MapConfiguration chosen;
   double error = 0.0;      ///< its measured error
   Image image;             ///< the chosen map, baked (a profile: N x 1, RadialProfile::toImage)
-  std::optional<RadialProfile> profile;  ///< set when a profile was chosen
+  std::optional<RadialProfile> radialProfile;  ///< set when a profile was chosen
   int bakes = 0;           ///< configurations baked in full and measured, the chosen one included
   int estimated = 0;       ///< configurations whose error was estimated (estimateMapError) without a bake
   /// The cheaper configurations looked at and their errors (all above maxError), cheapest first:

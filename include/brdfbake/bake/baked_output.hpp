@@ -11,7 +11,7 @@
 /// | RadialProfile     | N x 1, metadata "parameterization": "profile"           | linear in u = |d - axis| / 2 (radial_profile.hpp)       |
 /// | ElevationStack    | STEM_elev0.EXT ... STEM_elev{K-1}.EXT (open STEM.EXT)   | each slice bilinear at d, then linear in the model's    |
 /// |                   |                                                         | elevation coordinate t(n.v) (prefilter_stack.hpp)       |
-/// | FresnelProfile    | N x 1, "parameterization": "fresnel_profile"            | linear in cos theta = n.v, texel i at (i + 0.5) / N     |
+/// | FresnelTable    | N x 1, "parameterization": "fresnel_table"            | linear in cos theta = n.v, texel i at (i + 0.5) / N     |
 /// | ShIrradiance      | JSON of spherical-harmonic coefficients (sh_irradiance) | Σ_i c_i Y_i(n) at the normal                            |
 ///
 /// The lookup direction is the one the map is indexed by, in the map's frame: the reflected
@@ -33,15 +33,15 @@
 
 namespace brdfbake {
 
-enum class OutputKind { Map, RadialProfile, ElevationStack, FresnelProfile, ShIrradiance };
+enum class OutputKind { Map, RadialProfile, ElevationStack, FresnelTable, ShIrradiance };
 
-/// "map", "radial_profile", "elevation_stack", "fresnel_profile", "sh_irradiance".
+/// "map", "radial_profile", "elevation_stack", "fresnel_table", "sh_irradiance".
 std::string_view toString(OutputKind kind);
 
-/// The Fresnel texture F(cos theta) (fresnelProfile, entry i at cos theta = (i + 0.5) / N) as an
-/// N x 1 image (alpha 1) whose metadata ("parameterization": "fresnel_profile", "resolution",
+/// The Fresnel texture F(cos theta) (fresnelTable, entry i at cos theta = (i + 0.5) / N) as an
+/// N x 1 image (alpha 1) whose metadata ("parameterization": "fresnel_table", "resolution",
 /// "coordinate", "convention_version") lets BakedOutput read it back.
-Image fresnelProfileImage(const std::vector<Rgb>& profile);
+Image fresnelTableImage(const std::vector<Rgb>& table);
 
 struct OpenOutputOptions {
   /// A plain image (no brdfbake metadata) is read as a map of this kind; without it, an error.
@@ -68,17 +68,17 @@ class BakedOutput {
   /// The metadata (of slice 0 for a stack, of face +x for faces).
   const nlohmann::json& metadata() const { return metadata_; }
 
-  /// False only for a Fresnel profile, a function of n.v alone.
-  bool usesDirection() const { return kind_ != OutputKind::FresnelProfile; }
-  /// True for an elevation stack and a Fresnel profile.
-  bool usesCosView() const { return kind_ == OutputKind::ElevationStack || kind_ == OutputKind::FresnelProfile; }
+  /// False only for a Fresnel table, a function of n.v alone.
+  bool usesDirection() const { return kind_ != OutputKind::FresnelTable; }
+  /// True for an elevation stack and a Fresnel table.
+  bool usesCosView() const { return kind_ == OutputKind::ElevationStack || kind_ == OutputKind::FresnelTable; }
   /// True if the lookup direction is the normal n, not the reflected direction r (see @file).
   bool indexedByNormal() const { return indexedByNormal_; }
   /// Sphere maps and profiles about the view live in eye space: the view is +z only.
   bool eyeSpace() const { return eyeSpace_; }
 
-  /// The value at a lookup direction (finite, non-zero; ignored by a Fresnel profile) and n.v
-  /// (in [0, 1]; used by stacks and Fresnel profiles only, which need it). Throws
+  /// The value at a lookup direction (finite, non-zero; ignored by a Fresnel table) and n.v
+  /// (in [0, 1]; used by stacks and Fresnel tables only, which need it). Throws
   /// Error(InvalidArgument) if a needed parameter is missing or out of range. Alpha is the map's
   /// coverage (1 for profiles and SH).
   Rgba lookup(const Vec3& direction, std::optional<double> cosView = std::nullopt) const;
@@ -109,7 +109,7 @@ class BakedOutput {
 };
 
 /// An opened output as a function of the lookup direction, for resampling (`brdfbake convert`):
-/// lookup(d, cosView). For a Fresnel profile, `cosView` must be absent and the function is F(n.v)
+/// lookup(d, cosView). For a Fresnel table, `cosView` must be absent and the function is F(n.v)
 /// for the eye-space view +z: n = normalize(d + z), n.v = sqrt((1 + d.z) / 2) (what a sphere map of
 /// the Fresnel term holds). Holds a reference: keep `output` alive.
 class BakedOutputFunction final : public MapFunction {

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace brdfbake {
@@ -62,7 +63,13 @@ struct MapInfo {
 /// lat-long. Returns RGBA.
 Rgba sampleBilinear(const Image& image, const Parameterization& map, const Vec3& direction);
 
-/// Linear lookup of a 1-D texture (the radial and Fresnel profiles): `texels` centred at
+/// The "parameterization" metadata written on a 1-D Fresnel table (fresnelTableImage).
+inline constexpr const char* kFresnelTableParameterization = "fresnel_table";
+/// True for "fresnel_table" and for "fresnel_profile", its name in files written before the rename
+/// (still read).
+bool isFresnelTableParameterization(const std::string& parameterization);
+
+/// Linear lookup of a 1-D texture (a radial profile or a Fresnel table): `texels` centred at
 /// s = (i + 0.5) / N, interpolated linearly and clamped at both ends, as a GPU's linear filter
 /// with clamp-to-edge does. Throws Error(InvalidArgument) if `texels` is empty.
 Rgb sampleLinear1d(const std::vector<Rgb>& texels, double s);

@@ -63,7 +63,7 @@ class PrefilterLobe {
   double ggxAlpha() const;
 
   /// w(c) per steradian for the cosine c of the angle to the axis (exact formula; 0 for mirror).
-  double profile(double cosAngle) const;
+  double weight(double cosAngle) const;
   /// ∫ w dω over the sphere: 1 for normalised lobes, pi for irradiance.
   double mass() const;
   /// Angle (radians) about the axis holding half of the mass.

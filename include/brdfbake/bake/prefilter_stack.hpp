@@ -60,19 +60,19 @@ MapWriteReport writePrefilteredStack(const PrefilteredStack& stack, const std::f
 struct FresnelDecomposition {
   PrefilteredMap specular;    ///< L_m: the environment filtered with the specular lobe
   PrefilteredMap irradiance;  ///< E(n) = ∫ L max(0, n.l) dω (pi for L = 1), same map and options
-  std::vector<Rgb> profile;   ///< fresnelProfile: entry i holds F at cos theta = (i + 0.5) / size
+  std::vector<Rgb> table;     ///< fresnelTable: entry i holds F at cos theta = (i + 0.5) / size
   FresnelTerm fresnel = FresnelTerm::dielectric(Rgb::Constant(1.5));
   FresnelCombine combine = FresnelCombine::Add;
 };
 
 /// Prefilters `environment` with `specular` (mirror, phong, blinn or ggx: not irradiance) and with
-/// the irradiance lobe, both to `options`, and tabulates `fresnel` over `profileSize` texels (>= 1).
+/// the irradiance lobe, both to `options`, and tabulates `fresnel` over `tableSize` texels (>= 1).
 /// Throws Error(InvalidArgument) for an irradiance specular lobe or a bad size.
 FresnelDecomposition prefilterFresnelDecomposition(const Environment& environment, const PrefilterLobe& specular,
                                                    const FresnelTerm& fresnel, FresnelCombine combine,
-                                                   const PrefilterOptions& options, int profileSize);
+                                                   const PrefilterOptions& options, int tableSize);
 
-/// What a renderer computes at a surface point from the three outputs: F = F(n.v) (the profile),
+/// What a renderer computes at a surface point from the three outputs: F = F(n.v) (the table),
 /// L_m = the specular map at the reflected direction r, E = the irradiance map at the normal n
 /// (a sphere map holds both at r), and its own diffuse albedo k_d:
 ///   add: F L_m + k_d E / pi,   mix: F L_m + (1 - F) k_d E / pi.
@@ -105,7 +105,7 @@ struct PrefilterOutputs {
   MipLayout mipLayout = MipLayout::Files;  ///< Tiled: the mip levels inside each map's file
   int mipLevels = 0;                      ///< with mips: the levels written (a gloss chain's count), 0 = all
   int elevationSlices = 0;                ///< a stack over elevation (STEM_elevJ.EXT), or 0
-  bool fresnel = false;                   ///< a Fresnel decomposition (irradiance map and profile too)
+  bool fresnel = false;                   ///< a Fresnel decomposition (irradiance map and Fresnel table too)
 };
 
 /// Every file writePrefilteredMap, writePrefilteredStack or writeFresnelDecomposition writes or
@@ -115,14 +115,14 @@ std::vector<FilePlan::Entry> prefilterOutputFiles(const std::filesystem::path& o
 
 /// STEM_irradiance.EXT and STEM_fresnel.EXT beside `output` (the specular map).
 std::filesystem::path fresnelIrradiancePath(const std::filesystem::path& output);
-std::filesystem::path fresnelProfilePath(const std::filesystem::path& output);
+std::filesystem::path fresnelTablePath(const std::filesystem::path& output);
 
 /// Writes the specular map at `output`, the irradiance map at fresnelIrradiancePath(output) (both
-/// with writePrefilteredMap, mip levels included) and the profile, a size x 1 image
-/// (fresnelProfileImage: "parameterization": "fresnel_profile", looked up at n.v), at
-/// fresnelProfilePath(output). Both maps' "prefilter"
-/// metadata has "fresnel": {role, combine, formula, specular, irradiance, profile (file names),
-/// profile_size, profile_texels, f0}.
+/// with writePrefilteredMap, mip levels included) and the Fresnel table, a size x 1 image
+/// (fresnelTableImage: "parameterization": "fresnel_table", looked up at n.v), at
+/// fresnelTablePath(output). Both maps' "prefilter"
+/// metadata has "fresnel": {role, combine, formula, specular, irradiance, table (file names),
+/// table_size, table_texels, f0}.
 MapWriteReport writeFresnelDecomposition(const FresnelDecomposition& decomposition, const std::filesystem::path& output,
                                          nlohmann::json spec, CubeLayout layout = CubeLayout::Cross,
                                          const WriteOptions& options = {}, MipLayout mipLayout = MipLayout::Files);

@@ -49,7 +49,7 @@ Image renderPreview(const Image& map, const Parameterization& parameterization, 
 
 class BakedOutput;
 /// The same for any output of bake or prefilter (baked_output.hpp), shaded per pixel as a renderer
-/// shades it (BakedOutput::shade): a profile at r, a stack at r and n.v, a Fresnel profile at n.v,
+/// shades it (BakedOutput::shade): a profile at r, a stack at r and n.v, a Fresnel table at n.v,
 /// irradiance (maps indexed by the normal, SH) at n. 2-D maps looked up at r take the call above
 /// (per-vertex mode included); for the other kinds perVertex is Error(InvalidArgument).
 Image renderPreview(const BakedOutput& output, const PreviewOptions& options);

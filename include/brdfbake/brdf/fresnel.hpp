@@ -163,7 +163,7 @@ class FresnelTerm {
 /// The 1-D Fresnel texture of Heidrich 2000 section 3.1.1: `size` entries, entry i holding F at the
 /// texel centre c_i = (i + 0.5) / size (so a GPU's linear lookup at texture coordinate s = cos theta
 /// returns F(cos theta), clamped to the end entries within half a texel of 0 and 1). size >= 1.
-std::vector<Rgb> fresnelProfile(const FresnelTerm& fresnel, int size);
+std::vector<Rgb> fresnelTable(const FresnelTerm& fresnel, int size);
 
 /// How a renderer combines the Fresnel map with its mirror (L_m) and diffuse (L_d) images
 /// (Heidrich 2000 section 3.1.1). The map is the same either way; the choice is recorded in the spec.

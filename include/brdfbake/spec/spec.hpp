@@ -45,7 +45,7 @@ struct EnvironmentMapSpec {
   int elevations = 8;
   /// "fresnel" (a specular lobe only): the Fresnel term as the fresnel material's "fresnel" object;
   /// then OUTPUT is the specular map, STEM_irradiance.EXT the irradiance map and STEM_fresnel.EXT
-  /// the 1-D profile of `resolution` texels (prefilterFresnelDecomposition).
+  /// the 1-D Fresnel table of `resolution` texels (prefilterFresnelDecomposition).
   std::optional<FresnelTerm> fresnel;
   FresnelCombine combine = FresnelCombine::Add;  ///< "combine": "add" (default) | "mix"; needs "fresnel"
 
@@ -58,39 +58,67 @@ struct EnvironmentMapSpec {
   }
 };
 
-/// One entry of "maps", validated.
+/// "material" and "lights": a map baked from a material model (docs/materials.md), with the extra
+/// files some models write beside it.
+struct MaterialMapSpec {
+  /// The material; null while `deferredFit` is pending (MapSpec::prepare() makes it).
+  std::shared_ptr<const Material> material;
+  /// A "measured" material's fit, parsed but not run yet (see MapSpec::prepare()).
+  std::optional<DeferredFit> deferredFit;
+  std::vector<DirectionalLight> lights;
+  bool lightAtEye = false;              ///< a light was given as "direction": "eye"
+  /// "mips": true (silhouette sphere maps only): also write the hand-made mip levels 1.. as
+  /// STEM_mip1.EXT, STEM_mip2.EXT, ... beside the output (docs/materials.md).
+  bool mips = false;
+  /// "mip_layout" beside "mips": "files" (default) | "tiled" (the whole chain in the map's output,
+  /// one tiled MIP-mapped OpenEXR: writeTiledMap).
+  MipLayout mipLayout = MipLayout::Files;
+  /// "fresnel_table_output" (fresnel model only; "profile_output", its former name, is still
+  /// read): also write the 1-D Fresnel table F(cos theta), `resolution` x 1 texels, to this path; a
+  /// relative path is taken relative to the folder of the map's output.
+  std::optional<std::filesystem::path> fresnelTableOutput;
+
+  /// The material model's name ("measured" while its fit is pending).
+  std::string modelName() const;
+};
+
+/// What a map holds: a material baked, or an environment prefiltered.
+using MapContent = std::variant<MaterialMapSpec, EnvironmentMapSpec>;
+
+/// One lambda per kind, for std::visit over MapContent:
+///   std::visit(Overloaded{[](const MaterialMapSpec& m) {...}, [](const EnvironmentMapSpec& e) {...}}, map.content)
+template <class... F>
+struct Overloaded : F... {
+  using F::operator()...;
+};
+template <class... F>
+Overloaded(F...) -> Overloaded<F...>;
+
+/// One entry of "maps", validated: what every map has (output, parameterization, resolution, view,
+/// files), and its content, one of its kinds (std::visit it, or ask materialMap() / environmentMap()).
 struct MapSpec {
   std::string jsonPath;                 ///< "maps[0]", for messages
   std::filesystem::path output;         ///< resolved against the spec's folder
   ParameterizationKind parameterization = ParameterizationKind::Sphere;
   /// "parameterization": "profile": a 1-D radial profile (bake/radial_profile.hpp) instead of a
   /// 2-D map, for materials radially symmetric about one axis; eye space as for sphere maps
-  /// (`parameterization` stays Sphere for the view rules).
-  bool profile = false;
+  /// (`parameterization` stays Sphere for the view rules). Material maps only.
+  bool radialProfile = false;
   int resolution = 256;
   int samplesPerTexel = 16;
   Vec3 view = Vec3::UnitZ();            ///< view vector in the map frame (+z for sphere maps)
   bool viewGiven = false;               ///< the spec fixed the view ("view": [x, y, z])
   CubeLayout cubeLayout = CubeLayout::Cross;
-  /// The material; null while `deferredFit` is pending (prepare() makes it).
-  std::shared_ptr<const Material> material;
-  /// A "measured" material's fit, parsed but not run yet (see prepare()).
-  std::optional<DeferredFit> deferredFit;
-  std::vector<DirectionalLight> lights;
-  bool lightAtEye = false;              ///< a light was given as "direction": "eye"
   nlohmann::json raw;                   ///< the map's JSON as written, stored in the map's metadata
   std::string specLabel;                ///< the spec's file name (parseBakeSpec's label), for messages
-  /// Set for prefiltered environment maps ("environment"); then material and lights are empty.
-  std::optional<EnvironmentMapSpec> environment;
-  /// "mips": true (silhouette sphere maps only): also write the hand-made mip levels 1.. as
-  /// STEM_mip1.EXT, STEM_mip2.EXT, ... beside the output (docs/materials.md).
-  bool mips = false;
-  /// "mip_layout" beside "mips": "files" (default) | "tiled" (the whole chain in `output`, one
-  /// tiled MIP-mapped OpenEXR: writeTiledMap).
-  MipLayout mipLayout = MipLayout::Files;
-  /// "profile_output" (fresnel model only): also write the 1-D texture F(cos theta), `resolution`
-  /// x 1 texels, to this path; a relative path is taken relative to the folder of `output`.
-  std::optional<std::filesystem::path> profileOutput;
+  /// The material map ("material", "lights") or the prefiltered environment map ("environment").
+  MapContent content;
+
+  /// The content if it is a material map, else null.
+  const MaterialMapSpec* materialMap() const { return std::get_if<MaterialMapSpec>(&content); }
+  MaterialMapSpec* materialMap() { return std::get_if<MaterialMapSpec>(&content); }
+  /// The content if it is a prefiltered environment map, else null.
+  const EnvironmentMapSpec* environmentMap() const { return std::get_if<EnvironmentMapSpec>(&content); }
 
   /// "auto" values: the tool picks the cheapest configuration meeting `maxError`.
   struct AutoSelection {
@@ -108,7 +136,7 @@ struct MapSpec {
   /// printed and reported with the map.
   std::vector<std::string> notes;
   /// Every file making this map writes or replaces: the output or its cube faces, mip levels,
-  /// elevation slices, Fresnel maps, "profile_output", and the metadata sidecar FILE.json beside
+  /// elevation slices, Fresnel maps, "fresnel_table_output", and the metadata sidecar FILE.json beside
   /// each, with roles such as "maps[0].output (mip level 2)".
   std::vector<FilePlan::Entry> plannedOutputs() const;
 
@@ -116,12 +144,12 @@ struct MapSpec {
   /// The candidates and target for chooseConfiguration (fixed values become one-element lists).
   AutoOptions autoOptions() const;
 
-  /// Makes what parsing deferred (a "measured" material's fit; `progress` gets the fraction
+  /// Makes what parsing deferred (a material map's "measured" fit; `progress` gets the fraction
   /// done) and checks the rules that need the made material (lights, view, profile symmetry,
   /// sampling), throwing Error(InvalidInput) that names the spec and JSON path. Does nothing
   /// when nothing is pending. Call it before makeFunction().
   void prepare(const std::function<void(double)>& progress = {});
-  /// The material model's name ("measured" while its fit is pending; empty for environment maps).
+  /// The material model's name (MaterialMapSpec::modelName; empty for environment maps).
   std::string modelName() const;
 
   /// The prefilter options an environment map asks for (parameterization, resolution, mips,
@@ -144,7 +172,7 @@ struct BakeSpec {
 BakeSpec parseBakeSpec(const nlohmann::json& document, const std::filesystem::path& baseDirectory,
                        const std::string& label = "spec");
 
-/// Writes the extra files a map asks for besides its image ("mips", "profile_output"; see MapSpec),
+/// Writes the extra files a map asks for besides its image ("mips", "fresnel_table_output"; see MapSpec),
 /// each written with writeImage/writeMap semantics. `bakeOptions` is used for baking mip levels.
 /// Returns the files written and notes (nothing if the map asks for no extras).
 MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions, const WriteOptions& writeOptions = {});
