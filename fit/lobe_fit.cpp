@@ -891,7 +891,7 @@ CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& opti
   space.heldOutFeasible = offMirror >= 2 * static_cast<std::size_t>(options.heldOut.folds);
   if (!space.heldOutFeasible) {
     space.counts.resize(1);
-    space.kinds.resize(1);
+    if (space.kinds.size() > 1) space.kinds = {LobeKindChoice::Mirror};  // the fewest parameters
     space.elevations.resize(1);
   }
   return space;
