@@ -158,6 +158,7 @@ nlohmann::ordered_json fitFileToJson(const FitFile& file) {
                             {"kfold_ratio", finite(c.kfoldRatio, "k-fold ratio")},
                             {"elevation_ratio", finite(c.elevationRatio, "elevation ratio")},
                             {"seconds", finite(c.seconds, "seconds")},
+                            {"max_exponent", finite(c.maxExponent, "max exponent")},
                             {"chosen", c.chosen}});
     }
     const bool perChannel = o.method == FitMethod::PerChannel;
@@ -328,6 +329,7 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
           candidate.kfoldRatio = c.number("kfold_ratio", 0.0);
           candidate.elevationRatio = c.number("elevation_ratio", 0.0);
           candidate.seconds = c.number("seconds", 0.0);
+          if (c.has("max_exponent")) candidate.maxExponent = c.number("max_exponent", 0.0, kMaxLobeExponent);
         }
         const auto& chosen = c.require("chosen");
         if (!chosen.is_boolean()) throw specError(c.child("chosen"), "must be true or false");

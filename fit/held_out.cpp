@@ -93,13 +93,17 @@ LogErrorSum cosineLogError(const LobeModel& model, const MeasuredTable& table, c
 
 std::vector<double> lambertianFit(const MeasuredTable& table, const std::vector<std::size_t>& rows) {
   std::vector<double> k(table.channelCount(), 0.0);
+  // The cosines and measured terms once (the search evaluates the cost 2 x 60 times per channel).
+  std::vector<double> cosines, measured(rows.size());
+  cosines.reserve(rows.size());
+  for (std::size_t i : rows) cosines.push_back(cosIncident(table, i));
   for (std::size_t ch = 0; ch < k.size(); ++ch) {
     const auto column = static_cast<Eigen::Index>(ch);
+    for (std::size_t j = 0; j < rows.size(); ++j) measured[j] = logTerm(cosines[j], table.values(static_cast<Eigen::Index>(rows[j]), column));
     auto cost = [&](double value) {
       double s = 0.0;
-      for (std::size_t i : rows) {
-        const double c = cosIncident(table, i);
-        const double r = logTerm(c, value) - logTerm(c, table.values(static_cast<Eigen::Index>(i), column));
+      for (std::size_t j = 0; j < rows.size(); ++j) {
+        const double r = logTerm(cosines[j], value) - measured[j];
         s += r * r;
       }
       return s;
@@ -107,7 +111,8 @@ std::vector<double> lambertianFit(const MeasuredTable& table, const std::vector<
     double a = 0.0, b = 1e-9;
     for (std::size_t i : rows) b = std::max(b, table.values(static_cast<Eigen::Index>(i), column));
     const double g = (std::sqrt(5.0) - 1.0) / 2.0;
-    for (int it = 0; it < 80; ++it) {
+    // 60 steps shrink the bracket to 3e-13 of max f (the figures do not move past the 10th digit).
+    for (int it = 0; it < 60; ++it) {
       const double c = b - g * (b - a), d = a + g * (b - a);
       if (cost(c) < cost(d)) b = d;
       else a = c;

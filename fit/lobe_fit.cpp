@@ -725,7 +725,8 @@ FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options) {
   return result;
 }
 
-FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeKindChoice kind) {
+// `warmStart`: a fit of the same table with fewer lobes of this kind, whose shapes the fit keeps.
+FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeKindChoice kind, const LobeModel* warmStart = nullptr) {
   const auto start = Clock::now();
   const std::string label = table.sourceFile.empty() ? std::string("table") : table.sourceFile;
   if (table.channelCount() == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
@@ -735,6 +736,7 @@ FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeK
   config.lafortune = kind == LobeKindChoice::Lafortune;
   config.halfVector = kind == LobeKindChoice::HalfVector;
   config.maxExponent = options.maxExponent;
+  if (warmStart && !warmStart->channels.empty()) config.startLobes = warmStart->channels[0].lobes;
   std::size_t usable = 0;
   for (std::size_t i = 0; i < table.size(); ++i) {
     if (table.incidentDirection(i).z() > 0.0 && table.outgoingDirection(i).z() > 0.0) ++usable;
@@ -777,15 +779,18 @@ struct CandidateConfig {
   int lobes = 1;
   LobeElevation elevation = LobeElevation::Constant;
   LobeKindChoice kind = LobeKindChoice::Mirror;  // Mirror, Lafortune or HalfVector
+  double maxExponent = 0.0;                      // the shared method's cap; 0 = the options'
 };
 
-FitResult fitCandidate(const MeasuredTable& table, FitOptions options, const CandidateConfig& config) {
+FitResult fitCandidate(const MeasuredTable& table, FitOptions options, const CandidateConfig& config,
+                       const LobeModel* start = nullptr) {
   options.lobes = config.lobes;
   options.elevation = config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
   options.kind = config.kind;
+  if (config.maxExponent > 0.0) options.maxExponent = config.maxExponent;
   options.threads = 1;  // parallel over splits
   options.progress = nullptr;
-  if (options.method == FitMethod::Shared) return fitShared(table, options, config.kind);
+  if (options.method == FitMethod::Shared) return fitShared(table, options, config.kind, start);
   return fitPerChannel(table, options);
 }
 
@@ -798,6 +803,35 @@ int parameterTotal(const CandidateConfig& config, FitMethod method, std::size_t 
   const int shared = method == FitMethod::Shared ? config.lobes * shapeParameters + extraWeights : 0;
   return perChannel * static_cast<int>(channels) + shared;
 }
+
+// Fits of the held-out splits, found again by their training rows: the next lobe count of the same
+// kind starts from them (shared method; the greedy lobes are the same, so only time is saved).
+class SplitFits {
+ public:
+  const LobeModel* find(const MeasuredTable& training) const {
+    for (const auto& [angles, model] : fits_) {
+      if (sameAngles(angles, training.angles)) return &model;
+    }
+    return nullptr;
+  }
+  void add(const MeasuredTable& training, const LobeModel& model) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    fits_.emplace_back(training.angles, model);
+  }
+
+ private:
+  static bool sameAngles(const std::vector<SampleAngles>& a, const std::vector<SampleAngles>& b) {
+    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](const SampleAngles& x, const SampleAngles& y) {
+             return x.thetaIn == y.thetaIn && x.phiIn == y.phiIn && x.thetaOut == y.thetaOut && x.phiOut == y.phiOut;
+           });
+  }
+  std::vector<std::pair<std::vector<SampleAngles>, LobeModel>> fits_;
+  std::mutex mutex_;
+};
+
+// A kind whose score is more than this factor above the best score so far stops adding lobes:
+// on the Cornell tables no lobe lowered a score by more than 1.9x (docs/fitting.md).
+constexpr double kHopelessScoreFactor = 2.0;
 
 LogErrorSum allRowsError(const LobeModel& model, const MeasuredTable& table) {
   std::vector<std::size_t> rows(table.size());
@@ -846,7 +880,7 @@ CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& opti
   else for (int k = 1; k <= options.maxAutoLobes; ++k) space.counts.push_back(k);
   if (!shared) space.kinds = {LobeKindChoice::Mirror};
   else if (options.kind != LobeKindChoice::Auto) space.kinds = {options.kind};
-  else space.kinds = {LobeKindChoice::Mirror, LobeKindChoice::Lafortune, LobeKindChoice::HalfVector};
+  else space.kinds = {LobeKindChoice::HalfVector, LobeKindChoice::Lafortune, LobeKindChoice::Mirror};  // likeliest first
   if (shared || options.elevation == ElevationChoice::Constant) space.elevations = {LobeElevation::Constant};
   else if (options.elevation == ElevationChoice::Varying) space.elevations = {LobeElevation::Varying};
   else space.elevations = {LobeElevation::Constant, LobeElevation::Varying};
@@ -857,7 +891,7 @@ CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& opti
   space.heldOutFeasible = offMirror >= 2 * static_cast<std::size_t>(options.heldOut.folds);
   if (!space.heldOutFeasible) {
     space.counts.resize(1);
-    space.kinds.resize(1);
+    if (space.kinds.size() > 1) space.kinds = {LobeKindChoice::Mirror};  // the fewest parameters
     space.elevations.resize(1);
   }
   return space;
@@ -882,21 +916,35 @@ FitResult fitOneConfiguration(const MeasuredTable& table, const FitOptions& opti
 
 using Tried = std::vector<std::pair<CandidateConfig, HeldOutReport>>;
 
-// Every (kind, elevation) sequence grows the lobe count while the held-out score falls by the margin.
+// Every (kind, elevation) sequence grows the lobe count while the held-out score falls by the
+// margin; a kind scoring more than kHopelessScoreFactor times the best so far stops there. Each
+// split's K-lobe fit starts from its (K-1)-lobe fit.
 Tried scoreCandidates(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
   Tried tried;
   const std::size_t total = space.size();
   std::size_t done = 0;
+  double bestScore = HUGE_VAL;
   for (LobeKindChoice kind : space.kinds) {
     for (LobeElevation elevation : space.elevations) {
       double previous = HUGE_VAL;
+      auto fewer = std::make_unique<SplitFits>();
       for (int lobes : space.counts) {
         const CandidateConfig config{lobes, elevation, kind};
+        auto these = std::make_unique<SplitFits>();
         HeldOutReport report = estimateHeldOutError(
-            table, [&](const MeasuredTable& training) { return fitCandidate(training, options, config).model; }, options.heldOut);
+            table,
+            [&](const MeasuredTable& training) {
+              LobeModel model = fitCandidate(training, options, config, fewer->find(training)).model;
+              these->add(training, model);
+              return model;
+            },
+            options.heldOut);
+        fewer = std::move(these);
         const double score = report.score();
         tried.emplace_back(config, std::move(report));
         if (options.progress) options.progress(static_cast<double>(++done) / static_cast<double>(total + 1));
+        bestScore = std::min(bestScore, score);
+        if (score > kHopelessScoreFactor * bestScore) break;
         if (!(score < (1.0 - options.autoMargin) * previous)) break;
         previous = score;
       }
@@ -919,11 +967,28 @@ std::size_t fewestParametersWithinMargin(const Tried& tried, const FitOptions& o
   return best;
 }
 
+// The shared method's exponent cap, lowered from the chosen candidate's while that lowers the
+// score by the margin (same parameters); returns the index of the candidate kept.
+std::size_t lowerExponentCap(const MeasuredTable& table, const FitOptions& options, Tried& tried, std::size_t best) {
+  if (options.method != FitMethod::Shared || !options.chooseMaxExponent) return best;
+  for (double factor : {0.3, 0.1}) {
+    CandidateConfig capped = tried[best].first;
+    capped.maxExponent = std::max(kMinLobeExponent, factor * options.maxExponent);
+    HeldOutReport report = estimateHeldOutError(
+        table, [&](const MeasuredTable& training) { return fitCandidate(training, options, capped).model; }, options.heldOut);
+    const double score = report.score();
+    tried.emplace_back(capped, std::move(report));
+    if (!(score < (1.0 - options.autoMargin) * tried[best].second.score())) break;
+    best = tried.size() - 1;
+  }
+  return best;
+}
+
 // Scores the candidates by held-out error, fits the chosen one to the whole table and lists them all.
 FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
   const std::size_t channels = table.channelCount();
-  const Tried tried = scoreCandidates(table, options, space);
-  const std::size_t best = fewestParametersWithinMargin(tried, options, channels);
+  Tried tried = scoreCandidates(table, options, space);
+  const std::size_t best = lowerExponentCap(table, options, tried, fewestParametersWithinMargin(tried, options, channels));
   FitResult result = fitCandidate(table, options, tried[best].first);
   for (std::size_t i = 0; i < tried.size(); ++i) {
     const auto& [config, report] = tried[i];
@@ -936,6 +1001,7 @@ FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& opt
     c.kfoldRatio = report.kfold.ratio();
     c.elevationRatio = report.pooledElevations().ratio();
     c.seconds = report.seconds;
+    c.maxExponent = options.method == FitMethod::Shared ? (config.maxExponent > 0.0 ? config.maxExponent : options.maxExponent) : 0.0;
     c.chosen = i == best;
     if (c.chosen) c.inSampleError = allRowsError(result.model, table).rms();
     result.candidates.push_back(c);
@@ -958,6 +1024,9 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
   FitResult result = space.size() > 1 ? chooseByHeldOutError(table, options, space) : fitOneConfiguration(table, options, space);
   result.options = options;
   result.options.progress = nullptr;
+  for (const auto& c : result.candidates) {
+    if (c.chosen && c.maxExponent > 0.0) result.options.maxExponent = c.maxExponent;
+  }
   result.inSampleError = allRowsError(result.model, table).rms();
   result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   if (options.progress) options.progress(1.0);

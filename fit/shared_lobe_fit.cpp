@@ -264,7 +264,11 @@ class SharedFitter {
 
   std::vector<Shape> fitShapes() {
     std::vector<Shape> shapes;
-    for (int k = 0; k < config_.lobes; ++k) shapes = refine(withNewLobe(shapes));
+    for (const Lobe& lobe : config_.startLobes) {
+      if (static_cast<int>(shapes.size()) == config_.lobes) break;
+      shapes.push_back({std::log(lobe.exponent.at(0)), lobe.halfVector ? -1.0 : lobe.cxy, lobe.halfVector});
+    }
+    for (int k = static_cast<int>(shapes.size()); k < config_.lobes; ++k) shapes = refine(withNewLobe(shapes));
     return shapes;
   }
 

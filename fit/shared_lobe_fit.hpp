@@ -32,6 +32,10 @@ struct SharedFitConfig {
   double maxExponent = 1e4; // cap on n
   int searchChannels = 6;   // channels the shape search looks at (evenly spread; all if fewer)
   int maxEvaluations = 600; // shape trials in the compass search
+  // Warm start: the shapes (exponent, c_xy, axis) of the first lobes, as a fit of the same table
+  // with fewer lobes returned them; the fit adds lobes greedily after these. The greedy steps are
+  // the same either way, so a fit warm-started from the (K-1)-lobe fit equals the cold K-lobe fit.
+  std::vector<Lobe> startLobes;
 };
 
 struct SharedFitOutcome {

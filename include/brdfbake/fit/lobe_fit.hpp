@@ -100,6 +100,10 @@ struct FitOptions {
   /// FitMethod::Shared: largest lobe exponent, in [1, 1e5]. 1e4 (a lobe 0.7 degrees wide at half
   /// maximum) is as sharp as the Cornell grid's spacing near the mirror can support.
   double maxExponent = 1e4;
+  /// FitMethod::Shared with an auto choice: after the lobe count and kind are chosen, the cap is
+  /// lowered to 0.3 and then 0.1 times maxExponent while that lowers the held-out score by
+  /// autoMargin (a cap is a regularisation weight; the cap kept is FitResult::options.maxExponent).
+  bool chooseMaxExponent = true;
   /// Auto choices: a candidate with more parameters is kept only if its held-out score is below
   /// (1 - autoMargin) times the best score of the candidates with fewer parameters. In (0, 1).
   double autoMargin = 0.01;
@@ -172,6 +176,7 @@ struct ModelCandidate {
   double kfoldRatio = 0.0;     ///< off-mirror k-fold error / Lambert
   double elevationRatio = 0.0; ///< pooled leave-one-elevation-out error / Lambert
   double seconds = 0.0;        ///< wall time of the held-out estimate (every split's fit)
+  double maxExponent = 0.0;    ///< the exponent cap of the shared method (0: not recorded)
   bool chosen = false;
 };
 
