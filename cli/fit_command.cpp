@@ -34,7 +34,7 @@ struct FitArgs {
   std::string elevation = "auto";
   std::string method = "shared";
   std::string kind = "auto";
-  double maxExponent = 1e4;
+  std::string maxExponent = "auto";
   std::string heldOut = "on";
   int folds = 5;
   std::string channels = "rgb";
@@ -58,6 +58,23 @@ int parseLobes(const std::string& text) {
               "--lobes: expected auto or a whole number 1.." + std::to_string(kMaxFitLobes) + ", got '" + text + "'");
 }
 
+// "auto": the cap is chosen by held-out error from 1e4 down (FitOptions::chooseMaxExponent);
+// a number fixes it.
+void parseMaxExponent(const std::string& text, FitOptions& options) {
+  if (text == "auto") return;
+  try {
+    std::size_t used = 0;
+    const double cap = std::stod(text, &used);
+    if (used == text.size() && cap >= 1.0 && cap <= 1e5) {
+      options.maxExponent = cap;
+      options.chooseMaxExponent = false;
+      return;
+    }
+  } catch (const std::exception&) {
+  }
+  throw Error(Error::Kind::InvalidArgument, "--max-exponent: expected auto or a number in [1, 1e5], got '" + text + "'");
+}
+
 int runFit(FitArgs args) {
   FitOptions options;
   options.lobes = parseLobes(args.lobes);
@@ -65,7 +82,7 @@ int runFit(FitArgs args) {
   options.threads = args.threads;
   options.method = parseFitMethod(args.method);  // checked by CLI11
   options.kind = parseLobeKindChoice(args.kind);
-  options.maxExponent = args.maxExponent;
+  parseMaxExponent(args.maxExponent, options);
   options.estimateHeldOut = args.heldOut == "on";
   options.heldOut.folds = args.folds;
   options.heldOut.threads = args.threads;
@@ -216,9 +233,10 @@ Then bake a map from it: {"model": "lobes", "file": "fit.json"} in a spec (data_
   command->add_option("--kind", args->kind, "Lobes of the shared method: mirror (Phong), lafortune (c_xy free), half_vector (microfacet form with a Fresnel weight; does not prefilter), or auto")
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "mirror", "lafortune", "half_vector"}));
-  command->add_option("--max-exponent", args->maxExponent, "Largest lobe exponent of the shared method")
-      ->default_val(1e4)
-      ->check(CLI::Range(1.0, 1e5));
+  command->add_option("--max-exponent", args->maxExponent,
+                      "Largest lobe exponent of the shared method: a number in [1, 1e5] fixes it; auto starts at 1e4 and "
+                      "keeps 3000 or 1000 where that lowers the held-out error")
+      ->default_val("auto");
   command->add_option("--held-out", args->heldOut, "Estimate the held-out error of the fit (always on with auto choices)")
       ->default_val("on")
       ->check(CLI::IsMember({"on", "off"}));

@@ -155,12 +155,31 @@ TEST(FitCli, BadFlagsExitTwo) {
   const std::string fit = q(test::sourcePath("data_samples/fits/synthetic_two_lobes.json"));
   for (const std::string& arguments :
        {"fit " + table + " --lobes 9", "fit " + table + " --lobes two", "fit " + table + " --elevation sideways",
-        "fit " + table + " --channels spectral", "fit " + table + " --format xyz", "eval " + fit, "eval " + fit + " --wi 0,0,1",
+        "fit " + table + " --channels spectral", "fit " + table + " --format xyz", "fit " + table + " --max-exponent 0",
+        "fit " + table + " --max-exponent high", "fit " + table + " --max-exponent 1e6", "eval " + fit, "eval " + fit + " --wi 0,0,1",
         "eval " + fit + " --wi 0,0,1 --wo 1,2", "eval " + fit + " --wi 0,0,1 --wo 0,0,1 --pairs x.txt", std::string("fit")}) {
     const auto result = runCli(arguments);
     EXPECT_EQ(result.exitCode, 2) << arguments << "\n" << result.output;
   }
   EXPECT_EQ(runCli("fit /nonexistent/table.astm").exitCode, 3);
+}
+
+// --max-exponent N fixes the cap (no lobe sharper than N, recorded as fit.max_exponent); the
+// default, auto, starts at 1e4 and records the cap it kept.
+TEST(FitCli, AFixedExponentCapBoundsEveryLobe) {
+  test::TempDir dir;
+  const std::string table = q(test::sourcePath("data_samples/tables/synthetic_two_lobes.astm"));
+  const auto capped = runCli("fit " + table + " --lobes 2 --kind mirror --max-exponent 40 --quiet -o " + q(dir / "capped.json"));
+  ASSERT_EQ(capped.exitCode, 0) << capped.output;
+  const auto document = readJson(dir / "capped.json");
+  EXPECT_DOUBLE_EQ(document["fit"]["max_exponent"].get<double>(), 40.0);
+  for (const auto& channel : document["channels"])
+    for (const auto& lobe : channel["lobes"])
+      for (const auto& n : lobe["exponent"]) EXPECT_LE(n.get<double>(), 40.0 * (1 + 1e-12)) << lobe;
+  const auto automatic = runCli("fit " + table + " --lobes 2 --kind mirror --quiet -o " + q(dir / "auto.json"));
+  ASSERT_EQ(automatic.exitCode, 0) << automatic.output;
+  const double kept = readJson(dir / "auto.json")["fit"]["max_exponent"].get<double>();
+  EXPECT_TRUE(kept == 1e4 || kept == 3e3 || kept == 1e3) << kept;
 }
 
 TEST(FitCli, ReportWithoutGnuplotFailsBeforeTheFit) {
