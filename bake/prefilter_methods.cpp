@@ -159,17 +159,12 @@ void DirectSummer::sum(const Vec3& axis, Rgb& numerator, double& denominator) co
   const int yLast = std::min(L.height - 1, static_cast<int>(std::floor((thetaD + capAngle_) / dTheta)));
   const bool exact = !table_;
   const RadialTable::View view = exact ? RadialTable::View{nullptr, 0.0, 0} : table_->view();
-  const double maxF = static_cast<double>(view.lastInterval) + 0.999999;
   double nr = 0.0, ng = 0.0, nb = 0.0, den = 0.0;
   const double u0 = pixel.x() - 0.5;  // column coordinate of the axis (centres at integers)
   // The weight of a sample at cosine c to the axis.
   auto weight = [&](double c) {
     if (exact) return lobe_.weight(c);
-    double f = std::sqrt(std::max(0.0, 0.5 - 0.5 * c)) * view.scale;  // u = sin(theta/2)
-    f = f < maxF ? f : maxF;
-    const long i = static_cast<long>(f);
-    const double t = f - static_cast<double>(i);
-    return view.values[i] + t * (view.values[i + 1] - view.values[i]);
+    return view(std::sqrt(std::max(0.0, 0.5 - 0.5 * c)));  // the table is over u = sin(theta/2)
   };
   // The cosine limit of the azimuth offset at polar angle theta (cos, sin given) for the cap.
   auto kappa = [&](double cosT, double sinT) {
@@ -269,14 +264,7 @@ LatLongGrid convolvedDirectGrid(const LatLongPyramid& pyramid, const PrefilterLo
   for (int p = 0; p < m; ++p)
     for (int k = -half; k <= half; ++k) cosOffset[static_cast<std::size_t>(p) * (ws + 1) + (k + half)] = std::cos((k - ((p + 0.5) / m - 0.5)) * dPhi);
   const RadialTable::View view = table->view();
-  const double maxF = static_cast<double>(view.lastInterval) + 0.999999;
-  auto weight = [&](double c) {
-    double f = std::sqrt(std::max(0.0, 0.5 - 0.5 * c)) * view.scale;  // u = sin(theta/2)
-    f = f < maxF ? f : maxF;
-    const long i = static_cast<long>(f);
-    const double t = f - static_cast<double>(i);
-    return view.values[i] + t * (view.values[i + 1] - view.values[i]);
-  };
+  auto weight = [&](double c) { return view(std::sqrt(std::max(0.0, 0.5 - 0.5 * c))); };  // over u = sin(theta/2)
   const double mass = lobe.mass();
   tbb::parallel_for(0, grid.height(), [&](int gy) {
     const double thetaD = (gy + 0.5) * gTheta, cosD = std::cos(thetaD), sinD = std::sin(thetaD);
