@@ -725,9 +725,14 @@ FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options) {
   return result;
 }
 
-// `warmStart`: a fit of the same table with fewer lobes of this kind, whose shapes the fit keeps.
-FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeKindChoice kind, const LobeModel* warmStart = nullptr) {
-  const auto start = Clock::now();
+// The shared-shape model of `table` (no statistics). `warmStart`: a fit of the same table with
+// fewer lobes of this kind, whose shapes the fit keeps.
+struct SharedModel {
+  LobeModel model;
+  int evaluations = 0;
+};
+
+SharedModel sharedModel(const MeasuredTable& table, const FitOptions& options, LobeKindChoice kind, const LobeModel* warmStart) {
   const std::string label = table.sourceFile.empty() ? std::string("table") : table.sourceFile;
   if (table.channelCount() == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
   detail::SharedFitConfig config;
@@ -749,24 +754,29 @@ FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeK
     throw Error(Error::Kind::InvalidArgument, label + ": " + std::to_string(usable) + " usable sample(s) cannot determine " +
                                                   std::to_string(perChannel) + " weights per channel");
   }
-  const auto outcome = detail::fitSharedLobes(table, config, fittedRange(table));
+  auto outcome = detail::fitSharedLobes(table, config, fittedRange(table));
+  for (std::size_t c = 0; c < table.channelCount(); ++c) {
+    outcome.model.channels[c].name = c < table.channelNames.size() ? table.channelNames[c] : std::to_string(c);
+  }
+  outcome.model.validate();
+  return {std::move(outcome.model), outcome.evaluations};
+}
+
+FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeKindChoice kind, const LobeModel* warmStart = nullptr) {
+  const auto start = Clock::now();
+  SharedModel fitted = sharedModel(table, options, kind, warmStart);
   FitResult result;
   result.options = options;
   result.options.progress = nullptr;
-  result.model = outcome.model;
-  for (std::size_t c = 0; c < table.channelCount(); ++c) {
-    const std::string name = c < table.channelNames.size() ? table.channelNames[c] : std::to_string(c);
-    result.model.channels[c].name = name;
-  }
-  result.model.validate();
+  result.model = std::move(fitted.model);
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   for (std::size_t c = 0; c < table.channelCount(); ++c) {
     ChannelFitStats stats = evaluateFit(result.model, table, c);
     stats.solver.termination = "CONVERGENCE";
     stats.solver.usable = true;
-    stats.solver.iterations = outcome.evaluations;
-    stats.solver.briefReport = "shared shapes: " + std::to_string(outcome.evaluations) + " shape trials, NNLS weights";
-    stats.totalIterations = outcome.evaluations;
+    stats.solver.iterations = fitted.evaluations;
+    stats.solver.briefReport = "shared shapes: " + std::to_string(fitted.evaluations) + " shape trials, NNLS weights";
+    stats.totalIterations = fitted.evaluations;
     stats.seconds = seconds;
     result.channels.push_back(std::move(stats));
   }
@@ -782,16 +792,29 @@ struct CandidateConfig {
   double maxExponent = 0.0;                      // the shared method's cap; 0 = the options'
 };
 
-FitResult fitCandidate(const MeasuredTable& table, FitOptions options, const CandidateConfig& config,
-                       const LobeModel* start = nullptr) {
+FitOptions candidateOptions(FitOptions options, const CandidateConfig& config) {
   options.lobes = config.lobes;
   options.elevation = config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
   options.kind = config.kind;
   if (config.maxExponent > 0.0) options.maxExponent = config.maxExponent;
   options.threads = 1;  // parallel over splits
   options.progress = nullptr;
-  if (options.method == FitMethod::Shared) return fitShared(table, options, config.kind, start);
-  return fitPerChannel(table, options);
+  return options;
+}
+
+FitResult fitCandidate(const MeasuredTable& table, const FitOptions& options, const CandidateConfig& config,
+                       const LobeModel* start = nullptr) {
+  const FitOptions explicitOptions = candidateOptions(options, config);
+  if (options.method == FitMethod::Shared) return fitShared(table, explicitOptions, config.kind, start);
+  return fitPerChannel(table, explicitOptions);
+}
+
+// The model alone, for a held-out split (the statistics of a split's fit are never shown).
+LobeModel fitCandidateModel(const MeasuredTable& table, const FitOptions& options, const CandidateConfig& config,
+                            const LobeModel* start = nullptr) {
+  const FitOptions explicitOptions = candidateOptions(options, config);
+  if (options.method == FitMethod::Shared) return sharedModel(table, explicitOptions, config.kind, start).model;
+  return fitPerChannel(table, explicitOptions).model;
 }
 
 int parameterTotal(const CandidateConfig& config, FitMethod method, std::size_t channels) {
@@ -803,31 +826,6 @@ int parameterTotal(const CandidateConfig& config, FitMethod method, std::size_t 
   const int shared = method == FitMethod::Shared ? config.lobes * shapeParameters + extraWeights : 0;
   return perChannel * static_cast<int>(channels) + shared;
 }
-
-// Fits of the held-out splits, found again by their training rows: the next lobe count of the same
-// kind starts from them (shared method; the greedy lobes are the same, so only time is saved).
-class SplitFits {
- public:
-  const LobeModel* find(const MeasuredTable& training) const {
-    for (const auto& [angles, model] : fits_) {
-      if (sameAngles(angles, training.angles)) return &model;
-    }
-    return nullptr;
-  }
-  void add(const MeasuredTable& training, const LobeModel& model) {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    fits_.emplace_back(training.angles, model);
-  }
-
- private:
-  static bool sameAngles(const std::vector<SampleAngles>& a, const std::vector<SampleAngles>& b) {
-    return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](const SampleAngles& x, const SampleAngles& y) {
-             return x.thetaIn == y.thetaIn && x.phiIn == y.phiIn && x.thetaOut == y.thetaOut && x.phiOut == y.phiOut;
-           });
-  }
-  std::vector<std::pair<std::vector<SampleAngles>, LobeModel>> fits_;
-  std::mutex mutex_;
-};
 
 // A kind whose score is more than this factor above the best score so far stops adding lobes:
 // on the Cornell tables no lobe lowered a score by more than 1.9x (docs/fitting.md).
@@ -909,17 +907,34 @@ FitResult fitOneConfiguration(const MeasuredTable& table, const FitOptions& opti
                                                          : fitPerChannel(table, explicitOptions);
   if (options.estimateHeldOut && space.heldOutFeasible) {
     result.heldOut = estimateHeldOutError(
-        table, [&](const MeasuredTable& training) { return fitCandidate(training, options, config).model; }, options.heldOut);
+        table, [&](const MeasuredTable& training) { return fitCandidateModel(training, options, config); }, options.heldOut);
   }
   return result;
 }
 
-using Tried = std::vector<std::pair<CandidateConfig, HeldOutReport>>;
+// A scored candidate: its configuration, held-out report and the fit of each split.
+struct TriedCandidate {
+  CandidateConfig config;
+  HeldOutReport report;
+  std::vector<LobeModel> splitFits;
+};
+using Tried = std::vector<TriedCandidate>;
+
+// Scores `config` on every split; split s's fit starts from starts[s] when given.
+TriedCandidate scoreCandidate(const HeldOutSplits& splits, const FitOptions& options, const CandidateConfig& config,
+                              const std::vector<LobeModel>* starts = nullptr) {
+  TriedCandidate candidate{config, {}, std::vector<LobeModel>(splits.size())};
+  candidate.report = splits.estimate([&](std::size_t s, const MeasuredTable& training) {
+    candidate.splitFits[s] = fitCandidateModel(training, options, config, starts ? &(*starts)[s] : nullptr);
+    return candidate.splitFits[s];
+  });
+  return candidate;
+}
 
 // Every (kind, elevation) sequence grows the lobe count while the held-out score falls by the
 // margin; a kind scoring more than kHopelessScoreFactor times the best so far stops there. Each
 // split's K-lobe fit starts from its (K-1)-lobe fit.
-Tried scoreCandidates(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
+Tried scoreCandidates(const HeldOutSplits& splits, const FitOptions& options, const CandidateSpace& space) {
   Tried tried;
   const std::size_t total = space.size();
   std::size_t done = 0;
@@ -927,21 +942,11 @@ Tried scoreCandidates(const MeasuredTable& table, const FitOptions& options, con
   for (LobeKindChoice kind : space.kinds) {
     for (LobeElevation elevation : space.elevations) {
       double previous = HUGE_VAL;
-      auto fewer = std::make_unique<SplitFits>();
+      std::vector<LobeModel> fewer;  // the split fits of one lobe fewer
       for (int lobes : space.counts) {
-        const CandidateConfig config{lobes, elevation, kind};
-        auto these = std::make_unique<SplitFits>();
-        HeldOutReport report = estimateHeldOutError(
-            table,
-            [&](const MeasuredTable& training) {
-              LobeModel model = fitCandidate(training, options, config, fewer->find(training)).model;
-              these->add(training, model);
-              return model;
-            },
-            options.heldOut);
-        fewer = std::move(these);
-        const double score = report.score();
-        tried.emplace_back(config, std::move(report));
+        tried.push_back(scoreCandidate(splits, options, {lobes, elevation, kind}, fewer.empty() ? nullptr : &fewer));
+        fewer = tried.back().splitFits;
+        const double score = tried.back().report.score();
         if (options.progress) options.progress(static_cast<double>(++done) / static_cast<double>(total + 1));
         bestScore = std::min(bestScore, score);
         if (score > kHopelessScoreFactor * bestScore) break;
@@ -958,40 +963,50 @@ std::size_t fewestParametersWithinMargin(const Tried& tried, const FitOptions& o
   std::vector<std::size_t> order(tried.size());
   std::iota(order.begin(), order.end(), std::size_t(0));
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return parameterTotal(tried[a].first, options.method, channels) < parameterTotal(tried[b].first, options.method, channels);
+    return parameterTotal(tried[a].config, options.method, channels) < parameterTotal(tried[b].config, options.method, channels);
   });
   std::size_t best = order.front();
   for (std::size_t i : order) {
-    if (tried[i].second.score() < (1.0 - options.autoMargin) * tried[best].second.score()) best = i;
+    if (tried[i].report.score() < (1.0 - options.autoMargin) * tried[best].report.score()) best = i;
   }
   return best;
 }
 
 // The shared method's exponent cap, lowered from the chosen candidate's while that lowers the
-// score by the margin (same parameters); returns the index of the candidate kept.
-std::size_t lowerExponentCap(const MeasuredTable& table, const FitOptions& options, Tried& tried, std::size_t best) {
+// score by the margin (same parameters); returns the index of the candidate kept. A capped fit
+// starts from the same split's fit under the options' cap, clamped and refined (fitWithCap).
+std::size_t lowerExponentCap(const HeldOutSplits& splits, const FitOptions& options, Tried& tried, std::size_t best) {
   if (options.method != FitMethod::Shared || !options.chooseMaxExponent) return best;
+  const std::vector<LobeModel> uncapped = tried[best].splitFits;
   for (double factor : {0.3, 0.1}) {
-    CandidateConfig capped = tried[best].first;
+    CandidateConfig capped = tried[best].config;
     capped.maxExponent = std::max(kMinLobeExponent, factor * options.maxExponent);
-    HeldOutReport report = estimateHeldOutError(
-        table, [&](const MeasuredTable& training) { return fitCandidate(training, options, capped).model; }, options.heldOut);
-    const double score = report.score();
-    tried.emplace_back(capped, std::move(report));
-    if (!(score < (1.0 - options.autoMargin) * tried[best].second.score())) break;
+    tried.push_back(scoreCandidate(splits, options, capped, &uncapped));
+    if (!(tried.back().report.score() < (1.0 - options.autoMargin) * tried[best].report.score())) break;
     best = tried.size() - 1;
   }
   return best;
 }
 
+// The chosen candidate fitted to the whole table the way its splits were: a lowered cap starts
+// from the fit under the options' cap.
+FitResult fitWithCap(const MeasuredTable& table, const FitOptions& options, const CandidateConfig& config) {
+  if (config.maxExponent <= 0.0) return fitCandidate(table, options, config);
+  CandidateConfig uncapped = config;
+  uncapped.maxExponent = 0.0;
+  const LobeModel start = fitCandidateModel(table, options, uncapped);
+  return fitCandidate(table, options, config, &start);
+}
+
 // Scores the candidates by held-out error, fits the chosen one to the whole table and lists them all.
 FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
   const std::size_t channels = table.channelCount();
-  Tried tried = scoreCandidates(table, options, space);
-  const std::size_t best = lowerExponentCap(table, options, tried, fewestParametersWithinMargin(tried, options, channels));
-  FitResult result = fitCandidate(table, options, tried[best].first);
+  const HeldOutSplits splits(table, options.heldOut);
+  Tried tried = scoreCandidates(splits, options, space);
+  const std::size_t best = lowerExponentCap(splits, options, tried, fewestParametersWithinMargin(tried, options, channels));
+  FitResult result = fitWithCap(table, options, tried[best].config);
   for (std::size_t i = 0; i < tried.size(); ++i) {
-    const auto& [config, report] = tried[i];
+    const auto& [config, report, fits] = tried[i];
     ModelCandidate c;
     c.lobes = config.lobes;
     c.elevation = config.elevation;
@@ -1006,7 +1021,7 @@ FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& opt
     if (c.chosen) c.inSampleError = allRowsError(result.model, table).rms();
     result.candidates.push_back(c);
   }
-  result.heldOut = tried[best].second;
+  result.heldOut = tried[best].report;
   return result;
 }
 

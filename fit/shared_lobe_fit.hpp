@@ -9,8 +9,10 @@
 //
 // through Gauss-Newton steps (each one non-negative least squares of the linearised residual).
 // The shapes are found greedily (each new lobe from a grid of exponents and c_xy, the others kept)
-// and refined together by a compass search (Kolda, Lewis & Torczon 2003) on ln n and c_xy. A
-// half-vector lobe (halfVectorLobe) has the shape ln n alone and two weights per channel, C and C_F.
+// and refined together by a compass search (Kolda, Lewis & Torczon 2003) on ln n and c_xy; the
+// search scores a trial of shapes by the log error of the weights of the first, linearised step
+// (all searched channels in one pass), and only the shapes it returns get the Gauss-Newton steps.
+// A half-vector lobe (halfVectorLobe) has the shape ln n alone and two weights per channel, C and C_F.
 #include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/measured/measured_table.hpp>
 
@@ -35,6 +37,8 @@ struct SharedFitConfig {
   // Warm start: the shapes (exponent, c_xy, axis) of the first lobes, as a fit of the same table
   // with fewer lobes returned them; the fit adds lobes greedily after these. The greedy steps are
   // the same either way, so a fit warm-started from the (K-1)-lobe fit equals the cold K-lobe fit.
+  // With as many start lobes as `lobes` (a fit under a higher cap), their exponents are clamped to
+  // maxExponent and all are refined together.
   std::vector<Lobe> startLobes;
 };
 

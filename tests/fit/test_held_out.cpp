@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <map>
+#include <mutex>
 #include <numeric>
 #include <random>
 
@@ -306,6 +307,43 @@ TEST(HeldOut, ErrorAndSplitsMatchSumsTypedOut) {
     const auto& [squares, rows] = perElevation.at(std::lround(e.elevationDegrees));
     EXPECT_EQ(e.heldRows, rows);
     EXPECT_NEAR(e.error, std::sqrt(squares / (3.0 * rows)), 1e-12) << e.name;
+  }
+}
+
+// HeldOutSplits makes the splits once: k-fold splits first, then one per interior elevation in
+// ascending order; every split's fit gets its own index and training table, and the report is the
+// one estimateHeldOutError makes.
+TEST(HeldOut, SplitsAreMadeOnceAndIndexed) {
+  const LobeModel truth = sharedModel();
+  const MeasuredTable table = makeSyntheticTable(truth, 0.05, 3);
+  const HeldOutSplits splits(table);
+  ASSERT_EQ(splits.size(), 5u + 6u);
+  std::vector<int> calls(splits.size(), 0);
+  std::mutex mutex;
+  const HeldOutReport indexed = splits.estimate([&](std::size_t s, const MeasuredTable& training) {
+    EXPECT_EQ(&training, &splits.training(s));
+    const std::lock_guard<std::mutex> lock(mutex);
+    ++calls.at(s);
+    return truth;
+  });
+  for (int c : calls) EXPECT_EQ(c, 1);
+  // The k-fold training tables leave out about a fifth of the off-mirror rows; an elevation's
+  // training table leaves out exactly the rows of that theta_i.
+  for (std::size_t s = 0; s < 5; ++s) EXPECT_LT(splits.training(s).size(), table.size()) << s;
+  const std::vector<double> thetas = table.incidentThetas();
+  for (std::size_t e = 0; e < 6; ++e) {
+    const MeasuredTable& training = splits.training(5 + e);
+    EXPECT_EQ(training.size(), table.size() - table.samplesAtIncidentTheta(thetas[e + 1]).size()) << e;
+    for (const auto& a : training.angles) EXPECT_NE(a.thetaIn, thetas[e + 1]);
+  }
+  const HeldOutReport plain = estimateHeldOutError(table, [&](const MeasuredTable&) { return truth; });
+  EXPECT_DOUBLE_EQ(indexed.kfold.error, plain.kfold.error);
+  EXPECT_DOUBLE_EQ(indexed.kfold.lambertError, plain.kfold.lambertError);
+  ASSERT_EQ(indexed.elevations.size(), plain.elevations.size());
+  for (std::size_t e = 0; e < plain.elevations.size(); ++e) {
+    EXPECT_EQ(indexed.elevations[e].name, plain.elevations[e].name);
+    EXPECT_DOUBLE_EQ(indexed.elevations[e].error, plain.elevations[e].error);
+    EXPECT_DOUBLE_EQ(indexed.elevations[e].lambertError, plain.elevations[e].lambertError);
   }
 }
 

@@ -71,6 +71,9 @@ struct HeldOutReport {
 
 /// A fit of a training table (the channels of the table given to estimateHeldOutError).
 using TableFitter = std::function<LobeModel(const MeasuredTable& training)>;
+/// A fit of split `split`'s training table (HeldOutSplits::estimate): the index lets a caller
+/// start one candidate's fit of a split from another candidate's fit of the same split.
+using SplitFitter = std::function<LobeModel(std::size_t split, const MeasuredTable& training)>;
 
 /// The rows of `table` at `rows`, in that order (same channels, header and notes).
 MeasuredTable tableRows(const MeasuredTable& table, const std::vector<std::size_t>& rows);
@@ -89,14 +92,42 @@ struct LogErrorSum {
 LogErrorSum cosineLogError(const LobeModel& model, const MeasuredTable& table, const std::vector<std::size_t>& rows);
 
 /// Per channel, the constant BRDF k >= 0 (1/sr) minimising sum_i (ln(1 + cos theta_i k) -
-/// ln(1 + cos theta_i max(f_i, 0)))^2 over `rows` (golden-section search on [0, max f]).
+/// ln(1 + cos theta_i max(f_i, 0)))^2 over `rows` (safeguarded Newton on [0, max f]).
 std::vector<double> lambertianFit(const MeasuredTable& table, const std::vector<std::size_t>& rows);
 /// E of the Lambertian constants `k` on `rows`.
 LogErrorSum lambertianLogError(const std::vector<double>& k, const MeasuredTable& table, const std::vector<std::size_t>& rows);
 
-/// Fits and scores every split. Throws Error(InvalidArgument) for bad options or a listed
-/// elevation the table lacks, Error(InvalidInput) when the table has fewer off-mirror rows than
-/// folds; errors of `fit` propagate.
+/// The splits of one table (see @file), made once with their training tables and Lambertian
+/// baselines, so that every candidate model of a search is scored on the same splits for the
+/// price of its own fits. Splits 0..folds-1 are the k-fold ones, then one per held-out elevation.
+class HeldOutSplits {
+ public:
+  /// Keeps a reference to `table`, which must outlive the splits. Throws Error(InvalidArgument)
+  /// for bad options or a listed elevation the table lacks, Error(InvalidInput) when the table has
+  /// fewer off-mirror rows than folds.
+  HeldOutSplits(const MeasuredTable& table, const HeldOutOptions& options = {});
+
+  std::size_t size() const { return splits_.size(); }
+  const MeasuredTable& training(std::size_t split) const { return splits_.at(split).training; }
+
+  /// Fits every split's training table (in parallel, HeldOutOptions::threads) and scores the
+  /// held-out rows; errors of `fit` propagate.
+  HeldOutReport estimate(const SplitFitter& fit) const;
+
+ private:
+  struct Split {
+    std::vector<std::size_t> train, held;
+    int entry = -1;  // -1 = k-fold, else index into the report's elevations
+    MeasuredTable training;
+    LogErrorSum lambert;  // the Lambertian fit of `train`, on `held`
+  };
+  const MeasuredTable* table_;
+  HeldOutOptions options_;
+  std::vector<Split> splits_;
+  HeldOutReport entries_;  // names and elevations, no errors yet
+};
+
+/// HeldOutSplits(table, options).estimate(fit) for a fit that ignores the split index.
 HeldOutReport estimateHeldOutError(const MeasuredTable& table, const TableFitter& fit, const HeldOutOptions& options = {});
 
 }  // namespace brdfbake
