@@ -20,7 +20,7 @@
 //
 // --tables: case names (garnet_red.astm, garnet_red.astm:rgb, ...; a file name alone selects each
 // of its cases). --quick: one repetition, and no per-channel fit of the spectral tables (they take
-// three quarters of a run).
+// more than half of a run).
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/cornell_grid.hpp>
 #include <brdfbake/fit/fit_file.hpp>
@@ -416,8 +416,8 @@ int runBench(const Settings& settings) {
     std::cerr << "fit_bench: gnuplot not found; no chart written\n";
     return 0;
   }
-  writeChart(runs, settings.chart, "Cornell tables: fit time against held-out score (" + machine + ", " + started + ", " +
-                                       std::to_string(repetitions) + " repetition(s))");
+  writeChart(runs, settings.chart, "Cornell tables: fit time against held-out score (" + machine + ", " + started + ", load average " +
+                                       loadBefore + ", " + std::to_string(repetitions) + " repetition(s))");
   return 0;
 }
 
