@@ -65,6 +65,13 @@ class LatLongPyramid {
   double meanNorm_ = 0.0;
 };
 
+// The largest azimuth offset |phi - phi_axis| (radians) of a point of the band of rows y (polar
+// angles between the level's edges y and y + 1) within the cap cos(angle to the axis) >= cosCap,
+// for an axis at polar angle theta_axis (cosD = cos theta_axis, sinD = sin theta_axis): pi when the
+// cap may hold a whole parallel of the band (or cosCap <= -1, or the axis is at a pole), negative
+// when it holds no point of the band. The direct sums visit only these columns of each row.
+double capRowHalfWidth(const LatLongLevel& level, int y, double cosD, double sinD, double cosCap);
+
 // Σ w Ω L and Σ w Ω over the texels of one pyramid level whose centres lie within the cap
 // cos(angle to axis) >= cosCap, each texel split into sub x sub samples; w from `table` (on
 // u = sin(theta/2)) or, if null, the exact weight.
