@@ -179,4 +179,32 @@ class ReferenceSummer {
   double cellRadius_ = 0.0;
 };
 
+// What prefiltering one environment needs whatever the lobe, made on first use and shared by the
+// lobes of one request (the levels of a gloss chain, the terms of a lobe model): the working
+// pyramid and the environment's solid-angle mean |L| (the scale of prefilterErrorFloor). Not
+// thread-safe: the request's own thread asks for them.
+class PrefilterInput {
+ public:
+  explicit PrefilterInput(const Environment& environment) : environment_(environment) {}
+  PrefilterInput(const PrefilterInput&) = delete;
+  PrefilterInput& operator=(const PrefilterInput&) = delete;
+  const Environment& environment() const { return environment_; }
+  const LatLongPyramid& pyramid();
+  // Σ Ω |L| / Σ Ω over the environment's own texels (|.| the RGB norm).
+  double meanNorm();
+
+ private:
+  const Environment& environment_;
+  std::unique_ptr<LatLongPyramid> pyramid_;
+  double meanNorm_ = -1.0;
+};
+
 }  // namespace brdfbake::detail
+
+namespace brdfbake {
+struct PrefilteredMap;
+struct PrefilterOptions;
+// prefilter() reading the environment, pyramid and mean |L| of `input` (made once for all the
+// lobes prefiltered from it).
+PrefilteredMap prefilter(detail::PrefilterInput& input, const PrefilterLobe& lobe, const PrefilterOptions& options);
+}  // namespace brdfbake
