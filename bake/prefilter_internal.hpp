@@ -65,6 +65,13 @@ class LatLongPyramid {
   double meanNorm_ = 0.0;
 };
 
+// The largest azimuth offset |phi - phi_axis| (radians) of a point of the band of rows y (polar
+// angles between the level's edges y and y + 1) within the cap cos(angle to the axis) >= cosCap,
+// for an axis at polar angle theta_axis (cosD = cos theta_axis, sinD = sin theta_axis): pi when the
+// cap may hold a whole parallel of the band (or cosCap <= -1, or the axis is at a pole), negative
+// when it holds no point of the band. The direct sums visit only these columns of each row.
+double capRowHalfWidth(const LatLongLevel& level, int y, double cosD, double sinD, double cosCap);
+
 // Σ w Ω L and Σ w Ω over the texels of one pyramid level whose centres lie within the cap
 // cos(angle to axis) >= cosCap, each texel split into sub x sub samples; w from `table` (on
 // u = sin(theta/2)) or, if null, the exact weight.
@@ -172,4 +179,32 @@ class ReferenceSummer {
   double cellRadius_ = 0.0;
 };
 
+// What prefiltering one environment needs whatever the lobe, made on first use and shared by the
+// lobes of one request (the levels of a gloss chain, the terms of a lobe model): the working
+// pyramid and the environment's solid-angle mean |L| (the scale of prefilterErrorFloor). Not
+// thread-safe: the request's own thread asks for them.
+class PrefilterInput {
+ public:
+  explicit PrefilterInput(const Environment& environment) : environment_(environment) {}
+  PrefilterInput(const PrefilterInput&) = delete;
+  PrefilterInput& operator=(const PrefilterInput&) = delete;
+  const Environment& environment() const { return environment_; }
+  const LatLongPyramid& pyramid();
+  // Σ Ω |L| / Σ Ω over the environment's own texels (|.| the RGB norm).
+  double meanNorm();
+
+ private:
+  const Environment& environment_;
+  std::unique_ptr<LatLongPyramid> pyramid_;
+  double meanNorm_ = -1.0;
+};
+
 }  // namespace brdfbake::detail
+
+namespace brdfbake {
+struct PrefilteredMap;
+struct PrefilterOptions;
+// prefilter() reading the environment, pyramid and mean |L| of `input` (made once for all the
+// lobes prefiltered from it).
+PrefilteredMap prefilter(detail::PrefilterInput& input, const PrefilterLobe& lobe, const PrefilterOptions& options);
+}  // namespace brdfbake

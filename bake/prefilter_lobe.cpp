@@ -222,20 +222,40 @@ std::vector<double> PrefilterLobe::zonalCoefficients(int maxOrder) const {
     std::fill(lambda.begin(), lambda.end(), 1.0);
     return lambda;
   }
-  // lambda_l = 2 pi ∫ w(cos t) P_l(cos t) sin t dt, trapezoid on the lobe's grid (P_l by recurrence).
-  std::vector<double> previous(maxOrder + 1, 0.0), p(maxOrder + 1);
+  // lambda_l = 2 pi ∫ w(cos t) P_l(cos t) sin t dt, trapezoid on the lobe's grid (P_l by recurrence),
+  // over the grid points where the integrand is non-zero (not beyond the lobe's support: a Phong
+  // lobe's back hemisphere, the far tail). The recurrence runs over l outside and the points inside,
+  // so the inner loops are independent across points (vectorised).
+  std::vector<double> c, weight;
   for (int k = 0; k <= kGrid; ++k) {
     const double t = data_->theta[k];
-    const double c = std::cos(t);
-    const double f = kTwoPi * weight(c) * std::sin(t);
-    if (f == 0.0) continue;  // beyond the lobe's support (a Phong lobe's back hemisphere, the far tail)
-    p[0] = 1.0;
-    if (maxOrder >= 1) p[1] = c;
-    for (int l = 2; l <= maxOrder; ++l) p[l] = ((2 * l - 1) * c * p[l - 1] - (l - 1) * p[l - 2]) / l;
+    const double f = kTwoPi * this->weight(std::cos(t)) * std::sin(t);
+    if (f == 0.0) continue;
     const double h0 = k > 0 ? data_->theta[k] - data_->theta[k - 1] : 0.0;
     const double h1 = k < kGrid ? data_->theta[k + 1] - data_->theta[k] : 0.0;
-    const double weight = 0.5 * (h0 + h1) * f;
-    for (int l = 0; l <= maxOrder; ++l) lambda[l] += weight * p[l];
+    c.push_back(std::cos(t));
+    weight.push_back(0.5 * (h0 + h1) * f);
+  }
+  const std::size_t n = c.size();
+  std::vector<double> previous(n, 0.0), current(n, 1.0);  // P_{l-1}, P_l at l = 0
+  for (int l = 0; l <= maxOrder; ++l) {
+    if (l == 1) previous.swap(current), current = c;  // P_0 = 1, P_1 = c
+    if (l >= 2) {
+      const double a = (2.0 * l - 1.0) / l, b = (l - 1.0) / l;
+      double* __restrict p0 = previous.data();
+      double* __restrict p1 = current.data();
+      const double* __restrict x = c.data();
+      for (std::size_t k = 0; k < n; ++k) {
+        const double next = a * x[k] * p1[k] - b * p0[k];
+        p0[k] = p1[k], p1[k] = next;
+      }
+    }
+    double sum[4] = {0.0, 0.0, 0.0, 0.0};  // four partial sums: independent additions
+    std::size_t k = 0;
+    for (; k + 4 <= n; k += 4)
+      for (int j = 0; j < 4; ++j) sum[j] += weight[k + j] * current[k + j];
+    for (; k < n; ++k) sum[0] += weight[k] * current[k];
+    lambda[l] = (sum[0] + sum[1]) + (sum[2] + sum[3]);
   }
   // Match lambda_0 to the reported mass, so a constant environment comes out exactly.
   const double toMass = lambda[0] > 0.0 ? data_->mass / lambda[0] : 1.0;

@@ -120,6 +120,28 @@ Rgb LatLongPyramid::trilinear(const Vec3& direction, double lod) const {  // dir
 
 // ---- direct sum over the lobe's support ------------------------------------------------------
 
+double capRowHalfWidth(const LatLongLevel& level, int y, double cosD, double sinD, double cosCap) {
+  if (cosCap <= -1.0 || sinD <= 1e-12) return kPi;
+  // A point at polar angle theta and azimuth offset dphi lies in the cap where cos theta cosD +
+  // sin theta sinD cos dphi >= cosCap, i.e. cos dphi >= kappa(theta) = (cosCap - cos theta cosD) /
+  // (sin theta sinD). The widest offset over the band is acos of kappa's least value on it: at an
+  // edge, or where d kappa / d theta = 0 (cos theta = cosD / cosCap, for cosCap > 0) inside the band.
+  auto kappa = [&](double cosT, double sinT) {
+    if (sinT < 1e-12) return cosT * cosD >= cosCap ? -2.0 : 2.0;  // a pole: all of the row's parallel or none
+    return (cosCap - cosT * cosD) / (sinT * sinD);
+  };
+  double k = std::min(kappa(level.edgeCos[y], level.edgeSin[y]), kappa(level.edgeCos[y + 1], level.edgeSin[y + 1]));
+  if (cosCap > 0.0) {
+    const double cosWidest = cosD / cosCap;  // edges: cos decreasing with y
+    if (cosWidest < level.edgeCos[y] && cosWidest > level.edgeCos[y + 1]) {
+      k = std::min(k, kappa(cosWidest, std::sqrt(std::max(0.0, 1.0 - cosWidest * cosWidest))));
+    }
+  }
+  if (k > 1.0) return -1.0;
+  return k <= -1.0 ? kPi : std::acos(k);
+}
+
+
 DirectSummer::DirectSummer(const LatLongPyramid& pyramid, const PrefilterLobe& lobe, int level, double cosCap, int sub,
                            std::shared_ptr<const RadialTable> table)
     : pyramid_(pyramid), lobe_(lobe), level_(level), sub_(sub), cosCap_(cosCap), capAngle_(std::acos(std::clamp(cosCap, -1.0, 1.0))),
@@ -166,21 +188,9 @@ void DirectSummer::sum(const Vec3& axis, Rgb& numerator, double& denominator) co
     if (exact) return lobe_.weight(c);
     return view(std::sqrt(std::max(0.0, 0.5 - 0.5 * c)));  // the table is over u = sin(theta/2)
   };
-  // The cosine limit of the azimuth offset at polar angle theta (cos, sin given) for the cap.
-  auto kappa = [&](double cosT, double sinT) {
-    if (sinT < 1e-12) return cosT * cosD >= cosCap_ ? -2.0 : 2.0;
-    return (cosCap_ - cosT * cosD) / (sinT * sinD);
-  };
-  const double widest = std::acos(std::clamp(cosD / std::max(cosCap_, 1e-300), -1.0, 1.0));
   for (int y = yFirst; y <= yLast; ++y) {
-    // The widest azimuth of the cap over the row's band.
-    double halfWidth = kPi;
-    if (capAngle_ < kPi && sinD > 1e-12) {
-      double k = std::min(kappa(L.edgeCos[y], L.edgeSin[y]), kappa(L.edgeCos[y + 1], L.edgeSin[y + 1]));
-      if (cosCap_ > 0.0 && widest > y * dTheta && widest < (y + 1) * dTheta) k = std::min(k, kappa(std::cos(widest), std::sin(widest)));
-      if (k > 1.0) continue;
-      halfWidth = k <= -1.0 ? kPi : std::acos(k);
-    }
+    const double halfWidth = capRowHalfWidth(L, y, cosD, sinD, cosCap_);
+    if (halfWidth < 0.0) continue;
     int xFirst = 0, count = L.width;
     if (halfWidth < kPi - 2.0 * dPhi) {
       xFirst = static_cast<int>(std::floor(u0 - halfWidth / dPhi)) - 1;
@@ -271,21 +281,11 @@ LatLongGrid convolvedDirectGrid(const LatLongPyramid& pyramid, const PrefilterLo
     std::vector<float> acc(static_cast<std::size_t>(m) * 3 * ws, 0.0f);
     std::vector<double> den(static_cast<std::size_t>(m), 0.0);
     std::vector<float> kernel(static_cast<std::size_t>(ws) + 1);
-    auto kappa = [&](double cosT, double sinT) {
-      if (sinT < 1e-12) return cosT * cosD >= cosCap ? -2.0 : 2.0;
-      return (cosCap - cosT * cosD) / (sinT * sinD);
-    };
-    const double widest = std::acos(std::clamp(cosD / std::max(cosCap, 1e-300), -1.0, 1.0));
     const int yFirst = std::max(0, static_cast<int>(std::floor((thetaD - capAngle) / dTheta)));
     const int yLast = std::min(hs - 1, static_cast<int>(std::floor((thetaD + capAngle) / dTheta)));
     for (int y = yFirst; y <= yLast; ++y) {
-      double halfWidth = kPi;
-      if (capAngle < kPi && sinD > 1e-12) {
-        double k = std::min(kappa(L.edgeCos[y], L.edgeSin[y]), kappa(L.edgeCos[y + 1], L.edgeSin[y + 1]));
-        if (cosCap > 0.0 && widest > y * dTheta && widest < (y + 1) * dTheta) k = std::min(k, kappa(std::cos(widest), std::sin(widest)));
-        if (k > 1.0) continue;
-        halfWidth = k <= -1.0 ? kPi : std::acos(k);
-      }
+      const double halfWidth = capRowHalfWidth(L, y, cosD, sinD, cosCap);
+      if (halfWidth < 0.0) continue;
       // Taps k in [kLo, kHi]: the whole row (each column once) or the cap's columns and a margin.
       int kLo = -half, kHi = ws - 1 - half;
       if (halfWidth < kPi - 2.0 * dPhi) {

@@ -13,6 +13,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "prefilter_internal.hpp"
+
 namespace brdfbake {
 namespace {
 using Clock = std::chrono::steady_clock;
@@ -55,6 +57,7 @@ PrefilteredMap prefilterGlossChain(const Environment& environment, const std::ve
   PrefilterSummary& summary = result.summary;
   summary.maxError = options.maxError;
   std::ostringstream names;
+  detail::PrefilterInput input(environment);  // the working pyramid, made once for every level
   for (int k = 0; k < count; ++k) {
     const PrefilterLobe& lobe = lobes[static_cast<std::size_t>(k)];
     require(!lobe.isMirror(), "gloss chain level " + std::to_string(k) + ": the mirror lobe is not a filter");
@@ -64,7 +67,7 @@ PrefilteredMap prefilterGlossChain(const Environment& environment, const std::ve
     const std::string label = "level " + std::to_string(k) + " (" + lobe.name() + ")";
     PrefilteredMap part;
     try {
-      part = prefilter(environment, lobe, level);
+      part = prefilter(input, lobe, level);
     } catch (const Error& error) {
       throw Error(error.kind(), label + ": " + error.what());
     }
@@ -185,10 +188,11 @@ FresnelDecomposition prefilterFresnelDecomposition(const Environment& environmen
   result.fresnel = fresnel;
   result.combine = combine;
   PrefilterOptions part = options;
+  detail::PrefilterInput input(environment);
   part.progress = progressPart(options.progress, 0.0, 0.5);
-  result.specular = prefilter(environment, specular, part);
+  result.specular = prefilter(input, specular, part);
   part.progress = progressPart(options.progress, 0.5, 1.0);
-  result.irradiance = prefilter(environment, PrefilterLobe::irradiance(), part);
+  result.irradiance = prefilter(input, PrefilterLobe::irradiance(), part);
   result.table = fresnelTable(fresnel, tableSize);
   for (const Rgb& f : result.table) require(f.allFinite(), "the Fresnel table came out non-finite");
   return result;

@@ -27,11 +27,12 @@
 ///
 /// Error metric: per-texel relative error e = |a - r| / max(|r|, delta) (|.| the RGB norm, delta
 /// = 1e-3 of the lobe's mass times the environment's mean |L|), as an RMS over the sphere weighted
-/// by solid angle (prefilterError). Fast methods estimate it before they run from probes: 512
+/// by solid angle (prefilterError). Fast methods estimate it before they run from probes: up to 512
 /// directions, half uniform, half drawn towards the bright parts of the filtered environment,
 /// against the reference on the probes (the direct sum on the finest needed level, texels split
 /// into sub-samples no wider than width/8, all but 1e-7 of the lobe's mass), weighted to an
-/// unbiased solid-angle RMS.
+/// unbiased solid-angle RMS. The probes are read in four batches; an estimate stops once it lies
+/// more than two standard errors above the bound, or below it after at least half the probes.
 
 #include <brdfbake/core/run_options.hpp>
 #include <brdfbake/bake/environment.hpp>
@@ -111,6 +112,7 @@ struct PrefilterCandidate {
   double seconds = 0.0;           ///< setup (and grid) time actually spent
   double errorEstimate = -1.0;    ///< RMS relative error on the probes (-1: not estimated)
   double errorEstimateMax = -1.0; ///< largest probe error
+  int probes = 0;                 ///< probes the estimate read (it stops once clearly above or below the bound)
   bool chosen = false;
 };
 
