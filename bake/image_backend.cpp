@@ -42,10 +42,12 @@ fs::path modulePath() {
                                    " (needed to read or write images; install it beside libbrdfbake_bake): " + why);
 }
 
-// Never unloaded: OpenImageIO keeps threads and static state until exit.
+// Never unloaded: OpenImageIO keeps threads and static state until exit. RTLD_LAZY leaves OpenImageIO's
+// dependencies to bind as they would at start-up; the module itself is linked with -z now, so its own
+// unresolved symbols still fail here, with dlerror's message.
 const Functions& loadModule() {
   const fs::path path = modulePath();
-  void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  void* handle = dlopen(path.c_str(), RTLD_LAZY | RTLD_LOCAL);
   if (handle == nullptr) failLoading(path, dlerror());
   using Factory = const Functions* (*)();
   const auto factory = reinterpret_cast<Factory>(dlsym(handle, "brdfbake_image_oiio_functions"));
