@@ -4,15 +4,14 @@
 #include <brdfbake/core/json_text.hpp>
 #include <brdfbake/core/memory_budget.hpp>
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
+#include <memory>
+
+#include "image_backend.hpp"
 
 namespace brdfbake {
 namespace fs = std::filesystem;
 namespace {
-
-constexpr const char* kMetadataAttribute = "brdfbake:metadata";
 
 std::string lowerExtension(const fs::path& path) {
   std::string ext = path.extension().string();
@@ -38,11 +37,13 @@ void checkFinite(const Image& image, const fs::path& path) {
   }
 }
 
-std::string readMetadataAttribute(const fs::path& path) {
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) return {};
-  return in->spec().get_string_attribute(kMetadataAttribute);
-}
+using image_backend::imageBackend;
+
+// An image open through the backend, closed at scope exit.
+struct ReaderCloser {
+  void operator()(image_backend::Reader* reader) const { imageBackend().closeImage(reader); }
+};
+using OpenImage = std::unique_ptr<image_backend::Reader, ReaderCloser>;
 
 // A header can claim any size. Before allocating, the pixel count must be one the file's bytes
 // can encode (no codec we read packs more than kMaxSamplesPerByte samples into a byte; deflate's
@@ -98,14 +99,11 @@ WriteReport writeImage(const Image& image, const fs::path& path, const WriteOpti
 
   WriteReport report;
   const int channels = format == ImageFormat::RadianceHdr ? 3 : 4;
-  const OIIO::TypeDesc type = format == ImageFormat::Png ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT;
-  OIIO::ImageSpec spec(image.width(), image.height(), channels, type);
-  if (channels == 4) spec.alpha_channel = 3;
+  image_backend::WriteSettings settings;
+  settings.eightBitSrgb = format == ImageFormat::Png;
+  settings.zip = format == ImageFormat::OpenExr;
   const std::string metadata = image.metadata.empty() ? std::string() : image.metadata.dump();
-  if (!metadata.empty()) spec.attribute(kMetadataAttribute, metadata);
-  if (format == ImageFormat::OpenExr) spec.attribute("compression", "zip");
-  // Colours are not premultiplied by alpha (alpha is the texel's coverage of the domain).
-  spec.attribute("oiio:UnassociatedAlpha", 1);
+  settings.metadata = metadata;
 
   std::vector<float> pixels(static_cast<std::size_t>(image.width()) * image.height() * channels);
   for (int y = 0; y < image.height(); ++y) {
@@ -120,23 +118,20 @@ WriteReport writeImage(const Image& image, const fs::path& path, const WriteOpti
     }
   }
   if (format == ImageFormat::Png) {
-    spec.attribute("oiio:ColorSpace", "sRGB");
     report.notes.push_back("8-bit PNG: linear values clamped to [0, 1] and encoded with the sRGB transfer curve");
   }
   if (format == ImageFormat::RadianceHdr) report.notes.push_back("Radiance HDR holds RGB only: alpha (coverage) dropped");
 
+  const image_backend::Functions& backend = imageBackend();
   AtomicOutput output(path);
-  {
-    const std::string temporary = output.temporaryPath().string();
-    auto out = OIIO::ImageOutput::create(temporary);
-    if (!out) throw Error(Error::Kind::Io, path.string() + ": no image writer: " + OIIO::geterror());
-    if (!out->open(temporary, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()) || !out->close()) {
-      throw Error(Error::Kind::Io, path.string() + ": cannot write: " + out->geterror());
-    }
+  std::string error;
+  if (!backend.writeImage(output.temporaryPath().c_str(), {image.width(), image.height(), channels, pixels.data()},
+                          settings, error)) {
+    throw Error(Error::Kind::Io, path.string() + ": " + error);
   }
   // Formats that drop custom attributes get a sidecar; written before the image so the pair appears together.
   const fs::path sidecar = metadataSidecarPath(path);
-  if (!metadata.empty() && readMetadataAttribute(output.temporaryPath()) != metadata) {
+  if (!metadata.empty() && backend.readMetadata(output.temporaryPath().c_str()) != metadata) {
     writeFileAtomically(sidecar, image.metadata.dump(2) + "\n");
     report.sidecar = true;
     report.notes.push_back("format drops custom metadata: written to " + sidecar.string());
@@ -150,10 +145,9 @@ WriteReport writeImage(const Image& image, const fs::path& path, const WriteOpti
 
 int imageMipLevelCount(const fs::path& path) {
   requireInputFile(path, "image");
-  auto in = OIIO::ImageInput::open(path.string());
-  if (!in) throw Error(Error::Kind::Io, path.string() + ": cannot read image: " + OIIO::geterror());
-  int levels = 1;
-  while (levels < 64 && in->seek_subimage(0, levels)) ++levels;
+  std::string error;
+  const int levels = imageBackend().mipLevelCount(path.c_str(), error);
+  if (levels < 0) throw Error(Error::Kind::Io, path.string() + ": " + error);
   return levels;
 }
 
@@ -188,29 +182,14 @@ WriteReport writeTiledMipChain(const std::vector<Image>& levels, const nlohmann:
     checkFinite(levels[k], path);
   }
   const std::string text = metadata.empty() ? std::string() : metadata.dump();
+  std::vector<image_backend::Pixels> pixels;
+  for (const Image& level : levels) pixels.push_back({level.width(), level.height(), 4, level.data()});
+  const image_backend::Functions& backend = imageBackend();
   AtomicOutput output(path);
-  {
-    const std::string temporary = output.temporaryPath().string();
-    auto out = OIIO::ImageOutput::create(temporary);
-    if (!out) throw Error(Error::Kind::Io, path.string() + ": no image writer: " + OIIO::geterror());
-    for (std::size_t k = 0; k < levels.size(); ++k) {
-      OIIO::ImageSpec spec(levels[k].width(), levels[k].height(), 4, OIIO::TypeDesc::FLOAT);
-      spec.alpha_channel = 3;
-      spec.tile_width = spec.tile_height = 64;
-      spec.tile_depth = 1;
-      spec.attribute("compression", "zip");
-      spec.attribute("textureformat", "Plain Texture");
-      spec.attribute("wrapmodes", wrapModes);
-      spec.attribute("openexr:levelmode", 1);     // MIPMAP_LEVELS
-      spec.attribute("openexr:roundingmode", 0);  // ROUND_DOWN
-      spec.attribute("oiio:UnassociatedAlpha", 1);
-      if (k == 0 && !text.empty()) spec.attribute(kMetadataAttribute, text);
-      const auto mode = k == 0 ? OIIO::ImageOutput::Create : OIIO::ImageOutput::AppendMIPLevel;
-      if (!out->open(temporary, spec, mode) || !out->write_image(OIIO::TypeDesc::FLOAT, levels[k].data())) {
-        throw Error(Error::Kind::Io, path.string() + ": cannot write MIP level " + std::to_string(k) + ": " + out->geterror());
-      }
-    }
-    if (!out->close()) throw Error(Error::Kind::Io, path.string() + ": cannot write: " + out->geterror());
+  std::string error;
+  if (!backend.writeTiledMipChain(output.temporaryPath().c_str(), pixels.data(), static_cast<int>(pixels.size()), text,
+                                  wrapModes, error)) {
+    throw Error(Error::Kind::Io, path.string() + ": " + error);
   }
   std::error_code ec;
   fs::remove(metadataSidecarPath(path), ec);  // OpenEXR keeps the metadata; a stale sidecar would contradict it
@@ -221,35 +200,29 @@ WriteReport writeTiledMipChain(const std::vector<Image>& levels, const nlohmann:
 Image readImage(const fs::path& path, int mipLevel) {
   const std::uintmax_t fileBytes = requireInputFile(path, "image");
   require(mipLevel >= 0, "readImage: MIP level must be >= 0");
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);  // keep colours as stored, never premultiplied
-  auto in = OIIO::ImageInput::open(path.string(), &config);
-  if (!in) throw Error(Error::Kind::Io, path.string() + ": cannot read image: " + OIIO::geterror());
-  std::string metadata = in->spec().get_string_attribute(kMetadataAttribute);  // level 0 carries it
-  if (mipLevel > 0 && !in->seek_subimage(0, mipLevel)) {
-    int levels = 1;
-    while (levels < 64 && in->seek_subimage(0, levels)) ++levels;
-    throw Error(Error::Kind::InvalidInput, path.string() + ": has " + std::to_string(levels) + " MIP level" +
-                                               (levels == 1 ? "" : "s") + ", no level " + std::to_string(mipLevel));
+  const image_backend::Functions& backend = imageBackend();
+  image_backend::Header header;
+  std::string error;
+  const OpenImage in(backend.openImage(path.c_str(), mipLevel, header, error));
+  if (!in) throw Error(Error::Kind::Io, path.string() + ": " + error);
+  std::string metadata = header.metadata;
+  if (!header.levelFound) {
+    throw Error(Error::Kind::InvalidInput, path.string() + ": has " + std::to_string(header.levels) + " MIP level" +
+                                               (header.levels == 1 ? "" : "s") + ", no level " + std::to_string(mipLevel));
   }
-  const OIIO::ImageSpec& spec = in->spec();
-  const int channels = spec.nchannels;
-  if (spec.width < 1 || spec.height < 1 || channels < 1) {
+  const int width = header.width, height = header.height, channels = header.channels;
+  if (width < 1 || height < 1 || channels < 1) {
     throw Error(Error::Kind::InvalidInput, path.string() + ": image has no pixels");
   }
-  checkDecodedSize(spec.width, spec.height, channels, fileBytes, path);
-  std::vector<float> pixels(static_cast<std::size_t>(spec.width) * spec.height * channels);
-  if (!in->read_image(0, mipLevel, 0, channels, OIIO::TypeDesc::FLOAT, pixels.data())) {
-    throw Error(Error::Kind::Io, path.string() + ": cannot read pixels: " + in->geterror());
-  }
-  const bool srgb = spec.format.basetype != OIIO::TypeDesc::FLOAT &&
-                    spec.format.basetype != OIIO::TypeDesc::HALF &&
-                    spec.get_string_attribute("oiio:ColorSpace") == "sRGB";
-  const int alpha = spec.alpha_channel >= 0 ? spec.alpha_channel : (channels == 2 || channels >= 4 ? channels - 1 : -1);
-  Image image(spec.width, spec.height);
-  for (int y = 0; y < spec.height; ++y) {
-    for (int x = 0; x < spec.width; ++x) {
-      const float* p = &pixels[(static_cast<std::size_t>(y) * spec.width + x) * channels];
+  checkDecodedSize(width, height, channels, fileBytes, path);
+  std::vector<float> pixels(static_cast<std::size_t>(width) * height * channels);
+  if (!backend.readPixels(in.get(), pixels.data(), error)) throw Error(Error::Kind::Io, path.string() + ": " + error);
+  const bool srgb = header.srgb;
+  const int alpha = header.alphaChannel >= 0 ? header.alphaChannel : (channels == 2 || channels >= 4 ? channels - 1 : -1);
+  Image image(width, height);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const float* p = &pixels[(static_cast<std::size_t>(y) * width + x) * channels];
       Rgba v;
       const bool gray = channels < 3;
       for (int c = 0; c < 3; ++c) {
