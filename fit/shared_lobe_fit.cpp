@@ -332,10 +332,8 @@ class SharedFitter {
     std::vector<Shape> shapes;
     for (const Lobe& lobe : config_.startLobes) {
       if (static_cast<int>(shapes.size()) == config_.lobes) break;
-      const double exponent = std::min(lobe.exponent.at(0), config_.maxExponent);
-      shapes.push_back({std::log(exponent), lobe.halfVector ? -1.0 : lobe.cxy, lobe.halfVector});
+      shapes.push_back({std::log(lobe.exponent.at(0)), lobe.halfVector ? -1.0 : lobe.cxy, lobe.halfVector});
     }
-    if (!shapes.empty() && static_cast<int>(shapes.size()) == config_.lobes) return refine(std::move(shapes));
     for (int k = static_cast<int>(shapes.size()); k < config_.lobes; ++k) shapes = refine(withNewLobe(shapes));
     return shapes;
   }

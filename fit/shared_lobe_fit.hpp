@@ -37,8 +37,6 @@ struct SharedFitConfig {
   // Warm start: the shapes (exponent, c_xy, axis) of the first lobes, as a fit of the same table
   // with fewer lobes returned them; the fit adds lobes greedily after these. The greedy steps are
   // the same either way, so a fit warm-started from the (K-1)-lobe fit equals the cold K-lobe fit.
-  // With as many start lobes as `lobes` (a fit under a higher cap), their exponents are clamped to
-  // maxExponent and all are refined together.
   std::vector<Lobe> startLobes;
 };
 
