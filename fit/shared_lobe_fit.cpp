@@ -356,10 +356,9 @@ class SharedFitter {
 
   static constexpr std::size_t kColumnCacheSize = 16;
   // The greedy grid of a new lobe's exponent (2, 8, 32, ...; the compass search walks from there)
-  // and the compass search's last step in ln n (2 %): finer grids and steps moved no held-out
-  // score by more than 0.001 on the Cornell tables (docs/fitting.md).
+  // and the compass search's last step in ln n (1 %); docs/fitting.md has what other values scored.
   static constexpr double kGreedyExponentFactor = 4.0;
-  static constexpr double kFinalLogStep = 0.02;
+  static constexpr double kFinalLogStep = 0.01;
 
   Data data_;
   RowFactors factors_;
