@@ -5,8 +5,8 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
-#include <deque>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <numbers>
 
@@ -227,7 +227,7 @@ class SharedFitter {
   // of each channel's weights by the NNLS linearised at the data (solveChannel's first step; its
   // Gauss-Newton steps change which shapes win too little to pay for themselves, docs/fitting.md).
   // Every channel's normal equations at once: G_s = A^T diag(w_s) A from the products of column
-  // pairs, one matrix product for all channels.
+  // pairs, one matrix-vector product per pair for all searched channels.
   double searchObjective(const std::vector<Shape>& shapes) {
     ++evaluations;
     if (!admissible(shapes)) return HUGE_VAL;
