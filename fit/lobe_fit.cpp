@@ -792,28 +792,38 @@ struct CandidateConfig {
   double maxExponent = 0.0;                      // the shared method's cap; 0 = the options'
 };
 
-FitOptions candidateOptions(FitOptions options, const CandidateConfig& config) {
+// The options with the candidate's choices made explicit.
+FitOptions explicitOptions(FitOptions options, const CandidateConfig& config) {
   options.lobes = config.lobes;
   options.elevation = config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
   options.kind = config.kind;
   if (config.maxExponent > 0.0) options.maxExponent = config.maxExponent;
-  options.threads = 1;  // parallel over splits
-  options.progress = nullptr;
   return options;
 }
 
-FitResult fitCandidate(const MeasuredTable& table, const FitOptions& options, const CandidateConfig& config) {
-  const FitOptions explicitOptions = candidateOptions(options, config);
-  if (options.method == FitMethod::Shared) return fitShared(table, explicitOptions, config.kind);
+// The same, for one of many fits that run in parallel over splits.
+FitOptions candidateOptions(const FitOptions& options, const CandidateConfig& config) {
+  FitOptions single = explicitOptions(options, config);
+  single.threads = 1;
+  single.progress = nullptr;
+  return single;
+}
+
+FitResult fitExplicit(const MeasuredTable& table, const FitOptions& explicitOptions, LobeKindChoice kind) {
+  if (explicitOptions.method == FitMethod::Shared) return fitShared(table, explicitOptions, kind);
   return fitPerChannel(table, explicitOptions);
+}
+
+FitResult fitCandidate(const MeasuredTable& table, const FitOptions& options, const CandidateConfig& config) {
+  return fitExplicit(table, candidateOptions(options, config), config.kind);
 }
 
 // The model alone, for a held-out split (the statistics of a split's fit are never shown).
 LobeModel fitCandidateModel(const MeasuredTable& table, const FitOptions& options, const CandidateConfig& config,
                             const LobeModel* start = nullptr) {
-  const FitOptions explicitOptions = candidateOptions(options, config);
-  if (options.method == FitMethod::Shared) return sharedModel(table, explicitOptions, config.kind, start).model;
-  return fitPerChannel(table, explicitOptions).model;
+  const FitOptions single = candidateOptions(options, config);
+  if (options.method == FitMethod::Shared) return sharedModel(table, single, config.kind, start).model;
+  return fitPerChannel(table, single).model;
 }
 
 int parameterTotal(const CandidateConfig& config, FitMethod method, std::size_t channels) {
@@ -898,12 +908,7 @@ CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& opti
 // parameters), with its held-out estimate when asked for and feasible.
 FitResult fitOneConfiguration(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
   const CandidateConfig config{space.counts[0], space.elevations[0], space.kinds[0]};
-  FitOptions explicitOptions = options;
-  explicitOptions.lobes = config.lobes;
-  explicitOptions.elevation = config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
-  explicitOptions.kind = config.kind;
-  FitResult result = options.method == FitMethod::Shared ? fitShared(table, explicitOptions, config.kind)
-                                                         : fitPerChannel(table, explicitOptions);
+  FitResult result = fitExplicit(table, explicitOptions(options, config), config.kind);
   if (options.estimateHeldOut && space.heldOutFeasible) {
     result.heldOut = estimateHeldOutError(
         table, [&](const MeasuredTable& training) { return fitCandidateModel(training, options, config); }, options.heldOut);
