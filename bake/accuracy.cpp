@@ -1,6 +1,6 @@
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/bake/cube_map.hpp>
+#include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
 

@@ -1,6 +1,6 @@
 #include <brdfbake/core/progress.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/bake/radial_table.hpp>
+#include <brdfbake/maps/radial_table.hpp>
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/core/error.hpp>
 

@@ -1,5 +1,5 @@
 #include <brdfbake/bake/interpolation_error.hpp>
-#include <brdfbake/bake/sphere_map.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/core/error.hpp>
 
 namespace brdfbake {

@@ -1,4 +1,4 @@
-#include <brdfbake/bake/image.hpp>
+#include <brdfbake/maps/image.hpp>
 #include <brdfbake/bake/map_function.hpp>
 #include <brdfbake/core/error.hpp>
 

@@ -8,8 +8,8 @@
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/auto_config.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/bake/paraboloid_map.hpp>
-#include <brdfbake/bake/sphere_map.hpp>
+#include <brdfbake/maps/paraboloid_map.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/brdf/phong.hpp>
 

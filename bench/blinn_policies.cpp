@@ -2,7 +2,7 @@
 // difference (the peak is 1) over a sphere map (eye space, every reflected direction equally
 // weighted: the map is equal-area), for n = 1, 10, 100, 1000, with the light at the eye and with
 // a light 45 degrees off the view axis. Prints the markdown table of docs/blinn_conversion.md.
-#include <brdfbake/bake/sphere_map.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/phong.hpp>
 
 #include <cstdio>

@@ -6,8 +6,8 @@
 // sun of radiance ~2000), colored_cube_latlong.exr (Heidrich 2000 Fig. 1) as 2N x N lat-long images
 // (N = ROWS, default 128), and colored_cube_cross.exr as a 4N/2 x 3N/2 cube cross. The files are
 // plain images (no brdfbake metadata), so `prefilter` reads them by their aspect ratio.
-#include <brdfbake/bake/environment.hpp>
-#include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/env/environment.hpp>
+#include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/core/error.hpp>
 
 #include <iostream>

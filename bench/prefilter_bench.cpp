@@ -29,12 +29,12 @@
 // The chart (gnuplot, time against error per exponent and for GGX) goes to
 // docs/images/prefilter_speed_error.png unless --chart says otherwise; a markdown table of every
 // point goes to stdout.
-#include <brdfbake/bake/cube_map.hpp>
-#include <brdfbake/bake/env_accuracy.hpp>
-#include <brdfbake/bake/environment.hpp>
-#include <brdfbake/bake/image_io.hpp>
-#include <brdfbake/bake/prefilter.hpp>
-#include <brdfbake/bake/prefilter_stack.hpp>
+#include <brdfbake/maps/cube_map.hpp>
+#include <brdfbake/env/env_accuracy.hpp>
+#include <brdfbake/env/environment.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/env/prefilter.hpp>
+#include <brdfbake/env/prefilter_stack.hpp>
 #include <brdfbake/core/error.hpp>
 
 #include <OpenImageIO/imageio.h>

@@ -1,10 +1,10 @@
 // brdfbake bake SPEC.json: bake every map of a spec.
 #include <brdfbake/core/progress.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/bake/environment.hpp>
-#include <brdfbake/bake/map_file.hpp>
-#include <brdfbake/bake/prefilter.hpp>
-#include <brdfbake/bake/prefilter_stack.hpp>
+#include <brdfbake/env/environment.hpp>
+#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/env/prefilter.hpp>
+#include <brdfbake/env/prefilter_stack.hpp>
 #include <brdfbake/bake/radial_profile.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/files.hpp>

@@ -7,10 +7,10 @@
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/auto_config.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/bake/env_accuracy.hpp>
-#include <brdfbake/bake/environment.hpp>
-#include <brdfbake/bake/image_io.hpp>
-#include <brdfbake/bake/prefilter.hpp>
+#include <brdfbake/env/env_accuracy.hpp>
+#include <brdfbake/env/environment.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/spec/spec.hpp>
 

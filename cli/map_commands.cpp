@@ -1,8 +1,8 @@
 // brdfbake sample | info | convert: look up, inspect and resample every output of bake and prefilter.
-#include <brdfbake/bake/baked_output.hpp>
+#include <brdfbake/output/baked_output.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/bake/image_io.hpp>
-#include <brdfbake/bake/map_file.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/core/version.hpp>

@@ -1,10 +1,10 @@
 // brdfbake prefilter ENV: prefiltered environment maps (docs/prefilter.md).
 #include <brdfbake/core/progress.hpp>
-#include <brdfbake/bake/env_mips.hpp>
-#include <brdfbake/bake/environment.hpp>
-#include <brdfbake/bake/prefilter.hpp>
-#include <brdfbake/bake/prefilter_stack.hpp>
-#include <brdfbake/bake/sh_irradiance.hpp>
+#include <brdfbake/maps/map_mips.hpp>
+#include <brdfbake/env/environment.hpp>
+#include <brdfbake/env/prefilter.hpp>
+#include <brdfbake/env/prefilter_stack.hpp>
+#include <brdfbake/env/sh_irradiance.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 

@@ -1,7 +1,7 @@
 // brdfbake preview MAP -o preview.png: an object shaded with the map.
-#include <brdfbake/bake/baked_output.hpp>
-#include <brdfbake/bake/map_file.hpp>
-#include <brdfbake/bake/preview.hpp>
+#include <brdfbake/output/baked_output.hpp>
+#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/output/preview.hpp>
 #include <brdfbake/core/error.hpp>
 
 #include <iostream>

@@ -1,7 +1,7 @@
 #pragma once
 // Terminal helpers for the CLI: progress bars on a TTY, vector parsing for flags.
-#include <brdfbake/bake/baked_output.hpp>
-#include <brdfbake/bake/map_file.hpp>
+#include <brdfbake/output/baked_output.hpp>
+#include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/core/math.hpp>
 
 #include <CLI/CLI.hpp>

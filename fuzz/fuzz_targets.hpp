@@ -5,7 +5,7 @@
 // scratch file under /dev/shm (or the system temp folder) with the extension the reader expects,
 // then the reader is called. brdfbake::Error is the expected outcome for a bad input; anything
 // else (other exceptions, crashes, sanitizer reports) is a finding.
-#include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/measured/measured_io.hpp>

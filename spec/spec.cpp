@@ -1,7 +1,7 @@
 #include <brdfbake/core/files.hpp>
-#include <brdfbake/bake/env_mips.hpp>
-#include <brdfbake/bake/image_io.hpp>
-#include <brdfbake/bake/mip_chain.hpp>
+#include <brdfbake/maps/map_mips.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/bake/baked_mips.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/spec/material_spec.hpp>
 #include <brdfbake/spec/spec.hpp>

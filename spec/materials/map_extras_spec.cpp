@@ -1,10 +1,9 @@
 // Map-level extras: "mips" (silhouette mip chain) and "fresnel_table_output" (1-D Fresnel table), parsed
 // and written beside the map.
 #include <brdfbake/core/files.hpp>
-#include <brdfbake/bake/baked_output.hpp>
-#include <brdfbake/bake/image_io.hpp>
-#include <brdfbake/bake/env_mips.hpp>
-#include <brdfbake/bake/mip_chain.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/map_mips.hpp>
+#include <brdfbake/bake/baked_mips.hpp>
 #include <brdfbake/brdf/fresnel.hpp>
 #include <brdfbake/brdf/npr.hpp>
 #include <brdfbake/core/version.hpp>

@@ -1,8 +1,8 @@
 // Error measurement against hand-made cases with known answers.
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/bake/sphere_map.hpp>
-#include <brdfbake/bake/paraboloid_map.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
+#include <brdfbake/maps/paraboloid_map.hpp>
 #include <brdfbake/bake/radial_profile.hpp>
 #include <brdfbake/core/error.hpp>
 

@@ -1,10 +1,10 @@
 // The baking engine against the exact model, its radial fast paths against the general path,
 // and its limits.
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/bake/cube_map.hpp>
-#include <brdfbake/bake/paraboloid_map.hpp>
-#include <brdfbake/bake/radial_table.hpp>
-#include <brdfbake/bake/sphere_map.hpp>
+#include <brdfbake/maps/cube_map.hpp>
+#include <brdfbake/maps/paraboloid_map.hpp>
+#include <brdfbake/maps/radial_table.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/core/error.hpp>
 #include <gtest/gtest.h>

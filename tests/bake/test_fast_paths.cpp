@@ -3,7 +3,7 @@
 // the value-weighted error measure of docs/accuracy.md.
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/bake/sphere_map.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <gtest/gtest.h>
 

@@ -2,9 +2,9 @@
 // texel, maps hold the documented quantity texel by texel, narrow lobes integrate correctly (or
 // are rejected), and the silhouette mip chain keeps its ring width in texels.
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/bake/image_io.hpp>
-#include <brdfbake/bake/mip_chain.hpp>
-#include <brdfbake/bake/sphere_map.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/bake/baked_mips.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/brdf/npr.hpp>
 #include <brdfbake/core/error.hpp>

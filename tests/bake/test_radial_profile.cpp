@@ -3,7 +3,7 @@
 // profile when it is the cheapest way to meet the target.
 #include <brdfbake/bake/auto_config.hpp>
 #include <brdfbake/bake/radial_profile.hpp>
-#include <brdfbake/bake/sphere_map.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/brdf/npr.hpp>
 #include <brdfbake/brdf/phong.hpp>

@@ -1,8 +1,8 @@
 // `brdfbake chart` on prefiltered environment maps: the sweep parameterization x resolution x
 // method, errors against the reference prefilter on random texels (env_accuracy.hpp), the CSV and
 // JSON outputs (which need no gnuplot), skipped combinations, bad flags.
-#include <brdfbake/bake/env_accuracy.hpp>
-#include <brdfbake/bake/environment.hpp>
+#include <brdfbake/env/env_accuracy.hpp>
+#include <brdfbake/env/environment.hpp>
 #include <brdfbake/core/math.hpp>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

@@ -1,8 +1,8 @@
 // The command line as a user meets it: acceptance checks from the issue, exit codes, no output
 // on bad input, machine-readable output.
-#include <brdfbake/bake/image.hpp>
-#include <brdfbake/bake/image_io.hpp>
-#include <brdfbake/bake/map_file.hpp>
+#include <brdfbake/maps/image.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // One meaning per flag on every command: -o names one file, --json is a run report, --quiet prints
 // only errors, --threads and --max-error take the same values everywhere.
-#include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/maps/image_io.hpp>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 

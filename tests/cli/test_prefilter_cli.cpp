@@ -1,9 +1,9 @@
 // `brdfbake prefilter` and prefiltered maps in specs, as a user meets them: outputs checked against
 // the library's reference sum, metadata, exit codes for bad flags and bad environments.
-#include <brdfbake/bake/environment.hpp>
-#include <brdfbake/bake/image_io.hpp>
-#include <brdfbake/bake/map_file.hpp>
-#include <brdfbake/bake/prefilter.hpp>
+#include <brdfbake/env/environment.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/brdf/fresnel.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/fit_file.hpp>

@@ -2,7 +2,7 @@
 // `preview` with the value a renderer would get: each kind is made small, sampled at known
 // directions and compared with an independent value (the exact model where the map is accurate,
 // a furnace integral, the textbook Fresnel formula), then inspected, resampled and previewed.
-#include <brdfbake/bake/image_io.hpp>
+#include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/core/math.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <gtest/gtest.h>

@@ -1,5 +1,5 @@
 // The memory budget: sizes from headers and specs are refused before anything is allocated.
-#include <brdfbake/bake/image.hpp>
+#include <brdfbake/maps/image.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/memory_budget.hpp>
 #include <gtest/gtest.h>

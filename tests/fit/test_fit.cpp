@@ -3,7 +3,7 @@
 // noise), degenerate tables, fit.json, table interpolation, the mirror-direction tables and the
 // "measured" / "lobes" spec materials.
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/bake/sphere_map.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/cornell_grid.hpp>

@@ -1,6 +1,6 @@
 // Zero, negative, NaN and Inf values in input images and measured tables.
-#include <brdfbake/bake/image_io.hpp>
-#include <brdfbake/bake/map_file.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/version.hpp>
 #include <brdfbake/measured/measured_io.hpp>

@@ -1,8 +1,8 @@
 // Where lobes fail: exponents 0, 1e-6 and 1e6 (a lobe far narrower than a texel), the N.H
 // conversion at N.H -> 1 and N.H <= 1/sqrt 2, lights of zero length or below the horizon.
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/bake/paraboloid_map.hpp>
-#include <brdfbake/bake/sphere_map.hpp>
+#include <brdfbake/maps/paraboloid_map.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/core/error.hpp>
 #include <gtest/gtest.h>

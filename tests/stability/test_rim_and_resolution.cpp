@@ -1,6 +1,6 @@
 // Where parameterizations and the baker fail: the sphere-map rim, resolutions 1 and 16384.
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/bake/sphere_map.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/core/error.hpp>
 #include <gtest/gtest.h>

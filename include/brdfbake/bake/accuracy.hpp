@@ -3,7 +3,7 @@
 /// How close a baked map is to the function it stands for, as a renderer sees it. The measures
 /// and why there are three: docs/accuracy.md.
 
-#include <brdfbake/bake/image.hpp>
+#include <brdfbake/maps/image.hpp>
 #include <brdfbake/bake/map_function.hpp>
 
 #include <functional>

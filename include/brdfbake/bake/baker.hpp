@@ -3,7 +3,7 @@
 /// Integrating a MapFunction over every texel's footprint.
 
 #include <brdfbake/core/run_options.hpp>
-#include <brdfbake/bake/image.hpp>
+#include <brdfbake/maps/image.hpp>
 #include <brdfbake/bake/map_function.hpp>
 
 #include <functional>

@@ -2,7 +2,7 @@
 /// @file
 /// What a map stores, as a function of the map-frame direction.
 
-#include <brdfbake/bake/image.hpp>
+#include <brdfbake/maps/image.hpp>
 #include <brdfbake/brdf/material.hpp>
 
 #include <memory>

@@ -14,7 +14,7 @@
 
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/bake/image.hpp>
+#include <brdfbake/maps/image.hpp>
 #include <brdfbake/bake/map_function.hpp>
 
 #include <nlohmann/json.hpp>

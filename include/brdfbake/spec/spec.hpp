@@ -4,11 +4,11 @@
 
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/bake/auto_config.hpp>
-#include <brdfbake/bake/map_file.hpp>
+#include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/bake/map_function.hpp>
-#include <brdfbake/bake/parameterization.hpp>
-#include <brdfbake/bake/prefilter.hpp>
-#include <brdfbake/bake/prefilter_stack.hpp>
+#include <brdfbake/maps/parameterization.hpp>
+#include <brdfbake/env/prefilter.hpp>
+#include <brdfbake/env/prefilter_stack.hpp>
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/spec/material_spec.hpp>
 

@@ -1,8 +1,8 @@
 // A renderer-side program using the installed brdfbake package: bake a Phong sphere map, write
 // it, read it back and check a lookup against the analytic value.
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/bake/map_file.hpp>
-#include <brdfbake/bake/sphere_map.hpp>
+#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/core/version.hpp>
 
