@@ -1,8 +1,8 @@
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
+#include <brdfbake/maps/cube_map.hpp>
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -67,7 +67,8 @@ class CubeGridDensity {
   Vec3 sample(std::mt19937& rng) const {
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     const double u = unit(rng) * total();
-    const auto cell = static_cast<int>(std::upper_bound(cumulative_.begin(), cumulative_.end(), u) - cumulative_.begin());
+    const auto cell =
+        static_cast<int>(std::upper_bound(cumulative_.begin(), cumulative_.end(), u) - cumulative_.begin());
     const int index = std::min(cell, static_cast<int>(cumulative_.size()) - 1);
     const int face = index / (n_ * n_), j = (index / n_) % n_, i = index % n_;
     return CubeMap::faceDirection(static_cast<CubeMap::Face>(face), Vec2(i + unit(rng), j + unit(rng)) / n_);
@@ -76,7 +77,8 @@ class CubeGridDensity {
   // Probability density per steradian at unit direction r.
   double density(const Vec3& r) const {
     const auto [face, st] = CubeMap::faceCoordinates(r);
-    const int i = std::clamp(static_cast<int>(st.x() * n_), 0, n_ - 1), j = std::clamp(static_cast<int>(st.y() * n_), 0, n_ - 1);
+    const int i = std::clamp(static_cast<int>(st.x() * n_), 0, n_ - 1),
+              j = std::clamp(static_cast<int>(st.y() * n_), 0, n_ - 1);
     const int index = (static_cast<int>(face) * n_ + j) * n_ + i;
     const double mass = cumulative_[index] - (index > 0 ? cumulative_[index - 1] : 0.0);
     // Uniform in (s, t) over a cell of area 1/n^2; dw = 4 ds dt / (1 + sc^2 + tc^2)^(3/2).
@@ -114,7 +116,9 @@ void ErrorOptions::validate() const {
           "the highlight grid needs 8 to 4096 cells per face side, got " + std::to_string(highlightGrid));
 }
 
-double ErrorStats::bound(bool visibleLookups) const { return std::max(highlightRms, visibleLookups ? visibleRms : rms); }
+double ErrorStats::bound(bool visibleLookups) const {
+  return std::max(highlightRms, visibleLookups ? visibleRms : rms);
+}
 
 ErrorProbes::ErrorProbes(const MapFunction& exact, const ErrorOptions& options) {
   options.validate();
@@ -136,16 +140,19 @@ ErrorProbes::ErrorProbes(const MapFunction& exact, const ErrorOptions& options) 
     highlight_.push_back({unit(rng) < gridShare ? grid.sample(rng) : uniformDirection(rng), Rgb::Zero()});
 
   for (auto* set : {&uniform_, &visible_})
-    tbb::parallel_for(std::size_t(0), set->size(), [&](std::size_t i) { (*set)[i].exact = exact.evaluate((*set)[i].direction); });
+    tbb::parallel_for(std::size_t(0), set->size(),
+                      [&](std::size_t i) { (*set)[i].exact = exact.evaluate((*set)[i].direction); });
   tbb::parallel_for(std::size_t(0), highlight_.size(), [&](std::size_t i) {
     Probe& probe = highlight_[i];
     probe.exact = exact.evaluate(probe.direction);
-    const double density = (1.0 - gridShare) / (4.0 * kPi) + (gridShare > 0.0 ? gridShare * grid.density(probe.direction) : 0.0);
+    const double density =
+        (1.0 - gridShare) / (4.0 * kPi) + (gridShare > 0.0 ? gridShare * grid.density(probe.direction) : 0.0);
     probe.weight = signal(probe.exact) / density;
   });
 }
 
-ErrorStats ErrorProbes::measure(const std::function<Rgb(const Vec3&)>& lookup, double rimCos, bool visibleSphere) const {
+ErrorStats ErrorProbes::measure(const std::function<Rgb(const Vec3&)>& lookup, double rimCos,
+                                bool visibleSphere) const {
   return measureAt([&](std::size_t, const Vec3& direction) { return lookup(direction); }, rimCos, visibleSphere);
 }
 
@@ -224,10 +231,12 @@ ErrorStats measureSparseLookups(const ErrorProbes& probes, long long texelCount,
   }
   std::vector<Rgb> texels(keys.size());
   tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-  arena.execute([&] { tbb::parallel_for(std::size_t(0), keys.size(), [&](std::size_t i) { texels[i] = texel(keys[i]); }); });
+  arena.execute(
+      [&] { tbb::parallel_for(std::size_t(0), keys.size(), [&](std::size_t i) { texels[i] = texel(keys[i]); }); });
   std::vector<Rgb> looked(directions.size(), Rgb::Zero());
   for (std::size_t i = 0; i < directions.size(); ++i)
-    for (int k = 0; k < read[i].count; ++k) looked[i] += read[i].weight[k] * texels[static_cast<std::size_t>(read[i].index[k])];
+    for (int k = 0; k < read[i].count; ++k)
+      looked[i] += read[i].weight[k] * texels[static_cast<std::size_t>(read[i].index[k])];
   return probes.measureValues(looked, rimCos, visibleSphere);
 }
 
@@ -253,7 +262,8 @@ double mapRimCos(ParameterizationKind kind, int resolution) {
   return std::cos(std::min(kPi, 4.0 * std::sqrt(2.0 / resolution)));
 }
 
-ErrorStats measureMapError(const Image& image, const Parameterization& map, const ErrorProbes& probes, bool visibleSphere) {
+ErrorStats measureMapError(const Image& image, const Parameterization& map, const ErrorProbes& probes,
+                           bool visibleSphere) {
   return probes.measure([&](const Vec3& r) -> Rgb { return sampleBilinear(image, map, r).head<3>(); },
                         mapRimCos(map.kind(), map.resolution()), visibleLookups(map, visibleSphere));
 }
@@ -271,11 +281,12 @@ ErrorStats estimateMapError(const Parameterization& map, const MapFunction& func
     out.index[3] = b.yb * width + b.xb, out.weight[3] = b.wx * b.wy;
   };
   auto texel = [&](long long index) -> Rgb {
-    const Rgb value = bakeTexel(map, function, static_cast<int>(index % width), static_cast<int>(index / width), samplesPerTexel);
+    const Rgb value =
+        bakeTexel(map, function, static_cast<int>(index % width), static_cast<int>(index / width), samplesPerTexel);
     return value.cast<float>().cast<double>();  // as an Image stores it
   };
-  return measureSparseLookups(probes, width * map.height(), taps, texel, mapRimCos(map.kind(), map.resolution()), visibleLookups(map, visibleSphere),
-                              threads);
+  return measureSparseLookups(probes, width * map.height(), taps, texel, mapRimCos(map.kind(), map.resolution()),
+                              visibleLookups(map, visibleSphere), threads);
 }
 
 ErrorStats measureMapError(const Image& image, const Parameterization& map, const MapFunction& exact,

@@ -117,7 +117,8 @@ class Search {
     for (int spt : samples) {
       std::vector<Family> batch;
       if (axis_) batch.push_back({ParameterizationKind::Sphere, true, spt, kinds, {}});
-      for (int k = 0; k < kinds; ++k) batch.push_back({options_.parameterizations[static_cast<std::size_t>(k)], false, spt, k, {}});
+      for (int k = 0; k < kinds; ++k)
+        batch.push_back({options_.parameterizations[static_cast<std::size_t>(k)], false, spt, k, {}});
       for (Family& family : batch) {
         for (int n : resolutions) {
           if (withinBudget(family.at(n))) {
@@ -130,9 +131,10 @@ class Search {
       }
     }
     if (families_.empty()) {
-      throw Error(Error::Kind::Resource, "every auto candidate exceeds the memory budget (" +
-                                             formatBytes(16.0 * static_cast<double>(options_.bake.maxTexels)) +
-                                             " of float RGBA per map); allow smaller resolutions or large maps (--allow-large)");
+      throw Error(Error::Kind::Resource,
+                  "every auto candidate exceeds the memory budget (" +
+                      formatBytes(16.0 * static_cast<double>(options_.bake.maxTexels)) +
+                      " of float RGBA per map); allow smaller resolutions or large maps (--allow-large)");
     }
   }
 
@@ -145,17 +147,19 @@ class Search {
   double estimate(const Family& family, int resolution) {
     const MapConfiguration c = family.at(resolution);
     for (const Estimate& e : estimates_)
-      if (e.order == family.order && e.configuration.resolution == resolution && e.configuration.samplesPerTexel == c.samplesPerTexel)
+      if (e.order == family.order && e.configuration.resolution == resolution &&
+          e.configuration.samplesPerTexel == c.samplesPerTexel)
         return e.error;
     const int threads = options_.bake.threads;
     const bool visible = options_.error.visibleSphere;
     double error;
     if (c.radialProfile) {
-      error = autoErrorMeasure(estimateProfileError(function_, *axis_, resolution, c.samplesPerTexel, probes_, visible, threads),
-                               c, *axis_);
+      error = autoErrorMeasure(
+          estimateProfileError(function_, *axis_, resolution, c.samplesPerTexel, probes_, visible, threads), c, *axis_);
     } else {
       const auto map = makeParameterization(c.parameterization, resolution);
-      error = autoErrorMeasure(estimateMapError(*map, function_, c.samplesPerTexel, probes_, visible, threads), c.parameterization);
+      error = autoErrorMeasure(estimateMapError(*map, function_, c.samplesPerTexel, probes_, visible, threads),
+                               c.parameterization);
     }
     estimates_.push_back({c, family.order, error});
     report(kSearchShare * static_cast<double>(estimates_.size()) / (estimates_.size() + 4.0));
@@ -164,7 +168,8 @@ class Search {
 
   // The next resolution to estimate: the smallest whose error the power law through the last two
   // estimates (or error ~ N^-2 from one) puts at or below the bound, kept inside (lo, hi).
-  int predictIndex(const std::vector<int>& n, int lo, int hi, const std::vector<std::pair<int, double>>& history) const {
+  int predictIndex(const std::vector<int>& n, int lo, int hi,
+                   const std::vector<std::pair<int, double>>& history) const {
     const auto [lastN, lastError] = history.back();
     double exponent = 2.0;  // bilinear reconstruction is second order (docs/accuracy.md)
     if (history.size() >= 2) {
@@ -228,7 +233,8 @@ class Search {
     } else {
       const auto map = makeParameterization(c.parameterization, c.resolution);
       baked.image = bake(*map, function_, bakeOptions);
-      baked.error = autoErrorMeasure(measureMapError(baked.image, *map, probes_, options_.error.visibleSphere), c.parameterization);
+      baked.error = autoErrorMeasure(measureMapError(baked.image, *map, probes_, options_.error.visibleSphere),
+                                     c.parameterization);
     }
     report(start + share);
     return baked;
@@ -278,15 +284,16 @@ class Search {
     for (const Family& family : families_)
       if (family.order == best->order && family.samplesPerTexel == best->configuration.samplesPerTexel) {
         // The family's largest resolution: nothing above it to step up to.
-        if (family.resolutions.back() == best->configuration.resolution) return bakeAndVerify(best->configuration, family);
+        if (family.resolutions.back() == best->configuration.resolution)
+          return bakeAndVerify(best->configuration, family);
       }
     throwNoneMeets(best->configuration, best->error, "estimated");
   }
 
   [[noreturn]] void throwNoneMeets(const MapConfiguration& c, double error, const char* how) const {
     std::ostringstream message;
-    message << "no configuration meets max_error " << options_.maxError << ": the best, " << c.describe() << ", reaches "
-            << error << " (" << how << ")";
+    message << "no configuration meets max_error " << options_.maxError << ": the best, " << c.describe()
+            << ", reaches " << error << " (" << how << ")";
     // The resolution the N^-2 law of bilinear lookups puts it at (docs/accuracy.md).
     if (error > 0.0 && !c.radialProfile) {
       const double needed = c.resolution * std::sqrt(error / options_.maxError);

@@ -19,12 +19,13 @@ std::vector<Image> bakeMipChain(ParameterizationKind kind, int resolution, const
 }
 
 std::vector<Image> silhouetteMipChain(const SilhouetteMaterial& material, int resolution, const BakeOptions& options) {
-  return bakeMipChain(ParameterizationKind::Sphere, resolution,
-                      [&](int, int levelResolution) -> std::shared_ptr<const MapFunction> {
-                        auto level = std::make_shared<SilhouetteMaterial>(material.forMipLevel(resolution, levelResolution));
-                        return std::make_shared<MaterialMapFunction>(level, std::vector<DirectionalLight>{}, Vec3::UnitZ());
-                      },
-                      options);
+  return bakeMipChain(
+      ParameterizationKind::Sphere, resolution,
+      [&](int, int levelResolution) -> std::shared_ptr<const MapFunction> {
+        auto level = std::make_shared<SilhouetteMaterial>(material.forMipLevel(resolution, levelResolution));
+        return std::make_shared<MaterialMapFunction>(level, std::vector<DirectionalLight>{}, Vec3::UnitZ());
+      },
+      options);
 }
 
 }  // namespace brdfbake

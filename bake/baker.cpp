@@ -1,8 +1,8 @@
-#include <brdfbake/core/progress.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/maps/radial_table.hpp>
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/progress.hpp>
+#include <brdfbake/maps/radial_table.hpp>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -50,7 +50,10 @@ struct SampleRow {
   std::vector<unsigned char> valid;
   std::vector<int> counted;
   explicit SampleRow(const SampleLayout& layout)
-      : x(layout.rowSamples()), y(layout.rowSamples()), z(layout.rowSamples()), valid(layout.rowSamples()),
+      : x(layout.rowSamples()),
+        y(layout.rowSamples()),
+        z(layout.rowSamples()),
+        valid(layout.rowSamples()),
         counted(layout.width, 0) {}
 };
 
@@ -188,8 +191,13 @@ class SphereNormalRow {
  public:
   /// withInverse: also 1 / n_z (the microfacet path's 1 / n.v).
   SphereNormalRow(const Parameterization& map, const SampleLayout& layout, bool withInverse)
-      : twoOverN_(2.0 / map.resolution()), count_(layout.rowSamples()), withInverse_(withInverse),
-        sx_(scratch(count_)), nx_(scratch(count_)), ny_(scratch(count_)), nz_(scratch(count_)),
+      : twoOverN_(2.0 / map.resolution()),
+        count_(layout.rowSamples()),
+        withInverse_(withInverse),
+        sx_(scratch(count_)),
+        nx_(scratch(count_)),
+        ny_(scratch(count_)),
+        nz_(scratch(count_)),
         inverseNz_(withInverse ? scratch(count_) : nullptr) {
     for (int s = 0; s < count_; ++s) sx_[s] = layout.px[s] * twoOverN_ - 1.0;
   }
@@ -409,7 +417,10 @@ class SphereRadialPath final : public RowPath {
   static constexpr int kBlock = 16;
 
   SphereRadialPath(const Parameterization& map, const std::vector<TabulatedLobe>& lobes, const SampleLayout& layout)
-      : map_(map), lobes_(lobes), layout_(layout), twoOverN_(2.0 / map.resolution()),
+      : map_(map),
+        lobes_(lobes),
+        layout_(layout),
+        twoOverN_(2.0 / map.resolution()),
         blocks_((layout.width + kBlock - 1) / kBlock) {
     for (const auto& lobe : lobes) {
       const RadialTable& table = lobe.table;
@@ -493,7 +504,8 @@ class SphereRadialPath final : public RowPath {
           for (const double cy : {top, bottom}) chord2 = std::max(chord2, (discNormal(cx, cy) - centre).squaredNorm());
         spread = 4.0 * std::asin(std::min(1.0, 0.5 * std::sqrt(chord2))) + 1e-9;
       }
-      const Vec3 reflected(2.0 * centre.z() * centre.x(), 2.0 * centre.z() * centre.y(), 2.0 * centre.z() * centre.z() - 1.0);
+      const Vec3 reflected(2.0 * centre.z() * centre.x(), 2.0 * centre.z() * centre.y(),
+                           2.0 * centre.z() * centre.z() - 1.0);
       const double nearX = std::clamp(0.0, left, right), nearY = std::clamp(0.0, bottom, top);
       const double cap = kPi - 2.0 * std::asin(std::min(1.0, std::sqrt(nearX * nearX + nearY * nearY))) + 1e-6;
       bool any = false;
@@ -513,7 +525,9 @@ class SphereRadialPath final : public RowPath {
   }
 
   /// Angle between unit vectors, accurate near 0: 2 asin(|a - b| / 2).
-  static double angleBetween(const Vec3& a, const Vec3& b) { return 2.0 * std::asin(std::min(1.0, 0.5 * (a - b).norm())); }
+  static double angleBetween(const Vec3& a, const Vec3& b) {
+    return 2.0 * std::asin(std::min(1.0, 0.5 * (a - b).norm()));
+  }
   static Vec3 discNormal(double x, double y) { return {x, y, std::sqrt(std::max(0.0, 1.0 - x * x - y * y))}; }
 
   /// A lobe's support as angles from its axis, and the angle from its axis to -z (radians).
@@ -563,7 +577,7 @@ class MicrofacetPath final : public RowPath {
     const std::vector<unsigned char> all(width, 1);
     std::vector<double> inverseNorm(layout_.rowSamples());
     std::vector<double> lobeSums(2 * lobes_.size() * width, 0.0);  // [lobe][specular, diffuse][texel]
-    std::vector<Rgb> sums(width, Rgb::Zero());                      // samples at the rim, through the model
+    std::vector<Rgb> sums(width, Rgb::Zero());                     // samples at the rim, through the model
     for (int j = 0; j < layout_.rows; ++j) {
       mapSampleRow(map_, layout_, y + layout_.offsetY[j], all, row);
       normalsOf(row, inverseNorm, sums);
@@ -573,7 +587,8 @@ class MicrofacetPath final : public RowPath {
     }
     for (int x = 0; x < width; ++x) {
       for (std::size_t k = 0; k < lobes_.size(); ++k) {
-        sums[x] += lobes_[k].specular * lobeSums[2 * k * width + x] + lobes_[k].diffuse * lobeSums[(2 * k + 1) * width + x];
+        sums[x] +=
+            lobes_[k].specular * lobeSums[2 * k * width + x] + lobes_[k].diffuse * lobeSums[(2 * k + 1) * width + x];
       }
     }
     writeRow(image, y, sums, row.counted, rowCoverage(map_, y));
@@ -644,7 +659,8 @@ class SphereMicrofacetPath final : public RowPath {
   void bakeRow(int y, Image& image) const override {
     const int width = layout_.width, columns = layout_.columns;
     SphereNormalRow normals(map_, layout_, true);
-    const auto specular = SphereNormalRow::scratch(layout_.rowSamples()), diffuse = SphereNormalRow::scratch(layout_.rowSamples()),
+    const auto specular = SphereNormalRow::scratch(layout_.rowSamples()),
+               diffuse = SphereNormalRow::scratch(layout_.rowSamples()),
                u = SphereNormalRow::scratch(layout_.rowSamples());
     std::vector<double> lobeSums(2 * lobes_.size() * width, 0.0);  // [lobe][specular, diffuse][texel]
     for (int j = 0; j < layout_.rows; ++j) {
@@ -658,7 +674,8 @@ class SphereMicrofacetPath final : public RowPath {
     std::vector<Rgb> sums(width, Rgb::Zero());
     for (int x = 0; x < width; ++x) {
       for (std::size_t k = 0; k < lobes_.size(); ++k) {
-        sums[x] += lobes_[k].specular * lobeSums[2 * k * width + x] + lobes_[k].diffuse * lobeSums[(2 * k + 1) * width + x];
+        sums[x] +=
+            lobes_[k].specular * lobeSums[2 * k * width + x] + lobes_[k].diffuse * lobeSums[(2 * k + 1) * width + x];
       }
     }
     const std::vector<int> counted(width, layout_.rows * columns);
@@ -716,8 +733,8 @@ int depositDeltaLobes(const Parameterization& map, const std::vector<TabulatedLo
     const double x1 = x0 + 2 * half, y1 = y0 + 2 * half, area = 4 * half * half;
     for (int ty = static_cast<int>(std::floor(y0)); ty < static_cast<int>(std::ceil(y1)); ++ty) {
       for (int tx = static_cast<int>(std::floor(x0)); tx < static_cast<int>(std::ceil(x1)); ++tx) {
-        const double overlap = (std::min(x1, tx + 1.0) - std::max(x0, double(tx))) *
-                               (std::min(y1, ty + 1.0) - std::max(y0, double(ty)));
+        const double overlap =
+            (std::min(x1, tx + 1.0) - std::max(x0, double(tx))) * (std::min(y1, ty + 1.0) - std::max(y0, double(ty)));
         const double solidAngle = map.texelSolidAngle(tx, ty);
         if (overlap <= 0.0 || solidAngle <= 0.0) continue;
         const Rgb add = lobe.weight * (lobe.table.energy() * overlap / area / solidAngle);
@@ -765,7 +782,8 @@ void BakeOptions::validate() const {
 std::string BakeSummary::briefReport() const {
   std::ostringstream out;
   out << "path " << path << ", " << samples << " samples in " << seconds << " s";
-  if (lobes > 0) out << ", " << lobes << " tabulated lobes (largest " << largestTable << " entries, error " << tableError << ")";
+  if (lobes > 0)
+    out << ", " << lobes << " tabulated lobes (largest " << largestTable << " entries, error " << tableError << ")";
   return out.str();
 }
 

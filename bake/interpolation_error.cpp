@@ -1,6 +1,6 @@
 #include <brdfbake/bake/interpolation_error.hpp>
-#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 
 namespace brdfbake {
 namespace {
@@ -36,7 +36,8 @@ double triangleInterpolationError(InterpolationScheme scheme, const std::array<V
   return worst;
 }
 
-std::vector<InterpolationPoint> interpolationSweep(const std::vector<double>& sizes, const std::vector<double>& places) {
+std::vector<InterpolationPoint> interpolationSweep(const std::vector<double>& sizes,
+                                                   const std::vector<double>& places) {
   std::vector<InterpolationPoint> out;
   for (double size : sizes) {
     for (double place : places) {
@@ -49,10 +50,13 @@ std::vector<InterpolationPoint> interpolationSweep(const std::vector<double>& si
         std::array<Vec3, 3> normals;
         for (int v = 0; v < 3; ++v) {
           const double phi = kTwoPi * (k / 36.0 + v / 3.0);
-          normals[v] = (std::cos(radius) * centre + std::sin(radius) * (std::cos(phi) * u + std::sin(phi) * w)).normalized();
+          normals[v] =
+              (std::cos(radius) * centre + std::sin(radius) * (std::cos(phi) * u + std::sin(phi) * w)).normalized();
         }
-        p.sphereMapError = std::max(p.sphereMapError, triangleInterpolationError(InterpolationScheme::SphereMapCoordinates, normals));
-        p.reflectedVectorError = std::max(p.reflectedVectorError, triangleInterpolationError(InterpolationScheme::ReflectedVector, normals));
+        p.sphereMapError =
+            std::max(p.sphereMapError, triangleInterpolationError(InterpolationScheme::SphereMapCoordinates, normals));
+        p.reflectedVectorError =
+            std::max(p.reflectedVectorError, triangleInterpolationError(InterpolationScheme::ReflectedVector, normals));
       }
       out.push_back(p);
     }

@@ -1,6 +1,6 @@
-#include <brdfbake/maps/image.hpp>
 #include <brdfbake/bake/map_function.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/maps/image.hpp>
 
 namespace brdfbake {
 namespace {
@@ -11,8 +11,8 @@ Vec3 unitOrThrow(const Vec3& v, const char* what) {
 }
 }  // namespace
 
-MaterialMapFunction::MaterialMapFunction(std::shared_ptr<const Material> material,
-                                         std::vector<DirectionalLight> lights, const Vec3& view)
+MaterialMapFunction::MaterialMapFunction(std::shared_ptr<const Material> material, std::vector<DirectionalLight> lights,
+                                         const Vec3& view)
     : material_(std::move(material)), lights_(std::move(lights)), view_(unitOrThrow(view, "view direction")) {
   require(material_ != nullptr, "material must not be null");
   for (auto& light : lights_) {

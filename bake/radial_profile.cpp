@@ -37,8 +37,9 @@ nlohmann::json RadialProfile::toJson() const {
   return {{"parameterization", "profile"},
           {"resolution", resolution()},
           {"axis", {axis_.x(), axis_.y(), axis_.z()}},
-          {"coordinate", "u = |d - axis| / 2 = sin(angle to axis / 2); texel i at u = (i + 0.5) / N; for a sphere map "
-                         "about the view, u is the map radius |(2s - 1, 2t - 1)|"}};
+          {"coordinate",
+           "u = |d - axis| / 2 = sin(angle to axis / 2); texel i at u = (i + 0.5) / N; for a sphere map "
+           "about the view, u is the map radius |(2s - 1, 2t - 1)|"}};
 }
 
 Image RadialProfile::toImage() const {
@@ -98,7 +99,8 @@ RadialProfile bakeRadialProfile(const MapFunction& function, const Vec3& axis, i
 }
 
 ErrorStats measureProfileError(const RadialProfile& profile, const ErrorProbes& probes, bool visibleSphere) {
-  return probes.measure([&](const Vec3& r) { return profile.lookup(r); }, profileRimCos(profile.axis(), profile.resolution()),
+  return probes.measure([&](const Vec3& r) { return profile.lookup(r); },
+                        profileRimCos(profile.axis(), profile.resolution()),
                         aboutView(profile.axis()) && visibleSphere);
 }
 
@@ -113,8 +115,11 @@ ErrorStats estimateProfileError(const MapFunction& function, const Vec3& axis, i
     out.index[0] = t.i0, out.weight[0] = 1.0 - t.w;
     out.index[1] = t.i1, out.weight[1] = t.w;
   };
-  auto texel = [&](long long i) { return profileTexel(function, frame, static_cast<int>(i), resolution, samplesPerTexel); };
-  return measureSparseLookups(probes, resolution, taps, texel, profileRimCos(axis, resolution), aboutView(axis) && visibleSphere, threads);
+  auto texel = [&](long long i) {
+    return profileTexel(function, frame, static_cast<int>(i), resolution, samplesPerTexel);
+  };
+  return measureSparseLookups(probes, resolution, taps, texel, profileRimCos(axis, resolution),
+                              aboutView(axis) && visibleSphere, threads);
 }
 
 ErrorStats measureProfileError(const RadialProfile& profile, const MapFunction& exact, const ErrorOptions& options) {

@@ -95,9 +95,11 @@ int main() {
   run("profile on", copperC, p);
   // The example of issue 11: Phong 200, two lights, view free (paraboloid, cube, lat-long), 0.5 %.
   AutoOptions free;
-  free.parameterizations = {ParameterizationKind::Paraboloid, ParameterizationKind::Cube, ParameterizationKind::LatLong};
+  free.parameterizations = {ParameterizationKind::Paraboloid, ParameterizationKind::Cube,
+                            ParameterizationKind::LatLong};
   free.maxError = 0.005;
-  C issue11{"phong 200, two lights", std::make_shared<PhongMaterial>(Rgb::Ones(), 200.0),
+  C issue11{"phong 200, two lights",
+            std::make_shared<PhongMaterial>(Rgb::Ones(), 200.0),
             {{Vec3(0.2, 0.5, 1.0).normalized(), Rgb::Ones()}, {Vec3(0, 0, -1), Rgb(0, 0, 0.001)}}};
   run("issue 11 example", issue11, free);
 }

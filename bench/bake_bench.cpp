@@ -8,10 +8,10 @@
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/auto_config.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/maps/paraboloid_map.hpp>
-#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/brdf/phong.hpp>
+#include <brdfbake/maps/paraboloid_map.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 
 #include <benchmark/benchmark.h>
 
@@ -71,7 +71,12 @@ void BakeArguments(benchmark::internal::Benchmark* b) {
 }
 // CPU time is the process's (every thread's): on a shared machine compare CPU times, which other
 // jobs inflate far less than wall times (bench/bake_table.py prints both).
-BENCHMARK(BakeMap)->Apply(BakeArguments)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime()->MinTime(0.2);
+BENCHMARK(BakeMap)
+    ->Apply(BakeArguments)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MeasureProcessCPUTime()
+    ->MinTime(0.2);
 
 // The baseline: a plain single-threaded loop over texels and samples in double,
 // evaluating the model through the inverse mapping (1024^2 sphere map, 16 samples per texel).
@@ -109,10 +114,17 @@ void TargetBrdfbake(benchmark::State& state) {
     image = bake(map, function, options);
     benchmark::DoNotOptimize(image.data());
   }
-  state.counters["samples/s"] = benchmark::Counter(1024.0 * 1024.0 * 16.0, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["samples/s"] =
+      benchmark::Counter(1024.0 * 1024.0 * 16.0, benchmark::Counter::kIsIterationInvariantRate);
   state.counters["error"] = autoErrorMeasure(measureMapError(image, map, function), ParameterizationKind::Sphere);
 }
-BENCHMARK(TargetBrdfbake)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime()->MeasureProcessCPUTime()->MinTime(1.0);
+BENCHMARK(TargetBrdfbake)
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MeasureProcessCPUTime()
+    ->MinTime(1.0);
 
 }  // namespace
 

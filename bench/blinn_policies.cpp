@@ -2,8 +2,8 @@
 // difference (the peak is 1) over a sphere map (eye space, every reflected direction equally
 // weighted: the map is equal-area), for n = 1, 10, 100, 1000, with the light at the eye and with
 // a light 45 degrees off the view axis. Prints the markdown table of docs/blinn_conversion.md.
-#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/phong.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 
 #include <cstdio>
 
@@ -16,7 +16,8 @@ int main() {
     Vec3 direction;
   };
   const Light lights[] = {{"eye (0, 0, 1)", Vec3::UnitZ()}, {"45 deg (1, 0, 1)", Vec3(1, 0, 1).normalized()}};
-  std::printf("| light | Phong n | policy | Blinn exponent | max difference | RMS difference |\n|---|---|---|---|---|---|\n");
+  std::printf(
+      "| light | Phong n | policy | Blinn exponent | max difference | RMS difference |\n|---|---|---|---|---|---|\n");
   for (const Light& light : lights) {
     for (double exponent : {1.0, 10.0, 100.0, 1000.0}) {
       const PhongMaterial phong(Rgb::Ones(), exponent);
@@ -36,10 +37,12 @@ int main() {
           }
         }
         char exponentText[32];
-        if (policy == BlinnConversion::Exact) std::snprintf(exponentText, sizeof exponentText, "per texel");
-        else std::snprintf(exponentText, sizeof exponentText, "%.4g", blinn.exponent());
-        std::printf("| %s | %g | %s | %s | %.4f | %.5f |\n", light.name, exponent, std::string(toString(policy)).c_str(),
-                    exponentText, worst, std::sqrt(sum / count));
+        if (policy == BlinnConversion::Exact)
+          std::snprintf(exponentText, sizeof exponentText, "per texel");
+        else
+          std::snprintf(exponentText, sizeof exponentText, "%.4g", blinn.exponent());
+        std::printf("| %s | %g | %s | %s | %.4f | %.5f |\n", light.name, exponent,
+                    std::string(toString(policy)).c_str(), exponentText, worst, std::sqrt(sum / count));
       }
     }
   }

@@ -77,13 +77,15 @@ int writeSamples(const fs::path& root) {
     LobeModel model;
     std::uint32_t seed;
   };
-  for (const Sample& s : {Sample{"synthetic_two_lobes", twoLobes(), 1}, Sample{"synthetic_varying", varyingLobe(), 2}}) {
+  for (const Sample& s :
+       {Sample{"synthetic_two_lobes", twoLobes(), 1}, Sample{"synthetic_varying", varyingLobe(), 2}}) {
     const fs::path table = root / "tables" / (std::string(s.name) + ".astm");
     writeAstm(table, makeSyntheticTable(s.model, 0.01, s.seed));
     // Fit what was written (as `brdfbake fit` would), with the defaults.
     const MeasuredTable read = readMeasuredTable(table);
     FitFile file;
-    file.source = {"../tables/" + std::string(s.name) + ".astm", "astm", read.size(), "rgb: as stored in the file", read.notes};
+    file.source = {"../tables/" + std::string(s.name) + ".astm", "astm", read.size(), "rgb: as stored in the file",
+                   read.notes};
     file.fit = fitLobes(read);
     const fs::path fit = root / "fits" / (std::string(s.name) + ".json");
     writeFitFile(fit, file);
@@ -187,8 +189,10 @@ double median(std::vector<double> values) {
 
 // "3 half_vector, cap 3000" or "2 mirror varying".
 std::string modelLabel(const FitResult& fit) {
-  const auto chosen = std::find_if(fit.candidates.begin(), fit.candidates.end(), [](const ModelCandidate& m) { return m.chosen; });
-  const int lobes = chosen != fit.candidates.end() ? chosen->lobes : static_cast<int>(fit.model.channels.front().lobes.size());
+  const auto chosen =
+      std::find_if(fit.candidates.begin(), fit.candidates.end(), [](const ModelCandidate& m) { return m.chosen; });
+  const int lobes =
+      chosen != fit.candidates.end() ? chosen->lobes : static_cast<int>(fit.model.channels.front().lobes.size());
   LobeKindChoice kind = fit.options.method == FitMethod::PerChannel ? LobeKindChoice::Mirror : fit.options.kind;
   if (chosen != fit.candidates.end()) kind = chosen->kind;
   std::ostringstream label;
@@ -199,8 +203,10 @@ std::string modelLabel(const FitResult& fit) {
 
 void recordHeldOut(Run& run, const FitResult& fit) {
   if (!fit.heldOut) throw Error(Error::Kind::InvalidInput, run.caseName + ": the fit made no held-out estimate");
-  const double kfold = fit.heldOut->kfold.ratio(), elevation = fit.heldOut->pooledElevations().ratio(), score = fit.heldOut->score();
-  if (!run.wall.empty() && (kfold != run.kfold || elevation != run.elevation || score != run.score)) run.heldOutVaried = true;
+  const double kfold = fit.heldOut->kfold.ratio(), elevation = fit.heldOut->pooledElevations().ratio(),
+               score = fit.heldOut->score();
+  if (!run.wall.empty() && (kfold != run.kfold || elevation != run.elevation || score != run.score))
+    run.heldOutVaried = true;
   run.kfold = kfold, run.elevation = elevation, run.score = score;
   run.model = modelLabel(fit);
   run.candidates = fit.candidates.size();
@@ -224,9 +230,9 @@ Run timeMethod(const Case& c, const MeasuredTable& table, const Method& method, 
     recordHeldOut(run, fit);
     run.wall.push_back(wall);
     run.cpu.push_back(cpu);
-    std::cerr << c.name << ", " << method.name << ", " << threads << " thread(s), run " << r + 1 << "/" << repetitions << ": " << std::fixed
-              << std::setprecision(2) << wall << " s wall, " << cpu << " s CPU, score " << std::setprecision(3) << run.score << " ("
-              << run.model << ")\n"
+    std::cerr << c.name << ", " << method.name << ", " << threads << " thread(s), run " << r + 1 << "/" << repetitions
+              << ": " << std::fixed << std::setprecision(2) << wall << " s wall, " << cpu << " s CPU, score "
+              << std::setprecision(3) << run.score << " (" << run.model << ")\n"
               << std::defaultfloat;
   }
   return run;
@@ -271,26 +277,31 @@ std::string seconds(double value) { return fixed(value, value < 0.1 ? 3 : value 
 double targetSeconds(const Run& run) { return run.spectral ? 2.0 : 0.5; }
 
 void printRuns(const std::vector<Run>& runs) {
-  std::cout << "| table | channels | method | threads | chosen model | wall s, median (min-max) | CPU s, median | k-fold ratio | "
+  std::cout << "| table | channels | method | threads | chosen model | wall s, median (min-max) | CPU s, median | "
+               "k-fold ratio | "
                "elevation ratio | score | candidates | target (default fit) |\n"
                "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const Run& run : runs) {
     const auto [lo, hi] = std::minmax_element(run.wall.begin(), run.wall.end());
     const double wall = median(run.wall);
-    std::cout << "| " << run.caseName << " | " << run.channels << " | " << run.method << (run.setup == "defaults" ? "" : " (" + run.setup + ")")
-              << " | " << run.threads << " | " << run.model << (run.usable ? "" : " (NOT usable)") << " | " << seconds(wall) << " ("
-              << seconds(*lo) << "-" << seconds(*hi) << ") | " << seconds(median(run.cpu)) << " | " << fixed(run.kfold, 3) << " | "
-              << fixed(run.elevation, 3) << " | " << fixed(run.score, 3) << (run.heldOutVaried ? " (varied)" : "") << " | "
-              << run.candidates << " | ";
-    if (run.method == "shared (default)") std::cout << (wall <= targetSeconds(run) ? "met" : "not met") << " (<= " << targetSeconds(run) << " s)";
+    std::cout << "| " << run.caseName << " | " << run.channels << " | " << run.method
+              << (run.setup == "defaults" ? "" : " (" + run.setup + ")") << " | " << run.threads << " | " << run.model
+              << (run.usable ? "" : " (NOT usable)") << " | " << seconds(wall) << " (" << seconds(*lo) << "-"
+              << seconds(*hi) << ") | " << seconds(median(run.cpu)) << " | " << fixed(run.kfold, 3) << " | "
+              << fixed(run.elevation, 3) << " | " << fixed(run.score, 3) << (run.heldOutVaried ? " (varied)" : "")
+              << " | " << run.candidates << " | ";
+    if (run.method == "shared (default)")
+      std::cout << (wall <= targetSeconds(run) ? "met" : "not met") << " (<= " << targetSeconds(run) << " s)";
     std::cout << " |\n";
   }
 }
 
 // Per case: the default fit against the per-channel one, at 1 and 2 threads.
 void printComparison(const std::vector<Run>& runs) {
-  std::cout << "\n| table | score shared / per-channel | wall s shared, 1 / 2 threads | wall s per-channel, 1 / 2 threads | "
-               "per-channel / shared time, 1 thread | speed-up at 2 threads, shared / per-channel |\n|---|---|---|---|---|---|\n";
+  std::cout
+      << "\n| table | score shared / per-channel | wall s shared, 1 / 2 threads | wall s per-channel, 1 / 2 threads | "
+         "per-channel / shared time, 1 thread | speed-up at 2 threads, shared / per-channel "
+         "|\n|---|---|---|---|---|---|\n";
   for (const Run& a : runs) {
     if (a.method != "shared (default)" || a.threads != 1) continue;
     auto find = [&](const std::string& method, int threads) -> const Run* {
@@ -301,10 +312,12 @@ void printComparison(const std::vector<Run>& runs) {
     };
     const Run *a2 = find(a.method, 2), *p1 = find("per-channel", 1), *p2 = find("per-channel", 2);
     auto wall = [](const Run* r) { return r ? seconds(median(r->wall)) : std::string("-"); };
-    auto ratio = [](const Run* x, const Run* y) { return x && y ? fixed(median(x->wall) / median(y->wall), 1) + "x" : std::string("-"); };
-    std::cout << "| " << a.caseName << " | " << fixed(a.score, 3) << " / " << (p1 ? fixed(p1->score, 3) : "-") << " | " << wall(&a) << " / "
-              << wall(a2) << " | " << wall(p1) << " / " << wall(p2) << " | " << ratio(p1, &a) << " | " << ratio(&a, a2) << " / "
-              << ratio(p1, p2) << " |\n";
+    auto ratio = [](const Run* x, const Run* y) {
+      return x && y ? fixed(median(x->wall) / median(y->wall), 1) + "x" : std::string("-");
+    };
+    std::cout << "| " << a.caseName << " | " << fixed(a.score, 3) << " / " << (p1 ? fixed(p1->score, 3) : "-") << " | "
+              << wall(&a) << " / " << wall(a2) << " | " << wall(p1) << " / " << wall(p2) << " | " << ratio(p1, &a)
+              << " | " << ratio(&a, a2) << " / " << ratio(p1, p2) << " |\n";
   }
 }
 
@@ -330,10 +343,12 @@ void writeChart(const std::vector<Run>& runs, const fs::path& chart, const std::
       const bool shared = method == std::string("shared (default)");
       script << "$d" << block << " << EOD\n" << data.str() << "EOD\n";
       const std::string color = std::string("lc rgb '") + colors[k] + "'";
-      plots << (block ? ", " : "") << "$d" << block << " using 1:2 with lines lw 1.2 dt " << (shared ? 1 : 2) << " " << color << " notitle";
+      plots << (block ? ", " : "") << "$d" << block << " using 1:2 with lines lw 1.2 dt " << (shared ? 1 : 2) << " "
+            << color << " notitle";
       for (int threads : {1, 2}) {
         const int pt = shared ? (threads == 1 ? 7 : 6) : (threads == 1 ? 5 : 4);
-        plots << ", $d" << block << " using ($5 == " << threads << " ? $1 : NaN):2:3:4 with xerrorbars pt " << pt << " ps 1.4 " << color << " "
+        plots << ", $d" << block << " using ($5 == " << threads << " ? $1 : NaN):2:3:4 with xerrorbars pt " << pt
+              << " ps 1.4 " << color << " "
               << (shared && threads == 1 ? "title " + gnuplotQuote(cases[k].name) : std::string("notitle"));
       }
       ++block;
@@ -345,12 +360,15 @@ void writeChart(const std::vector<Run>& runs, const fs::path& chart, const std::
     fastest = std::min(fastest, *std::min_element(run.wall.begin(), run.wall.end()));
     slowest = std::max(slowest, *std::max_element(run.wall.begin(), run.wall.end()));
   }
-  const char* keys[] = {"shared (default), 1 thread", "shared (default), 2 threads", "per-channel, 1 thread", "per-channel, 2 threads"};
+  const char* keys[] = {"shared (default), 1 thread", "shared (default), 2 threads", "per-channel, 1 thread",
+                        "per-channel, 2 threads"};
   const int keyPoints[] = {7, 6, 5, 4};
-  for (int i = 0; i < 4; ++i) plots << ", NaN with points pt " << keyPoints[i] << " ps 1.4 lc rgb 'black' title " << gnuplotQuote(keys[i]);
+  for (int i = 0; i < 4; ++i)
+    plots << ", NaN with points pt " << keyPoints[i] << " ps 1.4 lc rgb 'black' title " << gnuplotQuote(keys[i]);
   script << "set terminal pngcairo size 1100,700 font 'sans,10'\nset output " << gnuplotQuote(chart.string()) << "\n"
-         << "set termoption noenhanced\nset grid\nset logscale x\nset format x '%g'\nset xrange [" << std::min(0.25, 0.7 * fastest) << ":"
-         << std::max(4.0, 1.5 * slowest) << "]\nset key outside right top\nset yrange [0:*]\n"
+         << "set termoption noenhanced\nset grid\nset logscale x\nset format x '%g'\nset xrange ["
+         << std::min(0.25, 0.7 * fastest) << ":" << std::max(4.0, 1.5 * slowest)
+         << "]\nset key outside right top\nset yrange [0:*]\n"
          << "set xlabel 'fit wall time, s (median; bars: min-max over repetitions)'\n"
          << "set ylabel 'held-out score (mean of k-fold and pooled elevation ratios to Lambert; lower is better)'\n"
          << "set title " << gnuplotQuote(title) << "\n"
@@ -375,15 +393,17 @@ std::vector<std::string> splitList(const std::string& text) {
 std::vector<Case> selectedCases(const Settings& settings) {
   std::vector<Case> cases;
   for (const Case& c : allCases()) {
-    const bool wanted = settings.tables.empty() || std::any_of(settings.tables.begin(), settings.tables.end(), [&](const std::string& t) {
-                          return t == c.name || t == c.file;
-                        });
+    const bool wanted =
+        settings.tables.empty() || std::any_of(settings.tables.begin(), settings.tables.end(),
+                                               [&](const std::string& t) { return t == c.name || t == c.file; });
     if (wanted) cases.push_back(c);
   }
   for (const std::string& t : settings.tables) {
     if (std::none_of(cases.begin(), cases.end(), [&](const Case& c) { return t == c.name || t == c.file; })) {
-      throw Error(Error::Kind::InvalidArgument, "--tables: no case " + t + " (garnet_red.astm, garnet_red.astm:rgb, garnet_red_RGB.astm, "
-                                                                             "krylon_blue.astm, krylon_blue.astm:rgb, krylon_blue_RGB.astm, krylon_blue.brdf)");
+      throw Error(Error::Kind::InvalidArgument,
+                  "--tables: no case " + t +
+                      " (garnet_red.astm, garnet_red.astm:rgb, garnet_red_RGB.astm, "
+                      "krylon_blue.astm, krylon_blue.astm:rgb, krylon_blue_RGB.astm, krylon_blue.brdf)");
     }
   }
   return cases;
@@ -392,7 +412,8 @@ std::vector<Case> selectedCases(const Settings& settings) {
 int runBench(const Settings& settings) {
   const std::vector<Case> cases = selectedCases(settings);
   const int repetitions = settings.quick ? 1 : settings.repetitions;
-  const std::string machine = firstLine("/proc/cpuinfo", "model name") + ", " + std::to_string(std::thread::hardware_concurrency()) + " logical cores";
+  const std::string machine = firstLine("/proc/cpuinfo", "model name") + ", " +
+                              std::to_string(std::thread::hardware_concurrency()) + " logical cores";
   const std::string started = utcNow(), loadBefore = loadAverage();
   const auto start = Clock::now();
   std::vector<Run> runs;
@@ -404,11 +425,14 @@ int runBench(const Settings& settings) {
   }
   const double total = std::chrono::duration<double>(Clock::now() - start).count();
   std::cout << "# fit_bench: the default fit against the per-channel fit\n\n"
-            << "Machine: " << machine << ". Started " << started << ", load average (1 min) " << loadBefore << " at the start, " << loadAverage()
-            << " at the end; the whole run took " << fixed(total, 0) << " s. " << repetitions << " repetition(s) per row"
+            << "Machine: " << machine << ". Started " << started << ", load average (1 min) " << loadBefore
+            << " at the start, " << loadAverage() << " at the end; the whole run took " << fixed(total, 0) << " s. "
+            << repetitions << " repetition(s) per row"
             << (settings.quick ? " (--quick: per-channel fits of the spectral tables skipped)" : "") << ".\n\n"
-            << "Held-out figures (FitResult::heldOut, fit/held_out.hpp): ratios of the held-out log error to a Lambertian fit on the same split; "
-               "score = mean of the off-mirror k-fold ratio and the pooled leave-one-elevation-out ratio, what auto choices minimise. "
+            << "Held-out figures (FitResult::heldOut, fit/held_out.hpp): ratios of the held-out log error to a "
+               "Lambertian fit on the same split; "
+               "score = mean of the off-mirror k-fold ratio and the pooled leave-one-elevation-out ratio, what auto "
+               "choices minimise. "
                "CPU s: the process's user + system time during the fit (every thread).\n\n";
   printRuns(runs);
   printComparison(runs);
@@ -416,13 +440,15 @@ int runBench(const Settings& settings) {
     std::cerr << "fit_bench: gnuplot not found; no chart written\n";
     return 0;
   }
-  writeChart(runs, settings.chart, "Cornell tables: fit time against held-out score (" + machine + ", " + started + ", load average " +
-                                       loadBefore + ", " + std::to_string(repetitions) + " repetition(s))");
+  writeChart(runs, settings.chart,
+             "Cornell tables: fit time against held-out score (" + machine + ", " + started + ", load average " +
+                 loadBefore + ", " + std::to_string(repetitions) + " repetition(s))");
   return 0;
 }
 
 int usage() {
-  std::cerr << "usage: fit_bench [--shared DIR] [--repetitions N] [--tables a,b] [--quick] [--per-channel-spectral-lobes K] [--chart PNG]\n"
+  std::cerr << "usage: fit_bench [--shared DIR] [--repetitions N] [--tables a,b] [--quick] "
+               "[--per-channel-spectral-lobes K] [--chart PNG]\n"
                "       fit_bench --samples DIR\n";
   return 2;
 }
@@ -436,17 +462,25 @@ int main(int argc, char** argv) {
       const std::string arg = argv[i];
       const bool value = i + 1 < argc;
       if (arg == "--samples" && value) return writeSamples(argv[++i]);
-      if (arg == "--shared" && value) settings.shared = argv[++i];
-      else if (arg == "--chart" && value) settings.chart = argv[++i];
-      else if (arg == "--repetitions" && value) settings.repetitions = std::stoi(argv[++i]);
-      else if (arg == "--per-channel-spectral-lobes" && value) settings.perChannelSpectralLobes = std::stoi(argv[++i]);
-      else if (arg == "--tables" && value) settings.tables = splitList(argv[++i]);
-      else if (arg == "--quick") settings.quick = true;
-      else return usage();
+      if (arg == "--shared" && value)
+        settings.shared = argv[++i];
+      else if (arg == "--chart" && value)
+        settings.chart = argv[++i];
+      else if (arg == "--repetitions" && value)
+        settings.repetitions = std::stoi(argv[++i]);
+      else if (arg == "--per-channel-spectral-lobes" && value)
+        settings.perChannelSpectralLobes = std::stoi(argv[++i]);
+      else if (arg == "--tables" && value)
+        settings.tables = splitList(argv[++i]);
+      else if (arg == "--quick")
+        settings.quick = true;
+      else
+        return usage();
     }
     if (settings.repetitions < 1) throw Error(Error::Kind::InvalidArgument, "--repetitions must be >= 1");
     if (settings.perChannelSpectralLobes < 1 || settings.perChannelSpectralLobes > kMaxFitLobes) {
-      throw Error(Error::Kind::InvalidArgument, "--per-channel-spectral-lobes must be 1.." + std::to_string(kMaxFitLobes));
+      throw Error(Error::Kind::InvalidArgument,
+                  "--per-channel-spectral-lobes must be 1.." + std::to_string(kMaxFitLobes));
     }
     if (!fs::is_directory(settings.shared)) {
       std::cerr << "fit_bench: " << settings.shared.string() << " not found; pass --shared DIR\n";

@@ -6,9 +6,9 @@
 // sun of radiance ~2000), colored_cube_latlong.exr (Heidrich 2000 Fig. 1) as 2N x N lat-long images
 // (N = ROWS, default 128), and colored_cube_cross.exr as a 4N/2 x 3N/2 cube cross. The files are
 // plain images (no brdfbake metadata), so `prefilter` reads them by their aspect ratio.
+#include <brdfbake/core/error.hpp>
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/core/error.hpp>
 
 #include <iostream>
 #include <string>
@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
       Environment environment = bakeEnvironment(function, kind, resolution, name, 64);
       environment.image.metadata = nlohmann::json::object();  // a plain environment image
       writeImage(environment.image, dir / name);
-      std::cout << "wrote " << (dir / name).string() << " (" << environment.image.width() << " x " << environment.image.height() << ")\n";
+      std::cout << "wrote " << (dir / name).string() << " (" << environment.image.width() << " x "
+                << environment.image.height() << ")\n";
     };
     write(ConstantEnvironment(), ParameterizationKind::LatLong, rows, "furnace_latlong.exr");
     write(SkyEnvironment(), ParameterizationKind::LatLong, rows, "sky_latlong.exr");

@@ -1,7 +1,8 @@
 // Prefiltering speed against accuracy (issue 5's bar), and brdfbake's GGX path next to Filament's
 // cmgen where it is installed.
 //
-//   build/bench/prefilter_bench [--quick] [--threads N] [--subset N] [--chart FILE.png] [--no-cmgen] [--cmft DIR] [--chain-only]
+//   build/bench/prefilter_bench [--quick] [--threads N] [--subset N] [--chart FILE.png] [--no-cmgen] [--cmft DIR]
+//   [--chain-only]
 //
 // Environment: the generated sky (SkyEnvironment: sky, aureole, ground, a 1.5 degree sun of
 // radiance ~2000) as a 1024 x 512 lat-long image (256 x 128 with --quick). For normalised Phong
@@ -29,30 +30,30 @@
 // The chart (gnuplot, time against error per exponent and for GGX) goes to
 // docs/images/prefilter_speed_error.png unless --chart says otherwise; a markdown table of every
 // point goes to stdout.
-#include <brdfbake/maps/cube_map.hpp>
+#include <brdfbake/core/error.hpp>
 #include <brdfbake/env/env_accuracy.hpp>
 #include <brdfbake/env/environment.hpp>
-#include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/env/prefilter_stack.hpp>
-#include <brdfbake/core/error.hpp>
+#include <brdfbake/maps/cube_map.hpp>
+#include <brdfbake/maps/image_io.hpp>
 
 #include <OpenImageIO/imageio.h>
 
+#include <sys/resource.h>
+#include <unistd.h>
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <functional>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <random>
 #include <sstream>
-#include <sys/resource.h>
-#include <unistd.h>
 
 namespace {
 using namespace brdfbake;
@@ -77,8 +78,8 @@ std::string format(double value, int precision = 3) {
 }
 
 // The whole map by one configuration, timed, compared on the subset.
-Row run(const Environment& environment, const PrefilterLobe& lobe, PrefilterOptions options, const PrefilterCheckPoints& subset,
-        const std::vector<Rgb>& reference, double floor, const std::string& group) {
+Row run(const Environment& environment, const PrefilterLobe& lobe, PrefilterOptions options,
+        const PrefilterCheckPoints& subset, const std::vector<Rgb>& reference, double floor, const std::string& group) {
   const auto start = Clock::now();
   const PrefilteredMap map = prefilter(environment, lobe, options);
   Row row;
@@ -87,9 +88,11 @@ Row run(const Environment& environment, const PrefilterLobe& lobe, PrefilterOpti
   row.tool = "brdfbake";
   row.method = options.method == PrefilterMethod::Auto ? "auto" : std::string(toString(map.summary.method));
   row.detail = map.summary.detail;
-  if (options.method == PrefilterMethod::Auto) row.detail = std::string(toString(map.summary.method)) + ": " + row.detail;
+  if (options.method == PrefilterMethod::Auto)
+    row.detail = std::string(toString(map.summary.method)) + ": " + row.detail;
   if (map.summary.errorEstimated) row.estimate = map.summary.errorEstimate;
-  const PrefilterError error = prefilterPointsError(prefilterValuesAt(map.levels[0], *map.map, subset), reference, subset.weights, floor);
+  const PrefilterError error =
+      prefilterPointsError(prefilterValuesAt(map.levels[0], *map.map, subset), reference, subset.weights, floor);
   row.rms = error.rms;
   row.max = error.max;
   return row;
@@ -100,15 +103,19 @@ void writeFloatRgbExr(const Environment& environment, const fs::path& path) {
   std::vector<float> rgb(static_cast<std::size_t>(image.width()) * image.height() * 3);
   for (int y = 0; y < image.height(); ++y)
     for (int x = 0; x < image.width(); ++x)
-      for (int c = 0; c < 3; ++c) rgb[(static_cast<std::size_t>(y) * image.width() + x) * 3 + c] = image.data()[image.index(x, y) + c];
+      for (int c = 0; c < 3; ++c)
+        rgb[(static_cast<std::size_t>(y) * image.width() + x) * 3 + c] = image.data()[image.index(x, y) + c];
   auto out = OIIO::ImageOutput::create(path.string());
   OIIO::ImageSpec spec(image.width(), image.height(), 3, OIIO::TypeDesc::FLOAT);
-  if (!out || !out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()) || !out->close()) {
+  if (!out || !out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()) ||
+      !out->close()) {
     throw Error(Error::Kind::Io, path.string() + ": cannot write");
   }
 }
 
-bool haveProgram(const std::string& name) { return std::system(("command -v " + name + " > /dev/null 2>&1").c_str()) == 0; }
+bool haveProgram(const std::string& name) {
+  return std::system(("command -v " + name + " > /dev/null 2>&1").c_str()) == 0;
+}
 
 // cmgen's face F holds the OpenGL face F of the frame (x, y, -z).
 Vec3 cmgenDirection(int face, int x, int y, int n) {
@@ -116,7 +123,8 @@ Vec3 cmgenDirection(int face, int x, int y, int n) {
   return {c.x(), c.y(), -c.z()};
 }
 
-void ggxComparison(const Environment& environment, int faceSize, int subsetSize, int threads, bool useCmgen, std::vector<Row>& rows) {
+void ggxComparison(const Environment& environment, int faceSize, int subsetSize, int threads, bool useCmgen,
+                   std::vector<Row>& rows) {
   const fs::path work = fs::temp_directory_path() / ("brdfbake-prefilter-bench-" + std::to_string(::getpid()));
   fs::create_directories(work);
   const fs::path input = work / "sky.exr";
@@ -157,8 +165,9 @@ void ggxComparison(const Environment& environment, int faceSize, int subsetSize,
     if (!useCmgen) continue;
     const fs::path out = work / ("cmgen_" + format(roughness));
     fs::create_directories(out);
-    const std::string command = "cmgen --quiet --no-mirror -s " + std::to_string(faceSize) + " -f exr --extract=" + out.string() +
-                                " --extract-blur=" + format(roughness) + " " + input.string() + " > /dev/null 2>&1";
+    const std::string command = "cmgen --quiet --no-mirror -s " + std::to_string(faceSize) +
+                                " -f exr --extract=" + out.string() + " --extract-blur=" + format(roughness) + " " +
+                                input.string() + " > /dev/null 2>&1";
     const auto start = Clock::now();
     const int status = std::system(command.c_str());
     const double seconds = since(start);
@@ -175,7 +184,8 @@ void ggxComparison(const Environment& environment, int faceSize, int subsetSize,
     std::vector<Rgb> values;
     std::vector<double> weights;
     while (static_cast<int>(axes.size()) < subsetSize) {
-      const int f = static_cast<int>(rng() % 6), x = static_cast<int>(rng() % faceSize), y = static_cast<int>(rng() % faceSize);
+      const int f = static_cast<int>(rng() % 6), x = static_cast<int>(rng() % faceSize),
+                y = static_cast<int>(rng() % faceSize);
       axes.push_back(cmgenDirection(f, x, y, faceSize));
       values.push_back(faces[f].at(x, y).head<3>());
       const TexelRect r = cube.region(f);
@@ -183,7 +193,8 @@ void ggxComparison(const Environment& environment, int faceSize, int subsetSize,
     }
     const auto cmgenReference = prefilterReferenceAt(environment, lobe, axes, threads);
     Row row;
-    row.group = group, row.tool = "cmgen", row.method = "cmgen", row.detail = "roughnessFilter, 1024 samples, half-float faces";
+    row.group = group, row.tool = "cmgen", row.method = "cmgen",
+    row.detail = "roughnessFilter, 1024 samples, half-float faces";
     row.seconds = seconds;
     const PrefilterError error = prefilterPointsError(values, cmgenReference, weights, floor);
     row.rms = error.rms;
@@ -208,9 +219,9 @@ double cpuSeconds(int who) {
 // reading (latLongFromVec: u = (pi + atan2(x, z)) / 2pi, v = acos(y) / pi) is brdfbake's with z
 // negated (latlong_map.cpp: the image centre looks down -z in brdfbake, +z in cmft).
 Vec3 cmftDirection(int face, int x, int y, int n) {
-  static const double uv[6][3][3] = {
-      {{0, 0, -1}, {0, -1, 0}, {1, 0, 0}},  {{0, 0, 1}, {0, -1, 0}, {-1, 0, 0}}, {{1, 0, 0}, {0, 0, 1}, {0, 1, 0}},
-      {{1, 0, 0}, {0, 0, -1}, {0, -1, 0}}, {{1, 0, 0}, {0, -1, 0}, {0, 0, 1}},  {{-1, 0, 0}, {0, -1, 0}, {0, 0, -1}}};
+  static const double uv[6][3][3] = {{{0, 0, -1}, {0, -1, 0}, {1, 0, 0}}, {{0, 0, 1}, {0, -1, 0}, {-1, 0, 0}},
+                                     {{1, 0, 0}, {0, 0, 1}, {0, 1, 0}},   {{1, 0, 0}, {0, 0, -1}, {0, -1, 0}},
+                                     {{1, 0, 0}, {0, -1, 0}, {0, 0, 1}},  {{-1, 0, 0}, {0, -1, 0}, {0, 0, -1}}};
   const double u = 2.0 * (x + 0.5) / n - 1.0, v = 2.0 * (y + 0.5) / n - 1.0;
   Vec3 d;
   for (int c = 0; c < 3; ++c) d[c] = uv[face][0][c] * u + uv[face][1][c] * v + uv[face][2][c];
@@ -223,7 +234,8 @@ Vec3 cmftDirection(int face, int x, int y, int n) {
 std::vector<std::vector<std::vector<float>>> readCmftDds(const fs::path& path, int faceSize, int levels) {
   std::ifstream in(path, std::ios::binary);
   std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() < 128 || std::string(bytes.data(), 4) != "DDS ") throw Error(Error::Kind::Io, path.string() + ": not a DDS file");
+  if (bytes.size() < 128 || std::string(bytes.data(), 4) != "DDS ")
+    throw Error(Error::Kind::Io, path.string() + ": not a DDS file");
   std::size_t offset = 128 + (std::string(bytes.data() + 84, 4) == "DX10" ? 20 : 0);
   std::vector<std::vector<std::vector<float>>> faces(6);
   for (int f = 0; f < 6; ++f)
@@ -231,7 +243,8 @@ std::vector<std::vector<std::vector<float>>> readCmftDds(const fs::path& path, i
       const int n = std::max(1, faceSize >> k);
       std::vector<float> texels(static_cast<std::size_t>(n) * n * 4);
       const std::size_t size = texels.size() * sizeof(float);
-      if (offset + size > bytes.size()) throw Error(Error::Kind::Io, path.string() + ": shorter than a " + std::to_string(levels) + "-level cube");
+      if (offset + size > bytes.size())
+        throw Error(Error::Kind::Io, path.string() + ": shorter than a " + std::to_string(levels) + "-level cube");
       std::memcpy(texels.data(), bytes.data() + offset, size);
       offset += size;
       faces[f].push_back(std::move(texels));
@@ -252,9 +265,10 @@ fs::path buildCmft(const fs::path& source, const fs::path& work) {
   }
   const fs::path binary = work / "cmft";
   const std::string s = source.string();
-  const std::string command = "g++ -O3 -std=c++11 -w -I" + s + "/include -I" + s + "/src -I" + s + "/src/cmft -I" + s + "/dependency " + s +
-                              "/src/main.cpp " + s + "/src/cmft/*.cpp " + s + "/src/cmft/common/*.cpp -o " + binary.string() +
-                              " -lpthread -ldl > " + (work / "cmft_build.log").string() + " 2>&1";
+  const std::string command = "g++ -O3 -std=c++11 -w -I" + s + "/include -I" + s + "/src -I" + s + "/src/cmft -I" + s +
+                              "/dependency " + s + "/src/main.cpp " + s + "/src/cmft/*.cpp " + s +
+                              "/src/cmft/common/*.cpp -o " + binary.string() + " -lpthread -ldl > " +
+                              (work / "cmft_build.log").string() + " 2>&1";
   std::cerr << "building cmft (g++ -O3) ...\n";
   if (std::system(command.c_str()) != 0 || !fs::exists(binary)) {
     std::cerr << "cmft: build failed (" << (work / "cmft_build.log").string() << "): comparison skipped\n";
@@ -273,8 +287,8 @@ struct ChainLevel {
 };
 
 // Random texels of each level (cmft's face order and texel directions) with the reference sum.
-std::vector<ChainLevel> chainCheckPoints(const Environment& environment, const std::vector<double>& exponents, int faceSize, int count,
-                                         int threads) {
+std::vector<ChainLevel> chainCheckPoints(const Environment& environment, const std::vector<double>& exponents,
+                                         int faceSize, int count, int threads) {
   std::vector<ChainLevel> levels;
   std::mt19937 rng(13);
   for (std::size_t k = 0; k < exponents.size(); ++k) {
@@ -283,7 +297,8 @@ std::vector<ChainLevel> chainCheckPoints(const Environment& environment, const s
     level.size = std::max(1, faceSize >> k);
     const CubeMap cube(level.size);
     for (int i = 0; i < count; ++i) {
-      const int f = static_cast<int>(rng() % 6), x = static_cast<int>(rng() % level.size), y = static_cast<int>(rng() % level.size);
+      const int f = static_cast<int>(rng() % 6), x = static_cast<int>(rng() % level.size),
+                y = static_cast<int>(rng() % level.size);
       level.texels.push_back({f, x, y});
       level.axes.push_back(cmftDirection(f, x, y, level.size));
       // A cube texel's solid angle depends only on its place in its face.
@@ -305,7 +320,8 @@ struct ChainResult {
 // The Phong gloss chain of cmft (--glossScale 10 --glossBias 1 --mipCount 8, 256 faces) made by
 // brdfbake (prefilterGlossChain, auto to 1 %) and by cmft on the same 1024 x 512 sky (written as
 // Radiance HDR), both compared with the reference sum at random texels of every level.
-void cmftComparison(const Environment& environment, const fs::path& cmftSource, int faceSize, int subsetSize, int threads) {
+void cmftComparison(const Environment& environment, const fs::path& cmftSource, int faceSize, int subsetSize,
+                    int threads) {
   const int mipCount = 8;
   const auto exponents = glossLevelExponents(mipCount, 10.0, 1.0);
   std::cerr << "gloss chain: reference at " << subsetSize << " texels per level ...\n";
@@ -316,8 +332,9 @@ void cmftComparison(const Environment& environment, const fs::path& cmftSource, 
     for (std::size_t k = 0; k < levels.size(); ++k) {
       std::vector<Rgb> values;
       for (const auto& t : levels[k].texels) values.push_back(value(k, t));
-      errors.push_back(prefilterPointsError(values, levels[k].reference, levels[k].weights,
-                                            prefilterErrorFloor(environment, PrefilterLobe::phong(levels[k].exponent))));
+      errors.push_back(
+          prefilterPointsError(values, levels[k].reference, levels[k].weights,
+                               prefilterErrorFloor(environment, PrefilterLobe::phong(levels[k].exponent))));
     }
     return errors;
   };
@@ -336,7 +353,8 @@ void cmftComparison(const Environment& environment, const fs::path& cmftSource, 
     r.seconds = since(start);
     r.cpu = cpuSeconds(RUSAGE_SELF) - cpu0;
     r.tool = "brdfbake";
-    r.detail = "prefilterGlossChain, auto to 1 % (largest estimate " + format(100.0 * chain.summary.errorEstimate, 2) + " %)";
+    r.detail =
+        "prefilterGlossChain, auto to 1 % (largest estimate " + format(100.0 * chain.summary.errorEstimate, 2) + " %)";
     r.errors = errorsOf([&](std::size_t k, const std::array<int, 3>& t) {
       const CubeMap cube(levels[k].size);
       // brdfbake's face holding cmft's texel direction, read at that direction's texel.
@@ -347,10 +365,11 @@ void cmftComparison(const Environment& environment, const fs::path& cmftSource, 
     });
     results.push_back(r);
     for (const auto& c : chain.summary.candidates)
-      std::cerr << "  brdfbake " << (c.chosen ? "chose " : "tried ") << c.detail << ": setup " << format(c.seconds) << " s, estimate "
-                << format(100.0 * c.errorEstimate, 2) << " %\n";
-    std::cerr << "  brdfbake total " << format(chain.summary.seconds) << " s: probes and estimates " << format(chain.summary.estimateSeconds)
-              << " s, output " << format(chain.summary.outputSeconds) << " s\n";
+      std::cerr << "  brdfbake " << (c.chosen ? "chose " : "tried ") << c.detail << ": setup " << format(c.seconds)
+                << " s, estimate " << format(100.0 * c.errorEstimate, 2) << " %\n";
+    std::cerr << "  brdfbake total " << format(chain.summary.seconds) << " s: probes and estimates "
+              << format(chain.summary.estimateSeconds) << " s, output " << format(chain.summary.outputSeconds)
+              << " s\n";
   }
   const fs::path work = fs::temp_directory_path() / ("brdfbake-cmft-bench-" + std::to_string(::getpid()));
   fs::create_directories(work);
@@ -359,12 +378,13 @@ void cmftComparison(const Environment& environment, const fs::path& cmftSource, 
     writeFloatRgbExr(environment, input);  // 3-channel float: Radiance HDR here
     // --numCpuProcessingThreads N runs N - 1 workers: N = threads + 1.
     const int workers = threads > 0 ? threads : 2;
-    const std::string command = cmft.string() + " --input " + input.string() +
-                                " --filter radiance --lightingModel phong --mipCount 8 --glossScale 10 --glossBias 1 --srcFaceSize " +
-                                std::to_string(faceSize) + " --dstFaceSize " + std::to_string(faceSize) +
-                                " --excludeBase false --edgeFixup none --useOpenCL false --numCpuProcessingThreads " +
-                                std::to_string(workers + 1) + " --outputNum 1 --output0 " + (work / "out").string() +
-                                " --output0params dds,rgba32f,cubemap --silent > " + (work / "cmft_run.log").string() + " 2>&1";
+    const std::string command =
+        cmft.string() + " --input " + input.string() +
+        " --filter radiance --lightingModel phong --mipCount 8 --glossScale 10 --glossBias 1 --srcFaceSize " +
+        std::to_string(faceSize) + " --dstFaceSize " + std::to_string(faceSize) +
+        " --excludeBase false --edgeFixup none --useOpenCL false --numCpuProcessingThreads " +
+        std::to_string(workers + 1) + " --outputNum 1 --output0 " + (work / "out").string() +
+        " --output0params dds,rgba32f,cubemap --silent > " + (work / "cmft_run.log").string() + " 2>&1";
     const double cpu0 = cpuSeconds(RUSAGE_CHILDREN);
     const auto start = Clock::now();
     const int status = std::system(command.c_str());
@@ -387,18 +407,21 @@ void cmftComparison(const Environment& environment, const fs::path& cmftSource, 
   std::error_code ec;
   fs::remove_all(work, ec);
   std::cout << "\nPhong gloss chain (cmft --glossScale 10 --glossBias 1 --mipCount 8), " << faceSize << "^2 cube, "
-            << environment.image.width() << "x" << environment.image.height() << " sky, threads " << (threads > 0 ? threads : 0)
-            << " (0: all); RMS relative error against the reference sum at " << subsetSize << " random texels per level\n\n"
-            << "| tool | seconds (wall) | CPU seconds | worst level RMS | per level RMS (exponent) | setting |\n|---|---:|---:|---:|---|---|\n";
+            << environment.image.width() << "x" << environment.image.height() << " sky, threads "
+            << (threads > 0 ? threads : 0) << " (0: all); RMS relative error against the reference sum at "
+            << subsetSize << " random texels per level\n\n"
+            << "| tool | seconds (wall) | CPU seconds | worst level RMS | per level RMS (exponent) | setting "
+               "|\n|---|---:|---:|---:|---|---|\n";
   for (const auto& r : results) {
     double worst = 0.0;
     std::ostringstream perLevel;
     for (std::size_t k = 0; k < r.errors.size(); ++k) {
       worst = std::max(worst, r.errors[k].rms);
-      perLevel << (k ? ", " : "") << format(100.0 * r.errors[k].rms, 2) << " % (" << format(levels[k].exponent, 4) << ")";
+      perLevel << (k ? ", " : "") << format(100.0 * r.errors[k].rms, 2) << " % (" << format(levels[k].exponent, 4)
+               << ")";
     }
-    std::cout << "| " << r.tool << " | " << format(r.seconds) << " | " << format(r.cpu) << " | " << format(100.0 * worst, 3) << " % | "
-              << perLevel.str() << " | " << r.detail << " |\n";
+    std::cout << "| " << r.tool << " | " << format(r.seconds) << " | " << format(r.cpu) << " | "
+              << format(100.0 * worst, 3) << " % | " << perLevel.str() << " | " << r.detail << " |\n";
   }
 }
 
@@ -438,17 +461,23 @@ void chart(const std::vector<Row>& rows, const fs::path& png, const std::vector<
   for (const auto& panel : groups) {
     double referenceSeconds = 0.0;
     for (const auto& r : rows)
-      if (r.group.rfind(panel + " ", 0) == 0 && r.method == "reference") referenceSeconds = std::max(referenceSeconds, r.seconds);
-    script << "set title '" << panel << " (reference about " << static_cast<long>(std::lround(referenceSeconds)) << " s, off the chart)'\n";
+      if (r.group.rfind(panel + " ", 0) == 0 && r.method == "reference")
+        referenceSeconds = std::max(referenceSeconds, r.seconds);
+    script << "set title '" << panel << " (reference about " << static_cast<long>(std::lround(referenceSeconds))
+           << " s, off the chart)'\n";
     script << "unset arrow\nset arrow from graph 0, first 0.01 to graph 1, first 0.01 nohead dt 2 lc rgb 'gray40'\n";
     const int base = panelIndex * 5;
-    script << "plot '" << data.string() << "' index " << base << " using 1:($3==0?$2:1/0) with points pt 7 ps 1.3 lc rgb '#1f77b4' title 'sh', "
+    script << "plot '" << data.string() << "' index " << base
+           << " using 1:($3==0?$2:1/0) with points pt 7 ps 1.3 lc rgb '#1f77b4' title 'sh', "
            << "'' index " << base << " using 1:($3==1?$2:1/0) with points pt 6 ps 1.3 lc rgb '#1f77b4' notitle, "
-           << "'' index " << base + 1 << " using 1:($3==0?$2:1/0) with points pt 5 ps 1.3 lc rgb '#2ca02c' title 'direct', "
+           << "'' index " << base + 1
+           << " using 1:($3==0?$2:1/0) with points pt 5 ps 1.3 lc rgb '#2ca02c' title 'direct', "
            << "'' index " << base + 1 << " using 1:($3==1?$2:1/0) with points pt 4 ps 1.3 lc rgb '#2ca02c' notitle, "
-           << "'' index " << base + 2 << " using 1:($3==0?$2:1/0) with points pt 9 ps 1.3 lc rgb '#ff7f0e' title 'importance', "
+           << "'' index " << base + 2
+           << " using 1:($3==0?$2:1/0) with points pt 9 ps 1.3 lc rgb '#ff7f0e' title 'importance', "
            << "'' index " << base + 2 << " using 1:($3==1?$2:1/0) with points pt 8 ps 1.3 lc rgb '#ff7f0e' notitle, "
-           << "'' index " << base + 3 << " using 1:($3==0?$2:1/0) with points pt 13 ps 2.2 lc rgb '#d62728' title 'auto', "
+           << "'' index " << base + 3
+           << " using 1:($3==0?$2:1/0) with points pt 13 ps 2.2 lc rgb '#d62728' title 'auto', "
            << "'' index " << base + 3 << " using 1:($3==1?$2:1/0) with points pt 12 ps 2.2 lc rgb '#d62728' notitle, "
            << "'' index " << base + 4 << " using 1:2 with points pt 3 ps 2.2 lc rgb 'black' title 'cmgen'\n";
     ++panelIndex;
@@ -461,8 +490,10 @@ void chart(const std::vector<Row>& rows, const fs::path& png, const std::vector<
   }
   const std::string text = script.str();
   std::fwrite(text.data(), 1, text.size(), pipe);
-  if (pclose(pipe) != 0) std::cerr << "gnuplot failed\n";
-  else std::cerr << "wrote " << png.string() << "\n";
+  if (pclose(pipe) != 0)
+    std::cerr << "gnuplot failed\n";
+  else
+    std::cerr << "wrote " << png.string() << "\n";
   std::error_code ec;
   fs::remove(data, ec);
 }
@@ -476,22 +507,31 @@ int main(int argc, char** argv) {
   fs::path png = "docs/images/prefilter_speed_error.png";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--quick") quick = true;
-    else if (a == "--no-cmgen") useCmgen = false;
-    else if (a == "--threads" && i + 1 < argc) threads = std::stoi(argv[++i]);
-    else if (a == "--subset" && i + 1 < argc) subsetSize = std::stoi(argv[++i]);
-    else if (a == "--chart" && i + 1 < argc) png = argv[++i];
-    else if (a == "--cmft" && i + 1 < argc) cmftSource = argv[++i];
-    else if (a == "--chain-only") chainOnly = true;
+    if (a == "--quick")
+      quick = true;
+    else if (a == "--no-cmgen")
+      useCmgen = false;
+    else if (a == "--threads" && i + 1 < argc)
+      threads = std::stoi(argv[++i]);
+    else if (a == "--subset" && i + 1 < argc)
+      subsetSize = std::stoi(argv[++i]);
+    else if (a == "--chart" && i + 1 < argc)
+      png = argv[++i];
+    else if (a == "--cmft" && i + 1 < argc)
+      cmftSource = argv[++i];
+    else if (a == "--chain-only")
+      chainOnly = true;
     else {
-      std::cerr << "usage: prefilter_bench [--quick] [--threads N] [--subset N] [--chart FILE.png] [--no-cmgen] [--cmft DIR] [--chain-only]\n";
+      std::cerr << "usage: prefilter_bench [--quick] [--threads N] [--subset N] [--chart FILE.png] [--no-cmgen] "
+                   "[--cmft DIR] [--chain-only]\n";
       return 2;
     }
   }
   try {
     const int rowsOfSky = quick ? 128 : 512, outputResolution = quick ? 64 : 256;
     auto start = Clock::now();
-    const Environment sky = bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, rowsOfSky, "sky", 16, threads);
+    const Environment sky =
+        bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, rowsOfSky, "sky", 16, threads);
     std::cerr << "sky " << sky.image.width() << "x" << sky.image.height() << " in " << since(start) << " s\n";
     if (chainOnly) {
       cmftComparison(sky, cmftSource, outputResolution, subsetSize, threads);
@@ -519,14 +559,16 @@ int main(int argc, char** argv) {
         rows.push_back(ref);
         std::cerr << group << ": reference ~" << ref.seconds << " s\n";
         rows.push_back(run(sky, lobe, options, subset, reference, floor, group));
-        std::cerr << "  auto " << rows.back().seconds << " s, rms " << rows.back().rms << " (estimate " << rows.back().estimate << ")\n";
+        std::cerr << "  auto " << rows.back().seconds << " s, rms " << rows.back().rms << " (estimate "
+                  << rows.back().estimate << ")\n";
         auto fixed = [&](PrefilterMethod method, int order, int samples, double q) {
           PrefilterOptions o = options;
           o.method = method, o.shOrder = order, o.importanceSamples = samples, o.directTexelsPerWidth = q;
           o.estimateError = false;
           o.interpolate = false;  // each method alone, at every output texel
           rows.push_back(run(sky, lobe, o, subset, reference, floor, group));
-          std::cerr << "  " << rows.back().method << " " << rows.back().detail << ": " << rows.back().seconds << " s, rms " << rows.back().rms << "\n";
+          std::cerr << "  " << rows.back().method << " " << rows.back().detail << ": " << rows.back().seconds
+                    << " s, rms " << rows.back().rms << "\n";
         };
         for (int order : {8, 16, 32, 64}) fixed(PrefilterMethod::SphericalHarmonics, order, 0, 0.0);
         for (double q : {2.0, 4.0, 8.0}) fixed(PrefilterMethod::Direct, 0, 0, q);
@@ -541,7 +583,8 @@ int main(int argc, char** argv) {
     groups.push_back("ggx:0.25");
     groups.push_back("ggx:0.5");
 
-    std::cout << "| lobe, map | tool | method | setting | seconds | RMS rel. error | max rel. error | estimate | speedup vs reference |\n"
+    std::cout << "| lobe, map | tool | method | setting | seconds | RMS rel. error | max rel. error | estimate | "
+                 "speedup vs reference |\n"
               << "|---|---|---|---|---:|---:|---:|---:|---:|\n";
     for (const auto& r : rows) {
       double referenceSeconds = 0.0;

@@ -8,9 +8,12 @@ namespace brdfbake {
 
 std::string_view toString(BlinnConversion policy) {
   switch (policy) {
-    case BlinnConversion::Exact: return "exact";
-    case BlinnConversion::FourN: return "4n";
-    case BlinnConversion::Fit: return "fit";
+    case BlinnConversion::Exact:
+      return "exact";
+    case BlinnConversion::FourN:
+      return "4n";
+    case BlinnConversion::Fit:
+      return "fit";
   }
   return "unknown";
 }

@@ -13,8 +13,9 @@ CookTorranceMaterial::CookTorranceMaterial(CookTorranceParams params) : params_(
           "diffuse albedo must be in [0, 1]");
   const bool hasDiffuse = (p.diffuse > 0.0).any();
   if (p.mode == CookTorranceMode::Reflectance) {
-    require(!hasDiffuse, "diffuse must be zero in reflectance mode: a mirror-direction map holds the specular "
-                         "term R_s only (Zimmons & Bastos 1999 section 7); bake the diffuse part in lighting mode");
+    require(!hasDiffuse,
+            "diffuse must be zero in reflectance mode: a mirror-direction map holds the specular "
+            "term R_s only (Zimmons & Bastos 1999 section 7); bake the diffuse part in lighting mode");
     require(std::isfinite(p.grazingAngleDegrees) && p.grazingAngleDegrees > 0.0 && p.grazingAngleDegrees < 90.0,
             "grazing_angle must be in (0, 90) degrees, got " + std::to_string(p.grazingAngleDegrees));
   }
@@ -25,7 +26,7 @@ CookTorranceMaterial::CookTorranceMaterial(CookTorranceParams params) : params_(
 
 double CookTorranceMaterial::distribution(double nh) const {
   return params_.distribution == MicrofacetDistribution::Beckmann ? beckmannD(nh, params_.roughness)
-                                                                    : ggxD(nh, params_.roughness);
+                                                                  : ggxD(nh, params_.roughness);
 }
 
 double CookTorranceMaterial::denominator() const {
@@ -103,13 +104,15 @@ std::optional<MicrofacetLobe> CookTorranceMaterial::microfacetLobe(const Vec3& l
 MicrofacetDistribution parseMicrofacetDistribution(std::string_view name) {
   if (name == "beckmann") return MicrofacetDistribution::Beckmann;
   if (name == "ggx") return MicrofacetDistribution::Ggx;
-  throw Error(Error::Kind::InvalidArgument, "distribution must be \"beckmann\" or \"ggx\", got \"" + std::string(name) + "\"");
+  throw Error(Error::Kind::InvalidArgument,
+              "distribution must be \"beckmann\" or \"ggx\", got \"" + std::string(name) + "\"");
 }
 
 CookTorranceMode parseCookTorranceMode(std::string_view name) {
   if (name == "lighting") return CookTorranceMode::Lighting;
   if (name == "reflectance") return CookTorranceMode::Reflectance;
-  throw Error(Error::Kind::InvalidArgument, "mode must be \"lighting\" or \"reflectance\", got \"" + std::string(name) + "\"");
+  throw Error(Error::Kind::InvalidArgument,
+              "mode must be \"lighting\" or \"reflectance\", got \"" + std::string(name) + "\"");
 }
 
 CookTorranceNormalization parseCookTorranceNormalization(std::string_view name) {

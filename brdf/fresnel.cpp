@@ -94,9 +94,8 @@ FresnelTerm FresnelTerm::spectralF0(std::span<const double> wavelengthsNm, std::
           "spectral f0 needs one value per wavelength (" + std::to_string(wavelengthsNm.size()) + ")");
   std::vector<double> eta(f0.size());
   for (std::size_t j = 0; j < f0.size(); ++j) eta[j] = iorFromF0(f0[j]);
-  return spectralTable(wavelengthsNm, [&](std::size_t j, double c) {
-    return std::isinf(eta[j]) ? 1.0 : fresnelDielectric(c, eta[j]);
-  });
+  return spectralTable(
+      wavelengthsNm, [&](std::size_t j, double c) { return std::isinf(eta[j]) ? 1.0 : fresnelDielectric(c, eta[j]); });
 }
 
 FresnelTerm FresnelTerm::schlick(const Rgb& f0) {
@@ -143,8 +142,9 @@ std::vector<Rgb> fresnelTable(const FresnelTerm& fresnel, int size) {
 FresnelCombine parseFresnelCombine(std::string_view name) {
   if (name == "add") return FresnelCombine::Add;
   if (name == "mix") return FresnelCombine::Mix;
-  throw Error(Error::Kind::InvalidArgument, "combine must be \"add\" (F L_m + L_d) or \"mix\" (F L_m + (1 - F) L_d), got \"" +
-                                                std::string(name) + "\"");
+  throw Error(
+      Error::Kind::InvalidArgument,
+      "combine must be \"add\" (F L_m + L_d) or \"mix\" (F L_m + (1 - F) L_d), got \"" + std::string(name) + "\"");
 }
 
 std::string_view toString(FresnelCombine combine) { return combine == FresnelCombine::Add ? "add" : "mix"; }

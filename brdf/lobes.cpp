@@ -1,7 +1,7 @@
 #include <brdfbake/brdf/lobes.hpp>
-#include <brdfbake/core/named_values.hpp>
 #include <brdfbake/brdf/spectrum.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/named_values.hpp>
 
 #include <algorithm>
 #include <array>
@@ -18,16 +18,20 @@ LobeElevation parseLobeElevation(std::string_view name) {
 
 std::string_view toString(LobeMaterialMode mode) {
   switch (mode) {
-    case LobeMaterialMode::Reflectance: return "reflectance";
-    case LobeMaterialMode::Lighting: return "lighting";
-    case LobeMaterialMode::Prefiltered: return "prefiltered";
+    case LobeMaterialMode::Reflectance:
+      return "reflectance";
+    case LobeMaterialMode::Lighting:
+      return "lighting";
+    case LobeMaterialMode::Prefiltered:
+      return "prefiltered";
   }
   return "reflectance";
 }
 
 LobeMaterialMode parseLobeMaterialMode(std::string_view name) {
-  return parseByName(name, std::array{LobeMaterialMode::Reflectance, LobeMaterialMode::Lighting, LobeMaterialMode::Prefiltered},
-                     "mode");
+  return parseByName(
+      name, std::array{LobeMaterialMode::Reflectance, LobeMaterialMode::Lighting, LobeMaterialMode::Prefiltered},
+      "mode");
 }
 
 void LobeModel::validate() const {
@@ -128,7 +132,8 @@ double channelBrdf(const LobeModel& model, const LobeChannel& channel, double u,
   }
   std::vector<const double*> lobes(cosToAxis.size());
   for (std::size_t k = 0; k < lobes.size(); ++k) lobes[k] = packed.data() + k * 2 * count;
-  return lobeBrdf(channel.diffuse, lobes.data(), static_cast<int>(lobes.size()), count, t, cosToAxis.data()) + halfVectorSum;
+  return lobeBrdf(channel.diffuse, lobes.data(), static_cast<int>(lobes.size()), count, t, cosToAxis.data()) +
+         halfVectorSum;
 }
 }  // namespace
 
@@ -176,7 +181,8 @@ LobeMaterial::LobeMaterial(LobeModel model, LobeMaterialMode mode, std::string m
 Rgb LobeMaterial::toRgb(const Eigen::VectorXd& channels) const { return (rgbWeights_ * channels).array(); }
 
 bool LobeMaterial::viewIndependent() const {
-  return mode_ == LobeMaterialMode::Prefiltered && model_.elevation == LobeElevation::Constant && model_.allAboutMirror();
+  return mode_ == LobeMaterialMode::Prefiltered && model_.elevation == LobeElevation::Constant &&
+         model_.allAboutMirror();
 }
 
 Rgb LobeMaterial::brdf(const Vec3& normal, const Vec3& view, const Vec3& light) const {
@@ -205,9 +211,12 @@ Rgb LobeMaterial::unlit(const ShadingGeometry& g) const {
 
 Rgb LobeMaterial::shade(const ShadingGeometry& g, const Vec3& light) const {
   switch (mode_) {
-    case LobeMaterialMode::Reflectance: return Rgb::Zero();
-    case LobeMaterialMode::Lighting: return brdf(g.normal, g.view, light) * std::max(0.0, g.normal.dot(light));
-    case LobeMaterialMode::Prefiltered: break;
+    case LobeMaterialMode::Reflectance:
+      return Rgb::Zero();
+    case LobeMaterialMode::Lighting:
+      return brdf(g.normal, g.view, light) * std::max(0.0, g.normal.dot(light));
+    case LobeMaterialMode::Prefiltered:
+      break;
   }
   const double u = clampFinite(g.normal.dot(g.view), 0.0, 1.0);
   const double cosToMirror = g.reflected.dot(light);
@@ -224,7 +233,8 @@ Rgb LobeMaterial::shade(const ShadingGeometry& g, const Vec3& light) const {
         continue;
       }
       const double cosToAxis = lobe.aboutMirror() ? cosToMirror : geometry.cosine(lobe.cxy);
-      values[static_cast<Eigen::Index>(c)] += normalizedLobe(model_.weight(c, k, u), model_.exponent(c, k, u), cosToAxis);
+      values[static_cast<Eigen::Index>(c)] +=
+          normalizedLobe(model_.weight(c, k, u), model_.exponent(c, k, u), cosToAxis);
     }
   }
   return toRgb(values);

@@ -102,9 +102,12 @@ ColorgramBlend parseColorgramBlend(std::string_view name) {
 
 std::string_view toString(ColorgramBlend blend) {
   switch (blend) {
-    case ColorgramBlend::Replace: return "replace";
-    case ColorgramBlend::Modulate: return "modulate";
-    case ColorgramBlend::Add: return "add";
+    case ColorgramBlend::Replace:
+      return "replace";
+    case ColorgramBlend::Modulate:
+      return "modulate";
+    case ColorgramBlend::Add:
+      return "add";
   }
   return "?";
 }
@@ -116,9 +119,12 @@ ColorgramMaterial::ColorgramMaterial(ColorGradient gradient, double twistDegrees
 
 std::optional<Rgb> ColorgramMaterial::neutralColor(ColorgramBlend blend) {
   switch (blend) {
-    case ColorgramBlend::Modulate: return Rgb::Ones();
-    case ColorgramBlend::Add: return Rgb::Zero();
-    case ColorgramBlend::Replace: break;
+    case ColorgramBlend::Modulate:
+      return Rgb::Ones();
+    case ColorgramBlend::Add:
+      return Rgb::Zero();
+    case ColorgramBlend::Replace:
+      break;
   }
   return std::nullopt;
 }
@@ -158,7 +164,8 @@ GoochMaterial::GoochMaterial(GoochParams params) : params_(std::move(params)) {
   checkColor(params_.highlight, "highlight colour");
   require(std::isfinite(params_.highlightSize) && params_.highlightSize >= 0.0 && params_.highlightSize <= 180.0,
           "highlight size must be in [0, 180] degrees");
-  require(std::isfinite(params_.blur) && params_.blur >= 0.0 && params_.blur <= 180.0, "blur must be in [0, 180] degrees");
+  require(std::isfinite(params_.blur) && params_.blur >= 0.0 && params_.blur <= 180.0,
+          "blur must be in [0, 180] degrees");
   const double norm = params_.lightDirection.norm();
   require(std::isfinite(norm) && norm > 0.0, "light direction must be a finite non-zero vector");
   params_.lightDirection /= norm;

@@ -49,9 +49,15 @@ BlinnPhongMaterial::BlinnPhongMaterial(const Rgb& specular, double phongExponent
                                        const Rgb& diffuse)
     : BlinnPhongMaterial(specular, phongExponent, diffuse) {
   switch (policy) {
-    case BlinnConversion::Exact: exact_ = true; break;
-    case BlinnConversion::FourN: exponent_ = 4.0 * phongExponent; break;
-    case BlinnConversion::Fit: exponent_ = phongExponent > 0.0 ? blinnFitExponent(phongExponent) : 0.0; break;
+    case BlinnConversion::Exact:
+      exact_ = true;
+      break;
+    case BlinnConversion::FourN:
+      exponent_ = 4.0 * phongExponent;
+      break;
+    case BlinnConversion::Fit:
+      exponent_ = phongExponent > 0.0 ? blinnFitExponent(phongExponent) : 0.0;
+      break;
   }
 }
 

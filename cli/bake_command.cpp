@@ -1,15 +1,15 @@
 // brdfbake bake SPEC.json: bake every map of a spec.
-#include <brdfbake/core/progress.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/env/environment.hpp>
-#include <brdfbake/maps/map_file.hpp>
-#include <brdfbake/env/prefilter.hpp>
-#include <brdfbake/env/prefilter_stack.hpp>
 #include <brdfbake/bake/radial_profile.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/core/memory_budget.hpp>
+#include <brdfbake/core/progress.hpp>
 #include <brdfbake/core/version.hpp>
+#include <brdfbake/env/environment.hpp>
+#include <brdfbake/env/prefilter.hpp>
+#include <brdfbake/env/prefilter_stack.hpp>
+#include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/spec/spec.hpp>
 
 #include <chrono>
@@ -92,9 +92,8 @@ nlohmann::json bakeEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& 
                         {"table", fresnelTablePath(map.output).string()},
                         {"irradiance_prefilter", decomposition.irradiance.summary.toJson()}};
   } else {
-    const PrefilteredMap result =
-        e.lobeModel() ? prefilterLobeModel(environment, *e.lobeModel(), e.lobeName, options)
-                      : prefilter(environment, *e.analyticLobe(), options);
+    const PrefilteredMap result = e.lobeModel() ? prefilterLobeModel(environment, *e.lobeModel(), e.lobeName, options)
+                                                : prefilter(environment, *e.analyticLobe(), options);
     summary = result.summary;
     parameterization = result.map;
     writeStart = std::chrono::steady_clock::now();
@@ -102,15 +101,16 @@ nlohmann::json bakeEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& 
   }
   const double writeSeconds = secondsSince(writeStart);
   bar.done();
-  nlohmann::json entry = reportEntry(map,
-                                     {std::string(toString(map.parameterization)), map.resolution, parameterization->width(),
-                                      parameterization->height(), "prefilter:" + std::string(toString(summary.method)),
-                                      summary.seconds, writeSeconds},
-                                     written.files, written.notes);
+  nlohmann::json entry = reportEntry(
+      map,
+      {std::string(toString(map.parameterization)), map.resolution, parameterization->width(),
+       parameterization->height(), "prefilter:" + std::string(toString(summary.method)), summary.seconds, writeSeconds},
+      written.files, written.notes);
   entry["prefilter"] = summary.toJson();
   entry.update(extra);
   if (!args.json && !args.quiet) {
-    const std::string what = extra.contains("elevations") ? elevationSlicePath(map.output, 0).string() + " ..." : map.output.string();
+    const std::string what =
+        extra.contains("elevations") ? elevationSlicePath(map.output, 0).string() + " ..." : map.output.string();
     std::cout << "wrote " << what << " (" << toString(map.parameterization) << " " << parameterization->width() << "x"
               << parameterization->height() << "): " << summary.briefReport() << "; write " << writeSeconds << " s\n";
     if (written.files.size() > 1) std::cout << "  " << written.files.size() << " files in all\n";
@@ -148,9 +148,9 @@ nlohmann::json writeProfile(const RadialProfile& profile, const MapSpec& map, co
   entry["samples_per_texel"] = map.samplesPerTexel;
   if (!autoReport.is_null()) entry["auto"] = autoReport;
   if (!args.json && !args.quiet) {
-    std::cout << "wrote " << map.output.string() << " (1-D radial profile, " << profile.resolution() << " texels about ("
-              << axis.x() << ", " << axis.y() << ", " << axis.z() << "), " << summary.path << "): bake " << summary.seconds
-              << " s, write " << writeSeconds << " s\n";
+    std::cout << "wrote " << map.output.string() << " (1-D radial profile, " << profile.resolution()
+              << " texels about (" << axis.x() << ", " << axis.y() << ", " << axis.z() << "), " << summary.path
+              << "): bake " << summary.seconds << " s, write " << writeSeconds << " s\n";
     std::cout << "  lookup: u = |r - axis| / 2, texel i at u = (i + 0.5) / " << profile.resolution()
               << " (about the view: u = the sphere-map radius)\n";
     printAutoChoice(autoReport, map.autoSelect.maxError);
@@ -162,9 +162,11 @@ nlohmann::json writeProfile(const RadialProfile& profile, const MapSpec& map, co
 // A map baked from a material (and lights); returns its report entry.
 nlohmann::json bakeMaterialMap(const MapSpec& specified, BakeOptions options, const BakeArgs& args) {
   MapSpec map = specified;
-  if (const auto& fit = map.materialMap()->deferredFit) {  // a measured material's fit runs now, not while the spec was parsed
-    ProgressBar fitting(map.jsonPath + " fitting lobes to " + std::filesystem::path(fit->table.sourceFile).filename().string(),
-                        !args.quiet && !args.json);
+  if (const auto& fit =
+          map.materialMap()->deferredFit) {  // a measured material's fit runs now, not while the spec was parsed
+    ProgressBar fitting(
+        map.jsonPath + " fitting lobes to " + std::filesystem::path(fit->table.sourceFile).filename().string(),
+        !args.quiet && !args.json);
     map.prepare(fitting.callback());
   }
   const auto function = map.makeFunction();
@@ -234,17 +236,18 @@ nlohmann::json bakeMaterialMap(const MapSpec& specified, BakeOptions options, co
   written.notes.insert(written.notes.end(), extras.notes.begin(), extras.notes.end());
   const double writeSeconds = secondsSince(writeStart);
 
-  nlohmann::json entry = reportEntry(map,
-                                     {std::string(toString(map.parameterization)), map.resolution, parameterization->width(),
-                                      parameterization->height(), summary.path, summary.seconds, writeSeconds},
-                                     written.files, written.notes);
+  nlohmann::json entry =
+      reportEntry(map,
+                  {std::string(toString(map.parameterization)), map.resolution, parameterization->width(),
+                   parameterization->height(), summary.path, summary.seconds, writeSeconds},
+                  written.files, written.notes);
   entry["samples_per_texel"] = map.samplesPerTexel;
   if (!autoReport.is_null()) entry["auto"] = autoReport;
   if (!args.json && !args.quiet) {
     std::cout << "wrote " << map.output.string() << " (" << toString(map.parameterization) << " "
               << parameterization->width() << "x" << parameterization->height() << ", " << map.samplesPerTexel
-              << " samples/texel, " << summary.path << "): bake " << summary.seconds << " s, write "
-              << writeSeconds << " s\n";
+              << " samples/texel, " << summary.path << "): bake " << summary.seconds << " s, write " << writeSeconds
+              << " s\n";
     printAutoChoice(autoReport, map.autoSelect.maxError);
     for (const auto& note : written.notes) std::cout << "  note: " << note << "\n";
   }
@@ -267,7 +270,8 @@ void checkMapSizes(const BakeSpec& spec, const BakeOptions& options, const std::
     if (map.anyAuto()) continue;  // auto candidates stay far below the limit
     const auto parameterization = makeParameterization(map.parameterization, map.resolution);
     const long long texels = static_cast<long long>(parameterization->width()) * parameterization->height();
-    const std::string size = std::to_string(parameterization->width()) + " x " + std::to_string(parameterization->height());
+    const std::string size =
+        std::to_string(parameterization->width()) + " x " + std::to_string(parameterization->height());
     if (texels > options.maxTexels && !options.allowLarge) {
       throw Error(Error::Kind::Resource, label + ": " + map.jsonPath + ": a " + size + " map needs " +
                                              formatBytes(static_cast<double>(texels) * 16.0) +
@@ -279,16 +283,17 @@ void checkMapSizes(const BakeSpec& spec, const BakeOptions& options, const std::
 
 int runBake(const BakeArgs& args) {
   if (!args.misplacedOutput.empty()) {
-    throw Error(Error::Kind::InvalidArgument, "-o " + shortenForMessage(args.misplacedOutput) +
-                                                  ": bake writes one file per map, named by the spec's \"output\" keys; "
-                                                  "give the folder they go in with --out-dir DIR");
+    throw Error(Error::Kind::InvalidArgument,
+                "-o " + shortenForMessage(args.misplacedOutput) +
+                    ": bake writes one file per map, named by the spec's \"output\" keys; "
+                    "give the folder they go in with --out-dir DIR");
   }
   BakeSpec spec = loadBakeSpec(args.spec);
   placeOutputs(spec, args);
   const fs::path specFolder = fs::path(args.spec).parent_path();
   const fs::path outputFolder = !args.outputDirectory.empty() ? fs::path(args.outputDirectory)
-                                : specFolder.empty()         ? fs::path(".")
-                                                             : specFolder;
+                                : specFolder.empty()          ? fs::path(".")
+                                                              : specFolder;
   // Every file the spec reads and writes, checked against each other before any work.
   planSpecFiles(spec, args.spec, outputFolder).check();
   BakeOptions options;
@@ -313,9 +318,10 @@ int runBake(const BakeArgs& args) {
     const MapSpec& map = spec.maps[i];
     nlohmann::json entry;
     try {
-      entry = std::visit(Overloaded{[&](const EnvironmentMapSpec& e) { return bakeEnvironmentMap(map, e, *environments[i], args); },
-                                    [&](const MaterialMapSpec&) { return bakeMaterialMap(map, options, args); }},
-                         map.content);
+      entry = std::visit(
+          Overloaded{[&](const EnvironmentMapSpec& e) { return bakeEnvironmentMap(map, e, *environments[i], args); },
+                     [&](const MaterialMapSpec&) { return bakeMaterialMap(map, options, args); }},
+          map.content);
       entry["status"] = "written";
       for (const auto& note : map.notes) {
         entry["notes"].push_back(note);
@@ -339,7 +345,6 @@ int runBake(const BakeArgs& args) {
   return 0;
 }
 
-
 }  // namespace
 
 Command addBakeCommand(CLI::App& app) {
@@ -359,10 +364,12 @@ it, a 1-D radial profile included when the map is radially symmetric.
              "material": {"model": "phong", "specular": [1, 1, 1], "exponent": 50},
              "lights": [{"direction": "eye", "color": [1, 1, 1]}]}]})");
   command->add_option("spec", args->spec, "Spec file (JSON)")->required();
-  command->add_option("-d,--out-dir", args->outputDirectory,
-                      "Write the spec's outputs under this folder instead of the spec's own (they must stay inside it)");
+  command->add_option(
+      "-d,--out-dir", args->outputDirectory,
+      "Write the spec's outputs under this folder instead of the spec's own (they must stay inside it)");
   // -o names one output file on every command; bake writes a file per map, so it takes a folder.
-  command->add_option("-o,--output", args->misplacedOutput, "(bake takes --out-dir: it writes one file per map)")->group("");
+  command->add_option("-o,--output", args->misplacedOutput, "(bake takes --out-dir: it writes one file per map)")
+      ->group("");
   addThreadsOption(command, args->threads);
   addQuietFlag(command, args->quiet);
   addJsonFlag(command, args->json, "per map its status, files, seconds baking and writing, notes");

@@ -3,15 +3,15 @@
 // texel, bilinear lookups against the exact model. Prefiltered environment maps: prefilter time
 // over parameterization x resolution x method, against the reference prefilter on random output
 // texels (env_accuracy.hpp). docs/charts.md.
-#include <brdfbake/core/files.hpp>
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/auto_config.hpp>
 #include <brdfbake/bake/baker.hpp>
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/env/env_accuracy.hpp>
 #include <brdfbake/env/environment.hpp>
-#include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/env/prefilter.hpp>
-#include <brdfbake/core/error.hpp>
+#include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/spec/spec.hpp>
 
 #include <chrono>
@@ -48,7 +48,7 @@ struct Point {
   // max_error is checked against (ErrorStats::bound), which the chart plots.
   double highlightRms = -1.0, highlightMax = -1.0, bound = -1.0;
   // Environment maps only (-1: none).
-  double estimate = -1.0;          // the prefilter's own error estimate
+  double estimate = -1.0;  // the prefilter's own error estimate
   double lookupRms = -1.0, lookupMax = -1.0;
   double referenceSeconds = -1.0;  // the reference over the whole map, scaled from the subset
   bool metBound = true;
@@ -62,7 +62,8 @@ struct Skipped {
 };
 
 template <class T>
-std::vector<T> parseList(const std::string& text, const std::string& flag, const std::function<T(const std::string&)>& parse) {
+std::vector<T> parseList(const std::string& text, const std::string& flag,
+                         const std::function<T(const std::string&)>& parse) {
   std::vector<T> out;
   std::stringstream in(text);
   std::string item;
@@ -112,10 +113,11 @@ void writeCsv(const std::vector<Point>& points, const fs::path& path) {
       std::string detail = p.detail;
       std::replace(detail.begin(), detail.end(), ',', ';');
       out << p.map << "," << p.parameterization << "," << p.resolution << "," << p.samples << "," << p.texels << ","
-          << p.seconds << "," << p.rms << "," << p.max << "," << p.visibleRms << "," << p.pareto << "," << p.method << ","
-          << detail << "," << optionalNumber(p.estimate) << "," << optionalNumber(p.lookupRms) << ","
-          << optionalNumber(p.lookupMax) << "," << optionalNumber(p.referenceSeconds) << "," << optionalNumber(p.highlightRms)
-          << "," << optionalNumber(p.highlightMax) << "," << optionalNumber(p.bound) << "\n";
+          << p.seconds << "," << p.rms << "," << p.max << "," << p.visibleRms << "," << p.pareto << "," << p.method
+          << "," << detail << "," << optionalNumber(p.estimate) << "," << optionalNumber(p.lookupRms) << ","
+          << optionalNumber(p.lookupMax) << "," << optionalNumber(p.referenceSeconds) << ","
+          << optionalNumber(p.highlightRms) << "," << optionalNumber(p.highlightMax) << "," << optionalNumber(p.bound)
+          << "\n";
     }
   }
   writeFileAtomically(path, out.str());
@@ -129,14 +131,16 @@ double plottable(double error) { return std::max(error, 1e-9); }
 std::string materialScript(const std::vector<Point>& points, const std::string& title) {
   std::ostringstream gp;
   gp << "set title '" << title << "'\nset logscale xy\nset grid\nset key outside right\n";
-  gp << "set xlabel 'bake time (s)'\nset ylabel 'error: max(value-weighted RMS, lookup RMS) / peak'\nset format x '%g'\nset format y '%g'\n";
+  gp << "set xlabel 'bake time (s)'\nset ylabel 'error: max(value-weighted RMS, lookup RMS) / peak'\nset format x "
+        "'%g'\nset format y '%g'\n";
   std::vector<std::string> kinds;
   for (const auto& p : points)
     if (std::find(kinds.begin(), kinds.end(), p.parameterization) == kinds.end()) kinds.push_back(p.parameterization);
   for (const auto& kind : kinds) {
     gp << "$" << kind << " << EOD\n";
     for (const auto& p : points)
-      if (p.parameterization == kind) gp << p.seconds << " " << plottable(p.bound) << " \"" << p.resolution << "/" << p.samples << "\"\n";
+      if (p.parameterization == kind)
+        gp << p.seconds << " " << plottable(p.bound) << " \"" << p.resolution << "/" << p.samples << "\"\n";
     gp << "EOD\n";
   }
   std::vector<Point> front;
@@ -184,7 +188,8 @@ std::string environmentScript(const std::vector<Point>& points, const std::strin
       gp << block << " << EOD\n" << data.str() << "EOD\n";
       plots.push_back(block + " using 1:2 with points pt " + std::to_string(shapes[k % 5]) + " ps 1.3 lc rgb '" +
                       colours[m % 6] + "' notitle");
-      plots.push_back(block + " using 1:2:3 with labels font ',7' offset 0,0.8 tc rgb '" + colours[m % 6] + "' notitle");
+      plots.push_back(block + " using 1:2:3 with labels font ',7' offset 0,0.8 tc rgb '" + colours[m % 6] +
+                      "' notitle");
     }
   }
   std::vector<Point> front;
@@ -196,9 +201,11 @@ std::string environmentScript(const std::vector<Point>& points, const std::strin
   gp << "EOD\n";
   // Key entries: methods by colour, parameterizations by shape (points outside any range).
   for (std::size_t m = 0; m < methods.size(); ++m)
-    plots.push_back("NaN with points pt 7 ps 1.3 lc rgb '" + std::string(colours[m % 6]) + "' title '" + methods[m] + "'");
+    plots.push_back("NaN with points pt 7 ps 1.3 lc rgb '" + std::string(colours[m % 6]) + "' title '" + methods[m] +
+                    "'");
   for (std::size_t k = 0; k < kinds.size(); ++k)
-    plots.push_back("NaN with points pt " + std::to_string(shapes[k % 5]) + " ps 1.3 lc rgb 'black' title '" + kinds[k] + "'");
+    plots.push_back("NaN with points pt " + std::to_string(shapes[k % 5]) + " ps 1.3 lc rgb 'black' title '" +
+                    kinds[k] + "'");
   plots.push_back("$pareto using 1:2 with points pt 6 ps 2.2 lw 1.5 lc rgb 'black' notitle");
   plots.push_back("$pareto using 1:2 with lines lw 2 lc rgb 'black' title 'Pareto front'");
   gp << "plot ";
@@ -242,8 +249,9 @@ SweepReference sweepReference(const Environment& environment, const EnvironmentM
   std::vector<Vec3> axes = r.texels.axes;
   axes.insert(axes.end(), r.lookups.axes.begin(), r.lookups.axes.end());
   const auto start = Clock::now();
-  const std::vector<Rgb> reference = lobe ? prefilterReferenceAt(environment, *lobe, axes, sweep.threads)
-                                          : prefilterLobeModelReferenceAt(environment, *e.lobeModel(), axes, sweep.threads);
+  const std::vector<Rgb> reference =
+      lobe ? prefilterReferenceAt(environment, *lobe, axes, sweep.threads)
+           : prefilterLobeModelReferenceAt(environment, *e.lobeModel(), axes, sweep.threads);
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   const auto split = reference.begin() + static_cast<std::ptrdiff_t>(r.texels.size());
   r.texelValues.assign(reference.begin(), split);
@@ -269,12 +277,15 @@ Point environmentPoint(const MapSpec& map, const EnvironmentMapSpec& e, const En
   p.resolution = options.resolution;
   p.method = std::string(toString(options.method));
   p.detail = result.summary.detail;
-  if (options.method == PrefilterMethod::Auto && lobe) p.detail = std::string(toString(result.summary.method)) + ": " + p.detail;
+  if (options.method == PrefilterMethod::Auto && lobe)
+    p.detail = std::string(toString(result.summary.method)) + ": " + p.detail;
   p.texels = reference.mapTexels;
-  const PrefilterError texelError = prefilterPointsError(prefilterValuesAt(result.levels[0], *result.map, reference.texels),
-                                                         reference.texelValues, reference.texels.weights, floor);
-  const PrefilterError lookupError = prefilterPointsError(prefilterValuesAt(result.levels[0], *result.map, reference.lookups),
-                                                          reference.lookupValues, reference.lookups.weights, floor);
+  const PrefilterError texelError =
+      prefilterPointsError(prefilterValuesAt(result.levels[0], *result.map, reference.texels), reference.texelValues,
+                           reference.texels.weights, floor);
+  const PrefilterError lookupError =
+      prefilterPointsError(prefilterValuesAt(result.levels[0], *result.map, reference.lookups), reference.lookupValues,
+                           reference.lookups.weights, floor);
   p.rms = texelError.rms;
   p.max = texelError.max;
   p.visibleRms = texelError.rms;
@@ -292,7 +303,8 @@ Point environmentPoint(const MapSpec& map, const EnvironmentMapSpec& e, const En
 std::vector<Point> sweepEnvironment(const MapSpec& map, const EnvironmentMapSpec& e, const Environment& environment,
                                     const EnvironmentSweep& sweep, std::vector<Skipped>& skipped, ProgressBar& bar) {
   const PrefilterLobe* lobe = e.analyticLobe();
-  const double floor = lobe ? prefilterErrorFloor(environment, *lobe) : prefilterLobeModelErrorFloor(environment, *e.lobeModel());
+  const double floor =
+      lobe ? prefilterErrorFloor(environment, *lobe) : prefilterLobeModelErrorFloor(environment, *e.lobeModel());
   std::vector<Point> points;
   const double total = double(sweep.kinds.size() * sweep.resolutions.size() * sweep.methods.size());
   int done = 0;
@@ -312,7 +324,8 @@ std::vector<Point> sweepEnvironment(const MapSpec& map, const EnvironmentMapSpec
         try {
           points.push_back(environmentPoint(map, e, environment, options, reference, floor));
         } catch (const Error& error) {
-          skipped.push_back({map.jsonPath, std::string(toString(kind)), std::string(toString(method)), error.what(), resolution});
+          skipped.push_back(
+              {map.jsonPath, std::string(toString(kind)), std::string(toString(method)), error.what(), resolution});
         }
         if (progress) progress(++done / total);
       }
@@ -324,7 +337,8 @@ std::vector<Point> sweepEnvironment(const MapSpec& map, const EnvironmentMapSpec
 // The flags, as given.
 struct Args {
   std::string spec, output, csv;
-  std::string resolutions = kMaterialResolutions, samples = "1,4,16", parameterizations = "sphere,paraboloid,cube,latlong";
+  std::string resolutions = kMaterialResolutions, samples = "1,4,16",
+              parameterizations = "sphere,paraboloid,cube,latlong";
   std::string methods = "auto,sh,direct,importance", environmentError = "texel";
   int threads = 0, lookups = 20000, subset = 256;
   double maxError = 0.0;
@@ -356,20 +370,31 @@ void registerOptions(CLI::App* command, Args& args, CLI::Option*& resolutionsOpt
   resolutionsOption = command->add_option("--resolutions", args.resolutions,
                                           "Comma-separated resolutions (default 32,64,128,256,512 for materials, "
                                           "16,32,64 for environment maps)");
-  command->add_option("--samples", args.samples, "Comma-separated samples per texel (material maps)")->default_str(args.samples);
-  command->add_option("--parameterizations", args.parameterizations, "Comma-separated parameterizations")->default_str(args.parameterizations);
-  command->add_option("--methods", args.methods, "Comma-separated prefilter methods (environment maps): auto, sh, direct, importance, reference")
+  command->add_option("--samples", args.samples, "Comma-separated samples per texel (material maps)")
+      ->default_str(args.samples);
+  command->add_option("--parameterizations", args.parameterizations, "Comma-separated parameterizations")
+      ->default_str(args.parameterizations);
+  command
+      ->add_option("--methods", args.methods,
+                   "Comma-separated prefilter methods (environment maps): auto, sh, direct, importance, reference")
       ->default_str(args.methods);
-  addEnvironmentMaxErrorOption(command, args.maxError,
-                               "Environment maps: the bound methods choose their settings for (default: the map's max_error)");
-  command->add_option("--subset", args.subset, "Environment maps: random output texels (and lookup directions) compared with the reference")
+  addEnvironmentMaxErrorOption(
+      command, args.maxError,
+      "Environment maps: the bound methods choose their settings for (default: the map's max_error)");
+  command
+      ->add_option("--subset", args.subset,
+                   "Environment maps: random output texels (and lookup directions) compared with the reference")
       ->default_val(256)
       ->check(CLI::Range(16, 1000000));
-  command->add_option("--environment-error", args.environmentError,
-                      "Environment maps: the error charted and the Pareto front taken on: texel (at texel centres) or lookup (bilinear lookups)")
+  command
+      ->add_option("--environment-error", args.environmentError,
+                   "Environment maps: the error charted and the Pareto front taken on: texel (at texel centres) or "
+                   "lookup (bilinear lookups)")
       ->default_str(args.environmentError)
       ->check(CLI::IsMember({"texel", "lookup"}));
-  command->add_option("--lookups", args.lookups, "Material maps: random directions per error measurement")->default_val(20000)->check(CLI::Range(100, 10000000));
+  command->add_option("--lookups", args.lookups, "Material maps: random directions per error measurement")
+      ->default_val(20000)
+      ->check(CLI::Range(100, 10000000));
   addThreadsOption(command, args.threads);
   addQuietFlag(command, args.quiet);
   addJsonFlag(command, args.json, "the points (skipped ones with \"skipped\": true)");
@@ -389,8 +414,8 @@ Settings parseSettings(const Args& args) {
   settings.samples = parseList<int>(args.samples, "--samples", toInt);
   settings.kinds = parseList<ParameterizationKind>(args.parameterizations, "--parameterizations",
                                                    [](const std::string& s) { return parseParameterizationKind(s); });
-  settings.methods =
-      parseList<PrefilterMethod>(args.methods, "--methods", [](const std::string& s) { return parsePrefilterMethod(s); });
+  settings.methods = parseList<PrefilterMethod>(args.methods, "--methods",
+                                                [](const std::string& s) { return parsePrefilterMethod(s); });
   if (args.output.empty() && args.csv.empty() && !args.json) {
     throw Error(Error::Kind::InvalidArgument, "chart: give -o CHART.png, --csv FILE or --json (nothing to write)");
   }
@@ -448,8 +473,8 @@ MapChart chartEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e, co
 }
 
 // One bake of a material map, timed and measured against the exact model.
-Point materialPoint(const MapSpec& map, const MapFunction& function, const ErrorProbes& probes, ParameterizationKind kind,
-                    int resolution, int samplesPerTexel, int threads) {
+Point materialPoint(const MapSpec& map, const MapFunction& function, const ErrorProbes& probes,
+                    ParameterizationKind kind, int resolution, int samplesPerTexel, int threads) {
   const auto parameterization = makeParameterization(kind, resolution);
   BakeOptions options;
   options.samplesPerTexel = samplesPerTexel;
@@ -498,10 +523,17 @@ MapChart chartMaterialMap(MapSpec& map, const Args& args, const Settings& settin
 
 // A point as --json reports it; `chart` is the picture holding its panel (empty: none).
 nlohmann::json pointEntry(const Point& p, const fs::path& chart) {
-  nlohmann::json entry = {{"map", p.map}, {"parameterization", p.parameterization}, {"resolution", p.resolution},
-                          {"samples_per_texel", p.samples}, {"texels", p.texels}, {"seconds", p.seconds},
-                          {"rms", p.rms}, {"max", p.max}, {"visible_rms", p.visibleRms},
-                          {"pareto", p.pareto}, {"method", p.method}};
+  nlohmann::json entry = {{"map", p.map},
+                          {"parameterization", p.parameterization},
+                          {"resolution", p.resolution},
+                          {"samples_per_texel", p.samples},
+                          {"texels", p.texels},
+                          {"seconds", p.seconds},
+                          {"rms", p.rms},
+                          {"max", p.max},
+                          {"visible_rms", p.visibleRms},
+                          {"pareto", p.pareto},
+                          {"method", p.method}};
   if (!chart.empty()) entry["chart"] = chart.string();
   if (!p.environment) {
     entry["highlight_rms"] = p.highlightRms;
@@ -528,7 +560,8 @@ nlohmann::json skippedEntry(const Skipped& k, bool print) {
   }
   if (print) {
     std::cout << "note: " << k.map;
-    if (!k.method.empty()) std::cout << " " << k.parameterization << " " << k.resolution << " " << k.method << " skipped";
+    if (!k.method.empty())
+      std::cout << " " << k.parameterization << " " << k.resolution << " " << k.method << " skipped";
     std::cout << ": " << k.note << "\n";
   }
   return entry;
@@ -568,10 +601,12 @@ int run(const Args& args) {
   for (std::size_t m = 0; m < spec.maps.size(); ++m) {
     MapSpec& map = spec.maps[m];
     const std::size_t skippedBefore = skipped.size();
-    MapChart chart = std::visit(
-        Overloaded{[&](const EnvironmentMapSpec& e) { return chartEnvironmentMap(map, e, *environments[m], args, settings, skipped); },
-                   [&](const MaterialMapSpec&) { return chartMaterialMap(map, args, settings); }},
-        map.content);
+    MapChart chart =
+        std::visit(Overloaded{[&](const EnvironmentMapSpec& e) {
+                                return chartEnvironmentMap(map, e, *environments[m], args, settings, skipped);
+                              },
+                              [&](const MaterialMapSpec&) { return chartMaterialMap(map, args, settings); }},
+                   map.content);
     markPareto(chart.points, settings.lookupError);
     const bool drawn = !settings.output.empty() && !chart.points.empty();
     if (drawn) {
@@ -579,7 +614,8 @@ int run(const Args& args) {
                                          : materialScript(chart.points, chart.title));
     }
     for (const auto& p : chart.points) report.push_back(pointEntry(p, drawn ? settings.output : fs::path()));
-    for (std::size_t s = skippedBefore; s < skipped.size(); ++s) report.push_back(skippedEntry(skipped[s], settings.progress));
+    for (std::size_t s = skippedBefore; s < skipped.size(); ++s)
+      report.push_back(skippedEntry(skipped[s], settings.progress));
     all.insert(all.end(), chart.points.begin(), chart.points.end());
   }
   writeOutputs(args, settings, panels, all, report);

@@ -13,8 +13,8 @@ Command addSampleCommand(CLI::App& app);
 Command addInfoCommand(CLI::App& app);
 Command addConvertCommand(CLI::App& app);
 Command addPrefilterCommand(CLI::App& app);  // prefilter_command.cpp
-Command addFitCommand(CLI::App& app);   // fit_command.cpp
-Command addEvalCommand(CLI::App& app);  // eval_command.cpp
+Command addFitCommand(CLI::App& app);        // fit_command.cpp
+Command addEvalCommand(CLI::App& app);       // eval_command.cpp
 Command addPreviewCommand(CLI::App& app);
 Command addChartCommand(CLI::App& app);
 Command addInterpolationCommand(CLI::App& app);

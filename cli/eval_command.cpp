@@ -2,8 +2,8 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/fit/table_interpolation.hpp>
-#include <brdfbake/spec/material_spec.hpp>
 #include <brdfbake/measured/measured_io.hpp>
+#include <brdfbake/spec/material_spec.hpp>
 
 #include <fstream>
 #include <functional>
@@ -74,9 +74,10 @@ Brdf loadBrdf(const std::string& model, const std::string& formatName) {
       throw Error(e.kind(), model + ": " + e.what());
     }
     if (!material->usesLights()) {
-      throw Error(Error::Kind::InvalidArgument,
-                  model + ": this " + std::string(material->model()) +
-                      " material ignores lights (a reflectance map), so it has no BRDF to evaluate; use its lighting mode");
+      throw Error(
+          Error::Kind::InvalidArgument,
+          model + ": this " + std::string(material->model()) +
+              " material ignores lights (a reflectance map), so it has no BRDF to evaluate; use its lighting mode");
     }
     // The BRDF a material implies: shade(n, v, l) / (n.l), n = z.
     return {"material", {"R", "G", "B"}, [material](const Vec3& wi, const Vec3& wo) -> Eigen::VectorXd {
@@ -123,12 +124,14 @@ int runEval(const EvalArgs& args) {
   if (single == !args.pairs.empty()) {
     throw Error(Error::Kind::InvalidArgument, "give either --wi and --wo, or --pairs FILE");
   }
-  if (single && (args.wi.empty() || args.wo.empty())) throw Error(Error::Kind::InvalidArgument, "--wi and --wo go together");
+  if (single && (args.wi.empty() || args.wo.empty()))
+    throw Error(Error::Kind::InvalidArgument, "--wi and --wo go together");
   Vec3 wi, wo;
   if (single) {
     wi = parseVector(args.wi, "--wi");
     wo = parseVector(args.wo, "--wo");
-    if (!(wi.norm() > 0.0) || !(wo.norm() > 0.0)) throw Error(Error::Kind::InvalidArgument, "--wi and --wo must be non-zero");
+    if (!(wi.norm() > 0.0) || !(wo.norm() > 0.0))
+      throw Error(Error::Kind::InvalidArgument, "--wi and --wo must be non-zero");
   }
   std::ifstream pairs;
   if (!single) {
@@ -148,9 +151,12 @@ int runEval(const EvalArgs& args) {
     const Eigen::VectorXd value = brdf.evaluate(wi.normalized(), wo.normalized());
     checkValues(value, args.model);
     if (args.json) {
-      std::cout << nlohmann::json{{"model", args.model},     {"kind", brdf.kind},
-                                  {"channels", brdf.channels}, {"wi", {wi.x(), wi.y(), wi.z()}},
-                                  {"wo", {wo.x(), wo.y(), wo.z()}}, {"value", jsonValues(value)}}
+      std::cout << nlohmann::json{{"model", args.model},
+                                  {"kind", brdf.kind},
+                                  {"channels", brdf.channels},
+                                  {"wi", {wi.x(), wi.y(), wi.z()}},
+                                  {"wo", {wo.x(), wo.y(), wo.z()}},
+                                  {"value", jsonValues(value)}}
                        .dump()
                 << "\n";
     } else {
@@ -206,11 +212,16 @@ int runEval(const EvalArgs& args) {
     for (std::size_t i = 0; i < results.size(); ++i) {
       if (results[i]) values.push_back({{"line", i + 1}, {"value", jsonValues(*results[i])}});
     }
-    std::cout << nlohmann::json{{"model", args.model}, {"kind", brdf.kind}, {"channels", brdf.channels}, {"pairs", args.pairs}, {"values", values}}
+    std::cout << nlohmann::json{{"model", args.model},
+                                {"kind", brdf.kind},
+                                {"channels", brdf.channels},
+                                {"pairs", args.pairs},
+                                {"values", values}}
                      .dump()
               << "\n";
   } else {
-    for (std::size_t i = 0; i < results.size(); ++i) std::cout << (results[i] ? formatValues(*results[i]) : lines[i]) << "\n";
+    for (std::size_t i = 0; i < results.size(); ++i)
+      std::cout << (results[i] ? formatValues(*results[i]) : lines[i]) << "\n";
   }
   return 0;
 }
@@ -219,7 +230,8 @@ int runEval(const EvalArgs& args) {
 
 Command addEvalCommand(CLI::App& app) {
   auto args = std::make_shared<EvalArgs>();
-  auto* command = app.add_subcommand("eval", "Evaluate a BRDF (fit.json, measured table or spec material) at given directions");
+  auto* command =
+      app.add_subcommand("eval", "Evaluate a BRDF (fit.json, measured table or spec material) at given directions");
   command->footer(R"(Directions are in the local frame, z along the normal, both pointing away from the surface:
 wi towards the light, wo towards the viewer. Prints one BRDF value (1/sr) per channel; 0 when a
 direction is at or below the horizon.

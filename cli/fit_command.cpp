@@ -72,7 +72,8 @@ void parseMaxExponent(const std::string& text, FitOptions& options) {
     }
   } catch (const std::exception&) {
   }
-  throw Error(Error::Kind::InvalidArgument, "--max-exponent: expected auto or a number in [1, 1e5], got '" + text + "'");
+  throw Error(Error::Kind::InvalidArgument,
+              "--max-exponent: expected auto or a number in [1, 1e5], got '" + text + "'");
 }
 
 int runFit(FitArgs args) {
@@ -88,7 +89,8 @@ int runFit(FitArgs args) {
   options.heldOut.threads = args.threads;
   if (options.method == FitMethod::Shared && options.elevation == ElevationChoice::Varying) {
     throw Error(Error::Kind::InvalidArgument,
-                "--elevation varying needs --method per_channel (the shared method fits constant lobes; Lafortune lobes vary with elevation)");
+                "--elevation varying needs --method per_channel (the shared method fits constant lobes; Lafortune "
+                "lobes vary with elevation)");
   }
   options.validate();
   const TableFormat format = parseTableFormat(args.format);
@@ -115,17 +117,20 @@ int runFit(FitArgs args) {
   source.samples = read.size();
   if (args.channels == "spectral") {
     if (read.kind != ChannelKind::Spectral) {
-      throw Error(Error::Kind::InvalidArgument, args.table + ": --channels spectral needs a spectral table; this one has " +
+      throw Error(Error::Kind::InvalidArgument, args.table +
+                                                    ": --channels spectral needs a spectral table; this one has " +
                                                     std::to_string(read.channelCount()) + " non-spectral channel(s)");
     }
     table = read;
     source.channels = "spectral: " + std::to_string(read.channelCount()) + " channels as measured";
   } else {
     table = read.toRgb(rgbMethod);
-    source.channels = read.kind == ChannelKind::Spectral
-                          ? std::string("rgb: ") + (rgbMethod == RgbMethod::Cie1931 ? "CIE 1931 / D65 to linear sRGB" : "single wavelengths") +
-                                " from " + std::to_string(read.channelCount()) + " spectral channels"
-                          : "rgb: as stored in the file";
+    source.channels =
+        read.kind == ChannelKind::Spectral
+            ? std::string("rgb: ") +
+                  (rgbMethod == RgbMethod::Cie1931 ? "CIE 1931 / D65 to linear sRGB" : "single wavelengths") +
+                  " from " + std::to_string(read.channelCount()) + " spectral channels"
+            : "rgb: as stored in the file";
   }
   source.notes = table.notes;
 
@@ -143,7 +148,8 @@ int runFit(FitArgs args) {
     title << fs::path(args.table).filename().string() << ": " << file.fit.model.channels[0].lobes.size() << " "
           << toString(file.fit.model.elevation) << lobeKindName(file.fit.model) << " lobe(s)";
     if (const auto& h = file.fit.heldOut) {
-      title << std::fixed << std::setprecision(2) << "; held-out / Lambert: k-fold " << h->kfold.ratio() << "x, elevations";
+      title << std::fixed << std::setprecision(2) << "; held-out / Lambert: k-fold " << h->kfold.ratio()
+            << "x, elevations";
       for (const auto& e : h->elevations) title << " " << std::lround(e.elevationDegrees) << ":" << e.ratio() << "x";
     }
     writeFitReport(args.report, table, file.fit.model, title.str());
@@ -151,14 +157,10 @@ int runFit(FitArgs args) {
 
   if (args.json) {
     // The run report, as every command's --json: what was read and written, and the fit itself.
-    nlohmann::json report = {{"table", args.table},
-                             {"samples", read.size()},
-                             {"channels", source.channels},
-                             {"seconds", file.fit.seconds},
-                             {"usable", file.fit.usable()},
-                             {"files", nlohmann::json::array()},
-                             {"notes", source.notes},
-                             {"fit", fitFileToJson(file)}};
+    nlohmann::json report = {{"table", args.table},         {"samples", read.size()},
+                             {"channels", source.channels}, {"seconds", file.fit.seconds},
+                             {"usable", file.fit.usable()}, {"files", nlohmann::json::array()},
+                             {"notes", source.notes},       {"fit", fitFileToJson(file)}};
     if (!args.output.empty()) report["files"].push_back(args.output);
     if (!args.report.empty()) report["files"].push_back(args.report);
     std::cout << report.dump(2) << "\n";
@@ -166,7 +168,8 @@ int runFit(FitArgs args) {
     std::cout << args.table << ": " << read.size() << " samples, " << source.channels << "\n" << file.fit.briefReport();
     std::cout << std::fixed << std::setprecision(4) << "  in-sample log error " << file.fit.inSampleError << "\n";
     if (const auto& h = file.fit.heldOut) {
-      std::cout << std::setprecision(2) << "  held-out log error / Lambert: " << h->kfold.name << " " << h->kfold.ratio() << "x";
+      std::cout << std::setprecision(2) << "  held-out log error / Lambert: " << h->kfold.name << " "
+                << h->kfold.ratio() << "x";
       for (const auto& e : h->elevations) std::cout << ", " << e.name << " " << e.ratio() << "x";
       std::cout << " (" << std::setprecision(1) << h->seconds << " s)\n";
     }
@@ -174,9 +177,9 @@ int runFit(FitArgs args) {
       std::cout << "  models tried (held-out score = mean of the k-fold and elevation ratios to Lambert):\n";
       for (const auto& c : file.fit.candidates) {
         std::cout << "    " << c.lobes << " " << toString(c.kind) << " " << toString(c.elevation) << ", "
-                  << c.parameters << " parameters: " << std::setprecision(3) << c.heldOutScore << " (k-fold " << c.kfoldRatio
-                  << "x, elevations " << c.elevationRatio << "x, " << std::setprecision(1) << c.seconds << " s)"
-                  << (c.chosen ? " chosen" : "") << "\n";
+                  << c.parameters << " parameters: " << std::setprecision(3) << c.heldOutScore << " (k-fold "
+                  << c.kfoldRatio << "x, elevations " << c.elevationRatio << "x, " << std::setprecision(1) << c.seconds
+                  << " s)" << (c.chosen ? " chosen" : "") << "\n";
       }
     }
     for (const auto& note : source.notes) std::cout << "  note: " << note << "\n";
@@ -195,7 +198,9 @@ int runFit(FitArgs args) {
 
 Command addFitCommand(CLI::App& app) {
   auto args = std::make_shared<FitArgs>();
-  auto* command = app.add_subcommand("fit", "Fit radially symmetric lobes (Kautz-McCool, Lafortune) to a measured BRDF table; reports its held-out error");
+  auto* command = app.add_subcommand(
+      "fit",
+      "Fit radially symmetric lobes (Kautz-McCool, Lafortune) to a measured BRDF table; reports its held-out error");
   command->footer(R"(Model, per channel (1/sr):
   f(l, v) = k_d/pi + sum_k C_k (n_k + 2)/(2 pi) max(0, c_k (l_x v_x + l_y v_y) + l_z v_z)^n_k,
 c_k = -1: a Phong lobe about the mirrored view (--kind mirror); other c_k: Lafortune et al. 1997's
@@ -224,31 +229,47 @@ Then bake a map from it: {"model": "lobes", "file": "fit.json"} in a spec (data_
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "astm", "pbrt", "merl", "mat"}));
   command->add_option("--lobes", args->lobes, "Lobes per channel: auto or 1..6")->default_val("auto");
-  command->add_option("--elevation", args->elevation, "Lobe parameters constant, or varying with the view elevation (varying: --method per_channel)")
+  command
+      ->add_option("--elevation", args->elevation,
+                   "Lobe parameters constant, or varying with the view elevation (varying: --method per_channel)")
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "constant", "varying"}));
-  command->add_option("--method", args->method, "shared: lobe shapes shared by every channel, weights by NNLS; per_channel: Ceres per channel")
+  command
+      ->add_option("--method", args->method,
+                   "shared: lobe shapes shared by every channel, weights by NNLS; per_channel: Ceres per channel")
       ->default_val("shared")
       ->check(CLI::IsMember({"shared", "per_channel"}));
-  command->add_option("--kind", args->kind, "Lobes of the shared method: mirror (Phong), lafortune (c_xy free), half_vector (microfacet form with a Fresnel weight; does not prefilter), or auto")
+  command
+      ->add_option("--kind", args->kind,
+                   "Lobes of the shared method: mirror (Phong), lafortune (c_xy free), half_vector (microfacet form "
+                   "with a Fresnel weight; does not prefilter), or auto")
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "mirror", "lafortune", "half_vector"}));
-  command->add_option("--max-exponent", args->maxExponent,
-                      "Largest lobe exponent of the shared method: a number in [1, 1e5] fixes it; auto starts at 1e4 and "
-                      "keeps 3000 or 1000 where that lowers the held-out error")
+  command
+      ->add_option("--max-exponent", args->maxExponent,
+                   "Largest lobe exponent of the shared method: a number in [1, 1e5] fixes it; auto starts at 1e4 and "
+                   "keeps 3000 or 1000 where that lowers the held-out error")
       ->default_val("auto");
-  command->add_option("--held-out", args->heldOut, "Estimate the held-out error of the fit (always on with auto choices)")
+  command
+      ->add_option("--held-out", args->heldOut, "Estimate the held-out error of the fit (always on with auto choices)")
       ->default_val("on")
       ->check(CLI::IsMember({"on", "off"}));
-  command->add_option("--folds", args->folds, "Folds of the off-mirror held-out split")->default_val(5)->check(CLI::Range(2, 20));
+  command->add_option("--folds", args->folds, "Folds of the off-mirror held-out split")
+      ->default_val(5)
+      ->check(CLI::Range(2, 20));
   command->add_option("--channels", args->channels, "Fit R, G, B (spectral tables converted), or every wavelength")
       ->default_val("rgb")
       ->check(CLI::IsMember({"rgb", "spectral"}));
-  command->add_option("--rgb", args->rgb, "Spectral to RGB: CIE 1931 (default) or Zimmons & Bastos 1999's single wavelengths")
+  command
+      ->add_option("--rgb", args->rgb,
+                   "Spectral to RGB: CIE 1931 (default) or Zimmons & Bastos 1999's single wavelengths")
       ->default_val("cie1931")
       ->check(CLI::IsMember({"cie1931", "single_wavelengths"}));
-  command->add_option("-o,--output", args->output, "Write the fit here (fit.json format; default TABLESTEM_fit.json in the current folder, none with --json)");
-  command->add_option("--report", args->report, "Also write a PNG of measured vs fitted values per incident angle (needs gnuplot)");
+  command->add_option(
+      "-o,--output", args->output,
+      "Write the fit here (fit.json format; default TABLESTEM_fit.json in the current folder, none with --json)");
+  command->add_option("--report", args->report,
+                      "Also write a PNG of measured vs fitted values per incident angle (needs gnuplot)");
   addThreadsOption(command, args->threads);
   addJsonFlag(command, args->json, "files, seconds, and the fit document under \"fit\"");
   addQuietFlag(command, args->quiet);

@@ -1,9 +1,9 @@
 // brdfbake interpolation -o error.png [--line-chart line.png]: per-vertex interpolation error of
 // sphere-map texture coordinates and of reflected vectors, against the exact per-pixel lookup, and
 // Zimmons 1999's line experiment.
-#include <brdfbake/core/files.hpp>
 #include <brdfbake/bake/interpolation_error.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/files.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -37,7 +37,8 @@ std::vector<double> parseNumbers(const std::string& text, const std::string& fla
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used != item.size() || !std::isfinite(v)) throw Error(Error::Kind::InvalidArgument, flag + ": cannot read '" + item + "'");
+    if (used != item.size() || !std::isfinite(v))
+      throw Error(Error::Kind::InvalidArgument, flag + ": cannot read '" + item + "'");
     out.push_back(v);
   }
   if (out.empty()) throw Error(Error::Kind::InvalidArgument, flag + ": empty list");
@@ -53,7 +54,9 @@ std::string sweepScript(const std::vector<double>& sizes, const std::vector<Inte
   for (double size : sizes) {
     gp << "$s" << static_cast<int>(size * 100) << " << EOD\n";
     for (const auto& p : sweep)
-      if (p.sizeDegrees == size) gp << p.placeDegrees << " " << std::max(p.sphereMapError, 1e-6) << " " << std::max(p.reflectedVectorError, 1e-6) << "\n";
+      if (p.sizeDegrees == size)
+        gp << p.placeDegrees << " " << std::max(p.sphereMapError, 1e-6) << " " << std::max(p.reflectedVectorError, 1e-6)
+           << "\n";
     gp << "EOD\n";
   }
   gp << "plot ";
@@ -82,7 +85,8 @@ std::string lineScript(const LineExperiment& line, const Vec3& viewer, double se
 std::string sweepCsv(const std::vector<InterpolationPoint>& sweep) {
   std::ostringstream csv;
   csv << "size_degrees,place_degrees,sphere_map_error_degrees,reflected_vector_error_degrees\n";
-  for (const auto& p : sweep) csv << p.sizeDegrees << "," << p.placeDegrees << "," << p.sphereMapError << "," << p.reflectedVectorError << "\n";
+  for (const auto& p : sweep)
+    csv << p.sizeDegrees << "," << p.placeDegrees << "," << p.sphereMapError << "," << p.reflectedVectorError << "\n";
   return csv.str();
 }
 
@@ -90,8 +94,10 @@ nlohmann::json runReport(const std::vector<InterpolationPoint>& sweep, const Lin
                          const std::vector<std::string>& written) {
   nlohmann::json points = nlohmann::json::array();
   for (const auto& p : sweep) {
-    points.push_back({{"size_degrees", p.sizeDegrees}, {"place_degrees", p.placeDegrees},
-                      {"sphere_map_error_degrees", p.sphereMapError}, {"reflected_vector_error_degrees", p.reflectedVectorError}});
+    points.push_back({{"size_degrees", p.sizeDegrees},
+                      {"place_degrees", p.placeDegrees},
+                      {"sphere_map_error_degrees", p.sphereMapError},
+                      {"reflected_vector_error_degrees", p.reflectedVectorError}});
   }
   return {{"sweep", points},
           {"line", {{"max_error_degrees", line.maxError}, {"at_x", line.maxAt}, {"segment", args.segment}}},
@@ -101,7 +107,8 @@ nlohmann::json runReport(const std::vector<InterpolationPoint>& sweep, const Lin
 // Checks the flags and the files before any work; returns the files to be written, in order.
 FilePlan planOutputs(const Args& args) {
   if (args.output.empty() && args.lineChart.empty() && args.csv.empty() && !args.json) {
-    throw Error(Error::Kind::InvalidArgument, "nothing to write: give -o CHART, --line-chart CHART, --csv FILE or --json");
+    throw Error(Error::Kind::InvalidArgument,
+                "nothing to write: give -o CHART, --line-chart CHART, --csv FILE or --json");
   }
   FilePlan plan;
   if (!args.output.empty()) checkChartPath(args.output), plan.addOutput(args.output, "-o");
@@ -116,9 +123,12 @@ void registerOptions(CLI::App* command, Args& args) {
   command->add_option("--line-chart", args.lineChart, "Also chart the line experiment (.png or .svg)");
   command->add_option("--csv", args.csv, "Also write the sweep as CSV");
   command->add_option("--sizes", args.sizes, "Triangle sizes, degrees between vertex normals")->default_str(args.sizes);
-  command->add_option("--places", args.places, "Triangle centres, degrees from the view axis")->default_str(args.places);
+  command->add_option("--places", args.places, "Triangle centres, degrees from the view axis")
+      ->default_str(args.places);
   command->add_option("--viewer", args.viewer, "Line experiment: viewer position X,Y,Z")->default_str(args.viewer);
-  command->add_option("--segment", args.segment, "Line experiment: vertex spacing (20 = one polygon)")->default_val(20.0)->check(CLI::Range(0.01, 20.0));
+  command->add_option("--segment", args.segment, "Line experiment: vertex spacing (20 = one polygon)")
+      ->default_val(20.0)
+      ->check(CLI::Range(0.01, 20.0));
   addJsonFlag(command, args.json, "the sweep and the line experiment");
   addQuietFlag(command, args.quiet);
 }
@@ -155,7 +165,8 @@ int run(const Args& args) {
 
 Command addInterpolationCommand(CLI::App& app) {
   auto args = std::make_shared<Args>();
-  auto* command = app.add_subcommand("interpolation", "Chart the error of per-vertex environment lookups, to pick a tessellation");
+  auto* command =
+      app.add_subcommand("interpolation", "Chart the error of per-vertex environment lookups, to pick a tessellation");
   command->footer(R"(Triangles of normals SIZE degrees apart, centred PLACE degrees from the view axis (eye space,
 orthographic view +z; PLACE 90 is the sphere map's rim): the largest angle between the direction
 looked up and the exact reflected vector of the interpolated normal, for per-vertex sphere-map

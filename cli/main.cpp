@@ -33,10 +33,14 @@ Conventions (frames, image orientation, texel centres): docs/conventions.md)";
 int exitCodeFor(brdfbake::Error::Kind kind) {
   switch (kind) {
     case brdfbake::Error::Kind::InvalidArgument:
-    case brdfbake::Error::Kind::InvalidInput: return 2;
-    case brdfbake::Error::Kind::Io: return 3;
-    case brdfbake::Error::Kind::Resource: return 4;
-    case brdfbake::Error::Kind::Numerical: return 1;
+    case brdfbake::Error::Kind::InvalidInput:
+      return 2;
+    case brdfbake::Error::Kind::Io:
+      return 3;
+    case brdfbake::Error::Kind::Resource:
+      return 4;
+    case brdfbake::Error::Kind::Numerical:
+      return 1;
   }
   return 1;
 }
@@ -51,9 +55,15 @@ void writeToStderr(const char (&text)[N]) {
 extern "C" void onInterrupt(int signal) {
   brdfbake::removeTemporaryFilesNow();
   switch (signal) {
-    case SIGINT: writeToStderr("\nbrdfbake: interrupted (SIGINT); temporary files removed\n"); break;
-    case SIGTERM: writeToStderr("\nbrdfbake: terminated (SIGTERM); temporary files removed\n"); break;
-    default: writeToStderr("\nbrdfbake: hung up (SIGHUP); temporary files removed\n"); break;
+    case SIGINT:
+      writeToStderr("\nbrdfbake: interrupted (SIGINT); temporary files removed\n");
+      break;
+    case SIGTERM:
+      writeToStderr("\nbrdfbake: terminated (SIGTERM); temporary files removed\n");
+      break;
+    default:
+      writeToStderr("\nbrdfbake: hung up (SIGHUP); temporary files removed\n");
+      break;
   }
   ::_exit(128 + signal);
 }

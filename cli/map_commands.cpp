@@ -1,11 +1,11 @@
 // brdfbake sample | info | convert: look up, inspect and resample every output of bake and prefilter.
-#include <brdfbake/output/baked_output.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/core/version.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/output/baked_output.hpp>
 
 #include <cmath>
 #include <iostream>
@@ -44,7 +44,8 @@ std::vector<DirectionLine> readDirectionsFile(const std::string& file) {
     for (std::string word; fields >> word;) words.push_back(word);
     if (words.empty()) continue;
     if (words.size() != 3) {
-      throw Error(Error::Kind::InvalidInput, where + ": expected three numbers \"x y z\", got '" + shortenForMessage(content, 80) + "'");
+      throw Error(Error::Kind::InvalidInput,
+                  where + ": expected three numbers \"x y z\", got '" + shortenForMessage(content, 80) + "'");
     }
     Vec3 d;
     for (int i = 0; i < 3; ++i) {
@@ -55,8 +56,9 @@ std::vector<DirectionLine> readDirectionsFile(const std::string& file) {
         used = 0;
       }
       if (used != words[static_cast<std::size_t>(i)].size() || !std::isfinite(d[i])) {
-        throw Error(Error::Kind::InvalidInput, where + ": '" + shortenForMessage(words[static_cast<std::size_t>(i)], 40) +
-                                                   "' is not a finite number");
+        throw Error(
+            Error::Kind::InvalidInput,
+            where + ": '" + shortenForMessage(words[static_cast<std::size_t>(i)], 40) + "' is not a finite number");
       }
     }
     if (!(d.norm() > 0.0)) throw Error(Error::Kind::InvalidInput, where + ": the direction must be non-zero");
@@ -78,7 +80,8 @@ Command addSampleCommand(CLI::App& app) {
     bool json = false, quiet = false;
   };
   auto args = std::make_shared<Args>();
-  auto* command = app.add_subcommand("sample", "Look up any output of bake or prefilter as a renderer does (bilinear, as a GPU filters)");
+  auto* command = app.add_subcommand(
+      "sample", "Look up any output of bake or prefilter as a renderer does (bilinear, as a GPU filters)");
   command->footer(R"(MAP is any output of bake or prefilter: a map (sphere, paraboloid, cube, lat-long; a mip level
 STEM_mipK.EXT, or --mip-level K of a tiled MIP-mapped file or of STEM.EXT), a cube written as six faces
 (pass STEM.EXT or any face), a 1-D radial profile, an elevation stack STEM_elev0.EXT ... (pass STEM.EXT,
@@ -102,11 +105,13 @@ Examples:
   brdfbake sample out/sky_coat_fresnel.exr --cos-view 0.3)");
   command->add_option("map", args->map, "Output of bake or prefilter (or a plain image with --from)")->required();
   auto* dirOption = command->add_option("--dir", args->dir, "Direction X,Y,Z (need not be unit length)");
-  command->add_option("--dirs", args->dirs, "File of directions, one \"x y z\" per line (# comments, blank lines allowed)")
+  command
+      ->add_option("--dirs", args->dirs, "File of directions, one \"x y z\" per line (# comments, blank lines allowed)")
       ->excludes(dirOption);
   addCosViewOption(command, args->cosView);
   addMipLevelOption(command, args->mipLevel);
-  command->add_option("--from", args->from, "Treat a plain image as this parameterization")->check(CLI::IsMember(kKinds));
+  command->add_option("--from", args->from, "Treat a plain image as this parameterization")
+      ->check(CLI::IsMember(kKinds));
   addJsonFlag(command, args->json, "the direction and the value (an array of them with --dirs)");
   addQuietFlag(command, args->quiet);
   return [args] {
@@ -121,11 +126,13 @@ Examples:
     checkCosView(output, args->cosView);
     if (!args->dirs.empty()) directions = readDirectionsFile(args->dirs);
     if (!output.usesDirection() && !directions.empty()) {
-      throw Error(Error::Kind::InvalidArgument, std::string(args->dirs.empty() ? "--dir" : "--dirs") +
-                                                    ": a Fresnel table is a function of n.v alone: give --cos-view only");
+      throw Error(Error::Kind::InvalidArgument,
+                  std::string(args->dirs.empty() ? "--dir" : "--dirs") +
+                      ": a Fresnel table is a function of n.v alone: give --cos-view only");
     }
     if (output.usesDirection() && directions.empty()) {
-      throw Error(Error::Kind::InvalidArgument, "--dir or --dirs: a " + std::string(toString(output.kind())) + " is looked up at a direction");
+      throw Error(Error::Kind::InvalidArgument,
+                  "--dir or --dirs: a " + std::string(toString(output.kind())) + " is looked up at a direction");
     }
     if (directions.empty()) directions.push_back({Vec3::UnitZ(), 0});  // a Fresnel table: n.v alone
     nlohmann::json array = nlohmann::json::array();
@@ -157,9 +164,11 @@ Command addInfoCommand(CLI::App& app) {
     bool json = false, quiet = false;
   };
   auto args = std::make_shared<Args>();
-  auto* command = app.add_subcommand("info", "Say what an output is: its kind, files, size, how to look it up, the spec it was made from");
-  command->footer("Reads every output of bake and prefilter (see brdfbake sample --help): a cube's six faces and an\n"
-                  "elevation stack are named by STEM.EXT. A plain image is reported as one.");
+  auto* command = app.add_subcommand(
+      "info", "Say what an output is: its kind, files, size, how to look it up, the spec it was made from");
+  command->footer(
+      "Reads every output of bake and prefilter (see brdfbake sample --help): a cube's six faces and an\n"
+      "elevation stack are named by STEM.EXT. A plain image is reported as one.");
   command->add_option("map", args->map, "Output, map or image file")->required();
   addJsonFlag(command, args->json, "the kind, files, size, lookup rule and metadata");
   addQuietFlag(command, args->quiet);
@@ -192,7 +201,8 @@ Command addInfoCommand(CLI::App& app) {
           info["parameterization"] = "sh";
           info.erase("channels");
           break;
-        default: break;
+        default:
+          break;
       }
       info["convention_version"] = metadata.value("convention_version", 0);
     }
@@ -211,12 +221,14 @@ Command addInfoCommand(CLI::App& app) {
     if (info.contains("parameterization")) {
       std::cout << "  parameterization: " << info["parameterization"].get<std::string>();
       if (info.contains("resolution")) std::cout << ", resolution " << info["resolution"];
-      if (output->kind() != OutputKind::ShIrradiance) std::cout << " (convention v" << info["convention_version"] << ")";
+      if (output->kind() != OutputKind::ShIrradiance)
+        std::cout << " (convention v" << info["convention_version"] << ")";
       std::cout << "\n";
     }
     if (info.contains("axis")) std::cout << "  axis: " << info["axis"].dump() << "\n";
     if (info.contains("slices")) {
-      std::cout << "  " << info["slices"] << " slices over n.v from " << info["min_cos"] << " to " << info["max_cos"] << "\n";
+      std::cout << "  " << info["slices"] << " slices over n.v from " << info["min_cos"] << " to " << info["max_cos"]
+                << "\n";
     }
     if (output->files().size() > 1) {
       std::cout << "  files: " << output->files().front().string() << " ... " << output->files().back().string() << " ("
@@ -241,16 +253,20 @@ Command addConvertCommand(CLI::App& app) {
   };
   auto args = std::make_shared<Args>();
   auto* command = app.add_subcommand("convert", "Resample a map into another parameterization");
-  command->footer("Each output texel averages lookups of the input over its footprint, the lookups a renderer\n"
-                  "makes (brdfbake sample --help): any output of bake or prefilter converts. An elevation stack\n"
-                  "needs --cos-view (the map at that n.v); a Fresnel table converts --to sphere only, as\n"
-                  "seen from +z (the texel at r holds F(n.v), n = normalize(r + z)). Plain environment images\n"
-                  "(no brdfbake metadata) need --from.");
+  command->footer(
+      "Each output texel averages lookups of the input over its footprint, the lookups a renderer\n"
+      "makes (brdfbake sample --help): any output of bake or prefilter converts. An elevation stack\n"
+      "needs --cos-view (the map at that n.v); a Fresnel table converts --to sphere only, as\n"
+      "seen from +z (the texel at r holds F(n.v), n = normalize(r + z)). Plain environment images\n"
+      "(no brdfbake metadata) need --from.");
   command->add_option("map", args->map, "Input map or image")->required();
   command->add_option("--to", args->to, "Output parameterization")->required()->check(CLI::IsMember(kKinds));
   command->add_option("--from", args->from, "Parameterization of a plain input image")->check(CLI::IsMember(kKinds));
-  command->add_option("--resolution", args->resolution, "Output resolution (default: the input's)")->check(CLI::Range(1, 65536));
-  command->add_option("--samples", args->samples, "Samples per output texel")->default_val(16)->check(CLI::Range(1, 4096));
+  command->add_option("--resolution", args->resolution, "Output resolution (default: the input's)")
+      ->check(CLI::Range(1, 65536));
+  command->add_option("--samples", args->samples, "Samples per output texel")
+      ->default_val(16)
+      ->check(CLI::Range(1, 4096));
   addCosViewOption(command, args->cosView);
   addMipLevelOption(command, args->mipLevel);
   addThreadsOption(command, args->threads);
@@ -263,8 +279,9 @@ Command addConvertCommand(CLI::App& app) {
     checkCosView(source, args->cosView, false);
     const ParameterizationKind kind = parseParameterizationKind(args->to);
     if (source.kind() == OutputKind::FresnelTable && kind != ParameterizationKind::Sphere) {
-      throw Error(Error::Kind::InvalidArgument, "--to: a Fresnel table is a function of n.v; only a sphere map (eye space, view "
-                                                "+z) holds it as a function of direction");
+      throw Error(Error::Kind::InvalidArgument,
+                  "--to: a Fresnel table is a function of n.v; only a sphere map (eye space, view "
+                  "+z) holds it as a function of direction");
     }
     const nlohmann::json described = source.describe();
     const int resolution = args->resolution > 0 ? args->resolution : described.value("resolution", 0);
@@ -291,17 +308,21 @@ Command addConvertCommand(CLI::App& app) {
     info.resolution = resolution;
     info.conventionVersion = kConventionVersion;
     info.spec = source.metadata().value("spec", nlohmann::json::object());
-    info.spec["converted_from"] = {{"file", args->map}, {"kind", described["kind"]},
-                                   {"parameterization", described.value("parameterization", described["kind"].get<std::string>())},
-                                   {"resolution", described.value("resolution", 0)}};
+    info.spec["converted_from"] = {
+        {"file", args->map},
+        {"kind", described["kind"]},
+        {"parameterization", described.value("parameterization", described["kind"].get<std::string>())},
+        {"resolution", described.value("resolution", 0)}};
     if (args->cosView) info.spec["converted_from"]["cos_view"] = *args->cosView;
     if (args->mipLevel > 0) info.spec["converted_from"]["mip_level"] = args->mipLevel;
-    const auto written = writeMap(image, info, args->output, args->faces ? CubeLayout::Faces : CubeLayout::Cross, {{fs::path(args->map)}});
+    const auto written = writeMap(image, info, args->output, args->faces ? CubeLayout::Faces : CubeLayout::Cross,
+                                  {{fs::path(args->map)}});
     bar.done();
     if (args->json) {
       nlohmann::json files = nlohmann::json::array();
       for (const auto& f : written.files) files.push_back(f.string());
-      std::cout << nlohmann::json{{"files", files}, {"seconds", summary.seconds}, {"notes", written.notes}}.dump(2) << "\n";
+      std::cout << nlohmann::json{{"files", files}, {"seconds", summary.seconds}, {"notes", written.notes}}.dump(2)
+                << "\n";
     } else if (!args->quiet) {
       for (const auto& f : written.files) std::cout << "wrote " << f.string() << "\n";
       for (const auto& note : written.notes) std::cout << "  note: " << note << "\n";

@@ -1,12 +1,12 @@
 // brdfbake prefilter ENV: prefiltered environment maps (docs/prefilter.md).
+#include <brdfbake/core/error.hpp>
 #include <brdfbake/core/progress.hpp>
-#include <brdfbake/maps/map_mips.hpp>
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/env/prefilter_stack.hpp>
 #include <brdfbake/env/sh_irradiance.hpp>
-#include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/fit_file.hpp>
+#include <brdfbake/maps/map_mips.hpp>
 
 #include <chrono>
 #include <iostream>
@@ -19,7 +19,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char* kFooter = R"(ENV is an environment image (EXR, HDR, or anything OpenImageIO reads): incoming radiance
+constexpr const char* kFooter =
+    R"(ENV is an environment image (EXR, HDR, or anything OpenImageIO reads): incoming radiance
 in its own frame, y up, a lat-long image's centre looking down -z. Its parameterization comes
 from its brdfbake metadata if it has any, else from --from, else from its shape: 2:1 is read
 as lat-long and 4:3 as a horizontal cube cross (sphere and paraboloid images need --from). A
@@ -97,7 +98,7 @@ struct PrefilterArgs {
   double maxError = 0.01, fresnelIor = 0.0;                         // fresnelIor 0: no decomposition
   std::optional<double> glossScale;                                 // a gloss chain (cmft's mapping)
   double glossBias = 1.0;
-  int mipCount = 0;                                                 // 0: down to 1 texel
+  int mipCount = 0;  // 0: down to 1 texel
   bool mips = false, tiled = false, json = false, quiet = false, faces = false, allowLarge = false, noEdgeFixup = false;
 };
 
@@ -111,7 +112,8 @@ int runPrefilter(const PrefilterArgs& args) {
   std::vector<fs::path> inputs{fs::path(args.environment)};
   if (args.lobe.rfind("lobes:", 0) == 0) {
     const fs::path file = args.lobe.substr(6);
-    if (file.empty()) throw Error(Error::Kind::InvalidArgument, "--lobe lobes:FILE needs the fit.json written by brdfbake fit");
+    if (file.empty())
+      throw Error(Error::Kind::InvalidArgument, "--lobe lobes:FILE needs the fit.json written by brdfbake fit");
     model = readFitFile(file).fit.model;
     inputs.push_back(file);
   } else if (!args.glossScale) {
@@ -122,12 +124,15 @@ int runPrefilter(const PrefilterArgs& args) {
   std::vector<PrefilterLobe> chainLobes;
   if (args.glossScale) {
     if (args.lobe != "phong" && args.lobe != "blinn") {
-      throw Error(Error::Kind::InvalidArgument, "--gloss-scale: makes a chain of Phong or Blinn-Phong levels: use --lobe phong or "
-                                                "--lobe blinn (no exponent; each level gets its own), got --lobe " + args.lobe);
+      throw Error(Error::Kind::InvalidArgument,
+                  "--gloss-scale: makes a chain of Phong or Blinn-Phong levels: use --lobe phong or "
+                  "--lobe blinn (no exponent; each level gets its own), got --lobe " +
+                      args.lobe);
     }
     if (args.mips || args.tiled || args.fresnelIor != 0.0 || !args.shOutput.empty()) {
-      throw Error(Error::Kind::InvalidArgument, "--gloss-scale: the chain is its own mip levels (written as STEM_mipK.EXT); it "
-                                                "does not combine with --mips, --tiled, --fresnel-ior or --sh-output");
+      throw Error(Error::Kind::InvalidArgument,
+                  "--gloss-scale: the chain is its own mip levels (written as STEM_mipK.EXT); it "
+                  "does not combine with --mips, --tiled, --fresnel-ior or --sh-output");
     }
     const int count = args.mipCount > 0 ? args.mipCount : std::min(16, mipLevelCount(args.resolution));
     for (double exponent : glossLevelExponents(count, *args.glossScale, args.glossBias)) {
@@ -135,27 +140,33 @@ int runPrefilter(const PrefilterArgs& args) {
     }
     lobeName = chainLobes.front().name() + " ... " + chainLobes.back().name();
   } else if (args.mipCount != 0) {
-    throw Error(Error::Kind::InvalidArgument, "--mip-count: the number of levels of a gloss chain; needs --gloss-scale");
+    throw Error(Error::Kind::InvalidArgument,
+                "--mip-count: the number of levels of a gloss chain; needs --gloss-scale");
   }
   const bool stack = model && model->elevation == LobeElevation::Varying;
   if (args.elevations != 0 && !stack) {
-    throw Error(Error::Kind::InvalidArgument, "--elevations: only lobe models that vary with elevation (--lobe lobes:FIT.json "
-                                              "with a varying model) make a stack of maps over elevation");
+    throw Error(Error::Kind::InvalidArgument,
+                "--elevations: only lobe models that vary with elevation (--lobe lobes:FIT.json "
+                "with a varying model) make a stack of maps over elevation");
   }
   const bool fresnel = args.fresnelIor != 0.0;
   if (fresnel && (!lobe || lobe->indexedByNormal())) {
-    throw Error(Error::Kind::InvalidArgument, "--fresnel-ior: the Fresnel decomposition needs a specular lobe (mirror, phong:N, "
-                                              "blinn:N, ggx:R) for its specular map; the irradiance map is made with it");
+    throw Error(Error::Kind::InvalidArgument,
+                "--fresnel-ior: the Fresnel decomposition needs a specular lobe (mirror, phong:N, "
+                "blinn:N, ggx:R) for its specular map; the irradiance map is made with it");
   }
   if (!args.combine.empty() && !fresnel) {
-    throw Error(Error::Kind::InvalidArgument, "--combine: needs --fresnel-ior (how the Fresnel decomposition is combined)");
+    throw Error(Error::Kind::InvalidArgument,
+                "--combine: needs --fresnel-ior (how the Fresnel decomposition is combined)");
   }
   PrefilterOptions options;
   options.parameterization = parseParameterizationKind(args.to);
   options.resolution = args.resolution;
   options.mips = args.mips;
-  if (!chainLobes.empty()) options.cubeEdgeFixup = !args.noEdgeFixup;
-  else if (args.noEdgeFixup) throw Error(Error::Kind::InvalidArgument, "--no-edge-fixup: only with --gloss-scale");
+  if (!chainLobes.empty())
+    options.cubeEdgeFixup = !args.noEdgeFixup;
+  else if (args.noEdgeFixup)
+    throw Error(Error::Kind::InvalidArgument, "--no-edge-fixup: only with --gloss-scale");
   options.method = parsePrefilterMethod(args.method);
   options.maxError = args.maxError;
   options.threads = args.threads;
@@ -164,25 +175,29 @@ int runPrefilter(const PrefilterArgs& args) {
   if (args.elevations != 0) options.elevations = args.elevations;
   if (!args.view.empty() || !args.up.empty()) {
     if (options.parameterization != ParameterizationKind::Sphere) {
-      throw Error(Error::Kind::InvalidArgument, "--view/--up: only sphere maps have a view (the others live in the environment's frame)");
+      throw Error(Error::Kind::InvalidArgument,
+                  "--view/--up: only sphere maps have a view (the others live in the environment's frame)");
     }
     if (!args.view.empty()) options.view = parseVector(args.view, "--view");
     if (!args.up.empty()) options.up = parseVector(args.up, "--up");
   }
   options.validate();
   if (args.tiled) {
-    if (!args.mips) throw Error(Error::Kind::InvalidArgument, "--tiled: needs --mips (the chain it writes into one file)");
+    if (!args.mips)
+      throw Error(Error::Kind::InvalidArgument, "--tiled: needs --mips (the chain it writes into one file)");
     if (const std::string problem = tiledMipProblem(args.output, options.resolution); !problem.empty()) {
       throw Error(Error::Kind::InvalidArgument, "--tiled: " + problem);
     }
   }
   if (!args.shOutput.empty()) {
     if (!lobe || !lobe->indexedByNormal() || fresnel) {
-      throw Error(Error::Kind::InvalidArgument, "--sh-output: spherical-harmonic coefficients hold irradiance: use it with "
-                                                "--lobe irradiance");
+      throw Error(Error::Kind::InvalidArgument,
+                  "--sh-output: spherical-harmonic coefficients hold irradiance: use it with "
+                  "--lobe irradiance");
     }
     if (fs::path(args.shOutput).extension() != ".json") {
-      throw Error(Error::Kind::InvalidArgument, "--sh-output: " + args.shOutput + ": the SH coefficients are written as JSON (.json)");
+      throw Error(Error::Kind::InvalidArgument,
+                  "--sh-output: " + args.shOutput + ": the SH coefficients are written as JSON (.json)");
     }
   }
   const FresnelCombine combine = args.combine.empty() ? FresnelCombine::Add : parseFresnelCombine(args.combine);
@@ -192,8 +207,13 @@ int runPrefilter(const PrefilterArgs& args) {
   plan.addInput(args.environment, "environment");
   if (model) plan.addInput(args.lobe.substr(6), "--lobe");
   const MipLayout mipLayout = args.tiled ? MipLayout::Tiled : MipLayout::Files;
-  PrefilterOutputs outputs{options.parameterization, options.resolution, options.mips,
-                           args.faces ? CubeLayout::Faces : CubeLayout::Cross, mipLayout, stack ? options.elevations : 0, fresnel};
+  PrefilterOutputs outputs{options.parameterization,
+                           options.resolution,
+                           options.mips,
+                           args.faces ? CubeLayout::Faces : CubeLayout::Cross,
+                           mipLayout,
+                           stack ? options.elevations : 0,
+                           fresnel};
   if (!chainLobes.empty()) outputs.mips = true, outputs.mipLevels = static_cast<int>(chainLobes.size());
   for (const auto& output : prefilterOutputFiles(args.output, outputs, "-o")) plan.addOutput(output.file, output.role);
   if (!args.shOutput.empty()) plan.addOutput(args.shOutput, "--sh-output");
@@ -214,7 +234,8 @@ int runPrefilter(const PrefilterArgs& args) {
     map.summary = slices->summary;
     map.map = slices->slices.front().map;
   } else if (fresnel) {
-    decomposition = prefilterFresnelDecomposition(environment, *lobe, *fresnelTerm, combine, options, options.resolution);
+    decomposition =
+        prefilterFresnelDecomposition(environment, *lobe, *fresnelTerm, combine, options, options.resolution);
     map.summary = decomposition->specular.summary;
     map.map = decomposition->specular.map;
   } else if (!chainLobes.empty()) {
@@ -234,25 +255,30 @@ int runPrefilter(const PrefilterArgs& args) {
   const auto writeStart = std::chrono::steady_clock::now();
   const CubeLayout layout = args.faces ? CubeLayout::Faces : CubeLayout::Cross;
   const nlohmann::json spec = {{"environment", source}};
-  MapWriteReport written = slices          ? writePrefilteredStack(*slices, args.output, spec, layout, {inputs}, mipLayout)
-                           : decomposition ? writeFresnelDecomposition(*decomposition, args.output, spec, layout, {inputs}, mipLayout)
-                                           : writePrefilteredMap(map, args.output, spec, layout, {inputs}, mipLayout);
+  MapWriteReport written =
+      slices          ? writePrefilteredStack(*slices, args.output, spec, layout, {inputs}, mipLayout)
+      : decomposition ? writeFresnelDecomposition(*decomposition, args.output, spec, layout, {inputs}, mipLayout)
+                      : writePrefilteredMap(map, args.output, spec, layout, {inputs}, mipLayout);
   if (!args.shOutput.empty()) {
     writeIrradianceSh(irradianceSh(environment), source, args.shOutput, inputs);
     written.files.push_back(args.shOutput);
-    written.notes.push_back(args.shOutput + ": irradiance as 9 SH coefficients per channel (3 bands), E(n)/pi = sum c_i Y_i(n): "
-                                            "cosine convolution and 1/pi included, orthonormal basis (the file states it)");
+    written.notes.push_back(args.shOutput +
+                            ": irradiance as 9 SH coefficients per channel (3 bands), E(n)/pi = sum c_i Y_i(n): "
+                            "cosine convolution and 1/pi included, orthonormal basis (the file states it)");
   }
   const double writeSeconds = secondsSince(writeStart);
   bar.done();
   nlohmann::json extra = nlohmann::json::object();
   if (!chainLobes.empty()) {
     nlohmann::json levels = nlohmann::json::array();
-    for (std::size_t k = 0; k < chainLobes.size(); ++k) levels.push_back({{"level", k}, {"lobe", chainLobes[k].name()},
-                                                                         {"resolution", std::max(1, options.resolution >> k)}});
+    for (std::size_t k = 0; k < chainLobes.size(); ++k)
+      levels.push_back(
+          {{"level", k}, {"lobe", chainLobes[k].name()}, {"resolution", std::max(1, options.resolution >> k)}});
     extra["gloss_chain"] = {{"scale", *args.glossScale}, {"bias", args.glossBias}, {"levels", levels}};
   }
-  if (slices) extra["elevations"] = {{"slices", slices->slices.size()}, {"cos_theta", slices->cosines}, {"t", slices->coordinates}};
+  if (slices)
+    extra["elevations"] = {
+        {"slices", slices->slices.size()}, {"cos_theta", slices->cosines}, {"t", slices->coordinates}};
   if (decomposition) {
     extra["fresnel"] = {{"combine", std::string(toString(combine))},
                         {"ior", args.fresnelIor},
@@ -279,8 +305,9 @@ int runPrefilter(const PrefilterArgs& args) {
     return 0;
   }
   if (!args.quiet) {
-    std::cout << "wrote " << (slices ? elevationSlicePath(args.output, 0).string() + " ..." : args.output) << " (" << toString(options.parameterization) << " " << map.map->width() << "x"
-              << map.map->height() << "): " << s.briefReport() << "; write " << writeSeconds << " s\n";
+    std::cout << "wrote " << (slices ? elevationSlicePath(args.output, 0).string() + " ..." : args.output) << " ("
+              << toString(options.parameterization) << " " << map.map->width() << "x" << map.map->height()
+              << "): " << s.briefReport() << "; write " << writeSeconds << " s\n";
     if (written.files.size() > 1) {
       std::cout << "  " << written.files.size() - 1 << " more files (" << (slices ? "elevation slices, " : "")
                 << (decomposition ? "irradiance map and Fresnel table, " : "") << "mip levels or cube faces)\n";
@@ -292,8 +319,8 @@ int runPrefilter(const PrefilterArgs& args) {
   const PrefilterSummary* irradiance = decomposition ? &decomposition->irradiance.summary : nullptr;
   for (const PrefilterSummary* summary : {&s, irradiance}) {
     if (summary && summary->errorEstimated && !summary->metTarget) {
-      std::cerr << "brdfbake: warning: the estimated error " << 100.0 * summary->errorEstimate << " % of " << summary->lobe
-                << " exceeds --max-error " << 100.0 * summary->maxError << " %\n";
+      std::cerr << "brdfbake: warning: the estimated error " << 100.0 * summary->errorEstimate << " % of "
+                << summary->lobe << " exceeds --max-error " << 100.0 * summary->maxError << " %\n";
     }
   }
   return 0;
@@ -303,47 +330,65 @@ int runPrefilter(const PrefilterArgs& args) {
 
 Command addPrefilterCommand(CLI::App& app) {
   auto args = std::make_shared<PrefilterArgs>();
-  auto* command = app.add_subcommand("prefilter", "Prefilter an environment with a reflection lobe (mirror, irradiance, Phong, GGX)");
+  auto* command = app.add_subcommand(
+      "prefilter", "Prefilter an environment with a reflection lobe (mirror, irradiance, Phong, GGX)");
   command->footer(kFooter);
-  const std::map<std::string, std::string> kinds{{"sphere", "sphere"}, {"paraboloid", "paraboloid"}, {"cube", "cube"}, {"latlong", "latlong"}};
+  const std::map<std::string, std::string> kinds{
+      {"sphere", "sphere"}, {"paraboloid", "paraboloid"}, {"cube", "cube"}, {"latlong", "latlong"}};
   command->add_option("environment", args->environment, "Environment image (EXR, HDR, ...)")->required();
-  command->add_option("--lobe", args->lobe, "mirror | irradiance | phong:N | blinn:N | ggx:ROUGHNESS | lobes:FIT.json")->required();
+  command->add_option("--lobe", args->lobe, "mirror | irradiance | phong:N | blinn:N | ggx:ROUGHNESS | lobes:FIT.json")
+      ->required();
   command->add_option("--to", args->to, "Output parameterization")->required()->check(CLI::IsMember(kinds));
-  command->add_option("--from", args->from, "Parameterization of a plain environment image (default: metadata or aspect ratio)")
+  command
+      ->add_option("--from", args->from,
+                   "Parameterization of a plain environment image (default: metadata or aspect ratio)")
       ->check(CLI::IsMember(kinds));
-  command->add_option("--resolution", args->resolution, "Texels per side (sphere), hemisphere (paraboloid), face (cube) or rows (latlong)")
+  command
+      ->add_option("--resolution", args->resolution,
+                   "Texels per side (sphere), hemisphere (paraboloid), face (cube) or rows (latlong)")
       ->default_val(256)
       ->check(CLI::Range(1, 65536));
   command->add_flag("--mips", args->mips, "Also write the solid-angle-weighted mip levels STEM_mipK.EXT");
-  command->add_flag("--tiled", args->tiled,
-                    "With --mips: the whole chain in OUT itself, one tiled MIP-mapped OpenEXR (as maketx writes it), instead of "
-                    "STEM_mipK.EXT files");
-  command->add_option("--sh-output", args->shOutput,
-                      "With --lobe irradiance: also write the irradiance as 9 spherical-harmonic coefficients per channel (JSON)");
+  command->add_flag(
+      "--tiled", args->tiled,
+      "With --mips: the whole chain in OUT itself, one tiled MIP-mapped OpenEXR (as maketx writes it), instead of "
+      "STEM_mipK.EXT files");
+  command->add_option(
+      "--sh-output", args->shOutput,
+      "With --lobe irradiance: also write the irradiance as 9 spherical-harmonic coefficients per channel (JSON)");
   command->add_option("--method", args->method, "auto | reference | sh | importance | direct")
       ->default_val("auto")
       ->check(CLI::IsMember({"auto", "reference", "sh", "importance", "direct"}));
   addEnvironmentMaxErrorOption(command, args->maxError, "The error the map is built to")->default_val(0.01);
-  command->add_option("--view", args->view, "Sphere maps: direction towards the viewer X,Y,Z in the environment's frame (default 0,0,1)");
+  command->add_option("--view", args->view,
+                      "Sphere maps: direction towards the viewer X,Y,Z in the environment's frame (default 0,0,1)");
   command->add_option("--up", args->up, "Sphere maps: up vector X,Y,Z (default 0,1,0)");
-  command->add_option("--samples", args->samples, "Mirror lobe: footprint samples per texel")->default_val(16)->check(CLI::Range(1, 4096));
+  command->add_option("--samples", args->samples, "Mirror lobe: footprint samples per texel")
+      ->default_val(16)
+      ->check(CLI::Range(1, 4096));
   addThreadsOption(command, args->threads);
-  command->add_option("--elevations", args->elevations,
-                      "Lobe models varying with elevation: maps in the stack STEM_elev0.EXT ... (default 8)")
+  command
+      ->add_option("--elevations", args->elevations,
+                   "Lobe models varying with elevation: maps in the stack STEM_elev0.EXT ... (default 8)")
       ->check(CLI::Range(2, 64));
-  command->add_option("--fresnel-ior", args->fresnelIor,
-                      "Fresnel decomposition: also write STEM_irradiance.EXT and the 1-D Fresnel table STEM_fresnel.EXT "
-                      "of a dielectric of this index")
+  command
+      ->add_option("--fresnel-ior", args->fresnelIor,
+                   "Fresnel decomposition: also write STEM_irradiance.EXT and the 1-D Fresnel table STEM_fresnel.EXT "
+                   "of a dielectric of this index")
       ->check(CLI::PositiveNumber);
-  command->add_option("--combine", args->combine, "Fresnel decomposition: add (F L_m + k_d E/pi) | mix (F L_m + (1-F) k_d E/pi)")
+  command
+      ->add_option("--combine", args->combine,
+                   "Fresnel decomposition: add (F L_m + k_d E/pi) | mix (F L_m + (1-F) k_d E/pi)")
       ->check(CLI::IsMember({"add", "mix"}));
   command->add_option("--gloss-scale", args->glossScale,
                       "A gloss mip chain as cmft makes it (with --lobe phong or blinn): level k filtered with exponent "
                       "2^(SCALE g + BIAS), g = 1 - k/(levels - 1), at resolution N >> k");
   command->add_option("--gloss-bias", args->glossBias, "Gloss chain: BIAS above (default 1)");
-  command->add_option("--mip-count", args->mipCount, "Gloss chain: number of levels (default: down to 1 texel)")->check(CLI::Range(1, 16));
-  command->add_flag("--no-edge-fixup", args->noEdgeFixup,
-                    "Gloss chain: keep every cube texel's own value (cmft's --edgeFixup none) instead of averaging across edges");
+  command->add_option("--mip-count", args->mipCount, "Gloss chain: number of levels (default: down to 1 texel)")
+      ->check(CLI::Range(1, 16));
+  command->add_flag(
+      "--no-edge-fixup", args->noEdgeFixup,
+      "Gloss chain: keep every cube texel's own value (cmft's --edgeFixup none) instead of averaging across edges");
   command->add_flag("--faces", args->faces, "Write a cube map as six files STEM_posx.EXT ... instead of a cross");
   command->add_flag("--allow-large", args->allowLarge, "Allow maps over 8192^2 texels (1 GiB of float RGBA)");
   command->add_option("-o,--output", args->output, "Output map (.exr, .hdr, .tif, .png)")->required();

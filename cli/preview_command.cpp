@@ -1,8 +1,8 @@
 // brdfbake preview MAP -o preview.png: an object shaded with the map.
-#include <brdfbake/output/baked_output.hpp>
-#include <brdfbake/maps/map_file.hpp>
-#include <brdfbake/output/preview.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/output/baked_output.hpp>
+#include <brdfbake/output/preview.hpp>
 
 #include <iostream>
 
@@ -35,21 +35,27 @@ Every output of bake and prefilter previews as a renderer shades it: a 1-D radia
 elevation stack at r and each pixel's n.v, a Fresnel table at n.v, irradiance (maps other than
 sphere maps, SH JSON) at the normal. --per-vertex applies to 2-D maps looked up at r.)");
   command->add_option("map", args->map, "Output of bake or prefilter (or a plain image with --from)")->required();
-  command->add_option("-o,--output", args->output, "Output image (.png is 8-bit sRGB; .exr keeps HDR values)")->required();
-  command->add_option("--object", args->object, "Object to render")->check(CLI::IsMember({"sphere", "torus", "teapot"}))->default_val("sphere");
+  command->add_option("-o,--output", args->output, "Output image (.png is 8-bit sRGB; .exr keeps HDR values)")
+      ->required();
+  command->add_option("--object", args->object, "Object to render")
+      ->check(CLI::IsMember({"sphere", "torus", "teapot"}))
+      ->default_val("sphere");
   command->add_option("--view", args->view, "View vector X,Y,Z towards the viewer, in the map frame (default 0,0,1)");
-  command->add_option("--from", args->from, "Parameterization of a plain image")->check(CLI::IsMember({"sphere", "paraboloid", "cube", "latlong"}));
+  command->add_option("--from", args->from, "Parameterization of a plain image")
+      ->check(CLI::IsMember({"sphere", "paraboloid", "cube", "latlong"}));
   addMipLevelOption(command, args->mipLevel);
   command->add_option("--size", args->size, "Output size in pixels")->default_val(512)->check(CLI::Range(8, 8192));
-  command->add_option("--segments", args->segments, "Tessellation (default 64, or 16 with --per-vertex)")->check(CLI::Range(3, 1024));
+  command->add_option("--segments", args->segments, "Tessellation (default 64, or 16 with --per-vertex)")
+      ->check(CLI::Range(3, 1024));
   command->add_option("--exposure", args->exposure, "Scale values by 2^EXPOSURE")->default_val(0.0);
-  command->add_flag("--per-vertex", args->perVertex, "Interpolate per-vertex texture coordinates like fixed-function hardware");
+  command->add_flag("--per-vertex", args->perVertex,
+                    "Interpolate per-vertex texture coordinates like fixed-function hardware");
   addJsonFlag(command, args->json, "the output and notes");
   addQuietFlag(command, args->quiet);
   return [args] {
     const BakedOutput source = openOutput(args->map, args->from, args->mipLevel);
     PreviewOptions options;
-    options.object = args->object == "torus" ? PreviewObject::Torus
+    options.object = args->object == "torus"    ? PreviewObject::Torus
                      : args->object == "teapot" ? PreviewObject::Teapot
                                                 : PreviewObject::Sphere;
     options.size = args->size;

@@ -11,7 +11,8 @@ namespace brdfbake::cli {
 
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) == 1; }
 
-ProgressBar::ProgressBar(std::string label, bool enabled) : label_(std::move(label)), active_(enabled && stderrIsTerminal()) {}
+ProgressBar::ProgressBar(std::string label, bool enabled)
+    : label_(std::move(label)), active_(enabled && stderrIsTerminal()) {}
 
 ProgressBar::~ProgressBar() {
   if (active_ && lastPercent_ >= 0) std::fprintf(stderr, "\r\033[K");
@@ -35,8 +36,8 @@ void ProgressBar::draw(double fraction) {
   lastPercent_ = percent;
   constexpr int width = 30;
   const int filled = percent * width / 100;
-  std::fprintf(stderr, "\r%s [%.*s%*s] %3d%%", label_.c_str(), filled, "##############################",
-               width - filled, "", percent);
+  std::fprintf(stderr, "\r%s [%.*s%*s] %3d%%", label_.c_str(), filled, "##############################", width - filled,
+               "", percent);
   std::fflush(stderr);
 }
 
@@ -49,7 +50,9 @@ void addQuietFlag(CLI::App* command, bool& quiet) {
 }
 
 void addThreadsOption(CLI::App* command, int& threads) {
-  command->add_option("--threads", threads, "Worker threads (0 = all cores)")->default_val(0)->check(CLI::NonNegativeNumber);
+  command->add_option("--threads", threads, "Worker threads (0 = all cores)")
+      ->default_val(0)
+      ->check(CLI::NonNegativeNumber);
 }
 
 CLI::Option* addEnvironmentMaxErrorOption(CLI::App* command, double& maxError, const std::string& meaning) {
@@ -66,35 +69,42 @@ BakedOutput openOutput(const std::string& path, const std::string& from, int mip
 }
 
 void addCosViewOption(CLI::App* command, std::optional<double>& cosView) {
-  command->add_option("--cos-view", cosView,
-                      "n.v in [0, 1], the cosine between the surface normal and the direction towards the viewer: where an "
-                      "elevation stack is interpolated, and where a Fresnel table is read")
+  command
+      ->add_option(
+          "--cos-view", cosView,
+          "n.v in [0, 1], the cosine between the surface normal and the direction towards the viewer: where an "
+          "elevation stack is interpolated, and where a Fresnel table is read")
       ->check(CLI::Range(0.0, 1.0));
 }
 
 void addMipLevelOption(CLI::App* command, int& mipLevel) {
-  command->add_option("--mip-level", mipLevel,
-                      "Read mip level L (0 = the map itself) of a map, cube faces or stack: from a tiled MIP-mapped file, "
-                      "else from STEM_mipL.EXT")
+  command
+      ->add_option("--mip-level", mipLevel,
+                   "Read mip level L (0 = the map itself) of a map, cube faces or stack: from a tiled MIP-mapped file, "
+                   "else from STEM_mipL.EXT")
       ->check(CLI::Range(0, 30));
 }
 
 void checkCosView(const BakedOutput& output, const std::optional<double>& cosView, bool fresnelNeedsIt) {
-  const bool needs = output.kind() == OutputKind::ElevationStack || (fresnelNeedsIt && output.kind() == OutputKind::FresnelTable);
+  const bool needs =
+      output.kind() == OutputKind::ElevationStack || (fresnelNeedsIt && output.kind() == OutputKind::FresnelTable);
   const bool uses = needs || output.kind() == OutputKind::FresnelTable;
   if (needs && !cosView) {
-    throw Error(Error::Kind::InvalidArgument, "--cos-view: a" + std::string(output.kind() == OutputKind::ElevationStack
-                                                                                ? "n elevation stack is interpolated at n.v"
-                                                                                : " Fresnel table is read at n.v") +
-                                                  "; give --cos-view C (C = n.v in [0, 1])");
+    throw Error(Error::Kind::InvalidArgument,
+                "--cos-view: a" +
+                    std::string(output.kind() == OutputKind::ElevationStack ? "n elevation stack is interpolated at n.v"
+                                                                            : " Fresnel table is read at n.v") +
+                    "; give --cos-view C (C = n.v in [0, 1])");
   }
   if (cosView && !uses) {
-    throw Error(Error::Kind::InvalidArgument, "--cos-view: a " + std::string(toString(output.kind())) +
-                                                  " is looked up by direction alone (n.v applies to elevation stacks and Fresnel "
-                                                  "profiles)");
+    throw Error(Error::Kind::InvalidArgument,
+                "--cos-view: a " + std::string(toString(output.kind())) +
+                    " is looked up by direction alone (n.v applies to elevation stacks and Fresnel "
+                    "profiles)");
   }
   if (cosView && !needs) {
-    throw Error(Error::Kind::InvalidArgument, "--cos-view: here a Fresnel table takes n.v from each direction (the view +z)");
+    throw Error(Error::Kind::InvalidArgument,
+                "--cos-view: here a Fresnel table takes n.v from each direction (the view +z)");
   }
 }
 
@@ -108,7 +118,8 @@ Vec3 parseVector(const std::string& text, const std::string& flag) {
     try {
       std::size_t used = 0;
       v[count] = std::stod(part, &used);
-      if (used != part.size() && part.find_first_not_of(" \t", used) != std::string::npos) throw std::invalid_argument(part);
+      if (used != part.size() && part.find_first_not_of(" \t", used) != std::string::npos)
+        throw std::invalid_argument(part);
     } catch (const std::exception&) {
       throw Error(Error::Kind::InvalidArgument, flag + ": expected three numbers X,Y,Z, got '" + text + "'");
     }

@@ -1,8 +1,8 @@
 #pragma once
 // Terminal helpers for the CLI: progress bars on a TTY, vector parsing for flags.
-#include <brdfbake/output/baked_output.hpp>
-#include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/core/math.hpp>
+#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/output/baked_output.hpp>
 
 #include <CLI/CLI.hpp>
 

@@ -78,8 +78,8 @@ fs::path temporarySibling(const fs::path& target) {
   static std::atomic<int> counter{0};
   // Short enough for any file system's name limit, with the extension kept for format detection.
   std::string stem = target.stem().string().substr(0, 64);
-  return target.parent_path() /
-         ("." + stem + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + target.extension().string());
+  return target.parent_path() / ("." + stem + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) +
+                                 target.extension().string());
 }
 
 }  // namespace
@@ -115,7 +115,8 @@ AtomicOutput::~AtomicOutput() {
 void AtomicOutput::commit() {
   std::error_code ec;
   if (!fs::exists(temporary_, ec)) throw Error(Error::Kind::Io, named(target_) + ": nothing was written");
-  if (fs::is_directory(target_, ec)) throw Error(Error::Kind::Io, named(target_) + ": is a folder; give an output file name");
+  if (fs::is_directory(target_, ec))
+    throw Error(Error::Kind::Io, named(target_) + ": is a folder; give an output file name");
   fs::rename(temporary_, target_, ec);
   if (ec) throw Error(Error::Kind::Io, named(target_) + ": cannot move the finished file into place: " + ec.message());
   committed_ = true;
@@ -191,10 +192,12 @@ void requireWritableLocation(const fs::path& output, const std::string& role) {
     ancestor = ancestor.parent_path();
   }
   if (!fs::is_directory(ancestor, ec)) {
-    throw Error(Error::Kind::InvalidArgument, role + ": cannot write " + named(output) + ": " + named(ancestor) + " is not a folder");
+    throw Error(Error::Kind::InvalidArgument,
+                role + ": cannot write " + named(output) + ": " + named(ancestor) + " is not a folder");
   }
   if (::access(ancestor.c_str(), W_OK) != 0) {
-    throw Error(Error::Kind::Io, role + ": cannot write " + named(output) + ": folder " + named(ancestor) + " is not writable");
+    throw Error(Error::Kind::Io,
+                role + ": cannot write " + named(output) + ": folder " + named(ancestor) + " is not writable");
   }
 }
 

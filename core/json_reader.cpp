@@ -29,7 +29,8 @@ std::string formatNumber(double v) {
 
 JsonObjectReader::JsonObjectReader(const nlohmann::json& value, std::string path)
     : object_(value), path_(std::move(path)) {
-  if (!object_.is_object()) throw specError(path_.empty() ? "(root)" : path_, "must be an object, got " + describe(value));
+  if (!object_.is_object())
+    throw specError(path_.empty() ? "(root)" : path_, "must be an object, got " + describe(value));
 }
 
 std::string JsonObjectReader::child(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
@@ -69,7 +70,9 @@ double JsonObjectReader::asNumber(const nlohmann::json& value, const std::string
 double JsonObjectReader::number(const std::string& key, double minimum, double maximum, bool exclusiveMinimum) {
   const double v = asNumber(require(key), child(key));
   const bool low = exclusiveMinimum ? !(v > minimum) : !(v >= minimum);
-  if (low) throw specError(child(key), std::string("must be ") + (exclusiveMinimum ? "> " : ">= ") + formatNumber(minimum) + ", got " + formatNumber(v));
+  if (low)
+    throw specError(child(key), std::string("must be ") + (exclusiveMinimum ? "> " : ">= ") + formatNumber(minimum) +
+                                    ", got " + formatNumber(v));
   if (v > maximum) throw specError(child(key), "must be <= " + formatNumber(maximum) + ", got " + formatNumber(v));
   return v;
 }
@@ -84,7 +87,8 @@ int JsonObjectReader::integer(const std::string& key, int minimum, int maximum) 
   if (!value.is_number_integer()) throw specError(child(key), "must be an integer, got " + describe(value));
   const long long v = value.get<long long>();
   if (v < minimum || v > maximum) {
-    throw specError(child(key), "must be in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "], got " + std::to_string(v));
+    throw specError(child(key), "must be in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "], got " +
+                                    std::to_string(v));
   }
   return static_cast<int>(v);
 }

@@ -21,10 +21,16 @@ class JsonPathTracker {
         frames_.push_back({event == Event::array_start, -1, {}});
         if (depth >= kMaxJsonDepth) throw TooDeep{};
         break;
-      case Event::key: frames_.back().key = parsed.get<std::string>(); break;
+      case Event::key:
+        frames_.back().key = parsed.get<std::string>();
+        break;
       case Event::object_end:
-      case Event::array_end: frames_.pop_back(); break;
-      case Event::value: countValueInParent(); break;
+      case Event::array_end:
+        frames_.pop_back();
+        break;
+      case Event::value:
+        countValueInParent();
+        break;
     }
     return true;
   }
@@ -65,8 +71,10 @@ std::string lineAndColumn(std::string_view text, std::size_t byte) {
   const std::size_t offset = std::min<std::size_t>(byte > 0 ? byte - 1 : 0, text.size());
   int line = 1, column = 1;
   for (std::size_t i = 0; i < offset; ++i) {
-    if (text[i] == '\n') ++line, column = 1;
-    else ++column;
+    if (text[i] == '\n')
+      ++line, column = 1;
+    else
+      ++column;
   }
   return std::to_string(line) + ":" + std::to_string(column);
 }
@@ -83,17 +91,19 @@ nlohmann::json parseJsonText(std::string_view text, const std::string& source) {
                                  });
   } catch (const JsonPathTracker::TooDeep&) {
     throw Error(Error::Kind::InvalidInput, label + ": " + tracker.path() + ": nested more than " +
-                                               std::to_string(kMaxJsonDepth) + " levels deep (the limit for JSON input)");
+                                               std::to_string(kMaxJsonDepth) +
+                                               " levels deep (the limit for JSON input)");
   } catch (const nlohmann::json::parse_error& e) {
     std::string message = e.what();
     if (const auto pos = message.find("syntax error"); pos != std::string::npos) message = message.substr(pos);
-    throw Error(Error::Kind::InvalidInput, label + ":" + lineAndColumn(text, e.byte) + ": invalid JSON: " +
-                                               shortenForMessage(message));
+    throw Error(Error::Kind::InvalidInput,
+                label + ":" + lineAndColumn(text, e.byte) + ": invalid JSON: " + shortenForMessage(message));
   } catch (const nlohmann::json::out_of_range&) {
     throw Error(Error::Kind::InvalidInput,
                 label + ": " + tracker.path() + ": number out of range (beyond the largest double, about 1.8e308)");
   } catch (const nlohmann::json::exception& e) {
-    throw Error(Error::Kind::InvalidInput, label + ": " + tracker.path() + ": invalid JSON: " + shortenForMessage(e.what()));
+    throw Error(Error::Kind::InvalidInput,
+                label + ": " + tracker.path() + ": invalid JSON: " + shortenForMessage(e.what()));
   }
 }
 

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <optional>
-#include <string>
 #include <sstream>
+#include <string>
 
 namespace brdfbake {
 
@@ -24,10 +24,23 @@ std::optional<std::uint64_t> parseLimit(const char* text) {
   if (end == text || !(value > 0) || !std::isfinite(value)) return std::nullopt;
   double scale = 1.0;
   switch (*end) {
-    case 'k': case 'K': scale = 1024.0; ++end; break;
-    case 'm': case 'M': scale = 1024.0 * 1024.0; ++end; break;
-    case 'g': case 'G': scale = 1024.0 * 1024.0 * 1024.0; ++end; break;
-    default: break;
+    case 'k':
+    case 'K':
+      scale = 1024.0;
+      ++end;
+      break;
+    case 'm':
+    case 'M':
+      scale = 1024.0 * 1024.0;
+      ++end;
+      break;
+    case 'g':
+    case 'G':
+      scale = 1024.0 * 1024.0 * 1024.0;
+      ++end;
+      break;
+    default:
+      break;
   }
   if (*end != '\0' && std::string(end) != "B" && std::string(end) != "iB") return std::nullopt;
   return static_cast<std::uint64_t>(std::min(value * scale, 1.8e19));
@@ -47,21 +60,26 @@ std::uint64_t memoryBudgetBytes() {
 std::string formatBytes(double bytes) {
   std::ostringstream out;
   out.precision(3);
-  if (bytes >= 1024.0 * 1024 * 1024) out << bytes / (1024.0 * 1024 * 1024) << " GiB";
-  else if (bytes >= 1024.0 * 1024) out << bytes / (1024.0 * 1024) << " MiB";
-  else if (bytes >= 1024.0) out << bytes / 1024.0 << " KiB";
-  else out << bytes << " bytes";
+  if (bytes >= 1024.0 * 1024 * 1024)
+    out << bytes / (1024.0 * 1024 * 1024) << " GiB";
+  else if (bytes >= 1024.0 * 1024)
+    out << bytes / (1024.0 * 1024) << " MiB";
+  else if (bytes >= 1024.0)
+    out << bytes / 1024.0 << " KiB";
+  else
+    out << bytes << " bytes";
   return out.str();
 }
 
 void requireWithinMemoryBudget(double bytes, const std::string& what) {
   const std::uint64_t budget = memoryBudgetBytes();
   if (!(bytes <= static_cast<double>(budget))) {
-    throw Error(Error::Kind::Resource, what + " needs " + formatBytes(bytes) + ", more than the memory budget of " +
-                                          formatBytes(static_cast<double>(budget)) +
-                                          (std::getenv("BRDFBAKE_MEMORY_LIMIT")
-                                               ? " (BRDFBAKE_MEMORY_LIMIT)"
-                                               : " (half the machine's memory; set BRDFBAKE_MEMORY_LIMIT to change it)"));
+    throw Error(Error::Kind::Resource,
+                what + " needs " + formatBytes(bytes) + ", more than the memory budget of " +
+                    formatBytes(static_cast<double>(budget)) +
+                    (std::getenv("BRDFBAKE_MEMORY_LIMIT")
+                         ? " (BRDFBAKE_MEMORY_LIMIT)"
+                         : " (half the machine's memory; set BRDFBAKE_MEMORY_LIMIT to change it)"));
   }
 }
 

@@ -1,6 +1,6 @@
-#include <brdfbake/env/env_accuracy.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
+#include <brdfbake/env/env_accuracy.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -61,8 +61,10 @@ PrefilterCheckPoints prefilterLookupSet(const Parameterization& map, const Prefi
   return points;
 }
 
-std::vector<Rgb> prefilterValuesAt(const Image& level0, const Parameterization& map, const PrefilterCheckPoints& points) {
-  require(level0.width() == map.width() && level0.height() == map.height(), "prefilterValuesAt: the image does not match the map");
+std::vector<Rgb> prefilterValuesAt(const Image& level0, const Parameterization& map,
+                                   const PrefilterCheckPoints& points) {
+  require(level0.width() == map.width() && level0.height() == map.height(),
+          "prefilterValuesAt: the image does not match the map");
   std::vector<Rgb> values;
   values.reserve(points.size());
   if (!points.texels.empty()) {
@@ -112,7 +114,8 @@ std::vector<std::pair<double, Rgb>> prefilterLobeModelTerms(const LobeModel& mod
 std::vector<Rgb> prefilterLobeModelReferenceAt(const Environment& environment, const LobeModel& model,
                                                const std::vector<Vec3>& axes, int threads) {
   require(model.elevation == LobeElevation::Constant,
-          "lobes that vary with elevation need a stack of maps over elevation; only constant lobe models prefilter into one map");
+          "lobes that vary with elevation need a stack of maps over elevation; only constant lobe models prefilter "
+          "into one map");
   const auto terms = prefilterLobeModelTerms(model);
   require(!terms.empty(), "the lobe model has no lobe of non-zero weight to prefilter");
   std::vector<Rgb> sum(axes.size(), Rgb::Zero());

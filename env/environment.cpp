@@ -1,9 +1,9 @@
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/maps/cube_map.hpp>
+#include <brdfbake/core/error.hpp>
 #include <brdfbake/env/environment.hpp>
+#include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/maps/map_file.hpp>
-#include <brdfbake/core/error.hpp>
 
 #include <sstream>
 
@@ -11,35 +11,42 @@ namespace brdfbake {
 namespace fs = std::filesystem;
 namespace {
 
-std::string sizeText(const Image& image) { return std::to_string(image.width()) + " x " + std::to_string(image.height()); }
+std::string sizeText(const Image& image) {
+  return std::to_string(image.width()) + " x " + std::to_string(image.height());
+}
 
 // The resolution an image of this size has as a map of `kind`, or 0 if the size fits no such map.
 int resolutionFor(const Image& image, ParameterizationKind kind) {
   const int w = image.width(), h = image.height();
   switch (kind) {
-    case ParameterizationKind::Sphere: return w == h ? w : 0;
+    case ParameterizationKind::Sphere:
+      return w == h ? w : 0;
     case ParameterizationKind::Paraboloid:
-    case ParameterizationKind::LatLong: return w == 2 * h ? h : 0;
-    case ParameterizationKind::Cube: return 3 * w == 4 * h && w % 4 == 0 ? w / 4 : 0;
+    case ParameterizationKind::LatLong:
+      return w == 2 * h ? h : 0;
+    case ParameterizationKind::Cube:
+      return 3 * w == 4 * h && w % 4 == 0 ? w / 4 : 0;
   }
   return 0;
 }
 
 std::string expectedShape(ParameterizationKind kind) {
   switch (kind) {
-    case ParameterizationKind::Sphere: return "square (N x N)";
-    case ParameterizationKind::Paraboloid: return "2:1 (2N x N, front hemisphere left)";
-    case ParameterizationKind::LatLong: return "2:1 (2N x N)";
-    case ParameterizationKind::Cube: return "4:3 (a 4N x 3N horizontal cross)";
+    case ParameterizationKind::Sphere:
+      return "square (N x N)";
+    case ParameterizationKind::Paraboloid:
+      return "2:1 (2N x N, front hemisphere left)";
+    case ParameterizationKind::LatLong:
+      return "2:1 (2N x N)";
+    case ParameterizationKind::Cube:
+      return "4:3 (a 4N x 3N horizontal cross)";
   }
   return "";
 }
 
 }  // namespace
 
-Rgb Environment::radiance(const Vec3& direction) const {
-  return sampleBilinear(image, *map, direction).head<3>();
-}
+Rgb Environment::radiance(const Vec3& direction) const { return sampleBilinear(image, *map, direction).head<3>(); }
 
 Environment makeEnvironment(Image image, ParameterizationKind kind, const std::string& source) {
   const int resolution = resolutionFor(image, kind);
@@ -80,8 +87,9 @@ Environment loadEnvironment(const fs::path& path, const EnvironmentLoadOptions& 
   }
   image = readImage(path);
   if (image.width() < 2 || image.height() < 2) {
-    throw Error(Error::Kind::InvalidInput, path.string() + ": a " + sizeText(image) +
-                                               " image is too small for an environment (lat-long needs at least 4 x 2)");
+    throw Error(Error::Kind::InvalidInput,
+                path.string() + ": a " + sizeText(image) +
+                    " image is too small for an environment (lat-long needs at least 4 x 2)");
   }
   std::optional<ParameterizationKind> kind;
   if (image.metadata.is_object() && image.metadata.contains("parameterization")) {
@@ -130,8 +138,10 @@ Environment bakeEnvironment(const MapFunction& radiance, ParameterizationKind ki
 }
 
 SkyEnvironment::SkyEnvironment(const SkyParameters& parameters) : parameters_(parameters) {
-  require(parameters.sunDirection.allFinite() && parameters.sunDirection.norm() > 0.0, "sky: sun direction must be non-zero");
-  require(parameters.sunAngularRadius > 0.0 && parameters.sunAngularRadius < 0.5, "sky: sun radius must be in (0, 0.5) rad");
+  require(parameters.sunDirection.allFinite() && parameters.sunDirection.norm() > 0.0,
+          "sky: sun direction must be non-zero");
+  require(parameters.sunAngularRadius > 0.0 && parameters.sunAngularRadius < 0.5,
+          "sky: sun radius must be in (0, 0.5) rad");
   parameters_.sunDirection.normalize();
 }
 

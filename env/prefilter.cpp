@@ -1,20 +1,20 @@
-#include <brdfbake/core/progress.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/env/env_accuracy.hpp>
-#include <brdfbake/maps/map_mips.hpp>
-#include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/brdf/material.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/named_values.hpp>
+#include <brdfbake/core/progress.hpp>
 #include <brdfbake/core/version.hpp>
+#include <brdfbake/env/env_accuracy.hpp>
+#include <brdfbake/env/prefilter.hpp>
+#include <brdfbake/maps/map_mips.hpp>
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <map>
-#include <chrono>
 #include <mutex>
 #include <optional>
 #include <random>
@@ -26,7 +26,6 @@ namespace brdfbake {
 namespace {
 using detail::LatLongPyramid;
 using Clock = std::chrono::steady_clock;
-
 
 std::string formatG(double value) {
   std::ostringstream out;
@@ -44,7 +43,6 @@ constexpr double kImportancePerSample = 60e-9;
 constexpr double kGridLookup = 80e-9;
 constexpr double kConvolvedPerSample = 0.6e-9;  // direct sum on a grid by row convolutions, per grid point and texel
 constexpr double kReferencePerSample = 6e-9;
-
 
 // Eye space of a sphere map -> environment frame.
 Mat3 eyeToEnvironment(const PrefilterOptions& options) {
@@ -154,7 +152,9 @@ class Context {
     if (!entry) {
       const PrefilterLobe lobe = lobe_;
       entry = std::make_shared<RadialTable>(
-          [lobe, scale](double c) { return lobe.weight(std::cos(std::min(kPi, scale * std::acos(std::clamp(c, -1.0, 1.0))))); },
+          [lobe, scale](double c) {
+            return lobe.weight(std::cos(std::min(kPi, scale * std::acos(std::clamp(c, -1.0, 1.0)))));
+          },
           1e-6, (1 << 20) + 1);
     }
     return entry;
@@ -178,25 +178,30 @@ int directLevel(Context& context, double q) { return context.pyramid().levelFor(
 // Where even level 0 is coarser than width/q, its texels are split into sub-samples (at most 4 x 4).
 int directSubdivision(Context& context, double q) {
   const int level = directLevel(context, q);
-  return std::clamp(static_cast<int>(std::ceil(q * context.pyramid().texelAngle(level) / std::max(context.lobe().width(), 1e-12))), 1, 4);
+  return std::clamp(
+      static_cast<int>(std::ceil(q * context.pyramid().texelAngle(level) / std::max(context.lobe().width(), 1e-12))), 1,
+      4);
 }
 
 std::unique_ptr<Evaluator> buildInner(const CandidateSpec& spec, Context& context) {
   switch (spec.method) {
     case PrefilterMethod::SphericalHarmonics:
-      return std::make_unique<ShEvaluator>(std::make_unique<detail::ShFilter>(context.pyramid(), context.lobe(), spec.shOrder));
+      return std::make_unique<ShEvaluator>(
+          std::make_unique<detail::ShFilter>(context.pyramid(), context.lobe(), spec.shOrder));
     case PrefilterMethod::Importance:
       return std::make_unique<ImportanceEvaluator>(
           std::make_unique<detail::ImportanceSampler>(context.pyramid(), context.lobe(), spec.samples));
     case PrefilterMethod::Direct: {
       const int level = directLevel(context, spec.q), sub = directSubdivision(context, spec.q);
       const double cosCap = std::cos(context.lobe().tailAngle(spec.tail));
-      return std::make_unique<DirectEvaluator>(std::make_unique<detail::DirectSummer>(
-          context.pyramid(), context.lobe(), level, cosCap, sub, context.correctedTable(context.pyramid().texelAngle(level) / sub)));
+      return std::make_unique<DirectEvaluator>(
+          std::make_unique<detail::DirectSummer>(context.pyramid(), context.lobe(), level, cosCap, sub,
+                                                 context.correctedTable(context.pyramid().texelAngle(level) / sub)));
     }
     case PrefilterMethod::Reference:
       return std::make_unique<ReferenceEvaluator>(context.environment(), context.lobe());
-    default: break;
+    default:
+      break;
   }
   throw Error(Error::Kind::InvalidArgument, "prefilter: no evaluator for method " + std::string(toString(spec.method)));
 }
@@ -205,8 +210,9 @@ std::unique_ptr<Evaluator> build(const CandidateSpec& spec, Context& context) {
   if (spec.gridMultiple > 0) {
     const int level = directLevel(context, spec.q);
     const double cosCap = std::cos(context.lobe().tailAngle(spec.tail));
-    return std::make_unique<ConvolvedGridEvaluator>(detail::convolvedDirectGrid(
-        context.pyramid(), context.lobe(), level, cosCap, context.correctedTable(context.pyramid().texelAngle(level)), spec.gridMultiple));
+    return std::make_unique<ConvolvedGridEvaluator>(
+        detail::convolvedDirectGrid(context.pyramid(), context.lobe(), level, cosCap,
+                                    context.correctedTable(context.pyramid().texelAngle(level)), spec.gridMultiple));
   }
   auto inner = buildInner(spec, context);
   if (spec.gridHeight <= 0) return inner;
@@ -242,14 +248,18 @@ void innerCost(const CandidateSpec& spec, Context& context, double& perPoint, do
               kShProjectPerCoefficient;
       break;
     }
-    case PrefilterMethod::Importance: perPoint = spec.samples * kImportancePerSample; break;
+    case PrefilterMethod::Importance:
+      perPoint = spec.samples * kImportancePerSample;
+      break;
     case PrefilterMethod::Direct: {
       const detail::DirectSummer summer(context.pyramid(), context.lobe(), directLevel(context, spec.q),
-                                        std::cos(context.lobe().tailAngle(spec.tail)), directSubdivision(context, spec.q), nullptr);
+                                        std::cos(context.lobe().tailAngle(spec.tail)),
+                                        directSubdivision(context, spec.q), nullptr);
       perPoint = summer.texelsPerAxis() * kDirectPerSample;
       break;
     }
-    default: perPoint = 0.0;
+    default:
+      perPoint = 0.0;
   }
 }
 
@@ -282,16 +292,22 @@ bool finishSpec(CandidateSpec& spec, Context& context, const Workload& work) {
   spec.predicted = seconds / work.threads;
   std::ostringstream detail;
   switch (spec.method) {
-    case PrefilterMethod::SphericalHarmonics: detail << "order " << spec.shOrder << " (" << shCount(spec.shOrder) << " coefficients)"; break;
-    case PrefilterMethod::Importance: detail << spec.samples << " samples"; break;
+    case PrefilterMethod::SphericalHarmonics:
+      detail << "order " << spec.shOrder << " (" << shCount(spec.shOrder) << " coefficients)";
+      break;
+    case PrefilterMethod::Importance:
+      detail << spec.samples << " samples";
+      break;
     case PrefilterMethod::Direct: {
       const int level = directLevel(context, spec.q);
       const auto& L = context.pyramid().level(level);
       detail << "level " << level << " (" << L.width << "x" << L.height << ", q " << spec.q << "), tail " << spec.tail;
-      if (const int sub = directSubdivision(context, spec.q); sub > 1) detail << ", " << sub << "x" << sub << " per texel";
+      if (const int sub = directSubdivision(context, spec.q); sub > 1)
+        detail << ", " << sub << "x" << sub << " per texel";
       break;
     }
-    default: break;
+    default:
+      break;
   }
   if (spec.gridHeight > 0) detail << ", via a " << 2 * spec.gridHeight << "x" << spec.gridHeight << " grid";
   if (spec.gridMultiple > 0) detail << " (row convolutions)";
@@ -319,7 +335,8 @@ std::vector<CandidateSpec> candidatesFor(const PrefilterOptions& options, Contex
     for (int order : orders) {
       CandidateSpec spec = makeSpec(PrefilterMethod::SphericalHarmonics, order);
       const auto& lambda = context.zonal(256);
-      for (std::size_t l = order + 1; l < lambda.size(); ++l) spec.shTail = std::max(spec.shTail, std::abs(lambda[l] / lambda[0]));
+      for (std::size_t l = order + 1; l < lambda.size(); ++l)
+        spec.shTail = std::max(spec.shTail, std::abs(lambda[l] / lambda[0]));
       specs.push_back(spec);
     }
   }
@@ -353,7 +370,8 @@ std::vector<CandidateSpec> candidatesFor(const PrefilterOptions& options, Contex
       if (finishSpec(variant, context, work)) all.push_back(variant);
     }
   }
-  std::stable_sort(all.begin(), all.end(), [](const CandidateSpec& a, const CandidateSpec& b) { return a.predicted < b.predicted; });
+  std::stable_sort(all.begin(), all.end(),
+                   [](const CandidateSpec& a, const CandidateSpec& b) { return a.predicted < b.predicted; });
   return all;
 }
 
@@ -411,7 +429,8 @@ class ProbeSet {
   std::optional<detail::ReferenceSummer> ownTexels_;
 };
 
-ProbeSet::ProbeSet(Context& context, const PrefilterOptions& options, double floor) : lobe_(context.lobe()), floor_(floor) {
+ProbeSet::ProbeSet(Context& context, const PrefilterOptions& options, double floor)
+    : lobe_(context.lobe()), floor_(floor) {
   const PrefilterLobe& lobe = lobe_;
   const LatLongPyramid& pyramid = context.pyramid();
   std::mt19937 rng(options.seed);
@@ -450,11 +469,13 @@ ProbeSet::ProbeSet(Context& context, const PrefilterOptions& options, double flo
   std::vector<Vec3> guidedAxes;
   for (int i = 0; i < guided_; ++i) {
     const double u = (i + uniform(rng)) / guided_ * total;
-    const std::size_t k = std::min<std::size_t>(cdf.size() - 2, std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin() - 1);
+    const std::size_t k =
+        std::min<std::size_t>(cdf.size() - 2, std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin() - 1);
     const Vec3 centre = G.direction(static_cast<int>(k % G.width), static_cast<int>(k / G.width));
     const double theta = lobe.sampleAngle(uniform(rng)), phi = kTwoPi * uniform(rng);
     const Vec3 t = anyPerpendicular(centre), b = centre.cross(t);
-    guidedAxes.push_back((std::sin(theta) * (std::cos(phi) * t + std::sin(phi) * b) + std::cos(theta) * centre).normalized());
+    guidedAxes.push_back(
+        (std::sin(theta) * (std::cos(phi) * t + std::sin(phi) * b) + std::cos(theta) * centre).normalized());
   }
   const int batchCount = count_ >= 64 ? 4 : 1;
   for (int b = 0; b < batchCount; ++b) {
@@ -476,18 +497,20 @@ ProbeSet::ProbeSet(Context& context, const PrefilterOptions& options, double flo
   // texels of the working lat-long is summed over its own texels (ReferenceSummer), not over the
   // pyramid the candidates read, so the resampling error is part of the estimate. Otherwise the
   // finest pyramid level needed is summed (texels <= width / 8 with the lobe corrected for their box,
-  // Context::correctedTable, or level 0 split into sub-samples <= width / 8): a power-of-two lat-long input is its pyramid's level 0 (coarser levels are exact
-  // solid-angle means of its texels), and a lobe wider than 16 texels averages the resampling's
-  // local error away (its 2 x 2 bilinear means keep each neighbourhood's mean), while summing a
-  // hemisphere of input texels per probe would cost seconds.
+  // Context::correctedTable, or level 0 split into sub-samples <= width / 8): a power-of-two lat-long input is its
+  // pyramid's level 0 (coarser levels are exact solid-angle means of its texels), and a lobe wider than 16 texels
+  // averages the resampling's local error away (its 2 x 2 bilinear means keep each neighbourhood's mean), while summing
+  // a hemisphere of input texels per probe would cost seconds.
   table_ = context.table();
   const double cosCap = std::cos(lobe.tailAngle(1e-7));
   if (pyramid.resampled() && lobe.width() < 16.0 * pyramid.texelAngle(0)) {
     ownTexels_.emplace(context.environment(), lobe, cosCap, table_);
   } else {
     const int level = pyramid.levelFor(lobe.width() / 8.0);
-    const int sub = std::clamp(static_cast<int>(std::ceil(8.0 * pyramid.texelAngle(level) / std::max(lobe.width(), 1e-12))), 1, 8);
-    pyramidSum_.emplace(pyramid, lobe, level, cosCap, sub, sub == 1 ? context.correctedTable(pyramid.texelAngle(level)) : table_);
+    const int sub =
+        std::clamp(static_cast<int>(std::ceil(8.0 * pyramid.texelAngle(level) / std::max(lobe.width(), 1e-12))), 1, 8);
+    pyramidSum_.emplace(pyramid, lobe, level, cosCap, sub,
+                        sub == 1 ? context.correctedTable(pyramid.texelAngle(level)) : table_);
   }
 }
 
@@ -510,7 +533,8 @@ void ProbeSet::extend(int batch) {
     const Vec3& d = axes_[static_cast<std::size_t>(p)];
     reference_[static_cast<std::size_t>(p)] = pyramidSum_ ? pyramidSum_->value(d) : ownTexels_->value(d);
     if (guided_ > 0) {
-      const double q = (static_cast<double>(uniformCount_) / count_) / kFourPi + (static_cast<double>(guided_) / count_) * guidedDensity(d);
+      const double q = (static_cast<double>(uniformCount_) / count_) / kFourPi +
+                       (static_cast<double>(guided_) / count_) * guidedDensity(d);
       weights_[static_cast<std::size_t>(p)] = 1.0 / (kFourPi * q);
     }
   });
@@ -537,7 +561,8 @@ ErrorEstimate estimate(const Evaluator& evaluator, ProbeSet& probes, double targ
     const int begin = out.probes, end = probes.batchEnd(b);
     errors.resize(static_cast<std::size_t>(end));
     tbb::parallel_for(begin, end, [&](int p) {
-      errors[static_cast<std::size_t>(p)] = relativeError(evaluator.value(probes.axis(p)), probes.reference(p), probes.floor());
+      errors[static_cast<std::size_t>(p)] =
+          relativeError(evaluator.value(probes.axis(p)), probes.reference(p), probes.floor());
     });
     double sum = 0.0, weights = 0.0;
     for (int p = 0; p < end; ++p) {
@@ -581,7 +606,8 @@ Image evaluateOutput(const Parameterization& map, const Evaluator& evaluator, co
 // Mirror: the environment looked up (bilinear) over each texel's footprint.
 class RotatedEnvironment final : public MapFunction {
  public:
-  RotatedEnvironment(const Environment& environment, const Mat3& rotation) : environment_(environment), rotation_(rotation) {}
+  RotatedEnvironment(const Environment& environment, const Mat3& rotation)
+      : environment_(environment), rotation_(rotation) {}
   Rgb evaluate(const Vec3& direction) const override { return environment_.radiance(rotation_ * direction); }
 
  private:
@@ -593,8 +619,8 @@ void requireFiniteOutput(const Image& image) {
   for (int y = 0; y < image.height(); ++y)
     for (int x = 0; x < image.width(); ++x)
       if (!allFinite(image.at(x, y))) {
-        throw Error(Error::Kind::Numerical, "prefilter produced a non-finite value at texel (" + std::to_string(x) + ", " +
-                                                std::to_string(y) + ")");
+        throw Error(Error::Kind::Numerical, "prefilter produced a non-finite value at texel (" + std::to_string(x) +
+                                                ", " + std::to_string(y) + ")");
       }
 }
 
@@ -612,10 +638,12 @@ Image resampleMirror(const Environment& environment, const Parameterization& map
                      PrefilterSummary& summary) {
   if (options.method != PrefilterMethod::Auto && options.method != PrefilterMethod::Reference) {
     throw Error(Error::Kind::InvalidArgument, "the mirror lobe is plain resampling (no integral); --method " +
-                                                  std::string(toString(options.method)) + " applies to filtered lobes only");
+                                                  std::string(toString(options.method)) +
+                                                  " applies to filtered lobes only");
   }
   const auto outputStart = Clock::now();
-  const Mat3 rotation = options.parameterization == ParameterizationKind::Sphere ? eyeToEnvironment(options) : Mat3::Identity();
+  const Mat3 rotation =
+      options.parameterization == ParameterizationKind::Sphere ? eyeToEnvironment(options) : Mat3::Identity();
   const RotatedEnvironment function(environment, rotation);
   BakeOptions bakeOptions;
   static_cast<RunOptions&>(bakeOptions) = options;
@@ -630,7 +658,8 @@ Image resampleMirror(const Environment& environment, const Parameterization& map
 }
 
 // The reference sum, asked for or as auto's fallback (with a note); exact by definition.
-std::unique_ptr<Evaluator> useReference(Context& context, const Workload& work, PrefilterSummary& summary, const std::string& note) {
+std::unique_ptr<Evaluator> useReference(Context& context, const Workload& work, PrefilterSummary& summary,
+                                        const std::string& note) {
   const auto setupStart = Clock::now();
   auto evaluator = build(makeSpec(PrefilterMethod::Reference), context);
   const auto& summer = static_cast<const ReferenceEvaluator&>(*evaluator).summer;
@@ -643,7 +672,8 @@ std::unique_ptr<Evaluator> useReference(Context& context, const Workload& work, 
   summary.errorEstimate = summary.errorEstimateMax = 0.0;
   if (!note.empty()) summary.notes.push_back(note);
   PrefilterCandidate candidate{PrefilterMethod::Reference, summary.detail,
-                               work.outputPoints * summer.samples() * kReferencePerSample / work.threads, secondsSince(setupStart)};
+                               work.outputPoints * summer.samples() * kReferencePerSample / work.threads,
+                               secondsSince(setupStart)};
   candidate.chosen = true;
   summary.candidates.push_back(candidate);
   return evaluator;
@@ -675,7 +705,8 @@ class FailureMemory {
     double worst = 0.0;
     for (const auto& [tried, error] : failures_) {
       if (tried.method != spec.method) continue;
-      if (tried.shOrder == spec.shOrder && tried.samples == spec.samples && tried.q == spec.q && error > 2.0 * target_) {
+      if (tried.shOrder == spec.shOrder && tried.samples == spec.samples && tried.q == spec.q &&
+          error > 2.0 * target_) {
         worst = std::max(worst, error);
       }
       if (spec.method == PrefilterMethod::Importance && spec.samples > tried.samples) {
@@ -718,7 +749,8 @@ std::unique_ptr<Evaluator> chooseFastMethod(Context& context, const Workload& wo
   for (const CandidateSpec& spec : specs) {
     if (estimating && automatic) {
       if (const double predicted = failures.predictedError(spec); predicted > target) {
-        summary.candidates.push_back({spec.method, spec.detail + " (skipped: predicted error " + formatG(100.0 * predicted) + " %)",
+        summary.candidates.push_back({spec.method,
+                                      spec.detail + " (skipped: predicted error " + formatG(100.0 * predicted) + " %)",
                                       spec.predicted, 0.0});
         continue;
       }
@@ -745,7 +777,8 @@ std::unique_ptr<Evaluator> chooseFastMethod(Context& context, const Workload& wo
   }
   if (!best || automatic) return nullptr;
   recordChoice(summary, summary.candidates[bestIndex], true);
-  summary.notes.push_back("no " + std::string(toString(options.method)) + " setting met the error bound; used the most accurate one tried");
+  summary.notes.push_back("no " + std::string(toString(options.method)) +
+                          " setting met the error bound; used the most accurate one tried");
   return best;
 }
 
@@ -762,7 +795,9 @@ Image filterWithLobe(detail::PrefilterInput& input, const PrefilterLobe& lobe, c
     chosen = useReference(context, work, summary, "");
   } else {
     chosen = chooseFastMethod(context, work, options, summary);
-    if (!chosen) chosen = useReference(context, work, summary, "no fast method met the error bound; fell back to the reference sum");
+    if (!chosen)
+      chosen =
+          useReference(context, work, summary, "no fast method met the error bound; fell back to the reference sum");
   }
   const auto outputStart = Clock::now();
   Image image = evaluateOutput(map, *chosen, lobe, options);
@@ -775,7 +810,8 @@ Image filterWithLobe(detail::PrefilterInput& input, const PrefilterLobe& lobe, c
 std::vector<Image> outputLevels(Image level0, const Parameterization& map, bool mips, bool cubeEdgeFixup) {
   if (mips) return environmentMipChain(level0, map);
   if (map.kind() == ParameterizationKind::Cube && cubeEdgeFixup) fixCubeEdges(level0, static_cast<const CubeMap&>(map));
-  if (map.kind() == ParameterizationKind::Paraboloid) alignParaboloidBorder(level0, static_cast<const ParaboloidMap&>(map));
+  if (map.kind() == ParameterizationKind::Paraboloid)
+    alignParaboloidBorder(level0, static_cast<const ParaboloidMap&>(map));
   std::vector<Image> levels;
   levels.push_back(std::move(level0));
   return levels;
@@ -787,12 +823,18 @@ std::vector<Image> outputLevels(Image level0, const Parameterization& map, bool 
 
 std::string_view toString(PrefilterMethod method) {
   switch (method) {
-    case PrefilterMethod::Auto: return "auto";
-    case PrefilterMethod::Reference: return "reference";
-    case PrefilterMethod::SphericalHarmonics: return "sh";
-    case PrefilterMethod::Importance: return "importance";
-    case PrefilterMethod::Direct: return "direct";
-    case PrefilterMethod::Resample: return "resample";
+    case PrefilterMethod::Auto:
+      return "auto";
+    case PrefilterMethod::Reference:
+      return "reference";
+    case PrefilterMethod::SphericalHarmonics:
+      return "sh";
+    case PrefilterMethod::Importance:
+      return "importance";
+    case PrefilterMethod::Direct:
+      return "direct";
+    case PrefilterMethod::Resample:
+      return "resample";
   }
   return "?";
 }
@@ -805,18 +847,23 @@ PrefilterMethod parsePrefilterMethod(std::string_view name) {
 }
 
 void PrefilterOptions::validate() const {
-  require(resolution >= 1 && resolution <= 65536, "prefilter resolution must be in [1, 65536], got " + std::to_string(resolution));
+  require(resolution >= 1 && resolution <= 65536,
+          "prefilter resolution must be in [1, 65536], got " + std::to_string(resolution));
   require(view.allFinite() && view.norm() > 0.0, "prefilter view must be a non-zero finite vector");
   require(up.allFinite() && up.norm() > 0.0, "prefilter up must be a non-zero finite vector");
-  require(maxError > 0.0 && maxError < 1.0, "max error must be in (0, 1) (a relative RMS error; 0.01 is 1 %), got " + formatG(maxError));
+  require(maxError > 0.0 && maxError < 1.0,
+          "max error must be in (0, 1) (a relative RMS error; 0.01 is 1 %), got " + formatG(maxError));
   require(method != PrefilterMethod::Resample, "the resample method is the mirror lobe's; choose auto or reference");
   require(shOrder >= 0 && shOrder <= 200, "SH order must be in [0, 200], got " + std::to_string(shOrder));
   require(importanceSamples >= 0 && importanceSamples <= 1 << 20, "importance samples must be in [0, 2^20]");
   require(directTexelsPerWidth >= 0.0 && directTexelsPerWidth <= 64.0, "direct texels per width must be in [0, 64]");
   require(shOrder == 0 || method == PrefilterMethod::SphericalHarmonics, "an SH order needs the sh method");
-  require(importanceSamples == 0 || method == PrefilterMethod::Importance, "importance samples need the importance method");
-  require(directTexelsPerWidth == 0.0 || method == PrefilterMethod::Direct, "direct texels per width need the direct method");
-  require(cubeEdgeFixup || !mips, "cube edge fixup can be turned off only without the solid-angle mip chain, which always fixes edges");
+  require(importanceSamples == 0 || method == PrefilterMethod::Importance,
+          "importance samples need the importance method");
+  require(directTexelsPerWidth == 0.0 || method == PrefilterMethod::Direct,
+          "direct texels per width need the direct method");
+  require(cubeEdgeFixup || !mips,
+          "cube edge fixup can be turned off only without the solid-angle mip chain, which always fixes edges");
   require(probes >= 16 && probes <= 1 << 20, "probes must be in [16, 2^20], got " + std::to_string(probes));
   require(mirrorSamples >= 1 && mirrorSamples <= 4096, "mirror samples must be in [1, 4096]");
   require(elevations >= 2 && elevations <= 64,
@@ -831,8 +878,8 @@ std::string PrefilterSummary::briefReport() const {
   if (exact) {
     out << ": exact";
   } else if (errorEstimated) {
-    out << ": estimated RMS relative error " << formatG(100.0 * errorEstimate) << " % (bound " << formatG(100.0 * maxError) << " %"
-        << (metTarget ? "" : ", NOT met") << ")";
+    out << ": estimated RMS relative error " << formatG(100.0 * errorEstimate) << " % (bound "
+        << formatG(100.0 * maxError) << " %" << (metTarget ? "" : ", NOT met") << ")";
   } else {
     out << ": error not estimated (estimation off)";
   }
@@ -844,29 +891,34 @@ std::string PrefilterSummary::briefReport() const {
 nlohmann::json PrefilterSummary::toJson() const {
   nlohmann::json candidatesJson = nlohmann::json::array();
   for (const auto& c : candidates) {
-    nlohmann::json entry = {{"method", std::string(toString(c.method))}, {"detail", c.detail},
-                            {"predicted_seconds", c.predictedSeconds}, {"seconds", c.seconds}, {"chosen", c.chosen}};
+    nlohmann::json entry = {{"method", std::string(toString(c.method))},
+                            {"detail", c.detail},
+                            {"predicted_seconds", c.predictedSeconds},
+                            {"seconds", c.seconds},
+                            {"chosen", c.chosen}};
     if (c.errorEstimate >= 0.0) {
-      entry["error_estimate"] = c.errorEstimate, entry["error_estimate_max"] = c.errorEstimateMax, entry["probes"] = c.probes;
+      entry["error_estimate"] = c.errorEstimate, entry["error_estimate_max"] = c.errorEstimateMax,
+      entry["probes"] = c.probes;
     }
     candidatesJson.push_back(entry);
   }
-  nlohmann::json out = {{"lobe", lobe},
-                        {"method", std::string(toString(method))},
-                        {"detail", detail},
-                        {"max_error", maxError},
-                        {"error_metric", "rms_relative"},
-                        {"error_estimated", errorEstimated},
-                        {"exact", exact},
-                        {"met_target", errorEstimated || exact ? nlohmann::json(metTarget)
-                                                               : nlohmann::json(nullptr)},  // unknown when nothing was estimated
-                        {"levels", levels},
-                        {"filter_seconds", seconds},
-                        {"estimate_seconds", estimateSeconds},
-                        {"output_seconds", outputSeconds},
-                        {"mip_seconds", mipSeconds},
-                        {"candidates", candidatesJson},
-                        {"notes", notes}};
+  nlohmann::json out = {
+      {"lobe", lobe},
+      {"method", std::string(toString(method))},
+      {"detail", detail},
+      {"max_error", maxError},
+      {"error_metric", "rms_relative"},
+      {"error_estimated", errorEstimated},
+      {"exact", exact},
+      {"met_target", errorEstimated || exact ? nlohmann::json(metTarget)
+                                             : nlohmann::json(nullptr)},  // unknown when nothing was estimated
+      {"levels", levels},
+      {"filter_seconds", seconds},
+      {"estimate_seconds", estimateSeconds},
+      {"output_seconds", outputSeconds},
+      {"mip_seconds", mipSeconds},
+      {"candidates", candidatesJson},
+      {"notes", notes}};
   out["error_estimate"] = errorEstimated ? nlohmann::json(errorEstimate) : nlohmann::json(nullptr);
   out["error_estimate_max"] = errorEstimated ? nlohmann::json(errorEstimateMax) : nlohmann::json(nullptr);
   return out;
@@ -927,14 +979,15 @@ PrefilterError prefilterError(const Image& result, const Image& reference, const
   return error;
 }
 
-std::vector<Rgb> prefilterReferenceAt(const Environment& environment, const PrefilterLobe& lobe, const std::vector<Vec3>& axes,
-                                      int threads) {
+std::vector<Rgb> prefilterReferenceAt(const Environment& environment, const PrefilterLobe& lobe,
+                                      const std::vector<Vec3>& axes, int threads) {
   require(!lobe.isMirror(), "the mirror lobe has no integral; look the environment up instead");
   tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
   std::vector<Rgb> values(axes.size());
   arena.execute([&] {
     const detail::ReferenceSummer summer(environment, lobe);
-    tbb::parallel_for(std::size_t(0), axes.size(), [&](std::size_t i) { values[i] = summer.value(axes[i].normalized()); });
+    tbb::parallel_for(std::size_t(0), axes.size(),
+                      [&](std::size_t i) { values[i] = summer.value(axes[i].normalized()); });
   });
   return values;
 }
@@ -956,8 +1009,9 @@ PrefilteredMap prefilter(detail::PrefilterInput& input, const PrefilterLobe& lob
   summary.maxError = options.maxError;
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   arena.execute([&] {
-    Image level0 = lobe.isMirror() ? resampleMirror(environment, *result.map, options, summary)
-                                   : filterWithLobe(input, lobe, *result.map, options, arena.max_concurrency(), summary);
+    Image level0 = lobe.isMirror()
+                       ? resampleMirror(environment, *result.map, options, summary)
+                       : filterWithLobe(input, lobe, *result.map, options, arena.max_concurrency(), summary);
     requireFiniteOutput(level0);
     const auto mipStart = Clock::now();
     result.levels = outputLevels(std::move(level0), *result.map, options.mips, options.cubeEdgeFixup);
@@ -969,7 +1023,8 @@ PrefilteredMap prefilter(detail::PrefilterInput& input, const PrefilterLobe& lob
 }
 
 void mergePrefilterSummary(PrefilterSummary& into, const PrefilterSummary& part, const std::string& label, bool first) {
-  if (into.method == PrefilterMethod::Auto || (part.method != PrefilterMethod::Resample && part.method != PrefilterMethod::Reference)) {
+  if (into.method == PrefilterMethod::Auto ||
+      (part.method != PrefilterMethod::Resample && part.method != PrefilterMethod::Reference)) {
     into.method = part.method;
   }
   into.errorEstimated = into.errorEstimated || part.errorEstimated;
@@ -992,8 +1047,10 @@ PrefilteredMap prefilterLobeModel(const Environment& environment, const LobeMode
                                   const PrefilterOptions& options) {
   model.validate();
   if (model.elevation != LobeElevation::Constant) {
-    throw Error(Error::Kind::InvalidArgument, name + ": lobes that vary with elevation need a stack of maps over elevation "
-                                                     "(prefilterLobeModelStack); only constant lobe models prefilter into one map");
+    throw Error(Error::Kind::InvalidArgument,
+                name +
+                    ": lobes that vary with elevation need a stack of maps over elevation "
+                    "(prefilterLobeModelStack); only constant lobe models prefilter into one map");
   }
   options.validate();
   const auto start = Clock::now();
@@ -1053,15 +1110,16 @@ MapWriteReport writePrefilteredMap(const PrefilteredMap& map, const std::filesys
     const PrefilterSummary& s = map.summary;
     nlohmann::json& prefilterInfo = info.spec["prefilter"];
     if (!prefilterInfo.is_object()) prefilterInfo = nlohmann::json::object();
-    prefilterInfo.update(nlohmann::json{{"lobe", s.lobe},
-                                        {"method", std::string(toString(s.method))},
-                                        {"detail", s.detail},
-                                        {"max_error", s.maxError},
-                                        {"error_metric", "rms_relative"},
-                                        {"error_estimate", s.errorEstimated ? nlohmann::json(s.errorEstimate) : nlohmann::json(nullptr)},
-                                        {"exact", s.exact},
-                                        {"mip_level", level},
-                                        {"mip_levels", count}});
+    prefilterInfo.update(
+        nlohmann::json{{"lobe", s.lobe},
+                       {"method", std::string(toString(s.method))},
+                       {"detail", s.detail},
+                       {"max_error", s.maxError},
+                       {"error_metric", "rms_relative"},
+                       {"error_estimate", s.errorEstimated ? nlohmann::json(s.errorEstimate) : nlohmann::json(nullptr)},
+                       {"exact", s.exact},
+                       {"mip_level", level},
+                       {"mip_levels", count}});
     return info;
   };
   if (mipLayout == MipLayout::Tiled) {
@@ -1072,7 +1130,8 @@ MapWriteReport writePrefilteredMap(const PrefilteredMap& map, const std::filesys
   }
   MapWriteReport report;
   for (int level = 0; level < count; ++level) {
-    const MapWriteReport written = writeMap(map.levels[level], levelInfo(level), mipLevelPath(path, level), layout, options);
+    const MapWriteReport written =
+        writeMap(map.levels[level], levelInfo(level), mipLevelPath(path, level), layout, options);
     report.files.insert(report.files.end(), written.files.begin(), written.files.end());
     if (level == 0) report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());
   }

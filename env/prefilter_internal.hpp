@@ -3,9 +3,9 @@
 // evaluators (direct sum, filtered importance sampling, spherical harmonics, interpolation grid,
 // reference) that give the prefiltered value at one axis.
 #include <brdfbake/env/environment.hpp>
+#include <brdfbake/env/prefilter_lobe.hpp>
 #include <brdfbake/maps/image.hpp>
 #include <brdfbake/maps/latlong_map.hpp>
-#include <brdfbake/env/prefilter_lobe.hpp>
 #include <brdfbake/maps/radial_table.hpp>
 #include <brdfbake/maps/sh.hpp>
 

@@ -1,7 +1,7 @@
-#include <brdfbake/env/prefilter_lobe.hpp>
 #include <brdfbake/brdf/blinn_conversion.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
+#include <brdfbake/env/prefilter_lobe.hpp>
 
 #include <algorithm>
 #include <charconv>
@@ -16,17 +16,20 @@ namespace brdfbake {
 struct PrefilterLobe::Data {
   LobeKind kind = LobeKind::Mirror;
   std::string name, description;
-  double exponent = 0.0;   // Phong
-  double alpha = 0.0;      // GGX
-  double scale = 1.0;      // normalisation factor applied to the raw weight
-  double mass = 0.0;       // analytic where known, else the grid's integral
+  double exponent = 0.0;                  // Phong
+  double alpha = 0.0;                     // GGX
+  double scale = 1.0;                     // normalisation factor applied to the raw weight
+  double mass = 0.0;                      // analytic where known, else the grid's integral
   std::vector<double> theta, cumulative;  // cumulative mass over theta (scaled to `mass` at pi)
 
   double rawWeight(double c) const {
     switch (kind) {
-      case LobeKind::Mirror: return 0.0;
-      case LobeKind::Irradiance: return c > 0.0 ? c : 0.0;
-      case LobeKind::Phong: return c > 0.0 ? (exponent == 0.0 ? 1.0 : std::pow(c, exponent)) : 0.0;
+      case LobeKind::Mirror:
+        return 0.0;
+      case LobeKind::Irradiance:
+        return c > 0.0 ? c : 0.0;
+      case LobeKind::Phong:
+        return c > 0.0 ? (exponent == 0.0 ? 1.0 : std::pow(c, exponent)) : 0.0;
       case LobeKind::Ggx: {
         if (!(c > 0.0)) return 0.0;
         const double nh2 = 0.5 * (1.0 + c);  // (n.h)^2 with n = r, h = normalize(r + l)
@@ -42,7 +45,8 @@ namespace {
 
 constexpr int kGrid = 16384;
 
-std::shared_ptr<PrefilterLobe::Data> finish(std::shared_ptr<PrefilterLobe::Data> d, double analyticMass, bool normalise) {
+std::shared_ptr<PrefilterLobe::Data> finish(std::shared_ptr<PrefilterLobe::Data> d, double analyticMass,
+                                            bool normalise) {
   if (d->kind == LobeKind::Mirror) {
     d->mass = 1.0;
     return d;
@@ -56,7 +60,8 @@ std::shared_ptr<PrefilterLobe::Data> finish(std::shared_ptr<PrefilterLobe::Data>
     const double value = d->rawWeight(std::cos(d->theta[k]));
     if (!std::isfinite(value) || value < 0.0) {
       throw Error(Error::Kind::InvalidArgument, "lobe " + d->name + ": weight must be finite and >= 0, got " +
-                                                    std::to_string(value) + " at cos " + std::to_string(std::cos(d->theta[k])));
+                                                    std::to_string(value) + " at cos " +
+                                                    std::to_string(std::cos(d->theta[k])));
     }
     integrand[k] = kTwoPi * value * std::sin(d->theta[k]);
   }
@@ -86,7 +91,8 @@ double parseNumber(std::string_view text, std::string_view lobe) {
   double value = 0.0;
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) {
-    throw Error(Error::Kind::InvalidArgument, "lobe '" + std::string(lobe) + "': '" + std::string(text) + "' is not a number");
+    throw Error(Error::Kind::InvalidArgument,
+                "lobe '" + std::string(lobe) + "': '" + std::string(text) + "' is not a number");
   }
   return value;
 }
@@ -135,8 +141,9 @@ PrefilterLobe PrefilterLobe::blinn(double blinnExponent) {
   PrefilterLobe lobe = phong(blinnExponent / 4.0);
   auto d = std::make_shared<Data>(*lobe.data_);
   d->name = "blinn:" + formatNumber(blinnExponent);
-  d->description = "Blinn-Phong N' = " + formatNumber(blinnExponent) + " as normalised Phong N = N'/4 = " +
-                   formatNumber(blinnExponent / 4.0) + " (policy " + std::string(toString(BlinnConversion::FourN)) + ")";
+  d->description = "Blinn-Phong N' = " + formatNumber(blinnExponent) +
+                   " as normalised Phong N = N'/4 = " + formatNumber(blinnExponent / 4.0) + " (policy " +
+                   std::string(toString(BlinnConversion::FourN)) + ")";
   return PrefilterLobe(d);
 }
 
@@ -159,10 +166,12 @@ PrefilterLobe PrefilterLobe::parse(std::string_view text, const std::filesystem:
   const std::string_view tail = colon == std::string_view::npos ? std::string_view() : text.substr(colon + 1);
   auto needsArgument = [&](bool needs) {
     if (needs && tail.empty()) {
-      throw Error(Error::Kind::InvalidArgument, "lobe '" + std::string(text) + "' needs a parameter after ':' (" + accepted + ")");
+      throw Error(Error::Kind::InvalidArgument,
+                  "lobe '" + std::string(text) + "' needs a parameter after ':' (" + accepted + ")");
     }
     if (!needs && colon != std::string_view::npos) {
-      throw Error(Error::Kind::InvalidArgument, "lobe '" + std::string(head) + "' takes no parameter (" + accepted + ")");
+      throw Error(Error::Kind::InvalidArgument,
+                  "lobe '" + std::string(head) + "' takes no parameter (" + accepted + ")");
     }
   };
   if (head == "mirror") return needsArgument(false), mirror();

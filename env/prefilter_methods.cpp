@@ -1,8 +1,8 @@
 // The prefilter methods at one axis: working pyramid, direct sums, filtered importance sampling,
 // spherical harmonics, interpolation grid, and the exact reference.
-#include <brdfbake/maps/map_mips.hpp>
-#include <brdfbake/maps/latlong_map.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/maps/latlong_map.hpp>
+#include <brdfbake/maps/map_mips.hpp>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -68,17 +68,23 @@ namespace {
 // paraboloid rim and cube texels ~1/N ... 2/N rad), each texel the mean of 2 x 2 bilinear lookups.
 Image workingLatLong(const Environment& environment, bool& resampled) {
   const Parameterization& map = *environment.map;
-  resampled = !(map.kind() == ParameterizationKind::LatLong && std::has_single_bit(static_cast<unsigned>(map.resolution())));
+  resampled =
+      !(map.kind() == ParameterizationKind::LatLong && std::has_single_bit(static_cast<unsigned>(map.resolution())));
   if (!resampled) return environment.image;
-  const double factor = map.kind() == ParameterizationKind::Sphere ? 0.8 : map.kind() == ParameterizationKind::LatLong ? 1.0 : 1.6;
-  const int rows = std::min(4096, static_cast<int>(std::bit_ceil(static_cast<unsigned>(std::max(8.0, std::ceil(factor * map.resolution()))))));
+  const double factor = map.kind() == ParameterizationKind::Sphere    ? 0.8
+                        : map.kind() == ParameterizationKind::LatLong ? 1.0
+                                                                      : 1.6;
+  const int rows = std::min(
+      4096,
+      static_cast<int>(std::bit_ceil(static_cast<unsigned>(std::max(8.0, std::ceil(factor * map.resolution()))))));
   const LatLongMap base(rows);
   Image image(base.width(), base.height(), Rgba(0, 0, 0, 1));
   tbb::parallel_for(0, base.height(), [&](int y) {
     for (int x = 0; x < base.width(); ++x) {
       Rgb value = Rgb::Zero();
       for (int a = 0; a < 2; ++a)
-        for (int b = 0; b < 2; ++b) value += environment.radiance(*base.getDirectionFor(Vec2(x + 0.25 + 0.5 * b, y + 0.25 + 0.5 * a)));
+        for (int b = 0; b < 2; ++b)
+          value += environment.radiance(*base.getDirectionFor(Vec2(x + 0.25 + 0.5 * b, y + 0.25 + 0.5 * a)));
       value *= 0.25;
       image.set(x, y, Rgba(value[0], value[1], value[2], 1.0));
     }
@@ -92,7 +98,8 @@ LatLongPyramid::LatLongPyramid(const Environment& environment) {
   levels_.reserve(16);
   levels_.emplace_back(workingLatLong(environment, resampled_));
   // The solid-angle mip chain (as environmentMipChain makes it; lat-long levels need no fixup).
-  while (levels_.back().height > 1) levels_.emplace_back(downsampleEnvironment(levels_.back().image, levels_.back().map));
+  while (levels_.back().height > 1)
+    levels_.emplace_back(downsampleEnvironment(levels_.back().image, levels_.back().map));
   const LatLongLevel& L = levels_.front();
   double normSum = 0.0;
   for (int y = 0; y < L.height; ++y)
@@ -141,10 +148,14 @@ double capRowHalfWidth(const LatLongLevel& level, int y, double cosD, double sin
   return k <= -1.0 ? kPi : std::acos(k);
 }
 
-
 DirectSummer::DirectSummer(const LatLongPyramid& pyramid, const PrefilterLobe& lobe, int level, double cosCap, int sub,
                            std::shared_ptr<const RadialTable> table)
-    : pyramid_(pyramid), lobe_(lobe), level_(level), sub_(sub), cosCap_(cosCap), capAngle_(std::acos(std::clamp(cosCap, -1.0, 1.0))),
+    : pyramid_(pyramid),
+      lobe_(lobe),
+      level_(level),
+      sub_(sub),
+      cosCap_(cosCap),
+      capAngle_(std::acos(std::clamp(cosCap, -1.0, 1.0))),
       table_(std::move(table)) {
   if (sub_ > 1) {
     const LatLongLevel& L = pyramid_.level(level_);
@@ -272,7 +283,8 @@ LatLongGrid convolvedDirectGrid(const LatLongPyramid& pyramid, const PrefilterLo
   // source column) and k in [-ws/2, ws/2].
   std::vector<double> cosOffset(static_cast<std::size_t>(m) * (ws + 1));
   for (int p = 0; p < m; ++p)
-    for (int k = -half; k <= half; ++k) cosOffset[static_cast<std::size_t>(p) * (ws + 1) + (k + half)] = std::cos((k - ((p + 0.5) / m - 0.5)) * dPhi);
+    for (int k = -half; k <= half; ++k)
+      cosOffset[static_cast<std::size_t>(p) * (ws + 1) + (k + half)] = std::cos((k - ((p + 0.5) / m - 0.5)) * dPhi);
   const RadialTable::View view = table->view();
   auto weight = [&](double c) { return view(std::sqrt(std::max(0.0, 0.5 - 0.5 * c))); };  // over u = sin(theta/2)
   const double mass = lobe.mass();
@@ -369,8 +381,9 @@ ShFilter::ShFilter(const LatLongPyramid& pyramid, const PrefilterLobe& lobe, int
   projectionLevel_ = pyramid.levelFor(kPi / (8.0 * (order + 1)));
   const LatLongLevel& L = pyramid.level(projectionLevel_);
   const int n = shCount(order);
-  static constexpr double nodes[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
-                                      0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
+  static constexpr double nodes[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
+                                      -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
+                                      0.7966664774136267,  0.9602898564975363};
   static constexpr double weights[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066458778873, 0.3626837833783620,
                                         0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
   const double dTheta = kPi / L.height, dPhi = kTwoPi / L.width;
@@ -517,7 +530,8 @@ void ReferenceSummer::sortIntoCells() {
   cellStart_.assign(static_cast<std::size_t>(count) + 1, 0);
   for (std::size_t i = 0; i < x_.size(); ++i) {
     const Vec2 p = cells_.pixelForUnit(Vec3(x_[i], y_[i], z_[i]).normalized());
-    const int cx = std::clamp(static_cast<int>(p.x()), 0, cells_.width() - 1), cy = std::clamp(static_cast<int>(p.y()), 0, cells_.height() - 1);
+    const int cx = std::clamp(static_cast<int>(p.x()), 0, cells_.width() - 1),
+              cy = std::clamp(static_cast<int>(p.y()), 0, cells_.height() - 1);
     cell[i] = cy * cells_.width() + cx;
     ++cellStart_[static_cast<std::size_t>(cell[i]) + 1];
   }
@@ -537,8 +551,9 @@ void ReferenceSummer::sortIntoCells() {
 
 namespace {
 template <class Weight>
-void referenceLoop(const double* xs, const double* ys, const double* zs, const double* ws, const double* rs, const double* gs,
-                   const double* bs, std::size_t n, const Vec3& axis, bool positiveOnly, Weight weight, double out[4]) {
+void referenceLoop(const double* xs, const double* ys, const double* zs, const double* ws, const double* rs,
+                   const double* gs, const double* bs, std::size_t n, const Vec3& axis, bool positiveOnly,
+                   Weight weight, double out[4]) {
   double nr = 0.0, ng = 0.0, nb = 0.0, den = 0.0;
   const double ax = axis.x(), ay = axis.y(), az = axis.z();
   for (std::size_t i = 0; i < n; ++i) {
@@ -557,21 +572,26 @@ void ReferenceSummer::sum(const Vec3& axis, std::size_t begin, std::size_t end, 
   const double *rs = r_.data() + begin, *gs = g_.data() + begin, *bs = b_.data() + begin;
   if (table_) {
     const RadialTable::View view = table_->view();
-    referenceLoop(xs, ys, zs, ws, rs, gs, bs, n, axis, false, [&view](double c) { return view(std::sqrt(std::max(0.0, 0.5 - 0.5 * c))); }, out);
+    referenceLoop(
+        xs, ys, zs, ws, rs, gs, bs, n, axis, false,
+        [&view](double c) { return view(std::sqrt(std::max(0.0, 0.5 - 0.5 * c))); }, out);
     return;
   }
   const double scale = lobe_.weight(1.0);  // only ratios matter; keep weights near 1
   switch (lobe_.kind()) {
     case LobeKind::Irradiance:
-      referenceLoop(xs, ys, zs, ws, rs, gs, bs, n, axis, true, [](double c) { return c; }, out);
+      referenceLoop(
+          xs, ys, zs, ws, rs, gs, bs, n, axis, true, [](double c) { return c; }, out);
       break;
     case LobeKind::Phong: {
       const double e = lobe_.phongExponent();
-      referenceLoop(xs, ys, zs, ws, rs, gs, bs, n, axis, true, [e](double c) { return e == 0.0 ? 1.0 : std::pow(c, e); }, out);
+      referenceLoop(
+          xs, ys, zs, ws, rs, gs, bs, n, axis, true, [e](double c) { return e == 0.0 ? 1.0 : std::pow(c, e); }, out);
       break;
     }
     default:
-      referenceLoop(xs, ys, zs, ws, rs, gs, bs, n, axis, false, [&](double c) { return lobe_.weight(c) / scale; }, out);
+      referenceLoop(
+          xs, ys, zs, ws, rs, gs, bs, n, axis, false, [&](double c) { return lobe_.weight(c) / scale; }, out);
       break;
   }
 }
@@ -583,7 +603,8 @@ Rgb ReferenceSummer::value(const Vec3& axis) const {
   } else {
     const double reach = std::cos(std::min(kPi, capAngle_ + cellRadius_));
     for (std::size_t k = 0; k < cellCentre_.size(); ++k)
-      if (cellStart_[k + 1] > cellStart_[k] && axis.dot(cellCentre_[k]) >= reach) sum(axis, cellStart_[k], cellStart_[k + 1], s);
+      if (cellStart_[k + 1] > cellStart_[k] && axis.dot(cellCentre_[k]) >= reach)
+        sum(axis, cellStart_[k], cellStart_[k + 1], s);
   }
   if (s[3] > 0.0) return lobe_.mass() * Rgb(s[0], s[1], s[2]) / s[3];
   // The lobe fell between every sample: the nearest sample's radiance.

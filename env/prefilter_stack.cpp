@@ -1,12 +1,12 @@
 // Prefilter requests that make several maps: elevation stacks of varying lobe models and the
 // Fresnel decomposition (prefilter_stack.hpp, docs/prefilter.md).
+#include <brdfbake/core/error.hpp>
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/core/progress.hpp>
-#include <brdfbake/output/baked_output.hpp>
-#include <brdfbake/maps/map_mips.hpp>
-#include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/env/prefilter_stack.hpp>
-#include <brdfbake/core/error.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/map_mips.hpp>
+#include <brdfbake/output/baked_output.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -18,7 +18,6 @@
 namespace brdfbake {
 namespace {
 using Clock = std::chrono::steady_clock;
-
 
 // options.progress over [begin, end) of the whole request.
 std::function<void(double)> progressPart(const std::function<void(double)>& progress, double begin, double end) {
@@ -38,7 +37,7 @@ std::vector<double> glossLevelExponents(int count, double scale, double bias) {
     const double glossiness = count == 1 ? 1.0 : std::max(0.0, 1.0 - static_cast<double>(k) / (count - 1));
     const double exponent = std::exp2(scale * glossiness + bias);
     require(exponent >= 0.0 && exponent <= 1e6, "gloss level " + std::to_string(k) + " has Phong exponent " +
-                                                     std::to_string(exponent) + ", outside [0, 1e6]");
+                                                    std::to_string(exponent) + ", outside [0, 1e6]");
     exponents.push_back(exponent);
   }
   return exponents;
@@ -50,8 +49,9 @@ PrefilteredMap prefilterGlossChain(const Environment& environment, const std::ve
   require(!lobes.empty(), "a gloss chain needs at least one level");
   require(!options.mips, "a gloss chain is its own mip chain: turn options.mips off");
   const int count = static_cast<int>(lobes.size());
-  require((options.resolution >> (count - 1)) >= 1, "a gloss chain of " + std::to_string(count) + " levels needs a resolution of at least " +
-                                                        std::to_string(1 << (count - 1)) + ", got " + std::to_string(options.resolution));
+  require((options.resolution >> (count - 1)) >= 1,
+          "a gloss chain of " + std::to_string(count) + " levels needs a resolution of at least " +
+              std::to_string(1 << (count - 1)) + ", got " + std::to_string(options.resolution));
   const auto start = Clock::now();
   PrefilteredMap result;
   PrefilterSummary& summary = result.summary;
@@ -90,19 +90,21 @@ std::vector<double> elevationSliceCosines(const LobeModel& model, int count) {
   std::vector<double> cosines(static_cast<std::size_t>(count));
   for (int j = 0; j < count; ++j) {
     const double t = static_cast<double>(j) / (count - 1);
-    cosines[static_cast<std::size_t>(j)] = j == 0 ? model.minCos
-                                                  : j == count - 1 ? model.maxCos
-                                                                   : model.minCos * std::pow(model.maxCos / model.minCos, t);
+    cosines[static_cast<std::size_t>(j)] = j == 0           ? model.minCos
+                                           : j == count - 1 ? model.maxCos
+                                                            : model.minCos * std::pow(model.maxCos / model.minCos, t);
   }
   return cosines;
 }
 
-PrefilteredStack prefilterLobeModelStack(const Environment& environment, const LobeModel& model, const std::string& name,
-                                         const PrefilterOptions& options) {
+PrefilteredStack prefilterLobeModelStack(const Environment& environment, const LobeModel& model,
+                                         const std::string& name, const PrefilterOptions& options) {
   model.validate();
   if (model.elevation != LobeElevation::Varying) {
-    throw Error(Error::Kind::InvalidArgument, name + ": a constant lobe model prefilters into one map (prefilterLobeModel); "
-                                                     "stacks over elevation are for lobes that vary with elevation");
+    throw Error(Error::Kind::InvalidArgument,
+                name +
+                    ": a constant lobe model prefilters into one map (prefilterLobeModel); "
+                    "stacks over elevation are for lobes that vary with elevation");
   }
   options.validate();
   const auto start = Clock::now();
@@ -132,8 +134,10 @@ PrefilteredStack prefilterLobeModelStack(const Environment& environment, const L
   std::ostringstream detail;
   detail.precision(4);
   detail << count << " slices over elevation, cos theta " << model.minCos << " to " << model.maxCos
-         << " (uniform in t = ln(cos / " << model.minCos << ") / ln(" << model.maxCos << " / " << model.minCos << ")) by";
-  for (const auto& slice : stack.slices) detail << (&slice == &stack.slices.front() ? " " : ", ") << toString(slice.summary.method);
+         << " (uniform in t = ln(cos / " << model.minCos << ") / ln(" << model.maxCos << " / " << model.minCos
+         << ")) by";
+  for (const auto& slice : stack.slices)
+    detail << (&slice == &stack.slices.front() ? " " : ", ") << toString(slice.summary.method);
   detail << "; slice 0: " << stack.slices.front().summary.detail;
   summary.detail = detail.str();
   summary.seconds = secondsSince(start);
@@ -144,9 +148,11 @@ std::filesystem::path elevationSlicePath(const std::filesystem::path& path, int 
   return siblingWithSuffix(path, "_elev" + std::to_string(slice));
 }
 
-MapWriteReport writePrefilteredStack(const PrefilteredStack& stack, const std::filesystem::path& path, nlohmann::json spec,
-                                     CubeLayout layout, const WriteOptions& options, MipLayout mipLayout) {
-  require(!stack.slices.empty() && stack.slices.size() == stack.cosines.size(), "writePrefilteredStack: nothing to write");
+MapWriteReport writePrefilteredStack(const PrefilteredStack& stack, const std::filesystem::path& path,
+                                     nlohmann::json spec, CubeLayout layout, const WriteOptions& options,
+                                     MipLayout mipLayout) {
+  require(!stack.slices.empty() && stack.slices.size() == stack.cosines.size(),
+          "writePrefilteredStack: nothing to write");
   if (!spec.is_object()) spec = nlohmann::json::object();
   if (!spec["prefilter"].is_object()) spec["prefilter"] = nlohmann::json::object();
   const int count = static_cast<int>(stack.slices.size());
@@ -162,12 +168,13 @@ MapWriteReport writePrefilteredStack(const PrefilteredStack& stack, const std::f
                                       {"min_cos", stack.minCos},
                                       {"max_cos", stack.maxCos},
                                       {"interpolation", interpolation.str()}};
-    const MapWriteReport written =
-        writePrefilteredMap(stack.slices[static_cast<std::size_t>(j)], elevationSlicePath(path, j), spec, layout, options, mipLayout);
+    const MapWriteReport written = writePrefilteredMap(stack.slices[static_cast<std::size_t>(j)],
+                                                       elevationSlicePath(path, j), spec, layout, options, mipLayout);
     report.files.insert(report.files.end(), written.files.begin(), written.files.end());
     if (j == 0) report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());
   }
-  report.notes.push_back(std::to_string(count) + " elevation slices " + elevationSlicePath(path, 0).filename().string() + " ... " +
+  report.notes.push_back(std::to_string(count) + " elevation slices " +
+                         elevationSlicePath(path, 0).filename().string() + " ... " +
                          elevationSlicePath(path, count - 1).filename().string() + ": " + interpolation.str());
   return report;
 }
@@ -178,8 +185,9 @@ FresnelDecomposition prefilterFresnelDecomposition(const Environment& environmen
                                                    const FresnelTerm& fresnel, FresnelCombine combine,
                                                    const PrefilterOptions& options, int tableSize) {
   if (specular.indexedByNormal()) {
-    throw Error(Error::Kind::InvalidArgument, "a Fresnel decomposition needs a specular lobe (mirror, phong, blinn, ggx) for "
-                                              "its specular map; the irradiance map is made anyway");
+    throw Error(Error::Kind::InvalidArgument,
+                "a Fresnel decomposition needs a specular lobe (mirror, phong, blinn, ggx) for "
+                "its specular map; the irradiance map is made anyway");
   }
   require(tableSize >= 1 && tableSize <= 65536,
           "the Fresnel table needs 1 to 65536 texels, got " + std::to_string(tableSize));
@@ -204,17 +212,23 @@ Rgb combineFresnelDecomposition(FresnelCombine combine, const Rgb& fresnel, cons
   return fresnel * specular + (combine == FresnelCombine::Mix ? (1.0 - fresnel) * diffuse : diffuse);
 }
 
-std::filesystem::path fresnelIrradiancePath(const std::filesystem::path& output) { return siblingWithSuffix(output, "_irradiance"); }
-std::filesystem::path fresnelTablePath(const std::filesystem::path& output) { return siblingWithSuffix(output, "_fresnel"); }
+std::filesystem::path fresnelIrradiancePath(const std::filesystem::path& output) {
+  return siblingWithSuffix(output, "_irradiance");
+}
+std::filesystem::path fresnelTablePath(const std::filesystem::path& output) {
+  return siblingWithSuffix(output, "_fresnel");
+}
 
 namespace {
 void addLevels(std::vector<FilePlan::Entry>& out, const std::filesystem::path& file, const PrefilterOutputs& o,
                const std::string& role) {
-  const int levels = o.mips && o.mipLayout == MipLayout::Files ? (o.mipLevels > 0 ? o.mipLevels : mipLevelCount(o.resolution)) : 1;
+  const int levels =
+      o.mips && o.mipLayout == MipLayout::Files ? (o.mipLevels > 0 ? o.mipLevels : mipLevelCount(o.resolution)) : 1;
   const bool cube = o.parameterization == ParameterizationKind::Cube;
   for (int level = 0; level < levels; ++level) {
-    const auto files = mapOutputFiles(mipLevelPath(file, level),
-                                      level == 0 ? role : role + " (mip level " + std::to_string(level) + ")", cube, o.layout);
+    const auto files =
+        mapOutputFiles(mipLevelPath(file, level),
+                       level == 0 ? role : role + " (mip level " + std::to_string(level) + ")", cube, o.layout);
     out.insert(out.end(), files.begin(), files.end());
   }
 }
@@ -248,17 +262,16 @@ MapWriteReport writeFresnelDecomposition(const FresnelDecomposition& decompositi
   const std::filesystem::path irradiancePath = fresnelIrradiancePath(output), tablePath = fresnelTablePath(output);
   const Rgb f0 = decomposition.fresnel.f0();
   const bool mix = decomposition.combine == FresnelCombine::Mix;
-  nlohmann::json fresnel = {
-      {"combine", std::string(toString(decomposition.combine))},
-      {"formula", mix ? "L = F(n.v) specular(r) + (1 - F(n.v)) k_d irradiance(n) / pi"
-                      : "L = F(n.v) specular(r) + k_d irradiance(n) / pi"},
-      {"specular", output.filename().string()},
-      {"irradiance", irradiancePath.filename().string()},
-      {"table", tablePath.filename().string()},
-      {"table_size", size},
-      {"table_texels", "texel i holds F at cos theta = n.v = (i + 0.5) / " + std::to_string(size) +
-                             ": a linear lookup at s = n.v returns F"},
-      {"f0", {f0[0], f0[1], f0[2]}}};
+  nlohmann::json fresnel = {{"combine", std::string(toString(decomposition.combine))},
+                            {"formula", mix ? "L = F(n.v) specular(r) + (1 - F(n.v)) k_d irradiance(n) / pi"
+                                            : "L = F(n.v) specular(r) + k_d irradiance(n) / pi"},
+                            {"specular", output.filename().string()},
+                            {"irradiance", irradiancePath.filename().string()},
+                            {"table", tablePath.filename().string()},
+                            {"table_size", size},
+                            {"table_texels", "texel i holds F at cos theta = n.v = (i + 0.5) / " +
+                                                 std::to_string(size) + ": a linear lookup at s = n.v returns F"},
+                            {"f0", {f0[0], f0[1], f0[2]}}};
 
   // The table first (cheapest to fail), then the two maps.
   Image image = fresnelTableImage(decomposition.table);
@@ -272,15 +285,17 @@ MapWriteReport writeFresnelDecomposition(const FresnelDecomposition& decompositi
   const MapWriteReport specular = writePrefilteredMap(decomposition.specular, output, spec, layout, options, mipLayout);
   fresnel["role"] = "irradiance";
   spec["prefilter"]["fresnel"] = fresnel;
-  const MapWriteReport irradiance = writePrefilteredMap(decomposition.irradiance, irradiancePath, spec, layout, options, mipLayout);
+  const MapWriteReport irradiance =
+      writePrefilteredMap(decomposition.irradiance, irradiancePath, spec, layout, options, mipLayout);
   for (const MapWriteReport* part : {&specular, &irradiance}) {
     report.files.insert(report.files.end(), part->files.begin(), part->files.end());
     report.notes.insert(report.notes.end(), part->notes.begin(), part->notes.end());
   }
   report.files.push_back(tablePath);
   report.notes.insert(report.notes.end(), tableWritten.notes.begin(), tableWritten.notes.end());
-  report.notes.push_back(tablePath.filename().string() + ": 1-D Fresnel table, texel i holds F at cos theta = (i + 0.5) / " +
-                         std::to_string(size) + "; combine " + std::string(toString(decomposition.combine)) + ": " +
+  report.notes.push_back(tablePath.filename().string() +
+                         ": 1-D Fresnel table, texel i holds F at cos theta = (i + 0.5) / " + std::to_string(size) +
+                         "; combine " + std::string(toString(decomposition.combine)) + ": " +
                          fresnel["formula"].get<std::string>());
   return report;
 }

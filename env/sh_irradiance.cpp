@@ -1,8 +1,8 @@
 // Irradiance as 9 spherical-harmonic coefficients per channel (sh_irradiance.hpp).
-#include <brdfbake/env/sh_irradiance.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/core/json_reader.hpp>
+#include <brdfbake/env/sh_irradiance.hpp>
 
 #include <tbb/parallel_for.h>
 
@@ -48,26 +48,29 @@ nlohmann::json irradianceShToJson(const ShExpansion& sh, const nlohmann::json& s
           "irradiance SH files hold 3 bands (9 coefficients)");
   nlohmann::json coefficients = nlohmann::json::array();
   for (const Rgb& c : sh.coefficients) coefficients.push_back({c[0], c[1], c[2]});
-  return {{"format", kFormat},
-          {"version", 1},
-          {"bands", kOrder + 1},
-          {"convention",
-           "E(n)/pi = sum_i c_i Y_i(n), i = l(l+1)+m: radiance-equivalent irradiance (a constant environment of radiance L "
-           "gives L; a Lambertian surface of albedo k_d reflects k_d times it). The coefficients include the cosine-lobe "
-           "convolution (A_0 = pi, A_1 = 2pi/3, A_2 = pi/4; Ramamoorthi & Hanrahan 2001, Eq. 8) and the 1/pi; Y_i are "
-           "orthonormal (the integral of Y_i Y_j over the sphere is delta_ij), Condon-Shortley phase included."},
-          {"basis",
-           {"Y_0,0 = 0.282095", "Y_1,-1 = -0.488603 y", "Y_1,0 = 0.488603 z", "Y_1,1 = -0.488603 x",
-            "Y_2,-2 = 1.092548 x y", "Y_2,-1 = -1.092548 y z", "Y_2,0 = 0.315392 (3 z^2 - 1)", "Y_2,1 = -1.092548 x z",
-            "Y_2,2 = 0.546274 (x^2 - y^2)"}},
-          {"frame", "(x, y, z) is the unit normal in the environment's frame (y up; a lat-long image's centre looks down -z)"},
-          {"coefficients", coefficients},
-          {"environment", source}};
+  return {
+      {"format", kFormat},
+      {"version", 1},
+      {"bands", kOrder + 1},
+      {"convention",
+       "E(n)/pi = sum_i c_i Y_i(n), i = l(l+1)+m: radiance-equivalent irradiance (a constant environment of radiance L "
+       "gives L; a Lambertian surface of albedo k_d reflects k_d times it). The coefficients include the cosine-lobe "
+       "convolution (A_0 = pi, A_1 = 2pi/3, A_2 = pi/4; Ramamoorthi & Hanrahan 2001, Eq. 8) and the 1/pi; Y_i are "
+       "orthonormal (the integral of Y_i Y_j over the sphere is delta_ij), Condon-Shortley phase included."},
+      {"basis",
+       {"Y_0,0 = 0.282095", "Y_1,-1 = -0.488603 y", "Y_1,0 = 0.488603 z", "Y_1,1 = -0.488603 x",
+        "Y_2,-2 = 1.092548 x y", "Y_2,-1 = -1.092548 y z", "Y_2,0 = 0.315392 (3 z^2 - 1)", "Y_2,1 = -1.092548 x z",
+        "Y_2,2 = 0.546274 (x^2 - y^2)"}},
+      {"frame",
+       "(x, y, z) is the unit normal in the environment's frame (y up; a lat-long image's centre looks down -z)"},
+      {"coefficients", coefficients},
+      {"environment", source}};
 }
 
 ShExpansion irradianceShFromJson(const nlohmann::json& document, const std::string& label) {
   if (!isIrradianceShDocument(document)) {
-    throw Error(Error::Kind::InvalidInput, label + ": format: not an SH irradiance file (expected \"" + kFormat + "\")");
+    throw Error(Error::Kind::InvalidInput,
+                label + ": format: not an SH irradiance file (expected \"" + kFormat + "\")");
   }
   const auto version = document.find("version");
   if (version == document.end() || !version->is_number_integer() || version->get<int>() != 1) {
@@ -99,7 +102,8 @@ void writeIrradianceSh(const ShExpansion& sh, const nlohmann::json& source, cons
                        const std::vector<std::filesystem::path>& inputs) {
   for (const auto& input : inputs) {
     if (sameFile(input, path)) {
-      throw Error(Error::Kind::InvalidArgument, path.string() + ": output would overwrite an input; choose another output path");
+      throw Error(Error::Kind::InvalidArgument,
+                  path.string() + ": output would overwrite an input; choose another output path");
     }
   }
   writeFileAtomically(path, irradianceShToJson(sh, source).dump(2) + "\n");

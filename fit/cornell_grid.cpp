@@ -19,7 +19,8 @@ bool isCornellHole(const SampleAngles& a) {
   const double cosAngle = directionFromAngles(a.thetaIn, a.phiIn).dot(directionFromAngles(a.thetaOut, a.phiOut));
   if (cosAngle > std::cos(radians(kHoleRadiusDegrees))) return true;
   // The one further missing sample of every file: theta_i 80, outer ring, phi_s -175 degrees.
-  return std::abs(a.thetaIn - radians(80.0)) < 1e-4 && std::abs(a.thetaOut - 2.0 * std::asin(0.9 / std::sqrt(2.0))) < 1e-4 &&
+  return std::abs(a.thetaIn - radians(80.0)) < 1e-4 &&
+         std::abs(a.thetaOut - 2.0 * std::asin(0.9 / std::sqrt(2.0))) < 1e-4 &&
          std::abs(a.phiOut - radians(-175.0)) < 1e-4;
 }
 
@@ -55,7 +56,8 @@ MeasuredTable makeSyntheticTable(const LobeModel& model, double noise, std::uint
     const Vec3 wi = table.incidentDirection(i), wo = table.outgoingDirection(i);
     for (Eigen::Index c = 0; c < channels; ++c) {
       const double g = gauss(rng);
-      table.values(static_cast<Eigen::Index>(i), c) = model.evaluate(static_cast<std::size_t>(c), wi, wo) * (1.0 + noise * g);
+      table.values(static_cast<Eigen::Index>(i), c) =
+          model.evaluate(static_cast<std::size_t>(c), wi, wo) * (1.0 + noise * g);
     }
   }
   for (const auto& channel : model.channels) table.channelNames.push_back(channel.name);
@@ -86,7 +88,8 @@ MeasuredTable sampleMerlOnCornellGrid(const MerlTable& merl) {
   std::vector<Rgb> values;
   std::size_t unmeasured = 0;
   for (const auto& a : cornellSampleAngles(false)) {
-    const auto value = merl.evaluate(directionFromAngles(a.thetaIn, a.phiIn), directionFromAngles(a.thetaOut, a.phiOut));
+    const auto value =
+        merl.evaluate(directionFromAngles(a.thetaIn, a.phiIn), directionFromAngles(a.thetaOut, a.phiOut));
     if (!value) {
       ++unmeasured;
       continue;
@@ -95,10 +98,12 @@ MeasuredTable sampleMerlOnCornellGrid(const MerlTable& merl) {
     values.push_back(*value);
   }
   table.values.resize(static_cast<Eigen::Index>(values.size()), 3);
-  for (std::size_t i = 0; i < values.size(); ++i) table.values.row(static_cast<Eigen::Index>(i)) = values[i].transpose();
-  table.notes.push_back("MERL table sampled on the Cornell grid (8 incident angles x 190 directions, nearest MERL bin): " +
-                        std::to_string(values.size()) + " samples" +
-                        (unmeasured ? ", " + std::to_string(unmeasured) + " directions skipped (unmeasured bins)" : ""));
+  for (std::size_t i = 0; i < values.size(); ++i)
+    table.values.row(static_cast<Eigen::Index>(i)) = values[i].transpose();
+  table.notes.push_back(
+      "MERL table sampled on the Cornell grid (8 incident angles x 190 directions, nearest MERL bin): " +
+      std::to_string(values.size()) + " samples" +
+      (unmeasured ? ", " + std::to_string(unmeasured) + " directions skipped (unmeasured bins)" : ""));
   table.validate();
   return table;
 }

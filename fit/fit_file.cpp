@@ -1,9 +1,9 @@
-#include <brdfbake/core/files.hpp>
-#include <brdfbake/core/json_text.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/files.hpp>
+#include <brdfbake/core/json_reader.hpp>
+#include <brdfbake/core/json_text.hpp>
 #include <brdfbake/core/version.hpp>
 #include <brdfbake/fit/fit_file.hpp>
-#include <brdfbake/core/json_reader.hpp>
 
 #include <fstream>
 #include <random>
@@ -94,7 +94,9 @@ HeldOutSplit splitFromJson(JsonObjectReader r) {
 nlohmann::ordered_json heldOutToJson(const HeldOutReport& report) {
   nlohmann::ordered_json elevations = nlohmann::ordered_json::array();
   for (const auto& e : report.elevations) elevations.push_back(splitToJson(e));
-  return {{"error", "sqrt(mean over held-out samples and channels of (ln(1 + cos theta_i f_fit) - ln(1 + cos theta_i f_measured))^2)"},
+  return {{"error",
+           "sqrt(mean over held-out samples and channels of (ln(1 + cos theta_i f_fit) - ln(1 + cos theta_i "
+           "f_measured))^2)"},
           {"kfold", splitToJson(report.kfold)},
           {"elevations", elevations},
           {"score", finite(report.score(), "held-out score")},
@@ -107,7 +109,8 @@ HeldOutReport heldOutFromJson(JsonObjectReader r) {
   report.kfold = splitFromJson(r.object("kfold"));
   const auto& elevations = r.array("elevations");
   for (std::size_t i = 0; i < elevations.size(); ++i) {
-    report.elevations.push_back(splitFromJson(JsonObjectReader(elevations[i], r.child("elevations") + "[" + std::to_string(i) + "]")));
+    report.elevations.push_back(
+        splitFromJson(JsonObjectReader(elevations[i], r.child("elevations") + "[" + std::to_string(i) + "]")));
   }
   r.number("score", 0.0);  // recomputed
   report.seconds = r.number("seconds", 0.0);
@@ -122,8 +125,9 @@ std::string lobeModelDescription(LobeElevation elevation) {
       "f(l, v) = k_d / pi + sum_k C_k (n_k + 2) / (2 pi) max(0, r_v . l)^n_k [1/sr], r_v = view mirrored about the "
       "normal, per channel";
   if (elevation == LobeElevation::Constant) return text + "; C_k, n_k constant";
-  return text + "; C_k, n_k varying with u = cos(theta_view): p(u) = p0^((1-t)^2) p1^(2t(1-t)) p2^(t^2), "
-                "t = ln(u / min_cos) / ln(max_cos / min_cos) clamped to [0, 1]";
+  return text +
+         "; C_k, n_k varying with u = cos(theta_view): p(u) = p0^((1-t)^2) p1^(2t(1-t)) p2^(t^2), "
+         "t = ln(u / min_cos) / ln(max_cos / min_cos) clamped to [0, 1]";
 }
 
 nlohmann::ordered_json fitFileToJson(const FitFile& file) {
@@ -140,10 +144,11 @@ nlohmann::ordered_json fitFileToJson(const FitFile& file) {
                           {"notes", file.source.notes}};
   }
   const std::size_t lobes = model.channels.empty() ? 0 : model.channels[0].lobes.size();
-  nlohmann::ordered_json m = {{"description", lobeModelDescription(model.elevation)},
-                      {"elevation", std::string(toString(model.elevation))},
-                      {"elevation_range", {{"min_cos", finite(model.minCos, "min_cos")}, {"max_cos", finite(model.maxCos, "max_cos")}}},
-                      {"lobes", lobes}};
+  nlohmann::ordered_json m = {
+      {"description", lobeModelDescription(model.elevation)},
+      {"elevation", std::string(toString(model.elevation))},
+      {"elevation_range", {{"min_cos", finite(model.minCos, "min_cos")}, {"max_cos", finite(model.maxCos, "max_cos")}}},
+      {"lobes", lobes}};
   if (!model.wavelengthsNm.empty()) m["wavelengths_nm"] = numbers(model.wavelengthsNm, "wavelength");
   document["model"] = m;
   if (file.hasFitInfo) {
@@ -163,7 +168,8 @@ nlohmann::ordered_json fitFileToJson(const FitFile& file) {
     }
     const bool perChannel = o.method == FitMethod::PerChannel;
     document["fit"] = {{"method", std::string(toString(o.method))},
-                       {"residual", perChannel ? "cbrt(cos theta_i f_fit + eps) - cbrt(cos theta_i f_measured + eps), eps = 1e-6 of the channel's largest cos theta_i f"
+                       {"residual", perChannel ? "cbrt(cos theta_i f_fit + eps) - cbrt(cos theta_i f_measured + eps), "
+                                                 "eps = 1e-6 of the channel's largest cos theta_i f"
                                                : "ln(1 + cos theta_i f_fit) - ln(1 + cos theta_i max(f_measured, 0))"},
                        {"kind", std::string(toString(o.kind))},
                        {"max_exponent", finite(o.maxExponent, "max exponent")},
@@ -184,7 +190,8 @@ nlohmann::ordered_json fitFileToJson(const FitFile& file) {
     const LobeChannel& channel = model.channels[c];
     nlohmann::ordered_json lobeArray = nlohmann::ordered_json::array();
     for (const auto& lobe : channel.lobes) {
-      nlohmann::ordered_json entry = {{"weight", numbers(lobe.weight, "lobe weight")}, {"exponent", numbers(lobe.exponent, "lobe exponent")}};
+      nlohmann::ordered_json entry = {{"weight", numbers(lobe.weight, "lobe weight")},
+                                      {"exponent", numbers(lobe.exponent, "lobe exponent")}};
       if (lobe.halfVector) {
         entry["axis"] = "half_vector";
         entry["fresnel"] = finite(lobe.fresnel, "lobe fresnel");
@@ -193,27 +200,28 @@ nlohmann::ordered_json fitFileToJson(const FitFile& file) {
       }
       lobeArray.push_back(entry);
     }
-    nlohmann::ordered_json entry = {{"name", channel.name}, {"diffuse", finite(channel.diffuse, "diffuse")}, {"lobes", lobeArray}};
+    nlohmann::ordered_json entry = {
+        {"name", channel.name}, {"diffuse", finite(channel.diffuse, "diffuse")}, {"lobes", lobeArray}};
     if (c < file.fit.channels.size()) {
       const ChannelFitStats& s = file.fit.channels[c];
-      entry["stats"] = {
-          {"samples", s.samples},
-          {"rms_cosine_weighted", finite(s.rmsCosineWeighted, "rms")},
-          {"log_rmse", finite(s.logRmse, "log rmse")},
-          {"cube_root_rmse", finite(s.cubeRootRmse, "cube-root rmse")},
-          {"worst_sample", {{"index", s.worst.index},
-                            {"theta_i", finite(s.worst.angles.thetaIn, "angle")},
-                            {"phi_i", finite(s.worst.angles.phiIn, "angle")},
-                            {"theta_s", finite(s.worst.angles.thetaOut, "angle")},
-                            {"phi_s", finite(s.worst.angles.phiOut, "angle")},
-                            {"measured", finite(s.worst.measured, "measured value")},
-                            {"fitted", finite(s.worst.fitted, "fitted value")}}},
-          {"iterations", s.solver.iterations},
-          {"total_iterations", s.totalIterations},
-          {"seconds", finite(s.seconds, "seconds")},
-          {"termination", s.solver.termination},
-          {"usable", s.solver.usable},
-          {"brief_report", s.solver.briefReport}};
+      entry["stats"] = {{"samples", s.samples},
+                        {"rms_cosine_weighted", finite(s.rmsCosineWeighted, "rms")},
+                        {"log_rmse", finite(s.logRmse, "log rmse")},
+                        {"cube_root_rmse", finite(s.cubeRootRmse, "cube-root rmse")},
+                        {"worst_sample",
+                         {{"index", s.worst.index},
+                          {"theta_i", finite(s.worst.angles.thetaIn, "angle")},
+                          {"phi_i", finite(s.worst.angles.phiIn, "angle")},
+                          {"theta_s", finite(s.worst.angles.thetaOut, "angle")},
+                          {"phi_s", finite(s.worst.angles.phiOut, "angle")},
+                          {"measured", finite(s.worst.measured, "measured value")},
+                          {"fitted", finite(s.worst.fitted, "fitted value")}}},
+                        {"iterations", s.solver.iterations},
+                        {"total_iterations", s.totalIterations},
+                        {"seconds", finite(s.seconds, "seconds")},
+                        {"termination", s.solver.termination},
+                        {"usable", s.solver.usable},
+                        {"brief_report", s.solver.briefReport}};
     }
     channels.push_back(entry);
   }
@@ -235,8 +243,8 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
     }
     const int version = root.integer("version", 1, 1 << 20);
     if (version != kFitFileVersion) {
-      throw specError("version", "this brdfbake reads version " + std::to_string(kFitFileVersion) + ", the file is version " +
-                                     std::to_string(version));
+      throw specError("version", "this brdfbake reads version " + std::to_string(kFitFileVersion) +
+                                     ", the file is version " + std::to_string(version));
     }
     root.optionalString("generator");
 
@@ -249,7 +257,8 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
       file.source.channels = source.string("channels");
       const auto& notes = source.array("notes");
       for (std::size_t i = 0; i < notes.size(); ++i) {
-        if (!notes[i].is_string()) throw specError(source.child("notes") + "[" + std::to_string(i) + "]", "must be a string");
+        if (!notes[i].is_string())
+          throw specError(source.child("notes") + "[" + std::to_string(i) + "]", "must be a string");
         file.source.notes.push_back(notes[i].get<std::string>());
       }
       source.finish();
@@ -269,7 +278,8 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
       for (std::size_t i = 0; i < w.size(); ++i) {
         const std::string at = m.child("wavelengths_nm") + "[" + std::to_string(i) + "]";
         model.wavelengthsNm.push_back(JsonObjectReader::asNumber(w[i], at));
-        if (i > 0 && !(model.wavelengthsNm[i] > model.wavelengthsNm[i - 1])) throw specError(at, "wavelengths must increase");
+        if (i > 0 && !(model.wavelengthsNm[i] > model.wavelengthsNm[i - 1]))
+          throw specError(at, "wavelengths must increase");
       }
     }
     m.finish();
@@ -303,7 +313,8 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
           o.lobes = std::stoi(lobes, &used);
           if (used != lobes.size() || o.lobes < 1) throw std::invalid_argument(lobes);
         } catch (const std::exception&) {
-          throw specError(fit.child("requested_lobes"), "must be \"auto\" or a positive whole number, got \"" + lobes + "\"");
+          throw specError(fit.child("requested_lobes"),
+                          "must be \"auto\" or a positive whole number, got \"" + lobes + "\"");
         }
       }
       o.elevation = fit.parsed("requested_elevation", parseElevationChoice);
@@ -321,7 +332,8 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
         } else {
           const std::string kind = c.string("kind");
           if (kind != "mirror" && kind != "lafortune" && kind != "half_vector") {
-            throw specError(c.child("kind"), "must be \"mirror\", \"lafortune\" or \"half_vector\", got \"" + kind + "\"");
+            throw specError(c.child("kind"),
+                            "must be \"mirror\", \"lafortune\" or \"half_vector\", got \"" + kind + "\"");
           }
           candidate.kind = parseLobeKindChoice(kind);
           candidate.parameters = c.integer("parameters", 0, 1 << 30);
@@ -354,8 +366,8 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
       channel.diffuse = ch.number("diffuse", 0.0);
       const auto& lobes = ch.array("lobes");
       if (static_cast<int>(lobes.size()) != lobeCount) {
-        throw specError(ch.child("lobes"), "model.lobes says " + std::to_string(lobeCount) + " lobe(s), this channel has " +
-                                               std::to_string(lobes.size()));
+        throw specError(ch.child("lobes"), "model.lobes says " + std::to_string(lobeCount) +
+                                               " lobe(s), this channel has " + std::to_string(lobes.size()));
       }
       for (std::size_t k = 0; k < lobes.size(); ++k) {
         JsonObjectReader lobe(lobes[k], ch.child("lobes") + "[" + std::to_string(k) + "]");
@@ -369,7 +381,8 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
         } else if (axis == "lafortune") {
           l.cxy = lobe.number("cxy", -1.0, -kMaxLobeCxy, kMaxLobeCxy, false);
         } else {
-          throw specError(lobe.child("axis"), "must be \"lafortune\" (the default) or \"half_vector\", got \"" + axis + "\"");
+          throw specError(lobe.child("axis"),
+                          "must be \"lafortune\" (the default) or \"half_vector\", got \"" + axis + "\"");
         }
         lobe.finish();
         channel.lobes.push_back(std::move(l));
@@ -385,7 +398,8 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
     }
     if (anyStats && !allStats) throw specError("channels", "either every channel has \"stats\" or none has");
     if (!model.wavelengthsNm.empty() && model.wavelengthsNm.size() != model.channels.size()) {
-      throw specError("model.wavelengths_nm", "must hold one wavelength per channel (" + std::to_string(model.channels.size()) + ")");
+      throw specError("model.wavelengths_nm",
+                      "must hold one wavelength per channel (" + std::to_string(model.channels.size()) + ")");
     }
     file.fit.channels = std::move(stats);
     root.finish();
@@ -396,10 +410,10 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
     }
     return file;
   } catch (const Error& e) {
-    throw Error(e.kind() == Error::Kind::InvalidArgument ? Error::Kind::InvalidInput : e.kind(), label + ": " + e.what());
+    throw Error(e.kind() == Error::Kind::InvalidArgument ? Error::Kind::InvalidInput : e.kind(),
+                label + ": " + e.what());
   }
 }
-
 
 FitFile readFitFile(const fs::path& path) { return fitFileFromJson(readJsonFile(path), path.string()); }
 

@@ -80,15 +80,17 @@ std::string fitReportScript(const std::filesystem::path& png, const MeasuredTabl
   s << "set multiplot layout " << rows << "," << columns << " title " << gnuplotQuote(title) << "\n";
   for (int p = 0; p < panels; ++p) {
     const double thetaDeg = degrees(thetas[static_cast<std::size_t>(p)]);
-    s << "set title " << gnuplotQuote("theta_i = " + std::to_string(static_cast<int>(std::lround(thetaDeg))) + " deg") << "\n";
-    s << "unset arrow\nset arrow from " << thetaDeg << ", graph 0 to " << thetaDeg << ", graph 1 nohead dt 2 lc rgb '#888888'\n";
+    s << "set title " << gnuplotQuote("theta_i = " + std::to_string(static_cast<int>(std::lround(thetaDeg))) + " deg")
+      << "\n";
+    s << "unset arrow\nset arrow from " << thetaDeg << ", graph 0 to " << thetaDeg
+      << ", graph 1 nohead dt 2 lc rgb '#888888'\n";
     s << "plot ";
     for (std::size_t k = 0; k < plotted.size(); ++k) {
       const std::string name = table.channelNames.at(plotted[k].channel);
       if (k) s << ", ";
       s << "$m" << p << "_" << k << " with points pt 7 ps 0.6 lc rgb '" << plotted[k].color << "' title "
-        << gnuplotQuote(name + " measured") << ", $f" << p << "_" << k << " with lines lw 1.5 lc rgb '" << plotted[k].color
-        << "' title " << gnuplotQuote(name + " fit");
+        << gnuplotQuote(name + " measured") << ", $f" << p << "_" << k << " with lines lw 1.5 lc rgb '"
+        << plotted[k].color << "' title " << gnuplotQuote(name + " fit");
     }
     s << "\n";
   }

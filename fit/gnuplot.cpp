@@ -32,8 +32,10 @@ std::optional<fs::path> findGnuplot() {
 std::string gnuplotQuote(const std::string& text) {
   std::string quoted = "'";
   for (char c : text) {
-    if (c == '\'') quoted += "''";
-    else if (c != '\n') quoted += c;
+    if (c == '\'')
+      quoted += "''";
+    else if (c != '\n')
+      quoted += c;
   }
   return quoted + "'";
 }
@@ -58,8 +60,8 @@ void runGnuplot(const std::string& script) {
     for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
     return q + "'";
   };
-  const std::string command = shellQuote(gnuplot->string()) + " " + shellQuote(scriptFile.string()) + " </dev/null >/dev/null 2>" +
-                              shellQuote(errors.string());
+  const std::string command = shellQuote(gnuplot->string()) + " " + shellQuote(scriptFile.string()) +
+                              " </dev/null >/dev/null 2>" + shellQuote(errors.string());
   const int status = std::system(command.c_str());
   std::ifstream log(errors);
   std::stringstream messages;

@@ -77,7 +77,8 @@ double cosIncident(const MeasuredTable& table, std::size_t row) {
 }  // namespace
 
 LogErrorSum cosineLogError(const LobeModel& model, const MeasuredTable& table, const std::vector<std::size_t>& rows) {
-  require(model.channelCount() == table.channelCount(), "held-out: the model and the table have different channel counts");
+  require(model.channelCount() == table.channelCount(),
+          "held-out: the model and the table have different channel counts");
   LogErrorSum sum;
   for (std::size_t i : rows) {
     const double c = cosIncident(table, i);
@@ -142,12 +143,14 @@ std::vector<double> lambertianFit(const MeasuredTable& table, const std::vector<
   return k;
 }
 
-LogErrorSum lambertianLogError(const std::vector<double>& k, const MeasuredTable& table, const std::vector<std::size_t>& rows) {
+LogErrorSum lambertianLogError(const std::vector<double>& k, const MeasuredTable& table,
+                               const std::vector<std::size_t>& rows) {
   LogErrorSum sum;
   for (std::size_t i : rows) {
     const double c = cosIncident(table, i);
     for (Eigen::Index ch = 0; ch < table.values.cols(); ++ch) {
-      const double r = logTerm(c, k[static_cast<std::size_t>(ch)]) - logTerm(c, table.values(static_cast<Eigen::Index>(i), ch));
+      const double r =
+          logTerm(c, k[static_cast<std::size_t>(ch)]) - logTerm(c, table.values(static_cast<Eigen::Index>(i), ch));
       sum.squares += r * r;
       ++sum.terms;
     }
@@ -165,13 +168,16 @@ void addFolds(const MeasuredTable& table, const HeldOutOptions& options, std::ve
   if (candidates.size() < static_cast<std::size_t>(options.folds)) {
     throw Error(Error::Kind::InvalidInput, "held-out: " + std::to_string(candidates.size()) + " row(s) farther than " +
                                                std::to_string(options.minMirrorOffsetDegrees) +
-                                               " degrees from the mirror cannot make " + std::to_string(options.folds) + " folds");
+                                               " degrees from the mirror cannot make " + std::to_string(options.folds) +
+                                               " folds");
   }
   std::mt19937_64 rng(options.seed);
   std::shuffle(candidates.begin(), candidates.end(), rng);
   for (int f = 0; f < options.folds; ++f) {
     std::vector<bool> rows(table.size(), false);
-    for (std::size_t j = static_cast<std::size_t>(f); j < candidates.size(); j += static_cast<std::size_t>(options.folds)) rows[candidates[j]] = true;
+    for (std::size_t j = static_cast<std::size_t>(f); j < candidates.size();
+         j += static_cast<std::size_t>(options.folds))
+      rows[candidates[j]] = true;
     held.push_back(std::move(rows));
   }
 }
@@ -185,7 +191,8 @@ std::vector<double> heldOutElevations(const MeasuredTable& table, const HeldOutO
     return elevations;
   }
   for (double e : options.elevationsDegrees) {
-    const auto it = std::find_if(thetas.begin(), thetas.end(), [&](double t) { return std::abs(degrees(t) - e) < 0.01; });
+    const auto it =
+        std::find_if(thetas.begin(), thetas.end(), [&](double t) { return std::abs(degrees(t) - e) < 0.01; });
     if (it == thetas.end()) {
       std::ostringstream text;
       text << "held-out: the table has no incident elevation " << e << " deg";
@@ -198,7 +205,8 @@ std::vector<double> heldOutElevations(const MeasuredTable& table, const HeldOutO
 }
 }  // namespace
 
-HeldOutSplits::HeldOutSplits(const MeasuredTable& table, const HeldOutOptions& options) : table_(&table), options_(options) {
+HeldOutSplits::HeldOutSplits(const MeasuredTable& table, const HeldOutOptions& options)
+    : table_(&table), options_(options) {
   options.validate();
   std::vector<std::vector<bool>> held;
   addFolds(table, options, held);
@@ -261,7 +269,9 @@ HeldOutReport HeldOutSplits::estimate(const SplitFitter& fit) const {
 }
 
 HeldOutReport estimateHeldOutError(const MeasuredTable& table, const TableFitter& fit, const HeldOutOptions& options) {
-  return HeldOutSplits(table, options).estimate([&](std::size_t, const MeasuredTable& training) { return fit(training); });
+  return HeldOutSplits(table, options).estimate([&](std::size_t, const MeasuredTable& training) {
+    return fit(training);
+  });
 }
 
 }  // namespace brdfbake

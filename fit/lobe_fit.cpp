@@ -1,6 +1,6 @@
-#include <brdfbake/core/progress.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/named_values.hpp>
+#include <brdfbake/core/progress.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 
 #include "shared_lobe_fit.hpp"
@@ -13,13 +13,13 @@
 
 #include <algorithm>
 #include <array>
-#include <optional>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
 #include <memory>
 #include <mutex>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -27,22 +27,29 @@ namespace brdfbake {
 
 std::string_view toString(ElevationChoice choice) {
   switch (choice) {
-    case ElevationChoice::Auto: return "auto";
-    case ElevationChoice::Constant: return "constant";
-    case ElevationChoice::Varying: return "varying";
+    case ElevationChoice::Auto:
+      return "auto";
+    case ElevationChoice::Constant:
+      return "constant";
+    case ElevationChoice::Varying:
+      return "varying";
   }
   return "auto";
 }
 
 ElevationChoice parseElevationChoice(std::string_view name) {
-  return parseByName(name, std::array{ElevationChoice::Auto, ElevationChoice::Constant, ElevationChoice::Varying}, "elevation");
+  return parseByName(name, std::array{ElevationChoice::Auto, ElevationChoice::Constant, ElevationChoice::Varying},
+                     "elevation");
 }
 
 std::string_view toString(RobustLoss loss) {
   switch (loss) {
-    case RobustLoss::Cauchy: return "cauchy";
-    case RobustLoss::Huber: return "huber";
-    case RobustLoss::None: return "none";
+    case RobustLoss::Cauchy:
+      return "cauchy";
+    case RobustLoss::Huber:
+      return "huber";
+    case RobustLoss::None:
+      return "none";
   }
   return "cauchy";
 }
@@ -53,7 +60,8 @@ RobustLoss parseRobustLoss(std::string_view name) {
 
 void FitOptions::validate() const {
   require(lobes >= 0 && lobes <= kMaxFitLobes, "fit: lobes must be 0 (auto) or 1.." + std::to_string(kMaxFitLobes));
-  require(maxAutoLobes >= 1 && maxAutoLobes <= kMaxFitLobes, "fit: maxAutoLobes must be in 1.." + std::to_string(kMaxFitLobes));
+  require(maxAutoLobes >= 1 && maxAutoLobes <= kMaxFitLobes,
+          "fit: maxAutoLobes must be in 1.." + std::to_string(kMaxFitLobes));
   require(std::isfinite(autoMargin) && autoMargin > 0.0 && autoMargin < 1.0, "fit: autoMargin must be in (0, 1)");
   require(std::isfinite(elevationMargin) && elevationMargin > 0.0 && elevationMargin < 1.0,
           "fit: elevationMargin must be in (0, 1)");
@@ -79,10 +87,10 @@ std::string FitResult::briefReport() const {
       << " channel(s), " << std::fixed << std::setprecision(2) << seconds << " s, "
       << (usable() ? "usable" : "NOT usable") << "\n";
   for (const auto& c : channels) {
-    out << "  " << std::left << std::setw(6) << c.name << std::right << std::setprecision(4)
-        << " rms(cos f) " << c.rmsCosineWeighted << " 1/sr, log-rmse " << c.logRmse << ", cbrt-rmse "
-        << c.cubeRootRmse << ", " << c.solver.iterations << " it (" << c.totalIterations << " total), "
-        << std::setprecision(3) << c.seconds << " s, " << c.solver.termination << "\n";
+    out << "  " << std::left << std::setw(6) << c.name << std::right << std::setprecision(4) << " rms(cos f) "
+        << c.rmsCosineWeighted << " 1/sr, log-rmse " << c.logRmse << ", cbrt-rmse " << c.cubeRootRmse << ", "
+        << c.solver.iterations << " it (" << c.totalIterations << " total), " << std::setprecision(3) << c.seconds
+        << " s, " << c.solver.termination << "\n";
   }
   return out.str();
 }
@@ -206,9 +214,14 @@ class ChannelFitter {
   ChannelFitter(ChannelData data, const FitOptions& options) : data_(std::move(data)), options_(options) {
     const double scale = std::max(options.lossScale * data_.maxTarget, 1e-12);
     switch (options.loss) {
-      case RobustLoss::Cauchy: loss_ = std::make_unique<ceres::CauchyLoss>(scale); break;
-      case RobustLoss::Huber: loss_ = std::make_unique<ceres::HuberLoss>(scale); break;
-      case RobustLoss::None: break;
+      case RobustLoss::Cauchy:
+        loss_ = std::make_unique<ceres::CauchyLoss>(scale);
+        break;
+      case RobustLoss::Huber:
+        loss_ = std::make_unique<ceres::HuberLoss>(scale);
+        break;
+      case RobustLoss::None:
+        break;
     }
   }
 
@@ -241,7 +254,8 @@ class ChannelFitter {
     const auto start = Clock::now();
     std::vector<std::vector<double>> starts;
     if (constant && constant->valid) starts.push_back(expandToVarying(constant->x, lobes));
-    if (previousVarying && previousVarying->valid) starts.push_back(withBestNewLobe(previousVarying->x, lobes - 1, 1, kVaryingCount).front());
+    if (previousVarying && previousVarying->valid)
+      starts.push_back(withBestNewLobe(previousVarying->x, lobes - 1, 1, kVaryingCount).front());
     if (auto sliced = sliceStart(lobes)) starts.push_back(std::move(*sliced));
     if (starts.empty()) starts.push_back(expandToVarying(fitConstant(lobes, nullptr).x, lobes));
     // Refine the two starts of lowest cost.
@@ -301,7 +315,8 @@ class ChannelFitter {
       totalIterations += fitter.totalIterations - before;
       // Broadest lobe first in every slice.
       std::vector<std::pair<double, double>> sorted;
-      for (int k = 0; k < lobes; ++k) sorted.emplace_back(c.x[static_cast<std::size_t>(2 + 2 * k)], c.x[static_cast<std::size_t>(1 + 2 * k)]);
+      for (int k = 0; k < lobes; ++k)
+        sorted.emplace_back(c.x[static_cast<std::size_t>(2 + 2 * k)], c.x[static_cast<std::size_t>(1 + 2 * k)]);
       std::sort(sorted.begin(), sorted.end());
       fits[s] = {c.x[0]};
       for (const auto& [n, w] : sorted) fits[s].insert(fits[s].end(), {w, n});
@@ -313,7 +328,8 @@ class ChannelFitter {
         Eigen::Vector3d logs;
         for (int s = 0; s < kSlices; ++s) {
           const double v = fits[s][static_cast<std::size_t>(1 + 2 * k + p)];
-          logs[s] = p == 0 ? std::log(std::max(v, kMinVaryingWeight)) : std::log(std::clamp(v, kMinLobeExponent, kMaxLobeExponent));
+          logs[s] = p == 0 ? std::log(std::max(v, kMinVaryingWeight))
+                           : std::log(std::clamp(v, kMinLobeExponent, kMaxLobeExponent));
         }
         const Eigen::Vector3d control = solver.solve(logs);
         for (int j = 0; j < kSlices; ++j) {
@@ -400,7 +416,8 @@ class ChannelFitter {
     problemOptions.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(problemOptions);
     for (const auto& sample : data_.samples) {
-      problem.AddResidualBlock(makeCost(CubeRootResidual{&sample, lobes, count, data_.eps}, size), loss_.get(), x.data());
+      problem.AddResidualBlock(makeCost(CubeRootResidual{&sample, lobes, count, data_.eps}, size), loss_.get(),
+                               x.data());
     }
     // Bounds (see channelValue); the start is moved inside them first.
     auto bound = [&](int index, double lower, double upper) {
@@ -415,7 +432,8 @@ class ChannelFitter {
       for (int j = 0; j < count; ++j) {
         const int w = 1 + k * 2 * count + j, n = w + count;
         bound(w, logs ? std::log(kMinVaryingWeight) : 0.0, logs ? std::log(kMaxVaryingWeight) : HUGE_VAL);
-        bound(n, logs ? std::log(kMinLobeExponent) : kMinLobeExponent, logs ? std::log(kMaxLobeExponent) : kMaxLobeExponent);
+        bound(n, logs ? std::log(kMinLobeExponent) : kMinLobeExponent,
+              logs ? std::log(kMaxLobeExponent) : kMaxLobeExponent);
       }
     }
     ceres::Solver::Options solverOptions;
@@ -436,8 +454,8 @@ class ChannelFitter {
     result.report.initialCost = summary.initial_cost;
     result.report.finalCost = summary.final_cost;
     result.report.briefReport = summary.BriefReport();
-    const bool finite = std::all_of(x.begin(), x.end(), [](double v) { return std::isfinite(v); }) &&
-                        std::isfinite(summary.final_cost);
+    const bool finite =
+        std::all_of(x.begin(), x.end(), [](double v) { return std::isfinite(v); }) && std::isfinite(summary.final_cost);
     result.report.usable = summary.IsSolutionUsable() && finite;
     totalIterations += result.report.iterations;
     result.valid = finite;
@@ -505,18 +523,19 @@ LobeChannel toChannel(const std::vector<double>& x, int lobes, int count, std::s
   return channel;
 }
 
-
 }  // namespace
 
 ChannelFitStats evaluateFit(const LobeModel& model, const MeasuredTable& table, std::size_t channel) {
-  require(channel < model.channelCount() && channel < table.channelCount(), "evaluateFit: no channel " + std::to_string(channel));
+  require(channel < model.channelCount() && channel < table.channelCount(),
+          "evaluateFit: no channel " + std::to_string(channel));
   ChannelFitStats stats;
   stats.name = model.channels[channel].name;
   stats.samples = table.size();
   double maxWeighted = 0.0;
   for (std::size_t i = 0; i < table.size(); ++i) {
     const double cosIn = std::max(table.incidentDirection(i).z(), 0.0);
-    maxWeighted = std::max(maxWeighted, std::abs(cosIn * table.values(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(channel))));
+    maxWeighted = std::max(
+        maxWeighted, std::abs(cosIn * table.values(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(channel))));
   }
   const double eps = std::max(1e-6 * maxWeighted, 1e-12);
   constexpr double kLogFloor = 1e-3;
@@ -611,7 +630,8 @@ class PerChannelSequences {
       });
       const double error = jointError(current, samples_);
       fitted_[index(elevation)].push_back(std::move(current));
-      if (autoLobes && lobes > 1 && !(error < (1.0 - options_.autoMargin) * previousError)) break;  // 0 -> 0 is no improvement
+      if (autoLobes && lobes > 1 && !(error < (1.0 - options_.autoMargin) * previousError))
+        break;  // 0 -> 0 is no improvement
       chosen = lobes;
       previousError = error;
     }
@@ -639,7 +659,8 @@ class PerChannelSequences {
 };
 
 // Throws unless the usable samples determine the model asked for (and at least one constant lobe).
-void checkDeterminable(const PerChannelSequences& sequences, const FitOptions& options, int maxLobes, const std::string& label) {
+void checkDeterminable(const PerChannelSequences& sequences, const FitOptions& options, int maxLobes,
+                       const std::string& label) {
   const std::size_t samples = sequences.samples();
   if (samples == 0) {
     throw Error(Error::Kind::InvalidInput, label + ": no sample has both directions above the horizon; nothing to fit");
@@ -651,7 +672,8 @@ void checkDeterminable(const PerChannelSequences& sequences, const FitOptions& o
   }
   if (options.lobes == 0) return;
   for (LobeElevation e : {LobeElevation::Constant, LobeElevation::Varying}) {
-    const bool requested = options.elevation == (e == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying);
+    const bool requested =
+        options.elevation == (e == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying);
     if (requested && !sequences.fits(maxLobes, e)) {
       throw Error(Error::Kind::InvalidArgument,
                   label + ": " + std::to_string(samples) + " usable samples cannot determine " +
@@ -667,7 +689,8 @@ std::pair<LobeElevation, int> chooseElevation(const PerChannelSequences& sequenc
                                               int constantLobes, int varyingLobes) {
   if (options.elevation == ElevationChoice::Varying) return {LobeElevation::Varying, varyingLobes};
   if (options.elevation == ElevationChoice::Auto && varyingLobes > 0) {
-    const double constantError = jointError(sequences.fitted(LobeElevation::Constant, constantLobes), sequences.samples());
+    const double constantError =
+        jointError(sequences.fitted(LobeElevation::Constant, constantLobes), sequences.samples());
     const double varyingError = jointError(sequences.fitted(LobeElevation::Varying, varyingLobes), sequences.samples());
     if (varyingError < (1.0 - options.elevationMargin) * constantError) return {LobeElevation::Varying, varyingLobes};
   }
@@ -695,8 +718,8 @@ FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options) {
   const auto [elevation, lobes] = chooseElevation(sequences, options, constantLobes, varyingLobes);
   if (lobes == 0) {
     throw Error(Error::Kind::InvalidInput, label + ": " + std::to_string(sequences.samples()) +
-                                               " usable samples cannot determine a " + std::string(toString(elevation)) +
-                                               " lobe model");
+                                               " usable samples cannot determine a " +
+                                               std::string(toString(elevation)) + " lobe model");
   }
 
   const auto& chosen = sequences.fitted(elevation, lobes);
@@ -732,7 +755,8 @@ struct SharedModel {
   int evaluations = 0;
 };
 
-SharedModel sharedModel(const MeasuredTable& table, const FitOptions& options, LobeKindChoice kind, const LobeModel* warmStart) {
+SharedModel sharedModel(const MeasuredTable& table, const FitOptions& options, LobeKindChoice kind,
+                        const LobeModel* warmStart) {
   const std::string label = table.sourceFile.empty() ? std::string("table") : table.sourceFile;
   if (table.channelCount() == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
   detail::SharedFitConfig config;
@@ -749,10 +773,12 @@ SharedModel sharedModel(const MeasuredTable& table, const FitOptions& options, L
   if (usable == 0) {
     throw Error(Error::Kind::InvalidInput, label + ": no sample has both directions above the horizon; nothing to fit");
   }
-  const std::size_t perChannel = 1 + static_cast<std::size_t>(options.lobes) * (kind == LobeKindChoice::HalfVector ? 2 : 1);
+  const std::size_t perChannel =
+      1 + static_cast<std::size_t>(options.lobes) * (kind == LobeKindChoice::HalfVector ? 2 : 1);
   if (usable < perChannel) {
-    throw Error(Error::Kind::InvalidArgument, label + ": " + std::to_string(usable) + " usable sample(s) cannot determine " +
-                                                  std::to_string(perChannel) + " weights per channel");
+    throw Error(Error::Kind::InvalidArgument, label + ": " + std::to_string(usable) +
+                                                  " usable sample(s) cannot determine " + std::to_string(perChannel) +
+                                                  " weights per channel");
   }
   auto outcome = detail::fitSharedLobes(table, config, fittedRange(table));
   for (std::size_t c = 0; c < table.channelCount(); ++c) {
@@ -762,7 +788,8 @@ SharedModel sharedModel(const MeasuredTable& table, const FitOptions& options, L
   return {std::move(outcome.model), outcome.evaluations};
 }
 
-FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeKindChoice kind, const LobeModel* warmStart = nullptr) {
+FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeKindChoice kind,
+                    const LobeModel* warmStart = nullptr) {
   const auto start = Clock::now();
   SharedModel fitted = sharedModel(table, options, kind, warmStart);
   FitResult result;
@@ -795,7 +822,8 @@ struct CandidateConfig {
 // The options with the candidate's choices made explicit.
 FitOptions explicitOptions(FitOptions options, const CandidateConfig& config) {
   options.lobes = config.lobes;
-  options.elevation = config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
+  options.elevation =
+      config.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
   options.kind = config.kind;
   if (config.maxExponent > 0.0) options.maxExponent = config.maxExponent;
   return options;
@@ -856,16 +884,23 @@ FitMethod parseFitMethod(std::string_view name) {
 
 std::string_view toString(LobeKindChoice kind) {
   switch (kind) {
-    case LobeKindChoice::Auto: return "auto";
-    case LobeKindChoice::Mirror: return "mirror";
-    case LobeKindChoice::Lafortune: return "lafortune";
-    case LobeKindChoice::HalfVector: return "half_vector";
+    case LobeKindChoice::Auto:
+      return "auto";
+    case LobeKindChoice::Mirror:
+      return "mirror";
+    case LobeKindChoice::Lafortune:
+      return "lafortune";
+    case LobeKindChoice::HalfVector:
+      return "half_vector";
   }
   return "auto";
 }
 
 LobeKindChoice parseLobeKindChoice(std::string_view name) {
-  return parseByName(name, std::array{LobeKindChoice::Auto, LobeKindChoice::Mirror, LobeKindChoice::Lafortune, LobeKindChoice::HalfVector}, "lobe kind");
+  return parseByName(
+      name,
+      std::array{LobeKindChoice::Auto, LobeKindChoice::Mirror, LobeKindChoice::Lafortune, LobeKindChoice::HalfVector},
+      "lobe kind");
 }
 
 namespace {
@@ -883,18 +918,27 @@ struct CandidateSpace {
 CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& options) {
   const bool shared = options.method == FitMethod::Shared;
   CandidateSpace space;
-  if (options.lobes > 0) space.counts = {options.lobes};
-  else for (int k = 1; k <= options.maxAutoLobes; ++k) space.counts.push_back(k);
-  if (!shared) space.kinds = {LobeKindChoice::Mirror};
-  else if (options.kind != LobeKindChoice::Auto) space.kinds = {options.kind};
-  else space.kinds = {LobeKindChoice::HalfVector, LobeKindChoice::Lafortune, LobeKindChoice::Mirror};  // likeliest first
-  if (shared || options.elevation == ElevationChoice::Constant) space.elevations = {LobeElevation::Constant};
-  else if (options.elevation == ElevationChoice::Varying) space.elevations = {LobeElevation::Varying};
-  else space.elevations = {LobeElevation::Constant, LobeElevation::Varying};
+  if (options.lobes > 0)
+    space.counts = {options.lobes};
+  else
+    for (int k = 1; k <= options.maxAutoLobes; ++k) space.counts.push_back(k);
+  if (!shared)
+    space.kinds = {LobeKindChoice::Mirror};
+  else if (options.kind != LobeKindChoice::Auto)
+    space.kinds = {options.kind};
+  else
+    space.kinds = {LobeKindChoice::HalfVector, LobeKindChoice::Lafortune, LobeKindChoice::Mirror};  // likeliest first
+  if (shared || options.elevation == ElevationChoice::Constant)
+    space.elevations = {LobeElevation::Constant};
+  else if (options.elevation == ElevationChoice::Varying)
+    space.elevations = {LobeElevation::Varying};
+  else
+    space.elevations = {LobeElevation::Constant, LobeElevation::Varying};
   // Held-out splits need enough rows away from the mirror (two per fold); without them an auto
   // choice takes the fewest parameters and no estimate is made.
   std::size_t offMirror = 0;
-  for (std::size_t i = 0; i < table.size(); ++i) offMirror += mirrorOffsetDegrees(table, i) > options.heldOut.minMirrorOffsetDegrees;
+  for (std::size_t i = 0; i < table.size(); ++i)
+    offMirror += mirrorOffsetDegrees(table, i) > options.heldOut.minMirrorOffsetDegrees;
   space.heldOutFeasible = offMirror >= 2 * static_cast<std::size_t>(options.heldOut.folds);
   if (!space.heldOutFeasible) {
     space.counts.resize(1);
@@ -911,7 +955,8 @@ FitResult fitOneConfiguration(const MeasuredTable& table, const FitOptions& opti
   FitResult result = fitExplicit(table, explicitOptions(options, config), config.kind);
   if (options.estimateHeldOut && space.heldOutFeasible) {
     result.heldOut = estimateHeldOutError(
-        table, [&](const MeasuredTable& training) { return fitCandidateModel(training, options, config); }, options.heldOut);
+        table, [&](const MeasuredTable& training) { return fitCandidateModel(training, options, config); },
+        options.heldOut);
   }
   return result;
 }
@@ -967,7 +1012,8 @@ std::size_t fewestParametersWithinMargin(const Tried& tried, const FitOptions& o
   std::vector<std::size_t> order(tried.size());
   std::iota(order.begin(), order.end(), std::size_t(0));
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return parameterTotal(tried[a].config, options.method, channels) < parameterTotal(tried[b].config, options.method, channels);
+    return parameterTotal(tried[a].config, options.method, channels) <
+           parameterTotal(tried[b].config, options.method, channels);
   });
   std::size_t best = order.front();
   for (std::size_t i : order) {
@@ -997,7 +1043,8 @@ FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& opt
   const std::size_t channels = table.channelCount();
   const HeldOutSplits splits(table, options.heldOut);
   Tried tried = scoreCandidates(splits, options, space);
-  const std::size_t best = lowerExponentCap(splits, options, tried, fewestParametersWithinMargin(tried, options, channels));
+  const std::size_t best =
+      lowerExponentCap(splits, options, tried, fewestParametersWithinMargin(tried, options, channels));
   FitResult result = fitCandidate(table, options, tried[best].config);
   for (std::size_t i = 0; i < tried.size(); ++i) {
     const auto& [config, report, fits] = tried[i];
@@ -1010,7 +1057,9 @@ FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& opt
     c.kfoldRatio = report.kfold.ratio();
     c.elevationRatio = report.pooledElevations().ratio();
     c.seconds = report.seconds;
-    c.maxExponent = options.method == FitMethod::Shared ? (config.maxExponent > 0.0 ? config.maxExponent : options.maxExponent) : 0.0;
+    c.maxExponent = options.method == FitMethod::Shared
+                        ? (config.maxExponent > 0.0 ? config.maxExponent : options.maxExponent)
+                        : 0.0;
     c.chosen = i == best;
     if (c.chosen) c.inSampleError = allRowsError(result.model, table).rms();
     result.candidates.push_back(c);
@@ -1027,10 +1076,12 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
   const auto start = Clock::now();
   if (options.method == FitMethod::Shared && options.elevation == ElevationChoice::Varying) {
     throw Error(Error::Kind::InvalidArgument,
-                "fit: the shared method fits constant lobes (Lafortune lobes vary with elevation); use the per_channel method for varying ones");
+                "fit: the shared method fits constant lobes (Lafortune lobes vary with elevation); use the per_channel "
+                "method for varying ones");
   }
   const CandidateSpace space = candidateSpace(table, options);
-  FitResult result = space.size() > 1 ? chooseByHeldOutError(table, options, space) : fitOneConfiguration(table, options, space);
+  FitResult result =
+      space.size() > 1 ? chooseByHeldOutError(table, options, space) : fitOneConfiguration(table, options, space);
   result.options = options;
   result.options.progress = nullptr;
   for (const auto& c : result.candidates) {

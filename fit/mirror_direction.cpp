@@ -10,10 +10,12 @@ void MirrorDirectionTable::validate() const {
   require(!thetas.empty(), "mirror-direction table: no angles");
   require(values.rows() == static_cast<Eigen::Index>(thetas.size()) && values.cols() > 0,
           "mirror-direction table: one row of values per angle");
-  require(offsets.rows() == values.rows() && offsets.cols() == values.cols(), "mirror-direction table: offsets do not match values");
+  require(offsets.rows() == values.rows() && offsets.cols() == values.cols(),
+          "mirror-direction table: offsets do not match values");
   require(channelNames.size() == channelCount(), "mirror-direction table: one name per channel");
   for (std::size_t i = 0; i < thetas.size(); ++i) {
-    require(std::isfinite(thetas[i]) && (i == 0 || thetas[i] > thetas[i - 1]), "mirror-direction table: angles must increase");
+    require(std::isfinite(thetas[i]) && (i == 0 || thetas[i] > thetas[i - 1]),
+            "mirror-direction table: angles must increase");
   }
   require(values.allFinite() && offsets.allFinite(), "mirror-direction table: values must be finite");
 }
@@ -81,7 +83,8 @@ MirrorDirectionTable fittedMirrorTable(const LobeModel& model, const std::vector
   result.offsets = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(thetas.size()), channels);
   for (std::size_t r = 0; r < thetas.size(); ++r) {
     for (Eigen::Index c = 0; c < channels; ++c) {
-      result.values(static_cast<Eigen::Index>(r), c) = model.mirrorValue(static_cast<std::size_t>(c), std::cos(thetas[r]));
+      result.values(static_cast<Eigen::Index>(r), c) =
+          model.mirrorValue(static_cast<std::size_t>(c), std::cos(thetas[r]));
     }
   }
   result.validate();
@@ -91,7 +94,8 @@ MirrorDirectionTable fittedMirrorTable(const LobeModel& model, const std::vector
 MirrorDirectionMaterial::MirrorDirectionMaterial(MirrorDirectionTable table, std::string modelName)
     : table_(std::move(table)), modelName_(std::move(modelName)) {
   table_.validate();
-  require(table_.channelCount() == 3, "mirror-direction material: needs R, G, B channels (convert the table with toRgb)");
+  require(table_.channelCount() == 3,
+          "mirror-direction material: needs R, G, B channels (convert the table with toRgb)");
 }
 
 Rgb MirrorDirectionMaterial::unlit(const ShadingGeometry& g) const {

@@ -88,8 +88,8 @@ struct Shape {
 // The fitted rows and their targets.
 struct Data {
   std::vector<Row> rows;
-  Eigen::MatrixXd measured;  // rows x channels, max(f, 0)
-  Eigen::MatrixXd logTarget; // ln(1 + cos theta_i max(f, 0))
+  Eigen::MatrixXd measured;   // rows x channels, max(f, 0)
+  Eigen::MatrixXd logTarget;  // ln(1 + cos theta_i max(f, 0))
   Eigen::VectorXd cosIn;
 };
 
@@ -118,15 +118,18 @@ struct RowFactors {
 
 class SharedFitter {
  public:
-  SharedFitter(Data data, const SharedFitConfig& config) : data_(std::move(data)), factors_(data_.rows), config_(config) {
+  SharedFitter(Data data, const SharedFitConfig& config)
+      : data_(std::move(data)), factors_(data_.rows), config_(config) {
     const auto channels = static_cast<int>(data_.measured.cols());
     const int searched = std::min(config.searchChannels, channels);
     for (int s = 0; s < searched; ++s) {
-      search_.push_back(searched == 1 ? channels - 1 : static_cast<int>(std::lround(double(s) * (channels - 1) / (searched - 1))));
+      search_.push_back(searched == 1 ? channels - 1
+                                      : static_cast<int>(std::lround(double(s) * (channels - 1) / (searched - 1))));
     }
     // The search's weighted least squares, linearised at the data: omega = d r / d f there.
     const auto n = data_.cosIn.size();
-    searchWeights_.resize(n, searched), searchWeightedTargets_.resize(n, searched), searchLogTargets_.resize(n, searched);
+    searchWeights_.resize(n, searched), searchWeightedTargets_.resize(n, searched),
+        searchLogTargets_.resize(n, searched);
     for (int s = 0; s < searched; ++s) {
       const Eigen::ArrayXd y = data_.measured.col(search_[static_cast<std::size_t>(s)]).array();
       const Eigen::ArrayXd omega2 = (data_.cosIn.array() / (1.0 + data_.cosIn.array() * y)).square();
@@ -159,7 +162,8 @@ class SharedFitter {
   // cache of recent shapes.
   const Eigen::MatrixXd& lobeColumns(const Shape& shape) {
     for (const auto& [key, value] : columnCache_) {
-      if (key.logExponent == shape.logExponent && key.cxy == shape.cxy && key.halfVector == shape.halfVector) return value;
+      if (key.logExponent == shape.logExponent && key.cxy == shape.cxy && key.halfVector == shape.halfVector)
+        return value;
     }
     if (columnCache_.size() >= kColumnCacheSize) columnCache_.pop_front();
     const auto n = static_cast<Eigen::Index>(data_.rows.size());
@@ -410,8 +414,9 @@ SharedFitOutcome fitSharedLobes(const MeasuredTable& table, const SharedFitConfi
     const Eigen::VectorXd& x = solved.x;
     outcome.objective += solved.objective;
     LobeChannel channel;
-    channel.name = static_cast<std::size_t>(c) < table.channelNames.size() ? table.channelNames[static_cast<std::size_t>(c)]
-                                                                            : std::to_string(c);
+    channel.name = static_cast<std::size_t>(c) < table.channelNames.size()
+                       ? table.channelNames[static_cast<std::size_t>(c)]
+                       : std::to_string(c);
     channel.diffuse = x[0];
     Eigen::Index column = 1;
     for (const auto& shape : shapes) {

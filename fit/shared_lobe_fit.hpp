@@ -23,7 +23,7 @@
 namespace brdfbake::detail {
 
 struct SharedFitConfig {
-  int lobes = 1;            // 0 = diffuse only
+  int lobes = 1;  // 0 = diffuse only
   // Lobe axes a new lobe may take (at least one): Phong lobes about the mirrored view (c_xy = -1),
   // Lafortune lobes (c_xy free, includes the mirror), half-vector lobes (halfVectorLobe, weights C
   // and C_F). Half-vector lobes alone: mixing in Lafortune ones measured no better held out
@@ -31,9 +31,9 @@ struct SharedFitConfig {
   bool mirror = true;
   bool lafortune = false;
   bool halfVector = false;
-  double maxExponent = 1e4; // cap on n
-  int searchChannels = 6;   // channels the shape search looks at (evenly spread; all if fewer)
-  int maxEvaluations = 600; // shape trials in the compass search
+  double maxExponent = 1e4;  // cap on n
+  int searchChannels = 6;    // channels the shape search looks at (evenly spread; all if fewer)
+  int maxEvaluations = 600;  // shape trials in the compass search
   // Warm start: the shapes (exponent, c_xy, axis) of the first lobes, as a fit of the same table
   // with fewer lobes returned them; the fit adds lobes greedily after these. The greedy steps are
   // the same either way, so a fit warm-started from the (K-1)-lobe fit equals the cold K-lobe fit.
@@ -41,10 +41,10 @@ struct SharedFitConfig {
 };
 
 struct SharedFitOutcome {
-  LobeModel model;        // elevation Constant, range from `range`
-  int evaluations = 0;    // shape trials
-  double objective = 0.0; // sum over channels and fitted rows of r_i^2
-  std::size_t rows = 0;   // fitted rows (light and view above the horizon)
+  LobeModel model;         // elevation Constant, range from `range`
+  int evaluations = 0;     // shape trials
+  double objective = 0.0;  // sum over channels and fitted rows of r_i^2
+  std::size_t rows = 0;    // fitted rows (light and view above the horizon)
 };
 
 // Fits `table` (all channels); `range` supplies minCos / maxCos. Throws Error(InvalidInput) when

@@ -22,7 +22,8 @@ double angleBetween(const Vec3& a, const Vec3& b) {
 
 }  // namespace
 
-TableInterpolator::TableInterpolator(MeasuredTable table, int neighbours) : table_(std::move(table)), neighbours_(neighbours) {
+TableInterpolator::TableInterpolator(MeasuredTable table, int neighbours)
+    : table_(std::move(table)), neighbours_(neighbours) {
   require(neighbours >= 1, "table interpolation: neighbours must be >= 1");
   table_.validate();
   const std::string label = table_.sourceFile.empty() ? std::string("table") : table_.sourceFile;
@@ -69,7 +70,8 @@ Eigen::VectorXd TableInterpolator::evaluate(const Vec3& wiRaw, const Vec3& woRaw
   }
   const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(neighbours_), nearest.size());
   std::partial_sort(nearest.begin(), nearest.begin() + static_cast<std::ptrdiff_t>(k), nearest.end());
-  if (nearest.front().first < 1e-9) return table_.values.row(static_cast<Eigen::Index>(nearest.front().second)).transpose();
+  if (nearest.front().first < 1e-9)
+    return table_.values.row(static_cast<Eigen::Index>(nearest.front().second)).transpose();
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(channels);
   double weights = 0.0;
   for (std::size_t j = 0; j < k; ++j) {

@@ -5,9 +5,9 @@
 // scratch file under /dev/shm (or the system temp folder) with the extension the reader expects,
 // then the reader is called. brdfbake::Error is the expected outcome for a bad input; anything
 // else (other exceptions, crashes, sanitizer reports) is a finding.
-#include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/fit_file.hpp>
+#include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/measured/measured_io.hpp>
 #include <brdfbake/spec/spec.hpp>
 
@@ -147,7 +147,7 @@ inline int fuzzOne(std::string_view name, const std::uint8_t* data, std::size_t 
 
 }  // namespace brdfbake::fuzzing
 
-#define BRDFBAKE_FUZZ_TARGET(NAME)                                                  \
+#define BRDFBAKE_FUZZ_TARGET(NAME)                                                    \
   extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) { \
-    return ::brdfbake::fuzzing::fuzzOne(NAME, data, size);                          \
+    return ::brdfbake::fuzzing::fuzzOne(NAME, data, size);                            \
   }

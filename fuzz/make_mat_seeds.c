@@ -35,23 +35,31 @@ int main(int argc, char** argv) {
 
   snprintf(path, sizeof path, "%s/angles_rgb.mat", dir);
   mat = Mat_CreateVer(path, NULL, MAT_FT_MAT5);
-  put(mat, "dir_in", 3, 2, in2, 0); put(mat, "dir_out", 3, 2, out2, 0); put(mat, "fr", 3, 3, fr3, 0);
+  put(mat, "dir_in", 3, 2, in2, 0);
+  put(mat, "dir_out", 3, 2, out2, 0);
+  put(mat, "fr", 3, 3, fr3, 0);
   Mat_Close(mat);
 
   snprintf(path, sizeof path, "%s/spectral_single.mat", dir);
   mat = Mat_CreateVer(path, NULL, MAT_FT_MAT5);
-  put(mat, "dir_in", 3, 4, in4, 1); put(mat, "fr", 3, 4, fr4, 1); put(mat, "wavelength", 1, 4, wl, 1);
+  put(mat, "dir_in", 3, 4, in4, 1);
+  put(mat, "fr", 3, 4, fr4, 1);
+  put(mat, "wavelength", 1, 4, wl, 1);
   Mat_Close(mat);
 
   snprintf(path, sizeof path, "%s/vectors_mono.mat", dir);
   mat = Mat_CreateVer(path, NULL, MAT_FT_MAT5);
-  put(mat, "dir_in", 3, 3, out3, 0); put(mat, "dir_out", 3, 3, out3, 0); put(mat, "fr", 3, 1, fr3, 0);
+  put(mat, "dir_in", 3, 3, out3, 0);
+  put(mat, "dir_out", 3, 3, out3, 0);
+  put(mat, "fr", 3, 1, fr3, 0);
   Mat_Close(mat);
 
   compression = MAT_COMPRESSION_ZLIB;
   snprintf(path, sizeof path, "%s/angles_rgb_zlib.mat", dir);
   mat = Mat_CreateVer(path, NULL, MAT_FT_MAT5);
-  put(mat, "dir_in", 3, 2, in2, 0); put(mat, "dir_out", 3, 2, out2, 0); put(mat, "fr", 3, 3, fr3, 0);
+  put(mat, "dir_in", 3, 2, in2, 0);
+  put(mat, "dir_out", 3, 2, out2, 0);
+  put(mat, "fr", 3, 3, fr3, 0);
   Mat_Close(mat);
   return 0;
 }

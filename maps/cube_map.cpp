@@ -1,5 +1,5 @@
-#include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/maps/cube_map.hpp>
 
 namespace brdfbake {
 namespace {
@@ -46,12 +46,24 @@ Vec3 CubeMap::faceDirection(Face face, const Vec2& st) {
   const double sc = 2.0 * st.x() - 1.0, tc = 2.0 * st.y() - 1.0;
   Vec3 r;
   switch (face) {
-    case PosX: r = {1.0, -tc, -sc}; break;
-    case NegX: r = {-1.0, -tc, sc}; break;
-    case PosY: r = {sc, 1.0, tc}; break;
-    case NegY: r = {sc, -1.0, -tc}; break;
-    case PosZ: r = {sc, -tc, 1.0}; break;
-    case NegZ: r = {-sc, -tc, -1.0}; break;
+    case PosX:
+      r = {1.0, -tc, -sc};
+      break;
+    case NegX:
+      r = {-1.0, -tc, sc};
+      break;
+    case PosY:
+      r = {sc, 1.0, tc};
+      break;
+    case NegY:
+      r = {sc, -1.0, -tc};
+      break;
+    case PosZ:
+      r = {sc, -tc, 1.0};
+      break;
+    case NegZ:
+      r = {-sc, -tc, -1.0};
+      break;
   }
   return r.normalized();
 }
@@ -96,8 +108,7 @@ double CubeMap::texelSolidAngle(int x, int y) const {
   const double scale = 2.0 / n;
   const double a0 = (x % n) * scale - 1.0, a1 = a0 + scale;
   const double b0 = (y % n) * scale - 1.0, b1 = b0 + scale;
-  return cornerSolidAngle(a1, b1) - cornerSolidAngle(a0, b1) - cornerSolidAngle(a1, b0) +
-         cornerSolidAngle(a0, b0);
+  return cornerSolidAngle(a1, b1) - cornerSolidAngle(a0, b1) - cornerSolidAngle(a1, b0) + cornerSolidAngle(a0, b0);
 }
 
 }  // namespace brdfbake

@@ -7,7 +7,7 @@ namespace brdfbake::detail {
 namespace {
 
 struct Chord {
-  Vec2 a, b;          // entry and exit points, in counter-clockwise order
+  Vec2 a, b;            // entry and exit points, in counter-clockwise order
   bool startsAtCorner;  // a is the edge's start corner (t = 0)
   bool endsAtCorner;    // b is the edge's end corner (t = 1)
   int edge;             // which rectangle edge (0..3, counter-clockwise)

@@ -20,8 +20,7 @@ struct RadialDensity {
 };
 
 /// Area: rho = 1, h = R^2/2.
-inline constexpr RadialDensity kAreaDensity{
-    [](double d, double s0, double s1) { return 0.5 * d * (s1 - s0); }, 0.5};
+inline constexpr RadialDensity kAreaDensity{[](double d, double s0, double s1) { return 0.5 * d * (s1 - s0); }, 0.5};
 
 /// Integral of `density` over [x0, x1] x [y0, y1] ∩ unit disc (x0 <= x1, y0 <= y1).
 double integrateOverDiscPart(double x0, double x1, double y0, double y1, const RadialDensity& density);

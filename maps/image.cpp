@@ -1,7 +1,7 @@
-#include <brdfbake/maps/image.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/memory_budget.hpp>
 #include <brdfbake/core/version.hpp>
+#include <brdfbake/maps/image.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -35,9 +35,10 @@ MapInfo MapInfo::fromJson(const nlohmann::json& metadata) {
   const auto p = metadata.find("parameterization");
   if (p == metadata.end() || !p->is_string()) throw missing("parameterization");
   if (*p == "profile" || isFresnelTableParameterization(*p)) {
-    throw Error(Error::Kind::InvalidInput, std::string(*p == "profile" ? "a 1-D radial profile" : "a 1-D Fresnel table") +
-                                               ", not a 2-D map (brdfbake sample, info, convert and preview read it: "
-                                               "BakedOutput::open)");
+    throw Error(Error::Kind::InvalidInput,
+                std::string(*p == "profile" ? "a 1-D radial profile" : "a 1-D Fresnel table") +
+                    ", not a 2-D map (brdfbake sample, info, convert and preview read it: "
+                    "BakedOutput::open)");
   }
   info.parameterization = parseParameterizationKind(p->get<std::string>());
   const auto r = metadata.find("resolution");
@@ -47,9 +48,9 @@ MapInfo MapInfo::fromJson(const nlohmann::json& metadata) {
   if (c == metadata.end() || !c->is_number_integer()) throw missing("convention_version");
   info.conventionVersion = c->get<int>();
   if (info.conventionVersion > kConventionVersion) {
-    throw Error(Error::Kind::InvalidInput,
-                "map uses convention version " + std::to_string(info.conventionVersion) +
-                    ", newer than this brdfbake understands (" + std::to_string(kConventionVersion) + ")");
+    throw Error(Error::Kind::InvalidInput, "map uses convention version " + std::to_string(info.conventionVersion) +
+                                               ", newer than this brdfbake understands (" +
+                                               std::to_string(kConventionVersion) + ")");
   }
   info.spec = metadata.value("spec", nlohmann::json::object());
   return info;
@@ -68,7 +69,8 @@ LinearTaps linearTaps(int texels, double s) {
 Rgb sampleLinear1d(const std::vector<Rgb>& texels, double s) {
   if (texels.empty()) throw Error(Error::Kind::InvalidArgument, "a 1-D texture needs at least one texel");
   const LinearTaps taps = linearTaps(static_cast<int>(texels.size()), s);
-  return (1.0 - taps.w) * texels[static_cast<std::size_t>(taps.i0)] + taps.w * texels[static_cast<std::size_t>(taps.i1)];
+  return (1.0 - taps.w) * texels[static_cast<std::size_t>(taps.i0)] +
+         taps.w * texels[static_cast<std::size_t>(taps.i1)];
 }
 
 BilinearTaps bilinearTaps(const Vec2& pixel, const TexelRect& region, bool wrapX) {
@@ -131,8 +133,8 @@ Image fresnelTableImage(const std::vector<Rgb>& table) {
   image.metadata = {{"parameterization", kFresnelTableParameterization},
                     {"resolution", n},
                     {"convention_version", kConventionVersion},
-                    {"coordinate", "F(cos theta), cos theta = n.v; texel i at cos theta = (i + 0.5) / " + std::to_string(n) +
-                                       ": a linear lookup at s = n.v (clamp to edge) returns F"}};
+                    {"coordinate", "F(cos theta), cos theta = n.v; texel i at cos theta = (i + 0.5) / " +
+                                       std::to_string(n) + ": a linear lookup at s = n.v (clamp to edge) returns F"}};
   return image;
 }
 

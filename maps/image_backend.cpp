@@ -25,15 +25,16 @@ const int kAnchor = 0;  // an object of libbrdfbake_maps, to ask the dynamic loa
 fs::path modulePath() {
   Dl_info info{};
   if (dladdr(&kAnchor, &info) == 0 || info.dli_fname == nullptr) {
-    throw Error(Error::Kind::Io, std::string("cannot locate libbrdfbake_maps to find the image module ") +
-                                     BRDFBAKE_IMAGE_MODULE);
+    throw Error(Error::Kind::Io,
+                std::string("cannot locate libbrdfbake_maps to find the image module ") + BRDFBAKE_IMAGE_MODULE);
   }
   const fs::path library(info.dli_fname);
   const fs::path beside = library.parent_path() / BRDFBAKE_IMAGE_MODULE;
   std::error_code ec;
   if (fs::exists(beside, ec)) return beside;
   const fs::path real = fs::canonical(library, ec);
-  if (!ec && fs::exists(real.parent_path() / BRDFBAKE_IMAGE_MODULE, ec)) return real.parent_path() / BRDFBAKE_IMAGE_MODULE;
+  if (!ec && fs::exists(real.parent_path() / BRDFBAKE_IMAGE_MODULE, ec))
+    return real.parent_path() / BRDFBAKE_IMAGE_MODULE;
   return beside;  // dlopen's message says it is missing
 }
 
@@ -55,11 +56,12 @@ const Functions& loadModule() {
   const Functions* functions = factory();
   if (functions == nullptr || functions->interfaceVersion != kInterfaceVersion ||
       std::string(functions->brdfbakeVersion) != BRDFBAKE_VERSION_STRING) {
-    failLoading(path, "it is from another brdfbake build (interface " +
-                          (functions ? std::to_string(functions->interfaceVersion) + ", version " + functions->brdfbakeVersion
-                                     : std::string("unknown")) +
-                          "; this library: interface " + std::to_string(kInterfaceVersion) + ", version " +
-                          BRDFBAKE_VERSION_STRING + ")");
+    failLoading(path,
+                "it is from another brdfbake build (interface " +
+                    (functions ? std::to_string(functions->interfaceVersion) + ", version " + functions->brdfbakeVersion
+                               : std::string("unknown")) +
+                    "; this library: interface " + std::to_string(kInterfaceVersion) + ", version " +
+                    BRDFBAKE_VERSION_STRING + ")");
   }
   return *functions;
 }

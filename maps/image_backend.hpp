@@ -37,9 +37,9 @@ struct WriteSettings {
 /// What openImage found, for the requested MIP level of the first subimage.
 struct Header {
   int width = 0, height = 0, channels = 0;
-  int alphaChannel = -1;  ///< as the file says; -1 when it names none
-  bool srgb = false;      ///< integer samples tagged sRGB
-  std::string metadata;   ///< level 0's "brdfbake:metadata" attribute, empty if absent
+  int alphaChannel = -1;   ///< as the file says; -1 when it names none
+  bool srgb = false;       ///< integer samples tagged sRGB
+  std::string metadata;    ///< level 0's "brdfbake:metadata" attribute, empty if absent
   bool levelFound = true;  ///< false: the file has no such MIP level (then only `levels` is set)
   int levels = 1;          ///< the file's MIP level count, counted (up to 64) only when !levelFound
 };
@@ -72,4 +72,5 @@ const Functions& imageBackend();
 }  // namespace brdfbake::image_backend
 
 /// The module's one entry point (the one symbol it exports).
-extern "C" __attribute__((visibility("default"))) const brdfbake::image_backend::Functions* brdfbake_image_oiio_functions();
+extern "C" __attribute__((visibility("default"))) const brdfbake::image_backend::Functions*
+brdfbake_image_oiio_functions();

@@ -1,8 +1,8 @@
-#include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/core/json_text.hpp>
 #include <brdfbake/core/memory_budget.hpp>
+#include <brdfbake/maps/image_io.hpp>
 
 #include <algorithm>
 #include <memory>
@@ -54,7 +54,8 @@ void checkDecodedSize(int width, int height, int channels, std::uintmax_t fileBy
   const std::string size = std::to_string(width) + " x " + std::to_string(height) + " x " + std::to_string(channels);
   if (samples > kMaxSamplesPerByte * static_cast<double>(fileBytes) + 65536.0) {
     throw Error(Error::Kind::InvalidInput, path.string() + ": header says " + size + " samples, more than a " +
-                                               std::to_string(fileBytes) + "-byte file can hold (truncated or corrupt)");
+                                               std::to_string(fileBytes) +
+                                               "-byte file can hold (truncated or corrupt)");
   }
   requireWithinMemoryBudget(samples * sizeof(float) + static_cast<double>(width) * height * 4 * sizeof(float),
                             path.string() + ": reading a " + size + " image");
@@ -81,8 +82,8 @@ ImageFormat imageFormatFor(const fs::path& path) {
   if (ext == ".hdr") return ImageFormat::RadianceHdr;
   if (ext == ".tif" || ext == ".tiff") return ImageFormat::Tiff;
   if (ext == ".png") return ImageFormat::Png;
-  throw Error(Error::Kind::InvalidArgument, path.string() + ": unsupported image extension '" + ext +
-                                                "' (use .exr, .hdr, .tif, .tiff or .png)");
+  throw Error(Error::Kind::InvalidArgument,
+              path.string() + ": unsupported image extension '" + ext + "' (use .exr, .hdr, .tif, .tiff or .png)");
 }
 
 fs::path metadataSidecarPath(const fs::path& path) { return path.string() + ".json"; }
@@ -120,7 +121,8 @@ WriteReport writeImage(const Image& image, const fs::path& path, const WriteOpti
   if (format == ImageFormat::Png) {
     report.notes.push_back("8-bit PNG: linear values clamped to [0, 1] and encoded with the sRGB transfer curve");
   }
-  if (format == ImageFormat::RadianceHdr) report.notes.push_back("Radiance HDR holds RGB only: alpha (coverage) dropped");
+  if (format == ImageFormat::RadianceHdr)
+    report.notes.push_back("Radiance HDR holds RGB only: alpha (coverage) dropped");
 
   const image_backend::Functions& backend = imageBackend();
   AtomicOutput output(path);
@@ -155,7 +157,8 @@ WriteReport writeTiledMipChain(const std::vector<Image>& levels, const nlohmann:
                                const std::string& wrapModes, const WriteOptions& options) {
   for (const auto& input : options.inputs) {
     if (sameFile(input, path)) {
-      throw Error(Error::Kind::InvalidArgument, path.string() + ": output would overwrite an input; choose another output path");
+      throw Error(Error::Kind::InvalidArgument,
+                  path.string() + ": output would overwrite an input; choose another output path");
     }
   }
   if (imageFormatFor(path) != ImageFormat::OpenExr) {
@@ -169,15 +172,16 @@ WriteReport writeTiledMipChain(const std::vector<Image>& levels, const nlohmann:
   while ((w >> expected) > 0 || (h >> expected) > 0) ++expected;
   if (static_cast<int>(levels.size()) != expected) {
     throw Error(Error::Kind::InvalidArgument, path.string() + ": a " + std::to_string(w) + " x " + std::to_string(h) +
-                                                  " MIP-mapped OpenEXR has " + std::to_string(expected) + " levels, got " +
-                                                  std::to_string(levels.size()));
+                                                  " MIP-mapped OpenEXR has " + std::to_string(expected) +
+                                                  " levels, got " + std::to_string(levels.size()));
   }
   for (std::size_t k = 0; k < levels.size(); ++k) {
     const int lw = std::max(1, w >> k), lh = std::max(1, h >> k);
     if (levels[k].width() != lw || levels[k].height() != lh) {
       throw Error(Error::Kind::InvalidArgument, path.string() + ": MIP level " + std::to_string(k) + " is " +
-                                                    std::to_string(levels[k].width()) + " x " + std::to_string(levels[k].height()) +
-                                                    ", OpenEXR expects " + std::to_string(lw) + " x " + std::to_string(lh));
+                                                    std::to_string(levels[k].width()) + " x " +
+                                                    std::to_string(levels[k].height()) + ", OpenEXR expects " +
+                                                    std::to_string(lw) + " x " + std::to_string(lh));
     }
     checkFinite(levels[k], path);
   }
@@ -208,7 +212,8 @@ Image readImage(const fs::path& path, int mipLevel) {
   std::string metadata = header.metadata;
   if (!header.levelFound) {
     throw Error(Error::Kind::InvalidInput, path.string() + ": has " + std::to_string(header.levels) + " MIP level" +
-                                               (header.levels == 1 ? "" : "s") + ", no level " + std::to_string(mipLevel));
+                                               (header.levels == 1 ? "" : "s") + ", no level " +
+                                               std::to_string(mipLevel));
   }
   const int width = header.width, height = header.height, channels = header.channels;
   if (width < 1 || height < 1 || channels < 1) {
@@ -218,7 +223,8 @@ Image readImage(const fs::path& path, int mipLevel) {
   std::vector<float> pixels(static_cast<std::size_t>(width) * height * channels);
   if (!backend.readPixels(in.get(), pixels.data(), error)) throw Error(Error::Kind::Io, path.string() + ": " + error);
   const bool srgb = header.srgb;
-  const int alpha = header.alphaChannel >= 0 ? header.alphaChannel : (channels == 2 || channels >= 4 ? channels - 1 : -1);
+  const int alpha =
+      header.alphaChannel >= 0 ? header.alphaChannel : (channels == 2 || channels >= 4 ? channels - 1 : -1);
   Image image(width, height);
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {

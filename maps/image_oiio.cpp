@@ -157,14 +157,13 @@ bool readPixels(Reader* reader, float* data, std::string& error) {
 
 void closeImage(Reader* reader) { delete reader; }
 
-constexpr Functions kFunctions{kInterfaceVersion, BRDFBAKE_VERSION_STRING, writeImage,    writeTiledMipChain,
-                               readMetadata,      mipLevelCount,           openImage,     readPixels,
+constexpr Functions kFunctions{kInterfaceVersion, BRDFBAKE_VERSION_STRING, writeImage, writeTiledMipChain,
+                               readMetadata,      mipLevelCount,           openImage,  readPixels,
                                closeImage};
 
 }  // namespace
 }  // namespace brdfbake::image_backend
 
-extern "C" const brdfbake::image_backend::Functions*
-brdfbake_image_oiio_functions() {
+extern "C" const brdfbake::image_backend::Functions* brdfbake_image_oiio_functions() {
   return &brdfbake::image_backend::kFunctions;
 }

@@ -1,9 +1,9 @@
-#include <brdfbake/core/files.hpp>
-#include <brdfbake/maps/cube_map.hpp>
-#include <brdfbake/maps/map_mips.hpp>
-#include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/core/version.hpp>
+#include <brdfbake/maps/cube_map.hpp>
+#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/maps/map_mips.hpp>
 
 #include <functional>
 
@@ -13,11 +13,11 @@ namespace fs = std::filesystem;
 namespace {
 void checkSize(const Image& image, const Parameterization& map, const std::string& label) {
   if (image.width() != map.width() || image.height() != map.height()) {
-    throw Error(Error::Kind::InvalidInput,
-                label + ": image is " + std::to_string(image.width()) + " x " + std::to_string(image.height()) +
-                    " but a " + std::string(toString(map.kind())) + " map of resolution " +
-                    std::to_string(map.resolution()) + " is " + std::to_string(map.width()) + " x " +
-                    std::to_string(map.height()));
+    throw Error(Error::Kind::InvalidInput, label + ": image is " + std::to_string(image.width()) + " x " +
+                                               std::to_string(image.height()) + " but a " +
+                                               std::string(toString(map.kind())) + " map of resolution " +
+                                               std::to_string(map.resolution()) + " is " + std::to_string(map.width()) +
+                                               " x " + std::to_string(map.height()));
   }
 }
 }  // namespace
@@ -29,8 +29,9 @@ bool hasMapMetadata(const Image& image) {
 MapFile mapFromImage(Image image, const std::string& label) {
   if (!hasMapMetadata(image)) {
     throw Error(Error::Kind::InvalidInput,
-                label + ": not a brdfbake map (no brdfbake metadata); for a plain environment image, say "
-                        "which parameterization it uses");
+                label +
+                    ": not a brdfbake map (no brdfbake metadata); for a plain environment image, say "
+                    "which parameterization it uses");
   }
   MapFile file;
   file.image = std::move(image);
@@ -74,10 +75,10 @@ Image assembleCubeCross(const std::vector<fs::path>& faces, int mipLevel) {
   const int n = images[0].width();
   for (std::size_t f = 0; f < faces.size(); ++f) {
     if (images[f].width() != n || images[f].height() != n) {
-      throw Error(Error::Kind::InvalidInput, faces[f].string() + ": cube face is " + std::to_string(images[f].width()) + " x " +
-                                                 std::to_string(images[f].height()) + " but " + faces[0].string() + " is " +
-                                                 std::to_string(n) + " x " + std::to_string(images[0].height()) +
-                                                 "; the six faces must be square and equal");
+      throw Error(Error::Kind::InvalidInput,
+                  faces[f].string() + ": cube face is " + std::to_string(images[f].width()) + " x " +
+                      std::to_string(images[f].height()) + " but " + faces[0].string() + " is " + std::to_string(n) +
+                      " x " + std::to_string(images[0].height()) + "; the six faces must be square and equal");
     }
   }
   const CubeMap cube(n);
@@ -102,9 +103,10 @@ Image readTiledLevel(const fs::path& path, int level, const std::function<Image(
   if (!hasMapMetadata(image)) return image;
   const int resolution = image.metadata.value("resolution", 0);
   if ((resolution >> level) < 1) {
-    throw Error(Error::Kind::InvalidInput, path.string() + ": MIP level " + std::to_string(level) + " lies below the map's " +
-                                               "1-texel level (OpenEXR's last levels hold only the map's mean); the map has " +
-                                               std::to_string(mipLevelCount(resolution)) + " levels");
+    throw Error(Error::Kind::InvalidInput,
+                path.string() + ": MIP level " + std::to_string(level) + " lies below the map's " +
+                    "1-texel level (OpenEXR's last levels hold only the map's mean); the map has " +
+                    std::to_string(mipLevelCount(resolution)) + " levels");
   }
   image.metadata["resolution"] = resolution >> level;
   image.metadata["mip_level"] = level;
@@ -118,11 +120,13 @@ MapFile readMap(const fs::path& path, int mipLevel) {
   if (!faces.empty()) {
     const std::string label = faces[0].string() + " (one of six cube faces)";
     if (mipLevel > 0 && imageMipLevelCount(faces[0]) == 1) {
-      const fs::path stem = faces[0].parent_path() / (faces[0].stem().string().substr(0, faces[0].stem().string().size() - 5) +
-                                                      faces[0].extension().string());
+      const fs::path stem =
+          faces[0].parent_path() /
+          (faces[0].stem().string().substr(0, faces[0].stem().string().size() - 5) + faces[0].extension().string());
       return mapFromImage(assembleCubeCross(cubeFacePaths(mipLevelPath(stem, mipLevel))), label);
     }
-    return mapFromImage(readTiledLevel(faces[0], mipLevel, [&](int level) { return assembleCubeCross(faces, level); }), label);
+    return mapFromImage(readTiledLevel(faces[0], mipLevel, [&](int level) { return assembleCubeCross(faces, level); }),
+                        label);
   }
   if (mipLevel > 0 && imageMipLevelCount(path) == 1) {
     const fs::path level = mipLevelPath(path, mipLevel);
@@ -140,20 +144,23 @@ std::string tiledMipProblem(const fs::path& path, int resolution) {
     return path.string() + ": a tiled MIP-mapped file must be OpenEXR (.exr)";
   }
   if (resolution < 1 || (resolution & (resolution - 1)) != 0) {
-    return "a tiled MIP-mapped OpenEXR needs a power-of-two resolution (OpenEXR halves each level, rounding down), got " +
+    return "a tiled MIP-mapped OpenEXR needs a power-of-two resolution (OpenEXR halves each level, rounding down), "
+           "got " +
            std::to_string(resolution);
   }
   return {};
 }
 
-MapWriteReport writeTiledMap(const std::vector<Image>& levels, const MapInfo& info, const fs::path& path, CubeLayout layout,
-                             const WriteOptions& options) {
+MapWriteReport writeTiledMap(const std::vector<Image>& levels, const MapInfo& info, const fs::path& path,
+                             CubeLayout layout, const WriteOptions& options) {
   require(!levels.empty(), "writeTiledMap: no levels");
   const int n = info.resolution;
-  if (const std::string problem = tiledMipProblem(path, n); !problem.empty()) throw Error(Error::Kind::InvalidArgument, problem);
+  if (const std::string problem = tiledMipProblem(path, n); !problem.empty())
+    throw Error(Error::Kind::InvalidArgument, problem);
   if (static_cast<int>(levels.size()) != mipLevelCount(n)) {
     throw Error(Error::Kind::InvalidArgument, "writeTiledMap: a map of resolution " + std::to_string(n) + " has " +
-                                                  std::to_string(mipLevelCount(n)) + " levels, got " + std::to_string(levels.size()));
+                                                  std::to_string(mipLevelCount(n)) + " levels, got " +
+                                                  std::to_string(levels.size()));
   }
   nlohmann::json metadata = info.toJson();
   metadata["mip_levels"] = static_cast<int>(levels.size());
@@ -198,8 +205,11 @@ MapWriteReport writeTiledMap(const std::vector<Image>& levels, const MapInfo& in
   writeTiledMipChain(chain, metadata, path, wrap, options);
   report.files.push_back(path);
   if (chain.size() > levels.size()) {
-    report.notes.push_back(path.filename().string() + ": " + std::to_string(levels.size()) + " map levels in one tiled MIP-mapped "
-                           "OpenEXR; OpenEXR's " + std::to_string(chain.size() - levels.size()) + " further level(s) hold the "
+    report.notes.push_back(path.filename().string() + ": " + std::to_string(levels.size()) +
+                           " map levels in one tiled MIP-mapped "
+                           "OpenEXR; OpenEXR's " +
+                           std::to_string(chain.size() - levels.size()) +
+                           " further level(s) hold the "
                            "map's mean");
   }
   return report;
@@ -208,12 +218,19 @@ MapWriteReport writeTiledMap(const std::vector<Image>& levels, const MapInfo& in
 MapFile adoptImage(Image image, ParameterizationKind kind, const std::string& label) {
   int resolution = 0;
   switch (kind) {
-    case ParameterizationKind::Sphere: resolution = image.width(); break;
+    case ParameterizationKind::Sphere:
+      resolution = image.width();
+      break;
     case ParameterizationKind::Paraboloid:
-    case ParameterizationKind::LatLong: resolution = image.height(); break;
-    case ParameterizationKind::Cube: resolution = image.width() / 4; break;
+    case ParameterizationKind::LatLong:
+      resolution = image.height();
+      break;
+    case ParameterizationKind::Cube:
+      resolution = image.width() / 4;
+      break;
   }
-  if (resolution < 1) throw Error(Error::Kind::InvalidInput, label + ": image too small for a " + std::string(toString(kind)) + " map");
+  if (resolution < 1)
+    throw Error(Error::Kind::InvalidInput, label + ": image too small for a " + std::string(toString(kind)) + " map");
   MapFile file;
   file.parameterization = makeParameterization(kind, resolution);
   checkSize(image, *file.parameterization, label);
@@ -225,9 +242,10 @@ MapFile adoptImage(Image image, ParameterizationKind kind, const std::string& la
   return file;
 }
 
-std::vector<FilePlan::Entry> mapOutputFiles(const fs::path& path, const std::string& role, bool cube, CubeLayout layout) {
+std::vector<FilePlan::Entry> mapOutputFiles(const fs::path& path, const std::string& role, bool cube,
+                                            CubeLayout layout) {
   std::vector<FilePlan::Entry> out;
-  for (const auto& file : cube && layout == CubeLayout::Faces ? cubeFacePaths(path) : std::vector{path}) {
+  for (const auto& file : cube&& layout == CubeLayout::Faces ? cubeFacePaths(path) : std::vector{path}) {
     out.push_back({file, role});
     out.push_back({metadataSidecarPath(file), role + " (metadata sidecar)"});
   }
@@ -259,7 +277,8 @@ MapWriteReport writeMap(const Image& image, const MapInfo& info, const fs::path&
   const auto paths = cubeFacePaths(path);
   for (const auto& facePath : paths) {
     for (const auto& input : options.inputs) {
-      if (sameFile(input, facePath)) throw Error(Error::Kind::InvalidArgument, facePath.string() + ": output would overwrite an input");
+      if (sameFile(input, facePath))
+        throw Error(Error::Kind::InvalidArgument, facePath.string() + ": output would overwrite an input");
     }
   }
   for (int f = 0; f < 6; ++f) {

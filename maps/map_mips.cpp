@@ -1,6 +1,6 @@
+#include <brdfbake/core/error.hpp>
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/maps/map_mips.hpp>
-#include <brdfbake/core/error.hpp>
 
 #include <tbb/parallel_for.h>
 
@@ -24,10 +24,12 @@ int mipLevelCount(int resolution) {
 namespace {
 
 // 8-point Gauss-Legendre nodes and weights on [-1, 1].
-constexpr std::array<double, 8> kNodes{-0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
-                                       0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
-constexpr std::array<double, 8> kWeights{0.1012285362903763, 0.2223810344533745, 0.3137066458778873, 0.3626837833783620,
-                                         0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
+constexpr std::array<double, 8> kNodes{-0.9602898564975363, -0.7966664774136267, -0.5255324099163290,
+                                       -0.1834346424956498, 0.1834346424956498,  0.5255324099163290,
+                                       0.7966664774136267,  0.9602898564975363};
+constexpr std::array<double, 8> kWeights{0.1012285362903763, 0.2223810344533745, 0.3137066458778873,
+                                         0.3626837833783620, 0.3626837833783620, 0.3137066458778873,
+                                         0.2223810344533745, 0.1012285362903763};
 
 // ∫∫ 4 / (1 + x^2 + y^2)^2 over [x0, x1] x [y0, y1] (the stereographic density, also outside the disc).
 double stereographicArea(double x0, double x1, double y0, double y1) {
@@ -56,7 +58,8 @@ double mipTexelWeight(const Parameterization& map, int x, int y) {
 }
 
 Image downsampleEnvironment(const Image& fine, const Parameterization& fineMap) {
-  require(fine.width() == fineMap.width() && fine.height() == fineMap.height(), "downsample: image does not match its map");
+  require(fine.width() == fineMap.width() && fine.height() == fineMap.height(),
+          "downsample: image does not match its map");
   require(fineMap.resolution() > 1, "downsample: a map of resolution 1 has no coarser level");
   const auto coarseMap = makeParameterization(fineMap.kind(), fineMap.resolution() / 2);
   Image coarse(coarseMap->width(), coarseMap->height(), Rgba::Zero());
@@ -66,9 +69,11 @@ Image downsampleEnvironment(const Image& fine, const Parameterization& fineMap) 
     const TexelRect f = fineMap.region(r), c = coarseMap->region(r);
     // The coarse column and row holding each fine texel centre, and the fine rows of each coarse row.
     std::vector<int> coarseColumn(static_cast<std::size_t>(f.width));
-    for (int x = 0; x < f.width; ++x) coarseColumn[x] = std::min(c.width - 1, static_cast<int>((x + 0.5) * c.width / f.width));
+    for (int x = 0; x < f.width; ++x)
+      coarseColumn[x] = std::min(c.width - 1, static_cast<int>((x + 0.5) * c.width / f.width));
     std::vector<std::vector<int>> fineRows(static_cast<std::size_t>(c.height));
-    for (int y = 0; y < f.height; ++y) fineRows[std::min(c.height - 1, static_cast<int>((y + 0.5) * c.height / f.height))].push_back(y);
+    for (int y = 0; y < f.height; ++y)
+      fineRows[std::min(c.height - 1, static_cast<int>((y + 0.5) * c.height / f.height))].push_back(y);
     tbb::parallel_for(0, c.height, [&](int cy) {
       std::vector<double> sums(static_cast<std::size_t>(c.width) * 4, 0.0);   // rgb, weight
       std::vector<double> plain(static_cast<std::size_t>(c.width) * 4, 0.0);  // rgb, count
@@ -163,7 +168,8 @@ void fixCubeEdges(Image& image, const CubeMap& map) {
 
 void alignParaboloidBorder(Image& image, const ParaboloidMap& map) {
   const int n = map.resolution();
-  require(image.width() == map.width() && image.height() == map.height(), "alignParaboloidBorder: image does not match its map");
+  require(image.width() == map.width() && image.height() == map.height(),
+          "alignParaboloidBorder: image does not match its map");
   if (n < 4) return;
   // A ring texel qualifies when the circle enters its outer half-band: along the edge, within
   // |t| <= sqrt(1 - (1 - 1/n)^2) of the tangent point (t the map coordinate along the edge).
@@ -191,12 +197,14 @@ std::vector<Image> environmentMipChain(const Image& level0, const Parameterizati
   const int count = mipLevelCount(map.resolution());
   std::unique_ptr<Parameterization> current = makeParameterization(map.kind(), map.resolution());
   if (map.kind() == ParameterizationKind::Cube) fixCubeEdges(levels[0], static_cast<const CubeMap&>(*current));
-  if (map.kind() == ParameterizationKind::Paraboloid) alignParaboloidBorder(levels[0], static_cast<const ParaboloidMap&>(*current));
+  if (map.kind() == ParameterizationKind::Paraboloid)
+    alignParaboloidBorder(levels[0], static_cast<const ParaboloidMap&>(*current));
   for (int level = 1; level < count; ++level) {
     Image next = downsampleEnvironment(levels.back(), *current);
     std::unique_ptr<Parameterization> coarser = makeParameterization(map.kind(), current->resolution() / 2);
     if (map.kind() == ParameterizationKind::Cube) fixCubeEdges(next, static_cast<const CubeMap&>(*coarser));
-    if (map.kind() == ParameterizationKind::Paraboloid) alignParaboloidBorder(next, static_cast<const ParaboloidMap&>(*coarser));
+    if (map.kind() == ParameterizationKind::Paraboloid)
+      alignParaboloidBorder(next, static_cast<const ParaboloidMap&>(*coarser));
     current = std::move(coarser);
     levels.push_back(std::move(next));
   }

@@ -1,5 +1,5 @@
-#include <brdfbake/maps/paraboloid_map.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/maps/paraboloid_map.hpp>
 
 #include "disc_region.hpp"
 
@@ -8,12 +8,11 @@ namespace {
 
 // Stereographic density 4 / (1 + r^2)^2: h(R) = 2 R^2 / (1 + R^2), h/r^2 = 2 / (1 + r^2), and
 // ∫ 2 d / (1 + d^2 + s^2) ds = 2 d / sqrt(1 + d^2) atan(s / sqrt(1 + d^2)).
-constexpr detail::RadialDensity kParaboloidSolidAngle{
-    [](double d, double s0, double s1) {
-      const double w = std::sqrt(1.0 + d * d);
-      return 2.0 * d / w * (std::atan(s1 / w) - std::atan(s0 / w));
-    },
-    1.0};
+constexpr detail::RadialDensity kParaboloidSolidAngle{[](double d, double s0, double s1) {
+                                                        const double w = std::sqrt(1.0 + d * d);
+                                                        return 2.0 * d / w * (std::atan(s1 / w) - std::atan(s0 / w));
+                                                      },
+                                                      1.0};
 
 struct HalfSquare {
   double x0, x1, y0, y1;

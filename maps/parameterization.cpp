@@ -1,9 +1,9 @@
+#include <brdfbake/core/error.hpp>
 #include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/maps/latlong_map.hpp>
 #include <brdfbake/maps/paraboloid_map.hpp>
 #include <brdfbake/maps/parameterization.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
-#include <brdfbake/core/error.hpp>
 
 #include <Eigen/Eigenvalues>
 
@@ -11,21 +11,25 @@ namespace brdfbake {
 
 std::string_view toString(ParameterizationKind kind) {
   switch (kind) {
-    case ParameterizationKind::Sphere: return "sphere";
-    case ParameterizationKind::Paraboloid: return "paraboloid";
-    case ParameterizationKind::Cube: return "cube";
-    case ParameterizationKind::LatLong: return "latlong";
+    case ParameterizationKind::Sphere:
+      return "sphere";
+    case ParameterizationKind::Paraboloid:
+      return "paraboloid";
+    case ParameterizationKind::Cube:
+      return "cube";
+    case ParameterizationKind::LatLong:
+      return "latlong";
   }
   return "unknown";
 }
 
 ParameterizationKind parseParameterizationKind(std::string_view name) {
-  for (auto kind : {ParameterizationKind::Sphere, ParameterizationKind::Paraboloid,
-                    ParameterizationKind::Cube, ParameterizationKind::LatLong}) {
+  for (auto kind : {ParameterizationKind::Sphere, ParameterizationKind::Paraboloid, ParameterizationKind::Cube,
+                    ParameterizationKind::LatLong}) {
     if (name == toString(kind)) return kind;
   }
-  throw Error(Error::Kind::InvalidArgument, "unknown parameterization '" + std::string(name) +
-                                                "' (expected sphere, paraboloid, cube or latlong)");
+  throw Error(Error::Kind::InvalidArgument,
+              "unknown parameterization '" + std::string(name) + "' (expected sphere, paraboloid, cube or latlong)");
 }
 
 Parameterization::Parameterization(int resolution) : resolution_(resolution), inverseResolution_(1.0 / resolution) {
@@ -75,8 +79,7 @@ double Parameterization::anisotropy(const Vec2& pixel) const {
   const auto j = jacobian(*this, pixel);
   if (!j) return 1.0;
   Eigen::Matrix2d gram;
-  gram << j->first.squaredNorm(), j->first.dot(j->second), j->first.dot(j->second),
-      j->second.squaredNorm();
+  gram << j->first.squaredNorm(), j->first.dot(j->second), j->first.dot(j->second), j->second.squaredNorm();
   const Eigen::Vector2d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(gram).eigenvalues();
   if (!(ev(0) > 0.0)) return std::numeric_limits<double>::infinity();
   return std::sqrt(ev(1) / ev(0));
@@ -84,10 +87,14 @@ double Parameterization::anisotropy(const Vec2& pixel) const {
 
 std::unique_ptr<Parameterization> makeParameterization(ParameterizationKind kind, int resolution) {
   switch (kind) {
-    case ParameterizationKind::Sphere: return std::make_unique<SphereMap>(resolution);
-    case ParameterizationKind::Paraboloid: return std::make_unique<ParaboloidMap>(resolution);
-    case ParameterizationKind::Cube: return std::make_unique<CubeMap>(resolution);
-    case ParameterizationKind::LatLong: return std::make_unique<LatLongMap>(resolution);
+    case ParameterizationKind::Sphere:
+      return std::make_unique<SphereMap>(resolution);
+    case ParameterizationKind::Paraboloid:
+      return std::make_unique<ParaboloidMap>(resolution);
+    case ParameterizationKind::Cube:
+      return std::make_unique<CubeMap>(resolution);
+    case ParameterizationKind::LatLong:
+      return std::make_unique<LatLongMap>(resolution);
   }
   throw Error(Error::Kind::InvalidArgument, "unknown parameterization");
 }

@@ -1,6 +1,6 @@
-#include <brdfbake/maps/radial_table.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
+#include <brdfbake/maps/radial_table.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -20,8 +20,9 @@ RadialTable::RadialTable(const std::function<double(double)>& profile, double to
   int intervals = 256;
   for (int i = 0; i <= intervals; ++i) values.push_back(f(static_cast<double>(i) / intervals));
   while (true) {
-    const double peak = std::max(1e-300, *std::max_element(values.begin(), values.end(),
-                                                          [](double a, double b) { return std::abs(a) < std::abs(b); }));
+    const double peak = std::max(1e-300, *std::max_element(values.begin(), values.end(), [](double a, double b) {
+                                   return std::abs(a) < std::abs(b);
+                                 }));
     std::vector<double> midpoints(intervals);
     double worst = 0.0;
     for (int i = 0; i < intervals; ++i) {
@@ -40,7 +41,8 @@ RadialTable::RadialTable(const std::function<double(double)>& profile, double to
     intervals *= 2;
   }
   // Zero what the tolerance cannot tell from zero, so the table has a support the baker can use.
-  const double peak = *std::max_element(values.begin(), values.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
+  const double peak =
+      *std::max_element(values.begin(), values.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
   const double negligible = 0.1 * tolerance * std::abs(peak);
   int first = -1, last = -1;
   for (int i = 0; i <= intervals; ++i) {

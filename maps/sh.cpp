@@ -1,5 +1,5 @@
-#include <brdfbake/maps/sh.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/maps/sh.hpp>
 
 #include <cmath>
 

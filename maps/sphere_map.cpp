@@ -12,8 +12,8 @@ constexpr double kRimRadius = 1.0 - 1e-15;
 constexpr double kRimRadius2 = kRimRadius * kRimRadius;
 
 // Equal-area density 4 sr per unit area of the disc: h(R) = 2 R^2, so h/r^2 = 2.
-constexpr detail::RadialDensity kSphereSolidAngle{
-    [](double d, double s0, double s1) { return 2.0 * d * (s1 - s0); }, 2.0};
+constexpr detail::RadialDensity kSphereSolidAngle{[](double d, double s0, double s1) { return 2.0 * d * (s1 - s0); },
+                                                  2.0};
 
 // Map-plane square of texel (x, y): the disc is the unit disc of x' = 2s - 1, y' = 2t - 1.
 struct Square {

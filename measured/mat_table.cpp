@@ -51,7 +51,8 @@ Eigen::MatrixXd readMatrix(mat_t* mat, const char* name, const std::string& file
     std::unique_ptr<matvar_t, VarFreer> info(Mat_VarReadInfo(mat, name));
     if (info && info->rank == 2 && info->dims) {
       const double values = static_cast<double>(info->dims[0]) * static_cast<double>(info->dims[1]);
-      const double storable = static_cast<double>(fileBytes) * (info->compression == MAT_COMPRESSION_ZLIB ? 1032.0 : 1.0);
+      const double storable =
+          static_cast<double>(fileBytes) * (info->compression == MAT_COMPRESSION_ZLIB ? 1032.0 : 1.0);
       if (values > storable)
         throw malformed(file, 0,
                         std::string("variable '") + name + "' claims " + std::to_string(info->dims[0]) + " x " +
@@ -119,7 +120,8 @@ std::uintmax_t requireCompleteMatFile(const std::filesystem::path& path) {
   const std::string bytes = readTextFile(path, "MATLAB table");
   if (bytes.size() < 128 || bytes.compare(0, 7, "MATLAB ") != 0 ||
       (bytes.compare(126, 2, "IM") != 0 && bytes.compare(126, 2, "MI") != 0))
-    throw malformed(path.string(), 0, "not a MATLAB .mat file (v5 or v7.3 need a 128-byte header starting with \"MATLAB \")");
+    throw malformed(path.string(), 0,
+                    "not a MATLAB .mat file (v5 or v7.3 need a 128-byte header starting with \"MATLAB \")");
   if (bytes.compare(0, 10, "MATLAB 5.0") != 0) return bytes.size();
   const bool swapped = bytes[126] == 'M' && bytes[127] == 'I';  // the file's byte order differs from ours
   auto word = [&](std::size_t at) {
@@ -131,16 +133,18 @@ std::uintmax_t requireCompleteMatFile(const std::filesystem::path& path) {
   int element = 0;
   while (at < bytes.size()) {
     if (bytes.size() - at < 8) {
-      throw malformed(path.string(), 0, "truncated: the file ends inside the tag of data element " + std::to_string(element) +
-                                            " (byte " + std::to_string(at) + " of " + std::to_string(bytes.size()) + ")");
+      throw malformed(path.string(), 0,
+                      "truncated: the file ends inside the tag of data element " + std::to_string(element) + " (byte " +
+                          std::to_string(at) + " of " + std::to_string(bytes.size()) + ")");
     }
     const std::uint32_t type = word(at), count = word(at + 4);
     std::uint64_t end = at + 8 + std::uint64_t{count};
     if (type == 14 /* miMATRIX */) end = (end + 7) / 8 * 8;  // padded to 8 bytes; miCOMPRESSED is not
     if (end > bytes.size() && !(type == 14 && at + 8 + std::uint64_t{count} <= bytes.size())) {
-      throw malformed(path.string(), 0, "truncated: data element " + std::to_string(element) + " at byte " + std::to_string(at) +
-                                            " needs " + std::to_string(count) + " bytes, but the file ends after " +
-                                            std::to_string(bytes.size() - at - 8));
+      throw malformed(path.string(), 0,
+                      "truncated: data element " + std::to_string(element) + " at byte " + std::to_string(at) +
+                          " needs " + std::to_string(count) + " bytes, but the file ends after " +
+                          std::to_string(bytes.size() - at - 8));
     }
     at = static_cast<std::size_t>(std::min<std::uint64_t>(end, bytes.size()));
     ++element;

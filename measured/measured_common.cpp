@@ -1,5 +1,5 @@
-#include <brdfbake/core/files.hpp>
 #include "measured_common.hpp"
+#include <brdfbake/core/files.hpp>
 
 #include <brdfbake/core/math.hpp>
 

@@ -1,12 +1,12 @@
 // Every output of bake and prefilter, opened for lookups as a renderer makes them (baked_output.hpp).
-#include <brdfbake/output/baked_output.hpp>
-#include <brdfbake/maps/map_mips.hpp>
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/env/prefilter_stack.hpp>
-#include <brdfbake/env/sh_irradiance.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/json_text.hpp>
 #include <brdfbake/core/version.hpp>
+#include <brdfbake/env/prefilter_stack.hpp>
+#include <brdfbake/env/sh_irradiance.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/map_mips.hpp>
+#include <brdfbake/output/baked_output.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -54,8 +54,8 @@ std::vector<Rgb> rowTexels(const Image& image) {
 
 void requireNoMipLevel(int mipLevel, const fs::path& path, const std::string& what) {
   if (mipLevel != 0) {
-    throw Error(Error::Kind::InvalidArgument, path.string() + ": " + what + " has no mip levels (asked for level " +
-                                                  std::to_string(mipLevel) + ")");
+    throw Error(Error::Kind::InvalidArgument,
+                path.string() + ": " + what + " has no mip levels (asked for level " + std::to_string(mipLevel) + ")");
   }
 }
 
@@ -63,9 +63,10 @@ void requireNoMipLevel(int mipLevel, const fs::path& path, const std::string& wh
 void checkProfileImage(const Image& image, const fs::path& path) {
   const int resolution = image.metadata.value("resolution", 0);
   if (image.height() != 1 || image.width() != resolution) {
-    throw Error(Error::Kind::InvalidInput, path.string() + ": a 1-D profile of resolution " + std::to_string(resolution) +
-                                               " is " + std::to_string(resolution) + " x 1, but the image is " +
-                                               std::to_string(image.width()) + " x " + std::to_string(image.height()));
+    throw Error(Error::Kind::InvalidInput, path.string() + ": a 1-D profile of resolution " +
+                                               std::to_string(resolution) + " is " + std::to_string(resolution) +
+                                               " x 1, but the image is " + std::to_string(image.width()) + " x " +
+                                               std::to_string(image.height()));
   }
   requireFinite(image, path.string());
 }
@@ -87,8 +88,9 @@ Vec3 axisOf(const nlohmann::json& metadata, const fs::path& path) {
 
 double checkedCosView(std::optional<double> cosView, OutputKind kind) {
   if (!cosView) {
-    throw Error(Error::Kind::InvalidArgument, std::string("a ") + std::string(toString(kind)) +
-                                                  " is looked up at n.v, the cosine between the normal and the view: give it");
+    throw Error(Error::Kind::InvalidArgument,
+                std::string("a ") + std::string(toString(kind)) +
+                    " is looked up at n.v, the cosine between the normal and the view: give it");
   }
   if (!(*cosView >= 0.0 && *cosView <= 1.0)) {
     throw Error(Error::Kind::InvalidArgument, "n.v must be in [0, 1], got " + std::to_string(*cosView));
@@ -100,11 +102,16 @@ double checkedCosView(std::optional<double> cosView, OutputKind kind) {
 
 std::string_view toString(OutputKind kind) {
   switch (kind) {
-    case OutputKind::Map: return "map";
-    case OutputKind::RadialProfile: return "radial_profile";
-    case OutputKind::ElevationStack: return "elevation_stack";
-    case OutputKind::FresnelTable: return "fresnel_table";
-    case OutputKind::ShIrradiance: return "sh_irradiance";
+    case OutputKind::Map:
+      return "map";
+    case OutputKind::RadialProfile:
+      return "radial_profile";
+    case OutputKind::ElevationStack:
+      return "elevation_stack";
+    case OutputKind::FresnelTable:
+      return "fresnel_table";
+    case OutputKind::ShIrradiance:
+      return "sh_irradiance";
   }
   return "map";
 }
@@ -125,8 +132,9 @@ BakedOutput BakedOutput::open(const fs::path& path, const OpenOutputOptions& opt
   }
   if (!pathExists(path) && cubeFaceSet(path).empty()) {
     if (!isStack(path)) {
-      throw Error(Error::Kind::Io, path.string() + ": no such file (nor six cube faces " + cubeFacePaths(path)[0].filename().string() +
-                                       " ..., nor an elevation stack " + elevationSlicePath(path, 0).filename().string() + " ...)");
+      throw Error(Error::Kind::Io, path.string() + ": no such file (nor six cube faces " +
+                                       cubeFacePaths(path)[0].filename().string() + " ..., nor an elevation stack " +
+                                       elevationSlicePath(path, 0).filename().string() + " ...)");
     }
     // An elevation stack: slice 0 says how many slices and their range.
     out.kind_ = OutputKind::ElevationStack;
@@ -134,15 +142,18 @@ BakedOutput BakedOutput::open(const fs::path& path, const OpenOutputOptions& opt
     const nlohmann::json* elevation = elevationOf(out.maps_[0]);
     const std::string first = elevationSlicePath(path, 0).string();
     if (!elevation || !elevation->value("slices", nlohmann::json()).is_number_integer() ||
-        !elevation->value("min_cos", nlohmann::json()).is_number() || !elevation->value("max_cos", nlohmann::json()).is_number()) {
-      throw Error(Error::Kind::InvalidInput, first + ": not a slice of an elevation stack (no spec.prefilter.elevation "
-                                                     "with slices, min_cos and max_cos)");
+        !elevation->value("min_cos", nlohmann::json()).is_number() ||
+        !elevation->value("max_cos", nlohmann::json()).is_number()) {
+      throw Error(Error::Kind::InvalidInput, first +
+                                                 ": not a slice of an elevation stack (no spec.prefilter.elevation "
+                                                 "with slices, min_cos and max_cos)");
     }
     const int count = (*elevation)["slices"].get<int>();
     out.minCos_ = (*elevation)["min_cos"].get<double>();
     out.maxCos_ = (*elevation)["max_cos"].get<double>();
     if (count < 2 || count > 64 || !(out.minCos_ > 0.0 && out.minCos_ <= out.maxCos_ && out.maxCos_ <= 1.0)) {
-      throw Error(Error::Kind::InvalidInput, first + ": spec.prefilter.elevation: needs 2 to 64 slices and 0 < min_cos <= max_cos <= 1");
+      throw Error(Error::Kind::InvalidInput,
+                  first + ": spec.prefilter.elevation: needs 2 to 64 slices and 0 < min_cos <= max_cos <= 1");
     }
     for (int j = 1; j < count; ++j) {
       const fs::path slicePath = elevationSlicePath(path, j);
@@ -150,8 +161,10 @@ BakedOutput BakedOutput::open(const fs::path& path, const OpenOutputOptions& opt
       const MapFile& slice = out.maps_.back();
       const nlohmann::json* e = elevationOf(slice);
       if (!e || e->value("slice", -1) != j || e->value("slices", -1) != count ||
-          slice.info.parameterization != out.maps_[0].info.parameterization || slice.info.resolution != out.maps_[0].info.resolution) {
-        throw Error(Error::Kind::InvalidInput, slicePath.string() + ": not slice " + std::to_string(j) + " of the stack " + first +
+          slice.info.parameterization != out.maps_[0].info.parameterization ||
+          slice.info.resolution != out.maps_[0].info.resolution) {
+        throw Error(Error::Kind::InvalidInput, slicePath.string() + ": not slice " + std::to_string(j) +
+                                                   " of the stack " + first +
                                                    " begins (its metadata or its map differ)");
       }
     }
@@ -186,19 +199,20 @@ BakedOutput BakedOutput::open(const fs::path& path, const OpenOutputOptions& opt
     }
     if (!hasMapMetadata(image)) {
       if (!options.from) {
-        throw Error(Error::Kind::InvalidInput, path.string() + ": not a brdfbake map (no brdfbake metadata); for a plain "
-                                                               "environment image, give its parameterization (" +
+        throw Error(Error::Kind::InvalidInput, path.string() +
+                                                   ": not a brdfbake map (no brdfbake metadata); for a plain "
+                                                   "environment image, give its parameterization (" +
                                                    options.fromName + " sphere|paraboloid|cube|latlong)");
       }
-      out.maps_.push_back(adoptImage(options.mipLevel == 0 ? std::move(image) : readImage(path, options.mipLevel), *options.from,
-                                     path.string()));
+      out.maps_.push_back(adoptImage(options.mipLevel == 0 ? std::move(image) : readImage(path, options.mipLevel),
+                                     *options.from, path.string()));
       out.metadata_ = out.maps_[0].image.metadata;
       out.eyeSpace_ = *options.from == ParameterizationKind::Sphere;
       return out;
     }
     if (options.from && *options.from != MapInfo::fromJson(image.metadata).parameterization) {
-      throw Error(Error::Kind::InvalidArgument, path.string() + ": its metadata says it is a " + parameterization + " map, not " +
-                                                    std::string(toString(*options.from)));
+      throw Error(Error::Kind::InvalidArgument, path.string() + ": its metadata says it is a " + parameterization +
+                                                    " map, not " + std::string(toString(*options.from)));
     }
   }
   out.maps_.push_back(readMap(path, options.mipLevel));
@@ -213,7 +227,8 @@ Rgba BakedOutput::lookup(const Vec3& direction, std::optional<double> cosView) c
     throw Error(Error::Kind::InvalidArgument, "the lookup direction must be finite and non-zero");
   }
   switch (kind_) {
-    case OutputKind::Map: return sampleBilinear(maps_[0].image, *maps_[0].parameterization, direction);
+    case OutputKind::Map:
+      return sampleBilinear(maps_[0].image, *maps_[0].parameterization, direction);
     case OutputKind::RadialProfile: {
       const Rgb v = radial_->lookup(direction);
       return {v[0], v[1], v[2], 1.0};
@@ -281,8 +296,9 @@ nlohmann::json BakedOutput::describe() const {
       const Vec3& a = radial_->axis();
       d["resolution"] = radial_->resolution();
       d["axis"] = {a.x(), a.y(), a.z()};
-      d["lookup"] = "linear in u = |r - axis| / 2, texel i at u = (i + 0.5) / N, clamped (about the view +z: u is the "
-                    "sphere-map radius)";
+      d["lookup"] =
+          "linear in u = |r - axis| / 2, texel i at u = (i + 0.5) / N, clamped (about the view +z: u is the "
+          "sphere-map radius)";
       break;
     }
     case OutputKind::FresnelTable:
@@ -292,7 +308,8 @@ nlohmann::json BakedOutput::describe() const {
     case OutputKind::ShIrradiance:
       d["bands"] = sh_->order + 1;
       d["indexed_by"] = "normal";
-      d["lookup"] = "E(n)/pi = sum_i c_i Y_i(n) at the normal n (radiance-equivalent irradiance; see the file's convention)";
+      d["lookup"] =
+          "E(n)/pi = sum_i c_i Y_i(n) at the normal n (radiance-equivalent irradiance; see the file's convention)";
       break;
   }
   d["metadata"] = metadata_;

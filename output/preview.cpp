@@ -1,7 +1,7 @@
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/output/baked_output.hpp>
 #include <brdfbake/output/preview.hpp>
-#include <brdfbake/maps/sphere_map.hpp>
-#include <brdfbake/core/error.hpp>
 
 #include <tbb/parallel_for.h>
 
@@ -94,9 +94,8 @@ Mesh makeTorusMesh(int segments) {
 Mesh makeTeapotMesh(int segments) {
   Mesh mesh;
   // Body and lid profile (radius, height), bottom centre to knob top.
-  const std::vector<Vec2> profile{{0.0, 0.0},   {0.85, 0.0},  {1.2, 0.3},   {1.38, 0.75}, {1.3, 1.25},
-                                  {1.05, 1.55}, {0.95, 1.63}, {0.45, 1.8},  {0.12, 1.86}, {0.2, 1.98},
-                                  {0.0, 2.06}};
+  const std::vector<Vec2> profile{{0.0, 0.0},   {0.85, 0.0}, {1.2, 0.3},   {1.38, 0.75}, {1.3, 1.25}, {1.05, 1.55},
+                                  {0.95, 1.63}, {0.45, 1.8}, {0.12, 1.86}, {0.2, 1.98},  {0.0, 2.06}};
   addGrid(mesh, 3 * segments, 2 * segments, [&](double u, double v) {
     Vec2 d;
     const Vec2 p = profileAt(profile, u, &d);
@@ -107,7 +106,8 @@ Mesh makeTeapotMesh(int segments) {
     return std::pair{Vec3(p.x() * radial + Vec3(0, p.y(), 0)), n.norm() > 0 ? n : Vec3(radial)};
   });
   addTube(mesh, {Vec3(1.15, 0.6, 0), Vec3(1.95, 0.65, 0), Vec3(1.8, 1.4, 0), Vec3(2.4, 1.7, 0)}, 0.28, 0.1, segments);
-  addTube(mesh, {Vec3(-1.2, 1.4, 0), Vec3(-2.3, 1.55, 0), Vec3(-2.15, 0.3, 0), Vec3(-1.3, 0.55, 0)}, 0.11, 0.11, segments);
+  addTube(mesh, {Vec3(-1.2, 1.4, 0), Vec3(-2.3, 1.55, 0), Vec3(-2.15, 0.3, 0), Vec3(-1.3, 0.55, 0)}, 0.11, 0.11,
+          segments);
   // Centre and fit into the unit sphere.
   Vec3 lo = mesh.positions[0], hi = lo;
   for (const Vec3& p : mesh.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
@@ -120,9 +120,12 @@ Mesh makeTeapotMesh(int segments) {
 
 Mesh makePreviewMesh(PreviewObject object, int segments) {
   switch (object) {
-    case PreviewObject::Sphere: return makeSphereMesh(segments);
-    case PreviewObject::Torus: return makeTorusMesh(segments);
-    case PreviewObject::Teapot: return makeTeapotMesh(segments / 2 + 2);
+    case PreviewObject::Sphere:
+      return makeSphereMesh(segments);
+    case PreviewObject::Torus:
+      return makeTorusMesh(segments);
+    case PreviewObject::Teapot:
+      return makeTeapotMesh(segments / 2 + 2);
   }
   return makeSphereMesh(segments);
 }
@@ -199,8 +202,9 @@ Vec3 checkedView(const PreviewOptions& options, bool eyeSpace) {
   options.validate();
   const Vec3 view = options.view.normalized();
   if (eyeSpace && (view - Vec3::UnitZ()).norm() > 1e-9) {
-    throw Error(Error::Kind::InvalidArgument, "a sphere map (or a profile about the view) is valid only for the view it was "
-                                              "made for: +z (eye space)");
+    throw Error(Error::Kind::InvalidArgument,
+                "a sphere map (or a profile about the view) is valid only for the view it was "
+                "made for: +z (eye space)");
   }
   return view;
 }
@@ -228,7 +232,8 @@ Image renderPreview(const Image& map, const Parameterization& parameterization, 
       return sampleBilinear(map, texel, parameterization.region(0), false);
     }
     if (options.perVertex) {
-      const Vec3 r = w[0] * vertexReflection[tri[0]] + w[1] * vertexReflection[tri[1]] + w[2] * vertexReflection[tri[2]];
+      const Vec3 r =
+          w[0] * vertexReflection[tri[0]] + w[1] * vertexReflection[tri[1]] + w[2] * vertexReflection[tri[2]];
       return sampleBilinear(map, parameterization, r.norm() > 0 ? r : Vec3(view));
     }
     return sampleBilinear(map, parameterization, reflect(view, interpolatedNormal(mesh, tri, w)));
@@ -239,10 +244,11 @@ Image renderPreview(const BakedOutput& output, const PreviewOptions& options) {
   const MapFile* map = output.map();
   if (map && !output.indexedByNormal()) return renderPreview(map->image, *map->parameterization, options);
   if (options.perVertex) {
-    throw Error(Error::Kind::InvalidArgument, std::string("per-vertex texture coordinates are for 2-D maps looked up at the "
-                                                          "reflected direction; a ") +
-                                                  std::string(toString(output.kind())) +
-                                                  (map ? " indexed by the normal" : "") + " is shaded per pixel");
+    throw Error(Error::Kind::InvalidArgument,
+                std::string("per-vertex texture coordinates are for 2-D maps looked up at the "
+                            "reflected direction; a ") +
+                    std::string(toString(output.kind())) + (map ? " indexed by the normal" : "") +
+                    " is shaded per pixel");
   }
   const Vec3 view = checkedView(options, output.eyeSpace());
   const Mesh mesh = makePreviewMesh(options.object, options.segments);

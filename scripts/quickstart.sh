@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # brdfbake quick start on Debian 12: installs what is missing, builds, then
 #   demo  bakes the sample maps of data_samples/specs/phong_eye.json into out/
-#   test  runs the whole test suite twice (what CI runs): a Release build, then a build with
+#   test  checks the sources' formatting (scripts/check_format.sh), then runs the whole test suite
+#         twice (what CI runs): a Release build, then a build with
 #         AddressSanitizer and UndefinedBehaviorSanitizer (GCC's; no benchmarks, and without the
 #         consumer_* tests, which link uninstrumented programs against the installed package)
 # Usage: scripts/quickstart.sh demo|test
@@ -12,6 +13,8 @@ cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake libeigen3-dev libceres-dev libopenimageio-dev nlohmann-json3-dev
           libgtest-dev libtbb-dev libcli11-dev libbenchmark-dev librapidcheck-dev libmatio-dev gnuplot-nox)
+# The test run also checks the formatting of the sources.
+[ "$mode" = test ] && packages+=(clang-format git)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -32,6 +35,7 @@ if [ "$mode" = demo ]; then
   build/cli/brdfbake info out/phong_eye.exr
   echo "Baked maps are in out/ (OpenEXR, float RGBA). Try: build/cli/brdfbake sample out/phong_eye.exr --dir 0,0.3,1"
 else
+  scripts/check_format.sh
   ctest --test-dir build --output-on-failure -j "$jobs"
   echo "== The same suite under AddressSanitizer and UndefinedBehaviorSanitizer"
   cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g1" \

@@ -1,8 +1,8 @@
-#include <brdfbake/core/files.hpp>
-#include <brdfbake/maps/map_mips.hpp>
-#include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/bake/baked_mips.hpp>
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/fit/fit_file.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/map_mips.hpp>
 #include <brdfbake/spec/material_spec.hpp>
 #include <brdfbake/spec/spec.hpp>
 
@@ -39,12 +39,15 @@ DirectionalLight parseLight(const nlohmann::json& value, const std::string& path
 // "fresnel", "combine"} in place of "material" and "lights".
 void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& baseDirectory) {
   for (const char* key : {"material", "lights"}) {
-    if (map.has(key)) throw specError(map.child(key), "an environment map takes its values from \"environment\"; remove it");
+    if (map.has(key))
+      throw specError(map.child(key), "an environment map takes its values from \"environment\"; remove it");
   }
-  if (spec.anyAuto()) throw specError(map.path(), "environment maps need a fixed parameterization, resolution and samples_per_texel");
+  if (spec.anyAuto())
+    throw specError(map.path(), "environment maps need a fixed parameterization, resolution and samples_per_texel");
   if (spec.viewGiven || spec.viewNeed != MapSpec::ViewNeed::Unspecified) {
-    throw specError(map.child("view"), "environment maps live in the environment's frame; a sphere map's view goes in "
-                                       "\"environment\": {\"view\": [x, y, z]}");
+    throw specError(map.child("view"),
+                    "environment maps live in the environment's frame; a sphere map's view goes in "
+                    "\"environment\": {\"view\": [x, y, z]}");
   }
   JsonObjectReader env = map.object("environment");
   EnvironmentMapSpec e;
@@ -96,20 +99,23 @@ void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& b
   const bool varying = e.lobeModel() && e.lobeModel()->elevation == LobeElevation::Varying;
   if (env.has("elevations")) {
     if (!varying) {
-      throw specError(env.child("elevations"), "only lobe models that vary with elevation (lobes:FIT.json with a varying "
-                                               "model) make a stack of maps over elevation");
+      throw specError(env.child("elevations"),
+                      "only lobe models that vary with elevation (lobes:FIT.json with a varying "
+                      "model) make a stack of maps over elevation");
     }
     e.elevations = env.integer("elevations", 2, 64);
   }
   if (env.has("fresnel")) {
     if (e.lobeModel() || normalLobe) {
-      throw specError(env.child("fresnel"), "a Fresnel decomposition needs a specular lobe (mirror, phong:N, blinn:N, "
-                                            "ggx:R) for its specular map; the irradiance map is made with it");
+      throw specError(env.child("fresnel"),
+                      "a Fresnel decomposition needs a specular lobe (mirror, phong:N, blinn:N, "
+                      "ggx:R) for its specular map; the irradiance map is made with it");
     }
     e.fresnel = materials::parseFresnelTerm(env, "fresnel");
   }
   if (const auto combine = env.optionalString("combine")) {
-    if (!e.fresnel) throw specError(env.child("combine"), "needs \"fresnel\" (how the Fresnel decomposition is combined)");
+    if (!e.fresnel)
+      throw specError(env.child("combine"), "needs \"fresnel\" (how the Fresnel decomposition is combined)");
     try {
       e.combine = parseFresnelCombine(*combine);
     } catch (const Error& error) {
@@ -132,18 +138,20 @@ void checkMaterialMap(const MapSpec& spec) {
   }
   const bool viewDependent = !m.material->viewIndependent() || m.lightAtEye;
   if (viewDependent && spec.viewNeed == MapSpec::ViewNeed::Free) {
-    throw specError(spec.jsonPath + ".view", std::string(m.material->model()) + (m.lightAtEye ? " lit from the eye" : "") +
-                                           " depends on the view direction, so no environment map can serve a free view;"
-                                           " use \"view\": \"fixed\"");
+    throw specError(spec.jsonPath + ".view",
+                    std::string(m.material->model()) + (m.lightAtEye ? " lit from the eye" : "") +
+                        " depends on the view direction, so no environment map can serve a free view;"
+                        " use \"view\": \"fixed\"");
   }
   // A fixed view ("fixed", or a sphere map's eye space) is +z in every candidate map frame.
-  const bool viewFixed = spec.viewGiven || spec.viewNeed == MapSpec::ViewNeed::Fixed || spec.autoSelect.parameterization;
+  const bool viewFixed =
+      spec.viewGiven || spec.viewNeed == MapSpec::ViewNeed::Fixed || spec.autoSelect.parameterization;
   if (spec.parameterization != ParameterizationKind::Sphere && viewDependent && !viewFixed) {
-    throw specError(spec.jsonPath, std::string(m.material->model()) +
-                              (m.lightAtEye ? " lit from the eye" : "") +
-                              " depends on the view direction, but a " + std::string(toString(spec.parameterization)) +
-                              " map is indexed by reflected direction only; fix the view with \"view\": [x, y, z]"
-                              " or use a sphere map");
+    throw specError(spec.jsonPath,
+                    std::string(m.material->model()) + (m.lightAtEye ? " lit from the eye" : "") +
+                        " depends on the view direction, but a " + std::string(toString(spec.parameterization)) +
+                        " map is indexed by reflected direction only; fix the view with \"view\": [x, y, z]"
+                        " or use a sphere map");
   }
   if (spec.radialProfile && !spec.makeFunction()->symmetryAxis()) {
     throw specError(spec.jsonPath + ".parameterization",
@@ -172,12 +180,14 @@ void parseMaterialMap(JsonObjectReader& map, MapSpec& spec, const fs::path& base
   if (m.deferredFit) {
     // What can be checked before the fit: whether the mode uses lights.
     const bool usesLights = m.deferredFit->mode != LobeMaterialMode::Reflectance;
-    if (usesLights && m.lights.empty()) throw specError(map.child("lights"), "measured in this mode needs at least one light");
-    if (!usesLights && !m.lights.empty()) throw specError(map.child("lights"), "measured in reflectance mode ignores lights; remove them");
+    if (usesLights && m.lights.empty())
+      throw specError(map.child("lights"), "measured in this mode needs at least one light");
+    if (!usesLights && !m.lights.empty())
+      throw specError(map.child("lights"), "measured in reflectance mode ignores lights; remove them");
   } else {
     checkMaterialMap(spec);
   }
-  materials::parseMapExtras(map, spec);     // "mips", "fresnel_table_output"
+  materials::parseMapExtras(map, spec);  // "mips", "fresnel_table_output"
   if (spec.radialProfile && m.mips) throw specError(map.child("mips"), "a profile has no mip levels of its own");
   if (!m.deferredFit && !spec.anyAuto() && !spec.radialProfile) materials::checkMaterialSampling(spec);
 }
@@ -191,8 +201,8 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
   const std::string output = map.string("output");
   if (output.empty()) throw specError(map.child("output"), "must not be empty");
   if (output.size() > kMaxPathLength) {
-    throw specError(map.child("output"), "a name of " + std::to_string(output.size()) + " characters; paths are limited to " +
-                                             std::to_string(kMaxPathLength));
+    throw specError(map.child("output"), "a name of " + std::to_string(output.size()) +
+                                             " characters; paths are limited to " + std::to_string(kMaxPathLength));
   }
   try {
     imageFormatFor(output);
@@ -217,20 +227,27 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     const auto* entry = map.find(key);
     return entry && entry->is_string() && *entry == "auto";
   };
-  if (isAuto("resolution")) spec.autoSelect.resolution = true;
-  else spec.resolution = map.integer("resolution", 256, 1, 65536);
-  if (isAuto("samples_per_texel")) spec.autoSelect.samplesPerTexel = true;
-  else spec.samplesPerTexel = map.integer("samples_per_texel", 16, 1, 4096);
+  if (isAuto("resolution"))
+    spec.autoSelect.resolution = true;
+  else
+    spec.resolution = map.integer("resolution", 256, 1, 65536);
+  if (isAuto("samples_per_texel"))
+    spec.autoSelect.samplesPerTexel = true;
+  else
+    spec.samplesPerTexel = map.integer("samples_per_texel", 16, 1, 4096);
   if (spec.anyAuto()) {
-    if (!map.has("max_error")) throw specError(map.child("max_error"), "required with \"auto\" values: the RMS lookup error to meet, e.g. 0.01");
+    if (!map.has("max_error"))
+      throw specError(map.child("max_error"), "required with \"auto\" values: the RMS lookup error to meet, e.g. 0.01");
     spec.autoSelect.maxError = map.number("max_error", 0.0, 1.0, /*exclusiveMinimum=*/true);
     if (spec.autoSelect.maxError >= 1.0) throw specError(map.child("max_error"), "must be < 1");
   } else if (map.has("max_error")) {
-    throw specError(map.child("max_error"), "only applies when parameterization, resolution or samples_per_texel is \"auto\"");
+    throw specError(map.child("max_error"),
+                    "only applies when parameterization, resolution or samples_per_texel is \"auto\"");
   }
 
   if (const auto* layout = map.find("layout")) {
-    if (spec.parameterization != ParameterizationKind::Cube) throw specError(map.child("layout"), "only applies to cube maps");
+    if (spec.parameterization != ParameterizationKind::Cube)
+      throw specError(map.child("layout"), "only applies to cube maps");
     if (*layout == "cross") {
       spec.cubeLayout = CubeLayout::Cross;
     } else if (*layout == "faces") {
@@ -246,16 +263,18 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     } else if (*view == "free") {
       spec.viewNeed = MapSpec::ViewNeed::Free;
       if (!spec.autoSelect.parameterization && spec.parameterization == ParameterizationKind::Sphere) {
-        throw specError(map.child("view"), "a sphere map holds one view (eye space); a free view needs a paraboloid, cube or latlong map");
+        throw specError(map.child("view"),
+                        "a sphere map holds one view (eye space); a free view needs a paraboloid, cube or latlong map");
       }
     } else {
       throw specError(map.child("view"), "must be \"fixed\", \"free\" or [x, y, z], got " + describe(*view));
     }
   } else if (map.has("view")) {
     if (spec.autoSelect.parameterization || spec.parameterization == ParameterizationKind::Sphere) {
-      throw specError(map.child("view"), spec.autoSelect.parameterization
-                                             ? "with \"parameterization\": \"auto\" give \"view\": \"fixed\" or \"free\""
-                                             : "sphere maps live in eye space, where the view vector is always +z; remove it");
+      throw specError(map.child("view"),
+                      spec.autoSelect.parameterization
+                          ? "with \"parameterization\": \"auto\" give \"view\": \"fixed\" or \"free\""
+                          : "sphere maps live in eye space, where the view vector is always +z; remove it");
     }
     spec.view = map.direction("view");
     spec.viewGiven = true;
@@ -340,12 +359,13 @@ AutoOptions MapSpec::autoOptions() const {
   options.maxError = autoSelect.maxError;
   options.allowRadialProfile = autoSelect.parameterization || radialProfile;
   if (radialProfile) {
-    options.parameterizations.clear();   // profiles only
+    options.parameterizations.clear();  // profiles only
   } else if (autoSelect.parameterization) {
-    options.parameterizations = viewNeed == ViewNeed::Free
-                                    ? std::vector{ParameterizationKind::Paraboloid, ParameterizationKind::Cube, ParameterizationKind::LatLong}
-                                    : std::vector{ParameterizationKind::Sphere, ParameterizationKind::Paraboloid,
-                                                  ParameterizationKind::Cube, ParameterizationKind::LatLong};
+    options.parameterizations =
+        viewNeed == ViewNeed::Free
+            ? std::vector{ParameterizationKind::Paraboloid, ParameterizationKind::Cube, ParameterizationKind::LatLong}
+            : std::vector{ParameterizationKind::Sphere, ParameterizationKind::Paraboloid, ParameterizationKind::Cube,
+                          ParameterizationKind::LatLong};
   } else {
     options.parameterizations = {parameterization};
   }
@@ -373,11 +393,13 @@ PrefilterOptions MapSpec::prefilterOptions() const {
 std::shared_ptr<const MapFunction> MapSpec::makeFunction() const {
   const MaterialMapSpec* m = materialMap();
   if (!m) {
-    throw Error(Error::Kind::InvalidArgument, jsonPath + ": an environment map is prefiltered from its environment "
-                                                         "(brdfbake bake or prefilter), not baked from a material");
+    throw Error(Error::Kind::InvalidArgument, jsonPath +
+                                                  ": an environment map is prefiltered from its environment "
+                                                  "(brdfbake bake or prefilter), not baked from a material");
   }
   if (!m->material) {
-    throw Error(Error::Kind::InvalidArgument, jsonPath + ": the measured material's fit has not run yet; call MapSpec::prepare() first");
+    throw Error(Error::Kind::InvalidArgument,
+                jsonPath + ": the measured material's fit has not run yet; call MapSpec::prepare() first");
   }
   return std::make_shared<MaterialMapFunction>(m->material, m->lights, view);
 }
@@ -408,7 +430,8 @@ BakeSpec parseBakeSpec(const nlohmann::json& document, const fs::path& baseDirec
 
 BakeSpec loadBakeSpec(const fs::path& file) {
   const nlohmann::json document = readJsonFile(file);
-  BakeSpec spec = parseBakeSpec(document, file.parent_path().empty() ? fs::path(".") : file.parent_path(), file.string());
+  BakeSpec spec =
+      parseBakeSpec(document, file.parent_path().empty() ? fs::path(".") : file.parent_path(), file.string());
   spec.file = file;
   return spec;
 }

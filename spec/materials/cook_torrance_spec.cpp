@@ -50,9 +50,12 @@ double highlightExtentPixels(const Parameterization& map, const Vec3& h, const V
     const MapAddress b = addressForNormal(map, std::cos(halfWidth) * h - std::sin(halfWidth) * axis, v);
     const bool inA = a.region == peak.region, inB = b.region == peak.region;
     double d = HUGE_VAL;
-    if (inA && inB) d = pixelDistance(map, a.pixel, b.pixel);
-    else if (inA) d = 2.0 * pixelDistance(map, a.pixel, peak.pixel);
-    else if (inB) d = 2.0 * pixelDistance(map, b.pixel, peak.pixel);
+    if (inA && inB)
+      d = pixelDistance(map, a.pixel, b.pixel);
+    else if (inA)
+      d = 2.0 * pixelDistance(map, a.pixel, peak.pixel);
+    else if (inB)
+      d = 2.0 * pixelDistance(map, b.pixel, peak.pixel);
     extent = std::min(extent, d);
   }
   return extent;
@@ -71,19 +74,22 @@ std::shared_ptr<const Material> parseCookTorrance(JsonObjectReader& m, const Mat
   if ((p.diffuse > 1.0).any()) throw specError(m.child("diffuse"), "is an albedo and must be <= 1 per channel");
   if ((p.diffuse > 0.0).any()) {
     if (p.mode == CookTorranceMode::Reflectance) {
-      throw specError(m.child("diffuse"), "must be 0 in reflectance mode: the map holds the mirror-direction specular term "
-                                          "R_s only (Zimmons & Bastos 1999 section 7); bake the diffuse part with \"mode\": \"lighting\"");
+      throw specError(m.child("diffuse"),
+                      "must be 0 in reflectance mode: the map holds the mirror-direction specular term "
+                      "R_s only (Zimmons & Bastos 1999 section 7); bake the diffuse part with \"mode\": \"lighting\"");
     }
     if (p.specularWeight >= 1.0) {
-      throw specError(m.child("diffuse"), "has no effect with specular_weight 1 (R = s R_s + d R_d, d = 1 - s); "
-                                          "lower \"specular_weight\"");
+      throw specError(m.child("diffuse"),
+                      "has no effect with specular_weight 1 (R = s R_s + d R_d, d = 1 - s); "
+                      "lower \"specular_weight\"");
     }
   }
   if (m.has("normalization")) p.normalization = parseName(m, "normalization", parseCookTorranceNormalization);
   if (m.has("grazing_angle")) {
     if (p.mode != CookTorranceMode::Reflectance) {
-      throw specError(m.child("grazing_angle"), "only applies to \"mode\": \"reflectance\" (lighting mode is finite at "
-                                                "grazing through G)");
+      throw specError(m.child("grazing_angle"),
+                      "only applies to \"mode\": \"reflectance\" (lighting mode is finite at "
+                      "grazing through G)");
     }
     p.grazingAngleDegrees = m.number("grazing_angle", 0.0, 90.0, true);
     if (!(p.grazingAngleDegrees < 90.0)) {
@@ -115,7 +121,8 @@ void checkMaterialSampling(const MapSpec& spec) {
     message << ct->params().roughness << " makes the highlight of light " << i << " about " << extent
             << " texels across (1/e width of D) in this " << spec.resolution << " " << toString(spec.parameterization)
             << " map, " << samplesAcross << " footprint samples with samples_per_texel " << spec.samplesPerTexel
-            << ": fewer than the " << kSamplesNeeded << " needed, so the map would alias. Raise \"resolution\" to at least "
+            << ": fewer than the " << kSamplesNeeded
+            << " needed, so the map would alias. Raise \"resolution\" to at least "
             << static_cast<long long>(std::ceil(spec.resolution * factor));
     const double samples = std::ceil(spec.samplesPerTexel * factor * factor);
     if (samples <= 4096) message << " or \"samples_per_texel\" to at least " << static_cast<long long>(samples);

@@ -36,11 +36,12 @@ FresnelTerm parseSpectral(JsonObjectReader& s) {
     }
   }
   const bool conductor = s.has("n") || s.has("k");
-  if (conductor == s.has("f0")) throw specError(s.path(), "give either \"n\" with \"k\", or \"f0\" (one value per wavelength)");
+  if (conductor == s.has("f0"))
+    throw specError(s.path(), "give either \"n\" with \"k\", or \"f0\" (one value per wavelength)");
   auto sameSize = [&](const std::string& key, const std::vector<double>& values) {
     if (values.size() != wavelengths.size()) {
-      throw specError(s.child(key), "needs one value per wavelength (" + std::to_string(wavelengths.size()) + "), got " +
-                                        std::to_string(values.size()));
+      throw specError(s.child(key), "needs one value per wavelength (" + std::to_string(wavelengths.size()) +
+                                        "), got " + std::to_string(values.size()));
     }
   };
   if (conductor) {
@@ -57,7 +58,8 @@ FresnelTerm parseSpectral(JsonObjectReader& s) {
   const auto f0 = numbers(s, "f0");
   sameSize("f0", f0);
   for (std::size_t i = 0; i < f0.size(); ++i) {
-    if (!(f0[i] >= 0.0 && f0[i] <= 1.0)) throw specError(s.child("f0") + "[" + std::to_string(i) + "]", "must be in [0, 1]");
+    if (!(f0[i] >= 0.0 && f0[i] <= 1.0))
+      throw specError(s.child("f0") + "[" + std::to_string(i) + "]", "must be in [0, 1]");
   }
   s.finish();
   return FresnelTerm::spectralF0(wavelengths, f0);
@@ -70,21 +72,26 @@ FresnelTerm parseFresnelTerm(JsonObjectReader& owner, const std::string& key) {
   const bool ior = f.has("ior"), f0 = f.has("f0"), nk = f.has("n") || f.has("k"), spectral = f.has("spectral");
   const bool schlick = f.has("schlick");
   if (ior + f0 + nk + spectral + schlick != 1) {
-    throw specError(f.path(), "give exactly one of {\"ior\": eta}, {\"f0\": [r, g, b]}, {\"schlick\": [r, g, b]}, "
-                              "{\"n\": [r, g, b], \"k\": [r, g, b]}"
-                              " or {\"spectral\": {\"wavelengths_nm\": [...], \"n\": [...], \"k\": [...]}}");
+    throw specError(f.path(),
+                    "give exactly one of {\"ior\": eta}, {\"f0\": [r, g, b]}, {\"schlick\": [r, g, b]}, "
+                    "{\"n\": [r, g, b], \"k\": [r, g, b]}"
+                    " or {\"spectral\": {\"wavelengths_nm\": [...], \"n\": [...], \"k\": [...]}}");
   }
   std::optional<FresnelTerm> term;
   try {
     if (ior) {
-      term = FresnelTerm::dielectric(checkedColor(f, "ior", [](double v) { return v > 0.0; }, "> 0"));
+      term = FresnelTerm::dielectric(checkedColor(
+          f, "ior", [](double v) { return v > 0.0; }, "> 0"));
     } else if (schlick) {
-      term = FresnelTerm::schlick(checkedColor(f, "schlick", [](double v) { return v <= 1.0; }, "in [0, 1]"));
+      term = FresnelTerm::schlick(checkedColor(
+          f, "schlick", [](double v) { return v <= 1.0; }, "in [0, 1]"));
     } else if (f0) {
-      term = FresnelTerm::fromF0(checkedColor(f, "f0", [](double v) { return v <= 1.0; }, "in [0, 1]"));
+      term = FresnelTerm::fromF0(checkedColor(
+          f, "f0", [](double v) { return v <= 1.0; }, "in [0, 1]"));
     } else if (nk) {
       if (!f.has("n") || !f.has("k")) throw specError(f.path(), "\"n\" and \"k\" go together (complex index n + i k)");
-      const Rgb n = checkedColor(f, "n", [](double v) { return v > 0.0; }, "> 0");
+      const Rgb n = checkedColor(
+          f, "n", [](double v) { return v > 0.0; }, "> 0");
       term = FresnelTerm::conductor(n, f.color("k"));
     } else {
       JsonObjectReader s = f.object("spectral");

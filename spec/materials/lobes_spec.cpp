@@ -7,9 +7,7 @@
 
 namespace brdfbake::materials {
 
-LobeMaterialMode parseLobeMode(JsonObjectReader& m) {
-  return m.parsed("mode", parseLobeMaterialMode, "reflectance");
-}
+LobeMaterialMode parseLobeMode(JsonObjectReader& m) { return m.parsed("mode", parseLobeMaterialMode, "reflectance"); }
 
 std::filesystem::path resolveMaterialFile(JsonObjectReader& m, const MaterialContext& context) {
   const std::string file = m.string("file");

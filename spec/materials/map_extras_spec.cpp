@@ -1,12 +1,12 @@
 // Map-level extras: "mips" (silhouette mip chain) and "fresnel_table_output" (1-D Fresnel table), parsed
 // and written beside the map.
-#include <brdfbake/core/files.hpp>
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/maps/map_mips.hpp>
 #include <brdfbake/bake/baked_mips.hpp>
 #include <brdfbake/brdf/fresnel.hpp>
 #include <brdfbake/brdf/npr.hpp>
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/core/version.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/map_mips.hpp>
 
 #include "registry_entries.hpp"
 
@@ -38,14 +38,14 @@ namespace materials {
 MipLayout parseMipLayout(JsonObjectReader& object, bool mips, const fs::path& output, int resolution) {
   const auto layout = object.optionalString("mip_layout");
   if (!layout || *layout == "files") return MipLayout::Files;
-  if (*layout != "tiled") throw specError(object.child("mip_layout"), "must be \"files\" or \"tiled\", got \"" + *layout + "\"");
+  if (*layout != "tiled")
+    throw specError(object.child("mip_layout"), "must be \"files\" or \"tiled\", got \"" + *layout + "\"");
   if (!mips) throw specError(object.child("mip_layout"), "\"tiled\" lays out mip levels: needs \"mips\": true");
   if (const std::string problem = tiledMipProblem(output, resolution); !problem.empty()) {
     throw specError(object.child("mip_layout"), problem);
   }
   return MipLayout::Tiled;
 }
-
 
 void parseMapExtras(JsonObjectReader& map, MapSpec& spec) {
   MaterialMapSpec& m = *spec.materialMap();
@@ -54,12 +54,15 @@ void parseMapExtras(JsonObjectReader& map, MapSpec& spec) {
     if (!mips->is_boolean()) throw specError(map.child("mips"), "must be true or false, got " + describe(*mips));
     m.mips = mips->get<bool>();
     if (m.mips && model != "silhouette") {
-      throw specError(map.child("mips"), "only the silhouette model defines its own mip levels (a ring of constant "
-                                         "width in texels); " + model + " has none");
+      throw specError(map.child("mips"),
+                      "only the silhouette model defines its own mip levels (a ring of constant "
+                      "width in texels); " +
+                          model + " has none");
     }
     if (m.mips && spec.parameterization != ParameterizationKind::Sphere) {
-      throw specError(map.child("mips"), "silhouette mip levels are defined for sphere maps only, where the ring is a "
-                                         "circle of one width in texels all round");
+      throw specError(map.child("mips"),
+                      "silhouette mip levels are defined for sphere maps only, where the ring is a "
+                      "circle of one width in texels all round");
     }
   }
   m.mipLayout = parseMipLayout(map, m.mips, spec.output, spec.resolution);
@@ -111,8 +114,8 @@ MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions
       info.resolution = chain[level].width();
       info.conventionVersion = kConventionVersion;
       info.spec = map.raw;
-      const MapWriteReport written =
-          writeMap(chain[level], info, mipLevelPath(map.output, static_cast<int>(level)), CubeLayout::Cross, writeOptions);
+      const MapWriteReport written = writeMap(chain[level], info, mipLevelPath(map.output, static_cast<int>(level)),
+                                              CubeLayout::Cross, writeOptions);
       report.files.insert(report.files.end(), written.files.begin(), written.files.end());
       if (level == 1) report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());
     }
@@ -126,7 +129,8 @@ MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions
     const WriteReport written = writeImage(image, path, writeOptions);
     report.files.push_back(path);
     report.notes.insert(report.notes.end(), written.notes.begin(), written.notes.end());
-    report.notes.push_back(path.filename().string() + ": 1-D Fresnel table, texel i holds F at cos theta = (i + 0.5) / " +
+    report.notes.push_back(path.filename().string() +
+                           ": 1-D Fresnel table, texel i holds F at cos theta = (i + 0.5) / " +
                            std::to_string(map.resolution));
   }
   return report;

@@ -16,16 +16,21 @@ std::shared_ptr<const Material> parseMeasured(JsonObjectReader& m, const Materia
   const std::filesystem::path file = resolveMaterialFile(m, context);
   const TableFormat format = m.parsed("format", parseTableFormat, "auto");
   const std::string method = m.string("method");
-  if (method != "mirror" && method != "fit") throw specError(m.child("method"), "must be \"mirror\" or \"fit\", got \"" + method + "\"");
+  if (method != "mirror" && method != "fit")
+    throw specError(m.child("method"), "must be \"mirror\" or \"fit\", got \"" + method + "\"");
   const std::string rgbName = m.optionalString("rgb").value_or("cie1931");
   RgbMethod rgb = RgbMethod::Cie1931;
-  if (rgbName == "single_wavelengths") rgb = RgbMethod::SingleWavelengths;
-  else if (rgbName != "cie1931") throw specError(m.child("rgb"), "must be \"cie1931\" or \"single_wavelengths\", got \"" + rgbName + "\"");
+  if (rgbName == "single_wavelengths")
+    rgb = RgbMethod::SingleWavelengths;
+  else if (rgbName != "cie1931")
+    throw specError(m.child("rgb"), "must be \"cie1931\" or \"single_wavelengths\", got \"" + rgbName + "\"");
 
   // Options of the other method are mistakes, not silently ignored.
   const std::vector<std::string> mirrorOnly{"window_degrees"}, fitOnly{"lobes", "elevation", "mode"};
   for (const auto& key : method == "mirror" ? fitOnly : mirrorOnly) {
-    if (m.has(key)) throw specError(m.child(key), "only applies with \"method\": \"" + std::string(method == "mirror" ? "fit" : "mirror") + "\"");
+    if (m.has(key))
+      throw specError(m.child(key),
+                      "only applies with \"method\": \"" + std::string(method == "mirror" ? "fit" : "mirror") + "\"");
   }
   double window = 10.0;
   FitOptions options;
@@ -87,7 +92,8 @@ std::shared_ptr<const Material> DeferredFit::run(const std::function<void(double
   } catch (const Error& e) {
     throw specError(jsonPath + ".file", e.what());
   }
-  if (!fit.usable()) throw specError(jsonPath + ".file", "the lobe fit did not converge to a usable result:\n" + fit.briefReport());
+  if (!fit.usable())
+    throw specError(jsonPath + ".file", "the lobe fit did not converge to a usable result:\n" + fit.briefReport());
   return std::make_shared<LobeMaterial>(std::move(fit.model), mode, "measured");
 }
 

@@ -29,7 +29,8 @@ auto atPath(const std::string& path, Make make) {
 
 std::shared_ptr<const Material> parseColorgram(JsonObjectReader& m, const MaterialContext&) {
   const auto& stopsJson = m.array("stops");
-  if (stopsJson.empty()) throw specError(m.child("stops"), "must hold at least one {\"angle\": degrees, \"color\": [r, g, b]}");
+  if (stopsJson.empty())
+    throw specError(m.child("stops"), "must hold at least one {\"angle\": degrees, \"color\": [r, g, b]}");
   std::vector<ColorStop> stops;
   for (std::size_t i = 0; i < stopsJson.size(); ++i) {
     JsonObjectReader stop(stopsJson[i], m.child("stops") + "[" + std::to_string(i) + "]");
@@ -55,7 +56,8 @@ std::shared_ptr<const Material> parseColorgram(JsonObjectReader& m, const Materi
       throw specError(m.child("stops") + "[0].color",
                       "the colour at the centre (angle 0) must be " + describeColor(*neutral) + " for blend \"" +
                           std::string(toString(blend)) + "\", so the surface shows through at normal view; got " +
-                          describeColor(centre) + " (use \"blend\": \"replace\" for a map that replaces the surface colour)");
+                          describeColor(centre) +
+                          " (use \"blend\": \"replace\" for a map that replaces the surface colour)");
     }
   }
   return atPath(m.path(), [&] {

@@ -1,13 +1,13 @@
 // Error measurement against hand-made cases with known answers.
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/maps/sphere_map.hpp>
-#include <brdfbake/maps/paraboloid_map.hpp>
 #include <brdfbake/bake/radial_profile.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/maps/paraboloid_map.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 
-#include <cmath>
 #include <gtest/gtest.h>
+#include <cmath>
 
 namespace brdfbake {
 namespace {

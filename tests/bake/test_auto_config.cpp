@@ -1,9 +1,9 @@
 // Auto-selection: the chosen configuration meets max_error, and every cheaper one does not.
+#include <gtest/gtest.h>
 #include <brdfbake/bake/auto_config.hpp>
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/core/error.hpp>
-#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <string>
@@ -24,7 +24,8 @@ std::vector<Case> cases() {
   return {
       {"phong eye", std::make_shared<PhongMaterial>(Rgb::Ones(), 30.0), {{Vec3::UnitZ(), Rgb::Ones()}}},
       {"phong general", std::make_shared<PhongMaterial>(Rgb::Ones(), 80.0), {{Vec3(1, 1, 1), Rgb::Ones()}}},
-      {"blinn exact", std::make_shared<BlinnPhongMaterial>(Rgb::Ones(), 20.0, BlinnConversion::Exact),
+      {"blinn exact",
+       std::make_shared<BlinnPhongMaterial>(Rgb::Ones(), 20.0, BlinnConversion::Exact),
        {{Vec3(0, 1, 2), Rgb::Ones()}}},
       {"cook-torrance reflectance", std::make_shared<CookTorranceMaterial>(copper), {}},
   };
@@ -44,8 +45,9 @@ TEST(AutoConfig, ChoosesTheCheapestConfigurationThatMeetsTheTarget) {
     const auto map = makeParameterization(result.chosen.parameterization, result.chosen.resolution);
     BakeOptions bakeOptions;
     bakeOptions.samplesPerTexel = result.chosen.samplesPerTexel;
-    const double error = autoErrorMeasure(measureMapError(bake(*map, function, bakeOptions), *map, function, options.error),
-                                          result.chosen.parameterization);
+    const double error =
+        autoErrorMeasure(measureMapError(bake(*map, function, bakeOptions), *map, function, options.error),
+                         result.chosen.parameterization);
     EXPECT_LE(error, options.maxError) << c.name << ": " << result.chosen.describe();
     EXPECT_NEAR(error, result.error, 1e-12) << c.name;
     // Every strictly cheaper configuration misses the target.
@@ -80,7 +82,8 @@ TEST(AutoConfig, SaysWhatTheBestReachableErrorIsWhenNothingMeetsTheTarget) {
     chooseConfiguration(function, options);
     FAIL();
   } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("no configuration meets max_error 1e-06: the best, sphere 16^2"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("no configuration meets max_error 1e-06: the best, sphere 16^2"),
+              std::string::npos)
         << e.what();
   }
   options.maxError = 0.0;
@@ -101,8 +104,8 @@ TEST(AutoConfig, BakesAtMostThreeMapsPerChoiceWithProgress) {
     models.push_back({"phong " + std::to_string(int(n)), std::make_shared<PhongMaterial>(Rgb::Ones(), n), light});
   models.push_back({"cook-torrance m = 0.05", std::make_shared<CookTorranceMaterial>(ct), light});
   AutoOptions options;
-  options.parameterizations = {ParameterizationKind::Sphere, ParameterizationKind::Paraboloid, ParameterizationKind::Cube,
-                               ParameterizationKind::LatLong};
+  options.parameterizations = {ParameterizationKind::Sphere, ParameterizationKind::Paraboloid,
+                               ParameterizationKind::Cube, ParameterizationKind::LatLong};
   options.maxError = 0.005;
   options.error.samples = 5000;
   for (const Case& c : models) {
@@ -127,7 +130,8 @@ TEST(AutoConfig, BakesAtMostThreeMapsPerChoiceWithProgress) {
     EXPECT_NEAR(measured(result.chosen), result.error, 1e-12) << c.name;
     EXPECT_LE(result.error, options.maxError) << c.name;
     ASSERT_GT(result.chosen.resolution, 16) << c.name;
-    const MapConfiguration half{result.chosen.parameterization, result.chosen.resolution / 2, result.chosen.samplesPerTexel};
+    const MapConfiguration half{result.chosen.parameterization, result.chosen.resolution / 2,
+                                result.chosen.samplesPerTexel};
     EXPECT_GT(measured(half), options.maxError) << c.name << ": " << half.describe();
     std::cout << c.name << ": " << result.chosen.describe() << ", " << result.bakes << " bake(s), " << result.estimated
               << " estimates\n";
@@ -148,8 +152,7 @@ TEST(AutoConfig, AnUnreachableBoundSaysWhatItWouldTake) {
     FAIL() << "a 256^2 sphere map cannot hold a Phong 10000 lobe to 0.5 %";
   } catch (const Error& e) {
     const std::string message = e.what();
-    EXPECT_NE(message.find("no configuration meets max_error 0.005: the best, sphere 256^2"),
-              std::string::npos)
+    EXPECT_NE(message.find("no configuration meets max_error 0.005: the best, sphere 256^2"), std::string::npos)
         << message;
     // error ~ N^-2 from 256^2: the 2048^2 sphere map meets 0.5 % (0.29 % measured, docs/accuracy.md)
     // and 1024^2 misses it (1.1 %), so the resolution it names lies between.
@@ -177,7 +180,8 @@ TEST(AutoConfig, AnUnreachableBoundSaysWhatItWouldTake) {
     FAIL();
   } catch (const Error& e) {
     EXPECT_EQ(e.kind(), Error::Kind::Resource);
-    EXPECT_NE(std::string(e.what()).find("every auto candidate exceeds the memory budget"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("every auto candidate exceeds the memory budget"), std::string::npos)
+        << e.what();
   }
 }
 

@@ -1,13 +1,13 @@
 // The baking engine against the exact model, its radial fast paths against the general path,
 // and its limits.
+#include <gtest/gtest.h>
 #include <brdfbake/bake/baker.hpp>
+#include <brdfbake/brdf/phong.hpp>
+#include <brdfbake/core/error.hpp>
 #include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/maps/paraboloid_map.hpp>
 #include <brdfbake/maps/radial_table.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
-#include <brdfbake/brdf/phong.hpp>
-#include <brdfbake/core/error.hpp>
-#include <gtest/gtest.h>
 
 #include "map_function_support.hpp"
 
@@ -18,10 +18,9 @@ namespace {
 
 using test::GeneralOnly;
 
-
 MaterialMapFunction phong(double exponent, const Vec3& light, const Rgb& diffuse = Rgb::Zero()) {
-  return MaterialMapFunction(std::make_shared<PhongMaterial>(Rgb::Ones(), exponent, diffuse),
-                             {{light, Rgb::Ones()}}, Vec3::UnitZ());
+  return MaterialMapFunction(std::make_shared<PhongMaterial>(Rgb::Ones(), exponent, diffuse), {{light, Rgb::Ones()}},
+                             Vec3::UnitZ());
 }
 
 double maxDifference(const Image& a, const Image& b) {
@@ -71,23 +70,23 @@ TEST_P(PhongParaboloid, MatchesInBothHemispheres) {
 }
 
 // (1,1,1) from the issue peaks in the front half; (1,-1,-1) in the back; (1,0,0.02) straddles the seam.
-INSTANTIATE_TEST_SUITE_P(Lights, PhongParaboloid,
-                         ::testing::Values(Vec3(1, 1, 1), Vec3(1, -1, -1), Vec3(1, 0, 0.02)));
+INSTANTIATE_TEST_SUITE_P(Lights, PhongParaboloid, ::testing::Values(Vec3(1, 1, 1), Vec3(1, -1, -1), Vec3(1, 0, 0.02)));
 
 TEST(Baker, RadialPathsAgreeWithTheGeneralPath) {
   // Also checks the culling of texels outside a lobe's support: sharp lobes cull most texels.
   for (const auto kind : {ParameterizationKind::Sphere, ParameterizationKind::Paraboloid, ParameterizationKind::Cube,
                           ParameterizationKind::LatLong}) {
     const auto map = makeParameterization(kind, 48);
-    for (const auto& [light, exponent] : {std::pair{Vec3(0, 0, 1), 20.0}, std::pair{Vec3(0.3, -0.5, 0.8), 20.0},
-                                          std::pair{Vec3(0, 0, -1), 500.0}, std::pair{Vec3(1, 0.02, 0), 2000.0},
-                                          std::pair{Vec3(0.1, 1, 0), 1.0}}) {
+    for (const auto& [light, exponent] :
+         {std::pair{Vec3(0, 0, 1), 20.0}, std::pair{Vec3(0.3, -0.5, 0.8), 20.0}, std::pair{Vec3(0, 0, -1), 500.0},
+          std::pair{Vec3(1, 0.02, 0), 2000.0}, std::pair{Vec3(0.1, 1, 0), 1.0}}) {
       const auto function = phong(exponent, light.normalized());
       BakeOptions options;
       options.samplesPerTexel = 4;
       const Image fast = bake(*map, function, options);
       const Image slow = bake(*map, GeneralOnly(function), options);
-      EXPECT_LT(maxDifference(fast, slow), 1e-5) << toString(kind) << " light " << light.transpose() << " n " << exponent;
+      EXPECT_LT(maxDifference(fast, slow), 1e-5)
+          << toString(kind) << " light " << light.transpose() << " n " << exponent;
     }
   }
 }
@@ -116,7 +115,7 @@ TEST(Baker, SphereMapCullingKeepsEveryLitTexel) {
         for (int y = 0; y < slow.height(); ++y)
           for (int x = 0; x < slow.width(); ++x) peak = std::max(peak, double(slow.at(x, y).head<3>().maxCoeff()));
         EXPECT_LT(maxDifference(fast, slow), 2e-6 * peak) << "n " << exponent << " axes " << axes[i].transpose() << ", "
-                                                            << axes[i + 1].transpose() << ", " << samples << " samples";
+                                                          << axes[i + 1].transpose() << ", " << samples << " samples";
       }
     }
   }

@@ -1,11 +1,11 @@
 // The baker's tabulated paths for Cook-Torrance against the general path (the model evaluated at
 // every sample, no tables) and against the model written out by hand: texel by texel and under
 // the value-weighted error measure of docs/accuracy.md.
+#include <gtest/gtest.h>
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/cook_torrance.hpp>
-#include <gtest/gtest.h>
+#include <brdfbake/maps/sphere_map.hpp>
 
 #include "map_function_support.hpp"
 
@@ -13,7 +13,6 @@ namespace brdfbake {
 namespace {
 
 using test::GeneralOnly;
-
 
 double maxDifference(const Image& a, const Image& b) {
   double worst = 0.0;
@@ -83,7 +82,8 @@ TEST(FastPaths, CookTorranceLightingTakesTheMicrofacetPath) {
                           ParameterizationKind::LatLong}) {
     for (const auto distribution : {MicrofacetDistribution::Beckmann, MicrofacetDistribution::Ggx}) {
       for (const double roughness : {0.05, 0.3, 1.0}) {
-        const auto material = cookTorrance(CookTorranceMode::Lighting, distribution, roughness, 0.7, Rgb(0.2, 0.5, 0.1));
+        const auto material =
+            cookTorrance(CookTorranceMode::Lighting, distribution, roughness, 0.7, Rgb(0.2, 0.5, 0.1));
         const MaterialMapFunction function(material, lights, Vec3::UnitZ());
         // Within 1.4e-7 of the peak on every map (the sphere map's normals computed directly).
         expectMatchesGeneralPath(*makeParameterization(kind, 48), function, "microfacet",

@@ -1,13 +1,13 @@
 // The value-weighted ("highlight") error measure: its value on fields with analytic answers, and
 // `auto` maps checked against the exact model by a sampler of this test's own, concentrated on the
 // lobes (docs/accuracy.md).
+#include <gtest/gtest.h>
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/auto_config.hpp>
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
-#include <gtest/gtest.h>
 
 #include <iostream>
 #include <optional>
@@ -41,8 +41,8 @@ TEST(HighlightError, ValueWeightedRmsOfAScaledLobeMatchesItsIntegral) {
     const CosinePower exact(axis, n);
     ErrorOptions options;
     options.samples = 40000;
-    const ErrorStats stats =
-        measureLookupError([&](const Vec3& r) -> Rgb { return (1.0 + d) * exact.evaluate(r); }, exact, options, 2.0, false);
+    const ErrorStats stats = measureLookupError([&](const Vec3& r) -> Rgb { return (1.0 + d) * exact.evaluate(r); },
+                                                exact, options, 2.0, false);
     const double expected = d * std::sqrt(cosinePowerIntegral(3 * n) / cosinePowerIntegral(n));
     EXPECT_NEAR(stats.highlightRms, expected, 0.02 * expected) << "n = " << n;
     EXPECT_NEAR(stats.peak, 1.0, 0.01) << "n = " << n;
@@ -57,7 +57,8 @@ TEST(HighlightError, ZeroFunctionAndExactLookupsGiveZero) {
   const CosinePower exact(Vec3::UnitZ(), 50.0);
   ErrorOptions options;
   options.samples = 2000;
-  const ErrorStats stats = measureLookupError([&](const Vec3& r) { return exact.evaluate(r); }, exact, options, 2.0, true);
+  const ErrorStats stats =
+      measureLookupError([&](const Vec3& r) { return exact.evaluate(r); }, exact, options, 2.0, true);
   EXPECT_EQ(stats.highlightRms, 0.0);
   EXPECT_EQ(stats.bound(true), 0.0);
   options.highlightGrid = 4;
@@ -112,13 +113,14 @@ double independentHighlightError(const std::function<Rgb(const Vec3&)>& lookup, 
   return std::sqrt(sum / weight) / peak;
 }
 
-double independentMapError(const MapConfiguration& configuration, const MapFunction& exact, const std::vector<Lobe>& lobes) {
+double independentMapError(const MapConfiguration& configuration, const MapFunction& exact,
+                           const std::vector<Lobe>& lobes) {
   const auto map = makeParameterization(configuration.parameterization, configuration.resolution);
   BakeOptions options;
   options.samplesPerTexel = configuration.samplesPerTexel;
   const Image image = bake(*map, exact, options);
-  return independentHighlightError([&](const Vec3& r) -> Rgb { return sampleBilinear(image, *map, r).head<3>(); }, exact,
-                                   lobes, mapRimCos(map->kind(), map->resolution()));
+  return independentHighlightError([&](const Vec3& r) -> Rgb { return sampleBilinear(image, *map, r).head<3>(); },
+                                   exact, lobes, mapRimCos(map->kind(), map->resolution()));
 }
 
 struct HighlightCase {
@@ -139,7 +141,8 @@ std::vector<HighlightCase> highlightCases() {
   ct.fresnel = FresnelTerm::fromF0(Rgb(0.955, 0.638, 0.538));
   std::vector<HighlightCase> cases;
   for (double n : {10.0, 100.0, 1000.0, 10000.0})
-    cases.push_back({"phong " + std::to_string(int(n)) + ", one light", std::make_shared<PhongMaterial>(Rgb::Ones(), n), one, n});
+    cases.push_back(
+        {"phong " + std::to_string(int(n)) + ", one light", std::make_shared<PhongMaterial>(Rgb::Ones(), n), one, n});
   cases.push_back({"phong 1000, three lights", std::make_shared<PhongMaterial>(Rgb::Ones(), 1000.0), three, 1000.0});
   cases.push_back({"cook-torrance m = 0.05, one light", std::make_shared<CookTorranceMaterial>(ct), one, 200.0});
   cases.push_back({"cook-torrance m = 0.05, three lights", std::make_shared<CookTorranceMaterial>(ct), three, 200.0});
@@ -173,11 +176,13 @@ TEST(HighlightError, AutoMapsMeetTheBoundUnderAnIndependentLobeSampler) {
     std::vector<Lobe> lobes;
     double total = 0.0;
     for (const auto& light : c.lights) total += light.color.maxCoeff();
-    for (const auto& light : c.lights) lobes.push_back({light.direction, c.lobeExponent, light.color.maxCoeff() / total});
+    for (const auto& light : c.lights)
+      lobes.push_back({light.direction, c.lobeExponent, light.color.maxCoeff() / total});
     const AutoResult result = chooseConfiguration(function, options);
     EXPECT_LE(result.bakes, 3) << c.name;
     const double chosen = independentMapError(result.chosen, function, lobes);
-    EXPECT_LE(chosen, options.maxError) << c.name << ": " << result.chosen.describe() << " (auto measured " << result.error << ")";
+    EXPECT_LE(chosen, options.maxError) << c.name << ": " << result.chosen.describe() << " (auto measured "
+                                        << result.error << ")";
     ASSERT_NE(result.chosen.resolution, options.resolutions.front())
         << c.name << ": the cheapest resolution met the bound; the test proves nothing";
     // The next cheaper candidate of all, and the chosen kind at half the resolution, both baked
@@ -185,7 +190,8 @@ TEST(HighlightError, AutoMapsMeetTheBoundUnderAnIndependentLobeSampler) {
     const int order = result.chosen.parameterization == ParameterizationKind::Sphere ? 0 : 1;
     const MapConfiguration cheaper = nextCheaper(options, result.chosen, order);
     const double missed = independentMapError(cheaper, function, lobes);
-    const MapConfiguration sameKind{result.chosen.parameterization, result.chosen.resolution / 2, result.chosen.samplesPerTexel};
+    const MapConfiguration sameKind{result.chosen.parameterization, result.chosen.resolution / 2,
+                                    result.chosen.samplesPerTexel};
     const double sameKindMissed = independentMapError(sameKind, function, lobes);
     EXPECT_GT(sameKindMissed, options.maxError) << c.name << ": " << sameKind.describe();
     std::cout << c.name << ": auto chose " << result.chosen.describe() << " (" << result.bakes << " bake(s), "

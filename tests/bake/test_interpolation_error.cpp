@@ -1,6 +1,6 @@
 // Per-vertex interpolation error: limits, scaling, where it is worst, and Zimmons 1999's line.
-#include <brdfbake/bake/interpolation_error.hpp>
 #include <gtest/gtest.h>
+#include <brdfbake/bake/interpolation_error.hpp>
 
 namespace brdfbake {
 namespace {
@@ -48,7 +48,8 @@ TEST(SeedLineExperiment, MatchesAHandComputationAtTheMidpoint) {
 TEST(SeedLineExperiment, IsSymmetricAndShrinksQuadraticallyWithTheSegment) {
   const LineExperiment left = planarLineExperiment(Vec3(-8.3, 1, 0), 1.0, 2001);
   const LineExperiment right = planarLineExperiment(Vec3(8.3, 1, 0), 1.0, 2001);
-  for (std::size_t i = 0; i < left.x.size(); i += 37) EXPECT_NEAR(left.errorDegrees[i], right.errorDegrees[2000 - i], 1e-9);
+  for (std::size_t i = 0; i < left.x.size(); i += 37)
+    EXPECT_NEAR(left.errorDegrees[i], right.errorDegrees[2000 - i], 1e-9);
   const double half = planarLineExperiment(Vec3(-8.3, 1, 0), 0.5, 4001).maxError;
   EXPECT_NEAR(left.maxError / half, 4.0, 0.6);
 }

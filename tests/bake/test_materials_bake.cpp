@@ -1,15 +1,15 @@
 // Baking the material models of docs/materials.md: sample specs bake with finite values at every
 // texel, maps hold the documented quantity texel by texel, narrow lobes integrate correctly (or
 // are rejected), and the silhouette mip chain keeps its ring width in texels.
-#include <brdfbake/bake/baker.hpp>
-#include <brdfbake/maps/image_io.hpp>
+#include <gtest/gtest.h>
 #include <brdfbake/bake/baked_mips.hpp>
-#include <brdfbake/maps/sphere_map.hpp>
+#include <brdfbake/bake/baker.hpp>
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/brdf/npr.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/spec/spec.hpp>
-#include <gtest/gtest.h>
 
 #include "test_support.hpp"
 
@@ -131,13 +131,14 @@ TEST(MaterialsBake, CopperColourShiftsTowardsWhiteAtGrazing) {
 
 TEST(MaterialsBake, FresnelMapAndProfileHoldFOfNDotV) {
   test::TempDir dir;
-  const nlohmann::json doc = {{"maps",
-                               {{{"output", "f.exr"},
-                                 {"parameterization", "sphere"},
-                                 {"resolution", 48},
-                                 {"samples_per_texel", 1},
-                                 {"fresnel_table_output", "f_1d.exr"},
-                                 {"material", {{"model", "fresnel"}, {"fresnel", {{"ior", {1.5, 1.33, 2.4}}}}, {"combine", "mix"}}}}}}};
+  const nlohmann::json doc = {
+      {"maps",
+       {{{"output", "f.exr"},
+         {"parameterization", "sphere"},
+         {"resolution", 48},
+         {"samples_per_texel", 1},
+         {"fresnel_table_output", "f_1d.exr"},
+         {"material", {{"model", "fresnel"}, {"fresnel", {{"ior", {1.5, 1.33, 2.4}}}}, {"combine", "mix"}}}}}}};
   const BakeSpec spec = parseBakeSpec(doc, dir.path());
   const MapSpec& map = spec.maps[0];
   const auto sphere = makeParameterization(ParameterizationKind::Sphere, 48);
@@ -196,10 +197,15 @@ TEST(MaterialsBake, NarrowLobesIntegrateOrAreRejected) {
   const double exact = exactIntegral(*accepted);
   EXPECT_NEAR(mapIntegral(image), exact, 1e-4 * exact);  // measured: 4e-7
   // m = 0.001 at N = 64 with 1 sample per texel: the spec is rejected ...
-  nlohmann::json mat = {{"model", "cook_torrance"}, {"mode", "lighting"}, {"roughness", 0.001}, {"fresnel", {{"ior", 1.5}}}};
+  nlohmann::json mat = {
+      {"model", "cook_torrance"}, {"mode", "lighting"}, {"roughness", 0.001}, {"fresnel", {{"ior", 1.5}}}};
   const nlohmann::json doc = {{"maps",
-                               {{{"output", "x.exr"}, {"parameterization", "sphere"}, {"resolution", n},
-                                 {"samples_per_texel", 1}, {"material", mat}, {"lights", {{{"direction", "eye"}}}}}}}};
+                               {{{"output", "x.exr"},
+                                 {"parameterization", "sphere"},
+                                 {"resolution", n},
+                                 {"samples_per_texel", 1},
+                                 {"material", mat},
+                                 {"lights", {{{"direction", "eye"}}}}}}}};
   EXPECT_THROW(parseBakeSpec(doc, "."), Error);
   // ... because baking it anyway misses the lobe (its peak falls between the texel centres).
   const auto rejected = std::make_shared<CookTorranceMaterial>(
@@ -217,7 +223,8 @@ TEST(MaterialsBake, StressCasesAreFiniteAtEveryTexel) {
     std::vector<DirectionalLight> lights;
   };
   const FresnelTerm glass = FresnelTerm::dielectric(Rgb::Constant(1.5));
-  auto ct = [](CookTorranceMode mode, double m, FresnelTerm f, MicrofacetDistribution d = MicrofacetDistribution::Beckmann) {
+  auto ct = [](CookTorranceMode mode, double m, FresnelTerm f,
+               MicrofacetDistribution d = MicrofacetDistribution::Beckmann) {
     auto p = ctParams(mode, m, std::move(f));
     p.distribution = d;
     return std::make_shared<CookTorranceMaterial>(p);
@@ -237,16 +244,20 @@ TEST(MaterialsBake, StressCasesAreFiniteAtEveryTexel) {
       {"lighting below horizon", ct(L, 0.3, glass, MicrofacetDistribution::Ggx), below},
       {"lighting below horizon, side", ct(L, 0.3, glass), belowSide},
       {"lighting grazing light", ct(L, 0.2, glass), grazingLight},
-      {"colorgram", std::make_shared<ColorgramMaterial>(ColorGradient({{0, Rgb::Ones()}, {60, Rgb(1, 0, 0)}, {90, Rgb(0, 0, 1)}}, 3.0),
-                                                        30.0, ColorgramBlend::Modulate), {}},
+      {"colorgram",
+       std::make_shared<ColorgramMaterial>(
+           ColorGradient({{0, Rgb::Ones()}, {60, Rgb(1, 0, 0)}, {90, Rgb(0, 0, 1)}}, 3.0), 30.0,
+           ColorgramBlend::Modulate),
+       {}},
       {"gooch", std::make_shared<GoochMaterial>(GoochParams{}), {}},
       {"silhouette", std::make_shared<SilhouetteMaterial>(5.0), {}},
       {"hatching", std::make_shared<HatchingMaterial>(HatchingParams{}), {}},
   };
   for (const auto& c : cases) {
     expectFinite(bakeMaterial(c.material, c.lights, ParameterizationKind::Sphere, 64, 4), c.name + " sphere");
-    expectFinite(bakeMaterial(c.material, c.lights, ParameterizationKind::Paraboloid, 32, 4, Vec3(0.3, 0.2, 1).normalized()),
-                 c.name + " paraboloid");
+    expectFinite(
+        bakeMaterial(c.material, c.lights, ParameterizationKind::Paraboloid, 32, 4, Vec3(0.3, 0.2, 1).normalized()),
+        c.name + " paraboloid");
   }
   // A light below the horizon of every texel's normal lights nothing: exactly 0 where N.L <= 0.
   const Image dark = bakeMaterial(ct(L, 0.3, glass), belowSide, ParameterizationKind::Sphere, 64, 1);
@@ -310,8 +321,11 @@ TEST(MaterialsBake, SilhouetteMipChainKeepsTheRingWidthInTexels) {
 TEST(MaterialsBake, MipsAreWrittenBesideTheMap) {
   test::TempDir dir;
   const nlohmann::json doc = {{"maps",
-                               {{{"output", "ring.exr"}, {"parameterization", "sphere"}, {"resolution", 32},
-                                 {"samples_per_texel", 4}, {"mips", true},
+                               {{{"output", "ring.exr"},
+                                 {"parameterization", "sphere"},
+                                 {"resolution", 32},
+                                 {"samples_per_texel", 4},
+                                 {"mips", true},
                                  {"material", {{"model", "silhouette"}, {"width", 20}}}}}}};
   const BakeSpec spec = parseBakeSpec(doc, dir.path());
   const MapWriteReport written = writeMapExtras(spec.maps[0], options(4));

@@ -1,14 +1,14 @@
 // 1-D radial profiles: the coordinate is the sphere-map radius, texels are ring means, lookups
 // follow the exact function, symmetry is detected only where it holds, and auto selection picks a
 // profile when it is the cheapest way to meet the target.
+#include <gtest/gtest.h>
 #include <brdfbake/bake/auto_config.hpp>
 #include <brdfbake/bake/radial_profile.hpp>
-#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/brdf/npr.hpp>
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/core/error.hpp>
-#include <gtest/gtest.h>
+#include <brdfbake/maps/sphere_map.hpp>
 
 #include <random>
 
@@ -87,20 +87,26 @@ TEST(RadialProfile, LookupsFollowTheExactFunctionAndConvergeSecondOrder) {
 TEST(RadialProfile, SymmetryIsDeclaredOnlyWhereItHolds) {
   const Vec3 light = Vec3(1, 1, 1).normalized();
   auto phong = std::make_shared<PhongMaterial>(Rgb::Ones(), 40.0);
-  EXPECT_TRUE((MaterialMapFunction(phong, {{Vec3::UnitZ(), Rgb::Ones()}}, Vec3::UnitZ()).symmetryAxis()->isApprox(Vec3::UnitZ())));
+  EXPECT_TRUE((MaterialMapFunction(phong, {{Vec3::UnitZ(), Rgb::Ones()}}, Vec3::UnitZ())
+                   .symmetryAxis()
+                   ->isApprox(Vec3::UnitZ())));
   EXPECT_TRUE((MaterialMapFunction(phong, {{light, Rgb::Ones()}}, Vec3::UnitZ()).symmetryAxis()->isApprox(light)));
-  EXPECT_FALSE(MaterialMapFunction(phong, {{light, Rgb::Ones()}, {Vec3::UnitZ(), Rgb::Ones()}}, Vec3::UnitZ()).symmetryAxis());
+  EXPECT_FALSE(
+      MaterialMapFunction(phong, {{light, Rgb::Ones()}, {Vec3::UnitZ(), Rgb::Ones()}}, Vec3::UnitZ()).symmetryAxis());
   EXPECT_TRUE(MaterialMapFunction(copperReflectance(), {}, Vec3::UnitZ()).symmetryAxis());
   const ColorGradient gradient({{0.0, Rgb::Ones()}, {60.0, Rgb(1, 0, 0)}, {85.0, Rgb(0, 0, 1)}}, 2.0);
-  EXPECT_TRUE(MaterialMapFunction(std::make_shared<ColorgramMaterial>(gradient, 0.0, ColorgramBlend::Replace), {}, Vec3::UnitZ())
+  EXPECT_TRUE(MaterialMapFunction(std::make_shared<ColorgramMaterial>(gradient, 0.0, ColorgramBlend::Replace), {},
+                                  Vec3::UnitZ())
                   .symmetryAxis());
-  EXPECT_FALSE(MaterialMapFunction(std::make_shared<ColorgramMaterial>(gradient, 20.0, ColorgramBlend::Replace), {}, Vec3::UnitZ())
+  EXPECT_FALSE(MaterialMapFunction(std::make_shared<ColorgramMaterial>(gradient, 20.0, ColorgramBlend::Replace), {},
+                                   Vec3::UnitZ())
                    .symmetryAxis());
   // The claim checked numerically: a symmetric function is equal at equal angles to its axis.
   const MaterialMapFunction copper(copperReflectance(), {}, Vec3::UnitZ());
   const RadialProfile frame(Vec3::UnitZ(), {Rgb::Zero()});
   for (double u : {0.1, 0.5, 0.9}) {
-    EXPECT_TRUE(copper.evaluate(frame.directionFor(u, 0.0)).isApprox(copper.evaluate(frame.directionFor(u, 2.0)), 1e-12));
+    EXPECT_TRUE(
+        copper.evaluate(frame.directionFor(u, 0.0)).isApprox(copper.evaluate(frame.directionFor(u, 2.0)), 1e-12));
   }
 }
 
@@ -133,7 +139,8 @@ TEST(RadialProfile, AutoPicksAProfileWhenItIsTheCheapestWayToMeetTheTarget) {
     cheaperProfiles += configuration.radialProfile ? 1 : 0;
   }
   EXPECT_GT(cheaperProfiles, 0) << "the chosen profile was the cheapest candidate: the test would prove nothing";
-  EXPECT_LT(profile.chosen.cost() * 16, map.chosen.cost()) << profile.chosen.describe() << " vs " << map.chosen.describe();
+  EXPECT_LT(profile.chosen.cost() * 16, map.chosen.cost())
+      << profile.chosen.describe() << " vs " << map.chosen.describe();
 }
 
 TEST(RadialProfile, BadArgumentsAreRefused) {

@@ -1,9 +1,9 @@
 // The R.V -> N.H exponent conversion (Zimmons & Bastos 1999 section 5.1.1): its limits, its stability, and
 // the three policies' distance from Phong.
+#include <gtest/gtest.h>
 #include <brdfbake/brdf/blinn_conversion.hpp>
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/core/error.hpp>
-#include <gtest/gtest.h>
 
 namespace brdfbake {
 namespace {
@@ -15,13 +15,16 @@ TEST(BlinnExponentRatio, LimitIsFourAtNormalIncidence) {
   for (double e : {1e-3, 1e-5, 1e-8, 1e-12, 1e-15}) {
     const double x = 1.0 - e;
     const double exactE = 1.0 - x;  // representable e
-    EXPECT_NEAR(*blinnExponentRatio(x), 4.0 + 4.0 * exactE + 10.0 * exactE * exactE, 100 * exactE * exactE * exactE + 1e-14) << "e = " << e;
+    EXPECT_NEAR(*blinnExponentRatio(x), 4.0 + 4.0 * exactE + 10.0 * exactE * exactE,
+                100 * exactE * exactE * exactE + 1e-14)
+        << "e = " << e;
   }
 }
 
 TEST(BlinnExponentRatio, MatchesTheClosedFormAwayFromOne) {
   for (double x = 0.71; x < 0.999; x += 0.01) {
-    EXPECT_NEAR(*blinnExponentRatio(x), std::log(2 * x * x - 1) / std::log(x), 1e-12 * std::abs(std::log(2 * x * x - 1) / std::log(x)));
+    EXPECT_NEAR(*blinnExponentRatio(x), std::log(2 * x * x - 1) / std::log(x),
+                1e-12 * std::abs(std::log(2 * x * x - 1) / std::log(x)));
   }
 }
 

@@ -1,9 +1,9 @@
 // Cook-Torrance: distributions and G against their definitions, the reflectance model against the
 // lighting model with the light on the mirror direction, the grazing policy, and energy
 // conservation of the normalised form by numerical integration.
+#include <gtest/gtest.h>
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/core/error.hpp>
-#include <gtest/gtest.h>
 
 #include <random>
 
@@ -85,7 +85,8 @@ TEST(CookTorrance, ReflectanceIsLightingWithTheLightOnTheMirrorDirection) {
   // texel's normal) gives H = N and G exactly 1, and its BRDF equals the reflectance-mode value.
   for (auto dist : {MicrofacetDistribution::Beckmann, MicrofacetDistribution::Ggx}) {
     for (auto form : {CookTorranceNormalization::Microfacet, CookTorranceNormalization::CookTorrance1981}) {
-      auto lp = params(CookTorranceMode::Lighting, dist, 0.3, FresnelTerm::conductor(Rgb(0.22, 1.02, 1.24), Rgb(3.747, 2.577, 2.397)));
+      auto lp = params(CookTorranceMode::Lighting, dist, 0.3,
+                       FresnelTerm::conductor(Rgb(0.22, 1.02, 1.24), Rgb(3.747, 2.577, 2.397)));
       lp.normalization = form;
       auto rp = lp;
       rp.mode = CookTorranceMode::Reflectance;
@@ -117,7 +118,8 @@ TEST(CookTorrance, ReflectanceIsLightingWithTheLightOnTheMirrorDirection) {
 }
 
 TEST(CookTorrance, ReflectanceIsFOverCosSquaredWithGrazingPolicy) {
-  auto p = params(CookTorranceMode::Reflectance, MicrofacetDistribution::Beckmann, 0.3, FresnelTerm::dielectric(Rgb::Constant(1.5)));
+  auto p = params(CookTorranceMode::Reflectance, MicrofacetDistribution::Beckmann, 0.3,
+                  FresnelTerm::dielectric(Rgb::Constant(1.5)));
   p.specularWeight = 0.7;
   const CookTorranceMaterial m(p);
   const double peak = 1.0 / (kPi * 0.09);  // Beckmann D(1) = 1 / (pi m^2)
@@ -146,7 +148,7 @@ TEST(CookTorrance, CopperGoesTowardsWhiteAtGrazing) {
                                       FresnelTerm::conductor(Rgb(0.22, 1.02, 1.24), Rgb(3.747, 2.577, 2.397))));
   const Rgb centre = m.reflectance(1.0), rim = m.reflectance(0.0);
   EXPECT_NEAR(centre[1] / centre[0], 0.6194 / 0.9433, 1e-3);  // the copper F0 ratio
-  EXPECT_NEAR(rim[1] / rim[0], 1.0, 1e-12);                     // F(90 deg) = 1: white
+  EXPECT_NEAR(rim[1] / rim[0], 1.0, 1e-12);                   // F(90 deg) = 1: white
   EXPECT_NEAR(rim[2] / rim[0], 1.0, 1e-12);
 }
 
@@ -179,7 +181,8 @@ TEST(CookTorrance, NormalisedFormConservesEnergy) {
       const CookTorranceMaterial mat(params(CookTorranceMode::Lighting, dist, m, FresnelTerm::fromF0(Rgb::Ones())));
       for (double deg : {0.0, 30.0, 60.0, 75.0, 85.0, 89.0}) {
         const double albedo = specularAlbedo(mat, radians(deg));
-        EXPECT_LE(albedo, 1.0 + 1e-3) << (dist == MicrofacetDistribution::Beckmann ? "beckmann " : "ggx ") << m << " at " << deg;
+        EXPECT_LE(albedo, 1.0 + 1e-3) << (dist == MicrofacetDistribution::Beckmann ? "beckmann " : "ggx ") << m
+                                      << " at " << deg;
         EXPECT_GT(albedo, 0.0);
         if (m <= 0.1 && deg <= 30.0) {
           EXPECT_GT(albedo, 0.97) << m << " " << deg;  // narrow lobe: G ~ 1, all reflected
@@ -194,7 +197,8 @@ TEST(CookTorrance, NormalisedFormConservesEnergy) {
 }
 
 TEST(CookTorrance, LightBelowTheHorizonAndGrazingGeometry) {
-  auto p = params(CookTorranceMode::Lighting, MicrofacetDistribution::Ggx, 0.3, FresnelTerm::dielectric(Rgb::Constant(1.5)));
+  auto p =
+      params(CookTorranceMode::Lighting, MicrofacetDistribution::Ggx, 0.3, FresnelTerm::dielectric(Rgb::Constant(1.5)));
   p.specularWeight = 0.5;
   p.diffuse = Rgb(0.8, 0.2, 0.1);
   const CookTorranceMaterial m(p);
@@ -227,7 +231,8 @@ TEST(CookTorrance, LightBelowTheHorizonAndGrazingGeometry) {
 TEST(CookTorrance, ExtremeRoughnessStaysFinite) {
   for (double m : {1e-4, 1e-2, 5.0, 10.0}) {
     for (auto dist : {MicrofacetDistribution::Beckmann, MicrofacetDistribution::Ggx}) {
-      const CookTorranceMaterial refl(params(CookTorranceMode::Reflectance, dist, m, FresnelTerm::fromF0(Rgb(0, 0.5, 1))));
+      const CookTorranceMaterial refl(
+          params(CookTorranceMode::Reflectance, dist, m, FresnelTerm::fromF0(Rgb(0, 0.5, 1))));
       const CookTorranceMaterial lit(params(CookTorranceMode::Lighting, dist, m, FresnelTerm::fromF0(Rgb(0, 0.5, 1))));
       EXPECT_NEAR(refl.peakDistribution(), 1.0 / (kPi * m * m), 1e-12 / (m * m));
       for (int i = 0; i <= 200; ++i) {
@@ -249,7 +254,8 @@ TEST(CookTorrance, ExtremeRoughnessStaysFinite) {
 }
 
 TEST(CookTorrance, RejectsBadParameters) {
-  auto p = params(CookTorranceMode::Reflectance, MicrofacetDistribution::Beckmann, 0.3, FresnelTerm::fromF0(Rgb::Ones()));
+  auto p =
+      params(CookTorranceMode::Reflectance, MicrofacetDistribution::Beckmann, 0.3, FresnelTerm::fromF0(Rgb::Ones()));
   auto bad = [&](auto change) {
     auto q = p;
     change(q);
@@ -259,8 +265,15 @@ TEST(CookTorrance, RejectsBadParameters) {
   EXPECT_THROW(CookTorranceMaterial(bad([](auto& q) { q.roughness = 11; })), Error);
   EXPECT_THROW(CookTorranceMaterial(bad([](auto& q) { q.grazingAngleDegrees = 90; })), Error);
   EXPECT_THROW(CookTorranceMaterial(bad([](auto& q) { q.specularWeight = 1.5; })), Error);
-  EXPECT_THROW(CookTorranceMaterial(bad([](auto& q) { q.diffuse = Rgb::Constant(0.5); q.specularWeight = 0.5; })), Error);
-  EXPECT_THROW(CookTorranceMaterial(bad([](auto& q) { q.mode = CookTorranceMode::Lighting; q.diffuse = Rgb::Constant(0.5); })),
+  EXPECT_THROW(CookTorranceMaterial(bad([](auto& q) {
+                 q.diffuse = Rgb::Constant(0.5);
+                 q.specularWeight = 0.5;
+               })),
+               Error);
+  EXPECT_THROW(CookTorranceMaterial(bad([](auto& q) {
+                 q.mode = CookTorranceMode::Lighting;
+                 q.diffuse = Rgb::Constant(0.5);
+               })),
                Error);  // s = 1 leaves d = 0
   EXPECT_NO_THROW(CookTorranceMaterial(bad([](auto& q) {
     q.mode = CookTorranceMode::Lighting;

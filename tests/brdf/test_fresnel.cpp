@@ -1,9 +1,9 @@
 // Fresnel formulas against an independent complex-amplitude implementation, analytic values
 // (normal incidence, grazing, Brewster angle, total internal reflection) and published optical
 // constants.
+#include <gtest/gtest.h>
 #include <brdfbake/brdf/fresnel.hpp>
 #include <brdfbake/core/error.hpp>
-#include <gtest/gtest.h>
 
 #include <complex>
 
@@ -36,7 +36,8 @@ TEST(FresnelDielectric, MatchesComplexAmplitudeReference) {
       const double theta = radians(i * 0.1);
       const double c = std::cos(theta);
       if (c <= 0.0) continue;  // both 1 at exactly grazing; the reference is 0/0 there for eta = 1
-      EXPECT_NEAR(fresnelDielectric(c, eta), referenceFresnel(c, eta, 0.0), 1e-12) << "eta " << eta << " theta " << i * 0.1;
+      EXPECT_NEAR(fresnelDielectric(c, eta), referenceFresnel(c, eta, 0.0), 1e-12)
+          << "eta " << eta << " theta " << i * 0.1;
     }
   }
 }
@@ -48,8 +49,8 @@ TEST(FresnelDielectric, NormalIncidenceAndGrazing) {
   EXPECT_NEAR(iorFromF0(0.04), 1.5, 1e-14);
   for (double eta : {1.001, 1.33, 1.5, 5.0, 1e4, 0.5}) {
     EXPECT_NEAR(fresnelDielectric(1.0, eta), std::pow((eta - 1) / (eta + 1), 2), 1e-14) << eta;
-    EXPECT_EQ(fresnelDielectric(0.0, eta), 1.0) << eta;    // F(90 deg) = 1
-    EXPECT_EQ(fresnelDielectric(-0.2, eta), 1.0) << eta;   // c < 0 clamps to grazing
+    EXPECT_EQ(fresnelDielectric(0.0, eta), 1.0) << eta;   // F(90 deg) = 1
+    EXPECT_EQ(fresnelDielectric(-0.2, eta), 1.0) << eta;  // c < 0 clamps to grazing
     // Continuous into grazing: 1 - F ~ 4 c g / (g^2 + 1) for c g << 1 (g = sqrt(eta^2 - 1)).
     EXPECT_NEAR(fresnelDielectric(1e-12, eta), 1.0, 1e-6) << eta;
   }
@@ -85,7 +86,8 @@ TEST(FresnelDielectric, TotalInternalReflectionBelowUnitIndex) {
   const double eta = 1.0 / 1.5;
   const double critical = std::asin(eta);
   EXPECT_NEAR(fresnelDielectric(1.0, eta), 0.04, 1e-15);
-  for (double theta = critical; theta <= kPi / 2; theta += 0.01) EXPECT_EQ(fresnelDielectric(std::cos(theta), eta), 1.0);
+  for (double theta = critical; theta <= kPi / 2; theta += 0.01)
+    EXPECT_EQ(fresnelDielectric(std::cos(theta), eta), 1.0);
   // Approaching the critical angle 1 - F falls like the square root of the distance to it.
   EXPECT_NEAR(fresnelDielectric(std::cos(critical - 1e-10), eta), 1.0, 1e-3);
   // Stokes: the reflectance is the same from both sides at Snell-conjugate angles.

@@ -1,7 +1,7 @@
 // Colorgrams, fleck offsets and the NPR maps against their definitions and brute-force checks.
+#include <gtest/gtest.h>
 #include <brdfbake/brdf/npr.hpp>
 #include <brdfbake/core/error.hpp>
-#include <gtest/gtest.h>
 
 #include <random>
 
@@ -16,16 +16,16 @@ ShadingGeometry normalAt(double thetaDeg, double phiDeg) {
   return {n, v, reflect(v, n)};
 }
 
-const std::vector<ColorStop> kRainbow{{0, Rgb(1, 1, 1)}, {30, Rgb(1, 1, 1)}, {50, Rgb(1, 0, 0)},
-                                      {65, Rgb(0, 1, 0)}, {80, Rgb(0, 0, 1)}};
+const std::vector<ColorStop> kRainbow{
+    {0, Rgb(1, 1, 1)}, {30, Rgb(1, 1, 1)}, {50, Rgb(1, 0, 0)}, {65, Rgb(0, 1, 0)}, {80, Rgb(0, 0, 1)}};
 
 TEST(ColorGradient, SharpInterpolatesStops) {
   const ColorGradient g(kRainbow, 0.0);
   EXPECT_LT((g(0) - Rgb(1, 1, 1)).abs().maxCoeff(), 1e-15);
   EXPECT_LT((g(40) - Rgb(1, 0.5, 0.5)).abs().maxCoeff(), 1e-15);
   EXPECT_LT((g(57.5) - Rgb(0.5, 0.5, 0)).abs().maxCoeff(), 1e-15);
-  EXPECT_LT((g(89) - Rgb(0, 0, 1)).abs().maxCoeff(), 1e-15);   // held beyond the last stop
-  EXPECT_LT((g(-40) - g(40)).abs().maxCoeff(), 1e-15);         // mirrored about the centre
+  EXPECT_LT((g(89) - Rgb(0, 0, 1)).abs().maxCoeff(), 1e-15);  // held beyond the last stop
+  EXPECT_LT((g(-40) - g(40)).abs().maxCoeff(), 1e-15);        // mirrored about the centre
   EXPECT_THROW(ColorGradient({}, 0.0), Error);
   EXPECT_THROW(ColorGradient({{10, Rgb::Ones()}, {10, Rgb::Zero()}}, 0.0), Error);
   EXPECT_THROW(ColorGradient({{95, Rgb::Ones()}}, 0.0), Error);
@@ -61,11 +61,13 @@ TEST(Colorgram, RingsOverViewAngleWithTwist) {
       const ShadingGeometry g = normalAt(theta, phi);
       EXPECT_LT((plain.unlit(g) - ColorGradient(kRainbow, 0.0)(theta)).abs().maxCoeff(), 1e-9) << theta;
       const double shift = 15.0 * std::sin(radians(theta)) * std::cos(radians(phi));
-      EXPECT_LT((twisted.unlit(g) - ColorGradient(kRainbow, 0.0)(theta - shift)).abs().maxCoeff(), 1e-9) << theta << " " << phi;
+      EXPECT_LT((twisted.unlit(g) - ColorGradient(kRainbow, 0.0)(theta - shift)).abs().maxCoeff(), 1e-9)
+          << theta << " " << phi;
     }
   }
   // Left and right differ (by the twist), top and bottom agree; the centre stays white.
-  const ShadingGeometry right = normalAt(60, 0), left = normalAt(60, 180), up = normalAt(60, 90), down = normalAt(60, 270);
+  const ShadingGeometry right = normalAt(60, 0), left = normalAt(60, 180), up = normalAt(60, 90),
+                        down = normalAt(60, 270);
   EXPECT_GT((twisted.unlit(right) - twisted.unlit(left)).abs().maxCoeff(), 0.3);
   EXPECT_LT((twisted.unlit(up) - twisted.unlit(down)).abs().maxCoeff(), 1e-9);
   EXPECT_LT((twisted.unlit(normalAt(0, 0)) - Rgb::Ones()).abs().maxCoeff(), 1e-12);
@@ -105,9 +107,9 @@ TEST(Gooch, CoolToWarmWithHighlight) {
   const GoochMaterial hard(p);
   const Vec3 l = Vec3(-1, 1, 0).normalized(), v = Vec3::UnitZ();
   auto at = [&](const Vec3& n) { return ShadingGeometry{n.normalized(), v, reflect(v, Vec3(n.normalized()))}; };
-  EXPECT_LT((hard.unlit(at(Vec3(1, -1, 0.5))) - p.cool).abs().maxCoeff(), 1e-15);   // facing away
-  EXPECT_LT((hard.unlit(at(Vec3(-1, 1, 2.5))) - p.warm).abs().maxCoeff(), 1e-15);   // facing the light
-  EXPECT_LT((hard.unlit(at(l + v)) - p.highlight).abs().maxCoeff(), 1e-15);         // at h
+  EXPECT_LT((hard.unlit(at(Vec3(1, -1, 0.5))) - p.cool).abs().maxCoeff(), 1e-15);  // facing away
+  EXPECT_LT((hard.unlit(at(Vec3(-1, 1, 2.5))) - p.warm).abs().maxCoeff(), 1e-15);  // facing the light
+  EXPECT_LT((hard.unlit(at(l + v)) - p.highlight).abs().maxCoeff(), 1e-15);        // at h
   // Blurred: on the terminator t = 1/2; at angle psi from it, t = Phi(psi / blur).
   p.blur = 20.0;
   p.highlightSize = 0.0;

@@ -1,8 +1,8 @@
 // Phong and Blinn-Phong against their defining formulas, and their radial decompositions against
 // direct evaluation.
+#include <gtest/gtest.h>
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/core/error.hpp>
-#include <gtest/gtest.h>
 
 #include <random>
 

@@ -1,10 +1,10 @@
 // `brdfbake chart` on prefiltered environment maps: the sweep parameterization x resolution x
 // method, errors against the reference prefilter on random texels (env_accuracy.hpp), the CSV and
 // JSON outputs (which need no gnuplot), skipped combinations, bad flags.
+#include <gtest/gtest.h>
+#include <brdfbake/core/math.hpp>
 #include <brdfbake/env/env_accuracy.hpp>
 #include <brdfbake/env/environment.hpp>
-#include <brdfbake/core/math.hpp>
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -27,9 +27,11 @@ const std::string kSky = test::sourcePath("data_samples/environments/sky_latlong
 const std::string kFurnace = test::sourcePath("data_samples/environments/furnace_latlong.exr");
 
 // A one-map spec prefiltering `environment` with `lobe`.
-void writeSpec(const fs::path& path, const std::string& environment, const std::string& lobe, const std::string& extra = "") {
+void writeSpec(const fs::path& path, const std::string& environment, const std::string& lobe,
+               const std::string& extra = "") {
   std::ofstream(path) << R"({"maps": [{"output": "m.exr", "parameterization": "paraboloid", "resolution": 16,
-      "environment": {"file": ")" << environment << R"(", "lobe": ")" << lobe << R"(", "max_error": 0.01}})" << extra << "]}";
+      "environment": {"file": ")"
+                      << environment << R"(", "lobe": ")" << lobe << R"(", "max_error": 0.01}})" << extra << "]}";
 }
 
 // The CSV as rows of column name -> text.
@@ -80,7 +82,8 @@ TEST(ChartEnvironment, FurnaceGivesZeroErrorForEveryParameterizationResolutionAn
   for (const char* kind : {"sphere", "paraboloid", "cube", "latlong"})
     for (const char* n : {"8", "16"})
       for (const char* method : {"auto", "sh", "direct", "importance"})
-        EXPECT_EQ(combinations.count(std::string(kind) + "/" + n + "/" + method), 1u) << kind << " " << n << " " << method;
+        EXPECT_EQ(combinations.count(std::string(kind) + "/" + n + "/" + method), 1u)
+            << kind << " " << n << " " << method;
 }
 
 TEST(ChartEnvironment, SkyErrorsAreFiniteBoundedAndAgreeWithThePrefiltersEstimates) {
@@ -95,8 +98,8 @@ TEST(ChartEnvironment, SkyErrorsAreFiniteBoundedAndAgreeWithThePrefiltersEstimat
   int front = 0;
   for (const auto& p : points) {
     ASSERT_FALSE(p.contains("skipped")) << p.dump();
-    const std::string key = p["parameterization"].get<std::string>() + "/" + std::to_string(p["resolution"].get<int>()) + "/" +
-                            p["method"].get<std::string>();
+    const std::string key = p["parameterization"].get<std::string>() + "/" +
+                            std::to_string(p["resolution"].get<int>()) + "/" + p["method"].get<std::string>();
     byKey[key] = p;
     const double rms = p["rms"].get<double>(), max = p["max"].get<double>(), lookup = p["lookup_rms"].get<double>();
     EXPECT_TRUE(std::isfinite(rms) && std::isfinite(max) && std::isfinite(lookup)) << key;
@@ -127,9 +130,12 @@ TEST(ChartEnvironment, SkyErrorsAreFiniteBoundedAndAgreeWithThePrefiltersEstimat
   // and the sun's reflection falls there.)
   for (const char* kind : {"sphere", "paraboloid"}) {
     const std::string k = kind;
-    EXPECT_GT(byKey.at(k + "/16/direct")["lookup_rms"].get<double>(), 2.0 * byKey.at(k + "/16/direct")["rms"].get<double>()) << k;
+    EXPECT_GT(byKey.at(k + "/16/direct")["lookup_rms"].get<double>(),
+              2.0 * byKey.at(k + "/16/direct")["rms"].get<double>())
+        << k;
   }
-  EXPECT_LT(byKey.at("paraboloid/32/direct")["lookup_rms"].get<double>(), 0.5 * byKey.at("paraboloid/16/direct")["lookup_rms"].get<double>());
+  EXPECT_LT(byKey.at("paraboloid/32/direct")["lookup_rms"].get<double>(),
+            0.5 * byKey.at("paraboloid/16/direct")["lookup_rms"].get<double>());
   // The CSV holds the same points, with the method column.
   const auto rows = readCsv(dir / "s.csv");
   ASSERT_EQ(rows.size(), points.size());
@@ -145,8 +151,10 @@ TEST(ChartEnvironment, MirrorMapsAndBadCombinationsAreSkippedWithANote) {
   // A filtered map, then a mirror map (no reference to chart against).
   writeSpec(dir / "m.json", kFurnace, "irradiance",
             R"(, {"output": "mirror.exr", "parameterization": "sphere", "resolution": 16,
-                  "environment": {"file": ")" + kFurnace + R"(", "lobe": "mirror"}})");
-  const auto result = runCli("chart " + q(dir / "m.json") + " --json --resolutions 8 --parameterizations latlong --methods sh,direct --subset 32");
+                  "environment": {"file": ")" +
+                kFurnace + R"(", "lobe": "mirror"}})");
+  const auto result = runCli("chart " + q(dir / "m.json") +
+                             " --json --resolutions 8 --parameterizations latlong --methods sh,direct --subset 32");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto entries = nlohmann::json::parse(result.output);
   ASSERT_EQ(entries.size(), 3u);
@@ -167,9 +175,11 @@ TEST(ChartEnvironment, MirrorMapsAndBadCombinationsAreSkippedWithANote) {
   // Fitted lobes that vary with elevation make a stack of maps, not one: skipped with a note.
   writeSpec(dir / "v.json", kFurnace, "irradiance",
             R"(, {"output": "v.exr", "parameterization": "sphere", "resolution": 16,
-                  "environment": {"file": ")" + kFurnace + R"(", "lobe": "lobes:)" +
-                test::sourcePath("data_samples/fits/synthetic_varying.json") + R"("}})");
-  const auto varying = runCli("chart " + q(dir / "v.json") + " --json --resolutions 8 --parameterizations latlong --methods sh --subset 16");
+                  "environment": {"file": ")" +
+                kFurnace + R"(", "lobe": "lobes:)" + test::sourcePath("data_samples/fits/synthetic_varying.json") +
+                R"("}})");
+  const auto varying = runCli("chart " + q(dir / "v.json") +
+                              " --json --resolutions 8 --parameterizations latlong --methods sh --subset 16");
   ASSERT_EQ(varying.exitCode, 0) << varying.output;
   const auto varyingEntries = nlohmann::json::parse(varying.output);
   ASSERT_EQ(varyingEntries.size(), 2u);
@@ -178,7 +188,8 @@ TEST(ChartEnvironment, MirrorMapsAndBadCombinationsAreSkippedWithANote) {
 
   // A combination the prefilter refuses (a map over the size limit) is skipped, the rest charted.
   writeSpec(dir / "big.json", kFurnace, "phong:10");
-  const auto big = runCli("chart " + q(dir / "big.json") + " --json --resolutions 8,10000 --parameterizations latlong --methods sh --subset 16");
+  const auto big = runCli("chart " + q(dir / "big.json") +
+                          " --json --resolutions 8,10000 --parameterizations latlong --methods sh --subset 16");
   ASSERT_EQ(big.exitCode, 0) << big.output;
   const auto bigEntries = nlohmann::json::parse(big.output);
   ASSERT_EQ(bigEntries.size(), 2u);
@@ -194,7 +205,8 @@ TEST(ChartEnvironment, BadFlagsExitTwoAndWriteNothing) {
   writeSpec(dir / "f.json", kFurnace, "phong:20");
   EXPECT_EQ(runCli("chart " + q(dir / "f.json") + " --csv " + q(dir / "x.csv") + " --methods sh,fast").exitCode, 2);
   EXPECT_EQ(runCli("chart " + q(dir / "f.json") + " --csv " + q(dir / "x.csv") + " --subset 3").exitCode, 2);
-  EXPECT_EQ(runCli("chart " + q(dir / "f.json") + " --csv " + q(dir / "x.csv") + " --environment-error mean").exitCode, 2);
+  EXPECT_EQ(runCli("chart " + q(dir / "f.json") + " --csv " + q(dir / "x.csv") + " --environment-error mean").exitCode,
+            2);
   const auto nothing = runCli("chart " + q(dir / "f.json"));
   EXPECT_EQ(nothing.exitCode, 2);
   EXPECT_NE(nothing.output.find("--csv"), std::string::npos) << nothing.output;
@@ -202,11 +214,13 @@ TEST(ChartEnvironment, BadFlagsExitTwoAndWriteNothing) {
 }
 
 TEST(ChartEnvironment, DrawsTheChartWhenGnuplotIsThere) {
-  if (test::run("command -v gnuplot").exitCode != 0) GTEST_SKIP() << "gnuplot not installed; the CSV and JSON paths are tested above";
+  if (test::run("command -v gnuplot").exitCode != 0)
+    GTEST_SKIP() << "gnuplot not installed; the CSV and JSON paths are tested above";
   test::TempDir dir;
   writeSpec(dir / "s.json", kSky, "phong:10");
-  const auto result = runCli("chart " + q(dir / "s.json") + " -o " + q(dir / "c.png") +
-                             " --resolutions 16 --parameterizations sphere,cube --methods auto,sh --subset 32 --environment-error lookup");
+  const auto result = runCli(
+      "chart " + q(dir / "s.json") + " -o " + q(dir / "c.png") +
+      " --resolutions 16 --parameterizations sphere,cube --methods auto,sh --subset 32 --environment-error lookup");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   EXPECT_TRUE(fs::exists(dir / "c.png"));
   EXPECT_GT(fs::file_size(dir / "c.png"), 1000u);
@@ -226,7 +240,8 @@ TEST(ChartEnvironment, TexelSubsetsAndPointErrors) {
   EXPECT_LE(whole.size(), 64u);
   // A larger one is drawn: the count asked for, axes on the unit sphere, reproducible by seed.
   const auto large = makeParameterization(ParameterizationKind::Sphere, 64);
-  const auto a = prefilterTexelSubset(*large, lobe, options, 100, 7), b = prefilterTexelSubset(*large, lobe, options, 100, 7);
+  const auto a = prefilterTexelSubset(*large, lobe, options, 100, 7),
+             b = prefilterTexelSubset(*large, lobe, options, 100, 7);
   ASSERT_EQ(a.size(), 100u);
   EXPECT_EQ(a.texels, b.texels);
   for (const Vec3& axis : a.axes) EXPECT_NEAR(axis.norm(), 1.0, 1e-12);

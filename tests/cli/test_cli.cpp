@@ -1,11 +1,11 @@
 // The command line as a user meets it: acceptance checks from the issue, exit codes, no output
 // on bad input, machine-readable output.
+#include <gtest/gtest.h>
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/core/math.hpp>
 #include <brdfbake/maps/image.hpp>
 #include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/maps/map_file.hpp>
-#include <brdfbake/core/error.hpp>
-#include <brdfbake/core/math.hpp>
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <chrono>
@@ -23,14 +23,16 @@ using test::runCli;
 using test::q;
 
 double sampleValue(const fs::path& map, const Vec3& d) {
-  const auto result = runCli("sample " + q(map) + " --json --dir " + std::to_string(d.x()) + "," + std::to_string(d.y()) + "," + std::to_string(d.z()));
+  const auto result = runCli("sample " + q(map) + " --json --dir " + std::to_string(d.x()) + "," +
+                             std::to_string(d.y()) + "," + std::to_string(d.z()));
   EXPECT_EQ(result.exitCode, 0) << result.output;
   return nlohmann::json::parse(result.output)["value"][0].get<double>();
 }
 
 TEST(Cli, BakeAndSampleMatchTheAnalyticLobes) {
   test::TempDir dir;
-  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " --out-dir " + q(dir.path()) + " --quiet");
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " --out-dir " +
+                             q(dir.path()) + " --quiet");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   EXPECT_TRUE(result.output.empty()) << result.output;
   std::mt19937 rng(1);
@@ -39,11 +41,12 @@ TEST(Cli, BakeAndSampleMatchTheAnalyticLobes) {
   for (int i = 0; i < 40; ++i) {
     const Vec3 r = Vec3(g(rng), g(rng), g(rng)).normalized();
     // Printed with 6 decimals: compare with the rounded direction.
-    const Vec3 rounded = Vec3(std::round(r.x() * 1e6), std::round(r.y() * 1e6), std::round(r.z() * 1e6)).normalized() ;
+    const Vec3 rounded = Vec3(std::round(r.x() * 1e6), std::round(r.y() * 1e6), std::round(r.z() * 1e6)).normalized();
     if (std::acos(-rounded.z()) > radians(10)) {
       EXPECT_NEAR(sampleValue(dir / "phong_eye.exr", rounded), std::pow(std::max(0.0, rounded.z()), 50), 0.01);
     }
-    EXPECT_NEAR(sampleValue(dir / "phong_paraboloid.exr", rounded), std::pow(std::max(0.0, rounded.dot(light)), 50), 0.01);
+    EXPECT_NEAR(sampleValue(dir / "phong_paraboloid.exr", rounded), std::pow(std::max(0.0, rounded.dot(light)), 50),
+                0.01);
   }
 }
 
@@ -52,7 +55,8 @@ TEST(Cli, BakeJsonReportsSecondsPerMap) {
   // by side, 512 x 256).
   test::TempDir dir;
   const auto start = std::chrono::steady_clock::now();
-  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " --out-dir " + q(dir.path()) + " --json");
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " --out-dir " +
+                             q(dir.path()) + " --json");
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto report = nlohmann::json::parse(result.output);
@@ -86,7 +90,10 @@ TEST(Cli, BakeJsonReportsSecondsPerMap) {
 
 TEST(Cli, InfoReportsTheSpec) {
   test::TempDir dir;
-  ASSERT_EQ(runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " --out-dir " + q(dir.path()) + " --quiet").exitCode, 0);
+  ASSERT_EQ(runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " --out-dir " + q(dir.path()) +
+                   " --quiet")
+                .exitCode,
+            0);
   const auto result = runCli("info " + q(dir / "phong_paraboloid.exr") + " --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto info = nlohmann::json::parse(result.output);
@@ -97,8 +104,12 @@ TEST(Cli, InfoReportsTheSpec) {
 
 TEST(Cli, ConvertResamplesBetweenParameterizations) {
   test::TempDir dir;
-  ASSERT_EQ(runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " --out-dir " + q(dir.path()) + " --quiet").exitCode, 0);
-  const auto result = runCli("convert " + q(dir / "phong_paraboloid.exr") + " --to cube --resolution 128 -o " + q(dir / "cube.exr"));
+  ASSERT_EQ(runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " --out-dir " + q(dir.path()) +
+                   " --quiet")
+                .exitCode,
+            0);
+  const auto result =
+      runCli("convert " + q(dir / "phong_paraboloid.exr") + " --to cube --resolution 128 -o " + q(dir / "cube.exr"));
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const Vec3 light = Vec3(1, 1, 1).normalized();
   for (const Vec3& d : {light, Vec3(1, 1, 0.5).normalized(), Vec3(0, 0, -1)}) {
@@ -157,7 +168,10 @@ TEST(Cli, BadFlagsExitTwo) {
 
 TEST(Cli, PreviewRendersAnObject) {
   test::TempDir dir;
-  ASSERT_EQ(runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " --out-dir " + q(dir.path()) + " --quiet").exitCode, 0);
+  ASSERT_EQ(runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " --out-dir " + q(dir.path()) +
+                   " --quiet")
+                .exitCode,
+            0);
   for (const std::string flags : {"--object teapot", "--object torus --per-vertex --segments 8", "--size 64"}) {
     const auto result = runCli("preview " + q(dir / "phong_eye.exr") + " -o " + q(dir / "p.png") + " " + flags);
     ASSERT_EQ(result.exitCode, 0) << flags << "\n" << result.output;
@@ -165,7 +179,9 @@ TEST(Cli, PreviewRendersAnObject) {
     fs::remove(dir / "p.png");
   }
   // A paraboloid map can be seen from any view; a sphere map only from +z.
-  EXPECT_EQ(runCli("preview " + q(dir / "phong_paraboloid.exr") + " -o " + q(dir / "side.png") + " --view 1,0.5,0").exitCode, 0);
+  EXPECT_EQ(
+      runCli("preview " + q(dir / "phong_paraboloid.exr") + " -o " + q(dir / "side.png") + " --view 1,0.5,0").exitCode,
+      0);
   const auto wrongView = runCli("preview " + q(dir / "phong_eye.exr") + " -o " + q(dir / "x.png") + " --view 1,0,0");
   EXPECT_EQ(wrongView.exitCode, 2);
   EXPECT_NE(wrongView.output.find("eye space"), std::string::npos) << wrongView.output;
@@ -178,8 +194,9 @@ TEST(Cli, ChartSweepsAndMarksTheParetoFront) {
   test::TempDir dir;
   std::ofstream(dir / "s.json") << R"({"maps": [{"output": "m.exr", "parameterization": "sphere",
       "material": {"model": "phong", "exponent": 20}, "lights": [{"direction": [0, 1, 1]}]}]})";
-  const auto result = runCli("chart " + q(dir / "s.json") + " -o " + q(dir / "c.png") + " --csv " + q(dir / "c.csv") +
-                             " --resolutions 16,64 --samples 1,4 --parameterizations sphere,paraboloid --lookups 2000 --json");
+  const auto result =
+      runCli("chart " + q(dir / "s.json") + " -o " + q(dir / "c.png") + " --csv " + q(dir / "c.csv") +
+             " --resolutions 16,64 --samples 1,4 --parameterizations sphere,paraboloid --lookups 2000 --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   EXPECT_TRUE(fs::exists(dir / "c.png"));
   const auto points = nlohmann::json::parse(result.output);
@@ -194,7 +211,8 @@ TEST(Cli, ChartSweepsAndMarksTheParetoFront) {
   // Four times the resolution cuts the error of every map by far more than half.
   auto rms = [&](const std::string& kind, int n, int spt) {
     for (const auto& p : points)
-      if (p["parameterization"] == kind && p["resolution"] == n && p["samples_per_texel"] == spt) return p["rms"].get<double>();
+      if (p["parameterization"] == kind && p["resolution"] == n && p["samples_per_texel"] == spt)
+        return p["rms"].get<double>();
     return -1.0;
   };
   EXPECT_LT(rms("sphere", 64, 4), 0.3 * rms("sphere", 16, 4));
@@ -255,7 +273,8 @@ TEST(Cli, AutoPicksAConfigurationAndRecordsIt) {
 // "parameterization": "profile" asks for one; the profile's lookups match the exact model.
 TEST(Cli, RadiallySymmetricMapsAreBakedAsProfiles) {
   test::TempDir dir;
-  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/profile.json")) + " --out-dir " + q(dir.path()) + " --json");
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/profile.json")) + " --out-dir " +
+                             q(dir.path()) + " --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto maps = nlohmann::json::parse(result.output)["maps"];
   ASSERT_EQ(maps.size(), 2u);
@@ -284,7 +303,8 @@ TEST(Cli, RadiallySymmetricMapsAreBakedAsProfiles) {
       "material": {"model": "phong", "exponent": 20}, "lights": [{"direction": [1, 0, 1]}, {"direction": "eye"}]}]})";
   const auto bad = runCli("bake " + q(dir / "bad.json"));
   EXPECT_EQ(bad.exitCode, 2);
-  EXPECT_NE(bad.output.find("maps[0].parameterization: a profile needs a map radially symmetric"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("maps[0].parameterization: a profile needs a map radially symmetric"), std::string::npos)
+      << bad.output;
   EXPECT_FALSE(fs::exists(dir / "g.exr"));
 }
 
@@ -336,7 +356,8 @@ TEST(Cli, InterpolationChartsBothSchemesAndTheLineExperiment) {
       for (int j = 0; i + j <= 24; ++j) {
         const double a = i / 24.0, b = j / 24.0, c = 1.0 - a - b;
         const Vec3 exact = reflectView((a * normals[0] + b * normals[1] + c * normals[2]).normalized());
-        worstVector = std::max(worstVector, angleBetween(a * reflected[0] + b * reflected[1] + c * reflected[2], exact));
+        worstVector =
+            std::max(worstVector, angleBetween(a * reflected[0] + b * reflected[1] + c * reflected[2], exact));
         const Vec2 xy = 2.0 * (a * st[0] + b * st[1] + c * st[2]) - Vec2(1.0, 1.0);
         const Vec3 n(xy.x(), xy.y(), std::sqrt(std::max(0.0, 1.0 - xy.squaredNorm())));
         worstSphere = std::max(worstSphere, angleBetween(reflectView(n), exact));

@@ -1,8 +1,8 @@
 // `brdfbake fit` and `brdfbake eval` as a user meets them: the issue's acceptance commands, values
 // against the formula computed here from fit.json's numbers, errors naming file and line, exit
 // codes.
-#include <brdfbake/core/math.hpp>
 #include <gtest/gtest.h>
+#include <brdfbake/core/math.hpp>
 #include <nlohmann/json.hpp>
 
 #include <fstream>
@@ -58,8 +58,8 @@ double formula(const nlohmann::json& fit, std::size_t channel, const Vec3& wi, c
 TEST(FitCli, FitsASyntheticTableAndEvalMatchesTheFormula) {
   test::TempDir dir;
   // Varying lobes are the per-channel method's (the shared method fits constant Lafortune lobes).
-  const auto fit = runCli("fit " + q(test::sourcePath("data_samples/tables/synthetic_varying.astm")) + " -o " + q(dir / "fit.json") +
-                          " --method per_channel --quiet");
+  const auto fit = runCli("fit " + q(test::sourcePath("data_samples/tables/synthetic_varying.astm")) + " -o " +
+                          q(dir / "fit.json") + " --method per_channel --quiet");
   ASSERT_EQ(fit.exitCode, 0) << fit.output;
   EXPECT_TRUE(fit.output.empty()) << fit.output;
   const auto document = readJson(dir / "fit.json");
@@ -71,10 +71,10 @@ TEST(FitCli, FitsASyntheticTableAndEvalMatchesTheFormula) {
     EXPECT_EQ(channel["stats"]["termination"], "CONVERGENCE");
     EXPECT_LT(channel["stats"]["log_rmse"].get<double>(), 0.02);  // 1 % noise
   }
-  for (const auto& [wi, wo] : std::vector<std::pair<Vec3, Vec3>>{
-           {direction(radians(30), 0), direction(radians(30), kPi)},
-           {direction(radians(70), 0.3), direction(radians(65), 3.5)},
-           {direction(radians(10), 1.0), direction(radians(50), 0.2)}}) {
+  for (const auto& [wi, wo] :
+       std::vector<std::pair<Vec3, Vec3>>{{direction(radians(30), 0), direction(radians(30), kPi)},
+                                          {direction(radians(70), 0.3), direction(radians(65), 3.5)},
+                                          {direction(radians(10), 1.0), direction(radians(50), 0.2)}}) {
     const auto eval = runCli("eval " + q(dir / "fit.json") + " --wi " + vec(wi) + " --wo " + vec(wo) + " --json");
     ASSERT_EQ(eval.exitCode, 0) << eval.output;
     const auto result = nlohmann::json::parse(eval.output);
@@ -111,11 +111,13 @@ TEST(FitCli, EvalPairsPrintsOneLinePerInputLine) {
 TEST(FitCli, EvalPairsWithABadLineNamesFileAndLine) {
   test::TempDir dir;
   std::ofstream(dir / "pairs.txt") << "0.5 0 0.5 3.1\n0.5 0 zero 3.1\n";
-  const auto result = runCli("eval " + q(test::sourcePath("data_samples/fits/synthetic_two_lobes.json")) + " --pairs " + q(dir / "pairs.txt"));
+  const auto result = runCli("eval " + q(test::sourcePath("data_samples/fits/synthetic_two_lobes.json")) + " --pairs " +
+                             q(dir / "pairs.txt"));
   EXPECT_EQ(result.exitCode, 2) << result.output;
   EXPECT_NE(result.output.find("pairs.txt:2:"), std::string::npos) << result.output;
   std::ofstream(dir / "three.txt") << "0.5 0 0.5\n";
-  const auto three = runCli("eval " + q(test::sourcePath("data_samples/fits/synthetic_two_lobes.json")) + " --pairs " + q(dir / "three.txt"));
+  const auto three = runCli("eval " + q(test::sourcePath("data_samples/fits/synthetic_two_lobes.json")) + " --pairs " +
+                            q(dir / "three.txt"));
   EXPECT_EQ(three.exitCode, 2) << three.output;
   EXPECT_NE(three.output.find("three.txt:1: expected 4 numbers"), std::string::npos) << three.output;
 }
@@ -137,7 +139,8 @@ TEST(FitCli, EvalOfATableReturnsItsSamplesAndOfAMaterialItsBrdf) {
                             vec(direction(row[0], row[1])) + " --wo " + vec(direction(row[2], row[3])) + " --json");
   ASSERT_EQ(table.exitCode, 0) << table.output;
   const auto value = nlohmann::json::parse(table.output)["value"];
-  for (std::size_t c = 0; c < 3; ++c) EXPECT_NEAR(value[c].get<double>(), row[4 + c], 1e-12 * std::max(1.0, row[4 + c]));
+  for (std::size_t c = 0; c < 3; ++c)
+    EXPECT_NEAR(value[c].get<double>(), row[4 + c], 1e-12 * std::max(1.0, row[4 + c]));
 
   // Phong as a material: shade / (n.l) = k_s max(0, r.l)^n / (n.l).
   std::ofstream(dir / "phong.json") << R"({"model": "phong", "specular": [1, 0.5, 0.25], "exponent": 20})";
@@ -156,8 +159,9 @@ TEST(FitCli, BadFlagsExitTwo) {
   for (const std::string& arguments :
        {"fit " + table + " --lobes 9", "fit " + table + " --lobes two", "fit " + table + " --elevation sideways",
         "fit " + table + " --channels spectral", "fit " + table + " --format xyz", "fit " + table + " --max-exponent 0",
-        "fit " + table + " --max-exponent high", "fit " + table + " --max-exponent 1e6", "eval " + fit, "eval " + fit + " --wi 0,0,1",
-        "eval " + fit + " --wi 0,0,1 --wo 1,2", "eval " + fit + " --wi 0,0,1 --wo 0,0,1 --pairs x.txt", std::string("fit")}) {
+        "fit " + table + " --max-exponent high", "fit " + table + " --max-exponent 1e6", "eval " + fit,
+        "eval " + fit + " --wi 0,0,1", "eval " + fit + " --wi 0,0,1 --wo 1,2",
+        "eval " + fit + " --wi 0,0,1 --wo 0,0,1 --pairs x.txt", std::string("fit")}) {
     const auto result = runCli(arguments);
     EXPECT_EQ(result.exitCode, 2) << arguments << "\n" << result.output;
   }
@@ -169,7 +173,8 @@ TEST(FitCli, BadFlagsExitTwo) {
 TEST(FitCli, AFixedExponentCapBoundsEveryLobe) {
   test::TempDir dir;
   const std::string table = q(test::sourcePath("data_samples/tables/synthetic_two_lobes.astm"));
-  const auto capped = runCli("fit " + table + " --lobes 2 --kind mirror --max-exponent 40 --quiet -o " + q(dir / "capped.json"));
+  const auto capped =
+      runCli("fit " + table + " --lobes 2 --kind mirror --max-exponent 40 --quiet -o " + q(dir / "capped.json"));
   ASSERT_EQ(capped.exitCode, 0) << capped.output;
   const auto document = readJson(dir / "capped.json");
   EXPECT_DOUBLE_EQ(document["fit"]["max_exponent"].get<double>(), 40.0);
@@ -190,8 +195,8 @@ TEST(FitCli, AFixedExponentCapBoundsEveryLobe) {
 TEST(FitCli, ReportWithoutGnuplotFailsBeforeTheFit) {
   test::TempDir dir;
   const auto result = test::run("BRDFBAKE_GNUPLOT= " + std::string(BRDFBAKE_CLI) + " fit " +
-                                q(test::sourcePath("data_samples/tables/synthetic_two_lobes.astm")) + " -o " + q(dir / "fit.json") +
-                                " --report " + q(dir / "fit.png"));
+                                q(test::sourcePath("data_samples/tables/synthetic_two_lobes.astm")) + " -o " +
+                                q(dir / "fit.json") + " --report " + q(dir / "fit.png"));
   EXPECT_EQ(result.exitCode, 2) << result.output;
   EXPECT_NE(result.output.find("gnuplot"), std::string::npos) << result.output;
   EXPECT_FALSE(fs::exists(dir / "fit.json"));
@@ -200,7 +205,8 @@ TEST(FitCli, ReportWithoutGnuplotFailsBeforeTheFit) {
 TEST(FitCli, WithoutOutputTheFitIsWrittenToTheCurrentFolder) {
   test::TempDir dir;
   const auto result = test::run("cd " + q(dir.path()) + " && " + BRDFBAKE_CLI + " fit " +
-                                q(test::sourcePath("data_samples/tables/synthetic_two_lobes.astm")) + " --lobes 1 --elevation constant");
+                                q(test::sourcePath("data_samples/tables/synthetic_two_lobes.astm")) +
+                                " --lobes 1 --elevation constant");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   EXPECT_NE(result.output.find("wrote synthetic_two_lobes_fit.json"), std::string::npos) << result.output;
   EXPECT_EQ(readJson(dir / "synthetic_two_lobes_fit.json")["format"], "brdfbake.lobe_fit");
@@ -210,8 +216,8 @@ TEST(FitCli, ReportDrawsAPng) {
   if (test::run("command -v gnuplot").exitCode != 0) GTEST_SKIP() << "gnuplot not installed; skipping";
   test::TempDir dir;
   const auto result = runCli("fit " + q(test::sourcePath("data_samples/tables/synthetic_two_lobes.astm")) +
-                             " --lobes 2 --elevation constant --report " + q(dir / "fit.png") + " -o " + q(dir / "f.json") +
-                             " --quiet");
+                             " --lobes 2 --elevation constant --report " + q(dir / "fit.png") + " -o " +
+                             q(dir / "f.json") + " --quiet");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   std::ifstream png(dir / "fit.png", std::ios::binary);
   char magic[4] = {};
@@ -221,7 +227,8 @@ TEST(FitCli, ReportDrawsAPng) {
 
 TEST(FitCli, DataSampleSpecsBake) {
   test::TempDir dir;
-  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/measured_lobes.json")) + " --out-dir " + q(dir.path()) + " --json");
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/measured_lobes.json")) + " --out-dir " +
+                             q(dir.path()) + " --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto report = nlohmann::json::parse(result.output);
   EXPECT_EQ(report["maps"].size(), 4u);
@@ -245,7 +252,9 @@ TEST(FitCli, MerlTablesAreSampledOnTheCornellGridAndFitted) {
     const std::int32_t dims[3] = {90, 90, 180};
     out.write(reinterpret_cast<const char*>(dims), sizeof dims);
     const std::vector<double> channel(90 * 90 * 180, 1500.0);
-    for (int c = 0; c < 3; ++c) out.write(reinterpret_cast<const char*>(channel.data()), static_cast<std::streamsize>(channel.size() * sizeof(double)));
+    for (int c = 0; c < 3; ++c)
+      out.write(reinterpret_cast<const char*>(channel.data()),
+                static_cast<std::streamsize>(channel.size() * sizeof(double)));
   }
   const auto fit = runCli("fit " + q(dir / "white.binary") + " -o " + q(dir / "fit.json") + " --quiet");
   ASSERT_EQ(fit.exitCode, 0) << fit.output;
@@ -272,7 +281,8 @@ TEST(FitCli, GarnetRedFitBakesAMap) {
   const auto fit = runCli("fit " + q(table) + " --lobes auto -o " + q(dir / "fit.json"));
   ASSERT_EQ(fit.exitCode, 0) << fit.output;
   EXPECT_NE(fit.output.find("usable"), std::string::npos) << fit.output;
-  std::ofstream(dir / "spec.json") << R"({"maps": [{"output": "garnet.exr", "parameterization": "sphere", "resolution": 64,
+  std::ofstream(dir / "spec.json")
+      << R"({"maps": [{"output": "garnet.exr", "parameterization": "sphere", "resolution": 64,
     "material": {"model": "lobes", "file": "fit.json"}}]})";
   const auto bake = runCli("bake " + q(dir / "spec.json") + " --quiet");
   ASSERT_EQ(bake.exitCode, 0) << bake.output;
@@ -281,7 +291,8 @@ TEST(FitCli, GarnetRedFitBakesAMap) {
   const auto eval = runCli("eval " + q(table) + " --wi " + vec(direction(0.872665, 0)) + " --wo " +
                            vec(direction(0.573513, 0)) + " --json");
   ASSERT_EQ(eval.exitCode, 0) << eval.output;
-  EXPECT_NEAR(nlohmann::json::parse(eval.output)["value"][0].get<double>(), 0.023025, 1e-9);  // first row of the file, 400 nm
+  EXPECT_NEAR(nlohmann::json::parse(eval.output)["value"][0].get<double>(), 0.023025,
+              1e-9);  // first row of the file, 400 nm
 }
 
 }  // namespace

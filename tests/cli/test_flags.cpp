@@ -1,7 +1,7 @@
 // One meaning per flag on every command: -o names one file, --json is a run report, --quiet prints
 // only errors, --threads and --max-error take the same values everywhere.
-#include <brdfbake/maps/image_io.hpp>
 #include <gtest/gtest.h>
+#include <brdfbake/maps/image_io.hpp>
 #include <nlohmann/json.hpp>
 
 #include <fstream>
@@ -42,7 +42,9 @@ TEST(Flags, ChartMinusOIsOneFileForATwoMapSpec) {
   std::ifstream png(dir / "chart.png", std::ios::binary);
   unsigned char header[24] = {};
   png.read(reinterpret_cast<char*>(header), 24);
-  const auto be32 = [&](int at) { return (header[at] << 24) | (header[at + 1] << 16) | (header[at + 2] << 8) | header[at + 3]; };
+  const auto be32 = [&](int at) {
+    return (header[at] << 24) | (header[at + 1] << 16) | (header[at + 2] << 8) | header[at + 3];
+  };
   EXPECT_EQ(be32(16), 900);
   EXPECT_EQ(be32(20), 1200);
 }
@@ -66,7 +68,8 @@ TEST(Flags, QuietAndThreadsAreAcceptedByEveryCommandThatWorks) {
   for (const std::string& command :
        {"convert " + q(map) + " --to cube --resolution 8 -o " + q(dir / "c.exr") + " --quiet --threads 1",
         "preview " + q(map) + " --size 16 -o " + q(dir / "p.png") + " --quiet",
-        "prefilter " + q(map) + " --lobe irradiance --to sphere --resolution 8 -o " + q(dir / "i.exr") + " --quiet --threads 1"}) {
+        "prefilter " + q(map) + " --lobe irradiance --to sphere --resolution 8 -o " + q(dir / "i.exr") +
+            " --quiet --threads 1"}) {
     const auto r = runCli(command);
     EXPECT_EQ(r.exitCode, 0) << command << "\n" << r.output;
     EXPECT_EQ(r.output, "") << command;

@@ -1,11 +1,11 @@
 // Bad input as a new user (or an attacker) meets it, one test per case of the hardening issue:
 // a clear error with the documented exit status, nothing lost, nothing left behind.
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <fstream>
@@ -48,7 +48,8 @@ TEST(HostileInput, DeeplyNestedJsonIsRefusedWithFileAndPath) {
   put(dir / "spec.json", "{\"maps\":" + deep + "}");
   put(dir / "fit.json", "{\"format\": \"brdfbake.lobe_fit\", \"model\": " + deep + "}");
   put(dir / "material.json", "{\"model\": \"phong\", \"specular\": " + deep + "}");
-  for (const auto& [command, file] : {std::pair{"bake ", "spec.json"}, {"eval --wi 0,0,1 --wo 0,0,1 ", "fit.json"},
+  for (const auto& [command, file] : {std::pair{"bake ", "spec.json"},
+                                      {"eval --wi 0,0,1 --wo 0,0,1 ", "fit.json"},
                                       {"eval --wi 0,0,1 --wo 0,0,1 ", "material.json"}}) {
     const auto r = runCli(command + q(dir / file));
     EXPECT_EQ(r.exitCode, 2) << file << ": " << r.output.substr(0, 300);
@@ -129,7 +130,8 @@ int interruptWhileWriting(const fs::path& spec, const fs::path& folder, int sign
   const auto start = std::chrono::steady_clock::now();
   bool seen = false;
   while (!seen && std::chrono::steady_clock::now() - start < std::chrono::minutes(5)) {
-    for (const auto& e : fs::directory_iterator(folder)) seen = seen || e.path().filename().string().find(".tmp-") != std::string::npos;
+    for (const auto& e : fs::directory_iterator(folder))
+      seen = seen || e.path().filename().string().find(".tmp-") != std::string::npos;
     if (!seen) std::this_thread::sleep_for(std::chrono::milliseconds(2));
     int status = 0;
     if (!seen && waitpid(pid, &status, WNOHANG) == pid) return -1;  // finished before we saw it writing
@@ -164,7 +166,8 @@ TEST(HostileInput, HeaderSizesAreCheckedAgainstTheFileAndTheBudget) {
     std::string header = std::string("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n") + size + "\n";
     header.resize(60, '\0');
     put(dir / name, header);
-    const auto r = runCli("prefilter " + q(dir / name) + " --lobe irradiance --to sphere --resolution 8 -o " + q(dir / "o.exr"));
+    const auto r =
+        runCli("prefilter " + q(dir / name) + " --lobe irradiance --to sphere --resolution 8 -o " + q(dir / "o.exr"));
     EXPECT_EQ(r.exitCode, 2) << r.output;
     EXPECT_NE(r.output.find(name), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("more than a 60-byte file can hold"), std::string::npos) << r.output;
@@ -267,7 +270,8 @@ TEST(HostileInput, NegativeMeasuredValuesAreClampedWithANote) {
   ASSERT_EQ(r.exitCode, 0) << r.output;
   const auto report = nlohmann::json::parse(r.output);
   const std::string notes = report["maps"][0]["notes"].dump();
-  EXPECT_NE(notes.find("maps[0].material.file: 1 negative RGB values clamped to 0 for baking"), std::string::npos) << notes;
+  EXPECT_NE(notes.find("maps[0].material.file: 1 negative RGB values clamped to 0 for baking"), std::string::npos)
+      << notes;
 }
 
 // 10. -----------------------------------------------------------------------------------------------
@@ -275,7 +279,7 @@ TEST(HostileInput, AMapThatFailsWhileBakingDoesNotStopTheOthersAndIsReported) {
   test::TempDir dir;
   nlohmann::json unreachable = phongMap("auto.exr");
   unreachable["samples_per_texel"] = "auto";  // 16^2 texels, 1 to 64 samples: a quick search
-  unreachable["max_error"] = 1e-9;  // no candidate can meet it: fails at bake time, after validation
+  unreachable["max_error"] = 1e-9;            // no candidate can meet it: fails at bake time, after validation
   putJson(dir / "spec.json", {{"maps", {phongMap("one.exr"), unreachable, phongMap("three.exr")}}});
   const auto r = runCli("bake " + q(dir / "spec.json") + " --json");
   EXPECT_EQ(r.exitCode, 2) << r.output;

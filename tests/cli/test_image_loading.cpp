@@ -2,8 +2,8 @@
 // image commands load it (through the module brdfbake_image_oiio, beside libbrdfbake_maps) on first
 // use, and say which file is missing when it cannot be loaded. Shared builds only: a static build
 // links OpenImageIO into the tool, and these tests skip.
-#include <brdfbake/core/math.hpp>
 #include <gtest/gtest.h>
+#include <brdfbake/core/math.hpp>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -30,7 +30,8 @@ TEST(ImageLoading, CommandsWithoutImagesDoNotLoadOpenImageIO) {
   test::TempDir dir;
   const std::string table = q(test::sourcePath("data_samples/tables/synthetic_two_lobes.astm"));
   const std::vector<std::string> commands = {
-      "--version", "--help", "fit --help", "fit " + table + " --lobes 1 --held-out off --quiet -o " + q(dir / "fit.json"),
+      "--version", "--help", "fit --help",
+      "fit " + table + " --lobes 1 --held-out off --quiet -o " + q(dir / "fit.json"),
       "eval " + q(dir / "fit.json") + " --wi 0,0,1 --wo 0,0,1"};
   for (const std::string& arguments : commands) {
     SCOPED_TRACE(arguments);
@@ -63,18 +64,22 @@ TEST(ImageLoading, AMissingModuleIsNamedWhenAnImageIsNeeded) {
   BRDFBAKE_REQUIRE_IMAGE_MODULE();
   test::TempDir dir;
   ASSERT_EQ(runCli("bake " + q(test::sourcePath("data_samples/specs/phong_eye.json")) + " --out-dir " + q(dir.path()) +
-                   " --quiet").exitCode, 0);
+                   " --quiet")
+                .exitCode,
+            0);
   // The tool and its libraries copied into a folder without the module, and found there first.
   const fs::path copy = dir / "copy";
   fs::create_directories(copy);
   fs::copy_file(BRDFBAKE_CLI, copy / "brdfbake");
-  for (const std::string library : {BRDFBAKE_TOOL_LIBRARIES}) fs::copy_file(library, copy / fs::path(library).filename());
+  for (const std::string library : {BRDFBAKE_TOOL_LIBRARIES})
+    fs::copy_file(library, copy / fs::path(library).filename());
   const std::string tool = "LD_LIBRARY_PATH=" + q(copy) + " " + q(copy / "brdfbake");
   const auto version = test::run(tool + " --version");
   EXPECT_EQ(version.exitCode, 0) << version.output;
   const auto info = test::run(tool + " info " + q(dir / "phong_eye.exr"));
   EXPECT_EQ(info.exitCode, 3) << info.output;  // Error(Io)
-  EXPECT_NE(info.output.find("cannot load the image module " + (copy / BRDFBAKE_IMAGE_MODULE).string()), std::string::npos)
+  EXPECT_NE(info.output.find("cannot load the image module " + (copy / BRDFBAKE_IMAGE_MODULE).string()),
+            std::string::npos)
       << info.output;
   EXPECT_NE(info.output.find("No such file"), std::string::npos) << info.output;  // dlerror()'s reason
 }

@@ -1,13 +1,13 @@
 // `brdfbake prefilter` and prefiltered maps in specs, as a user meets them: outputs checked against
 // the library's reference sum, metadata, exit codes for bad flags and bad environments.
-#include <brdfbake/env/environment.hpp>
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/maps/map_file.hpp>
-#include <brdfbake/env/prefilter.hpp>
+#include <gtest/gtest.h>
 #include <brdfbake/brdf/fresnel.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/env/environment.hpp>
+#include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/fit/fit_file.hpp>
-#include <gtest/gtest.h>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/map_file.hpp>
 #include <nlohmann/json.hpp>
 
 #include <OpenImageIO/imageio.h>
@@ -39,7 +39,8 @@ Rgb sampleMap(const fs::path& map, const Vec3& d) {
 TEST(PrefilterCli, GlossyParaboloidWithMipsMatchesTheReferenceAndRecordsItself) {
   test::TempDir dir;
   const fs::path out = dir / "glossy.exr";
-  const auto result = runCli("prefilter " + q(kSky) + " --lobe phong:50 --to paraboloid --resolution 32 --mips --json -o " + q(out));
+  const auto result =
+      runCli("prefilter " + q(kSky) + " --lobe phong:50 --to paraboloid --resolution 32 --mips --json -o " + q(out));
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto report = nlohmann::json::parse(result.output);
   EXPECT_EQ(report["lobe"], "phong:50");
@@ -56,7 +57,8 @@ TEST(PrefilterCli, GlossyParaboloidWithMipsMatchesTheReferenceAndRecordsItself) 
   const auto lobe = PrefilterLobe::phong(50);
   std::vector<Vec3> axes;
   const auto map = makeParameterization(ParameterizationKind::Paraboloid, 32);
-  for (const Vec2& p : {Vec2(8.5, 8.5), Vec2(16.5, 16.5), Vec2(20.5, 10.5), Vec2(40.5, 12.5), Vec2(50.5, 20.5)}) axes.push_back(*map->getDirectionFor(p));
+  for (const Vec2& p : {Vec2(8.5, 8.5), Vec2(16.5, 16.5), Vec2(20.5, 10.5), Vec2(40.5, 12.5), Vec2(50.5, 20.5)})
+    axes.push_back(*map->getDirectionFor(p));
   const auto reference = prefilterReferenceAt(sky, lobe, axes);
   for (std::size_t i = 0; i < axes.size(); ++i) {
     const Rgb value = sampleMap(out, axes[i]);
@@ -79,8 +81,10 @@ TEST(PrefilterCli, GlossChainWritesOneLevelPerExponentEachMatchingTheReference) 
   // reference sum with its own exponent.
   test::TempDir dir;
   const fs::path out = dir / "chain.exr";
-  const auto result = runCli("prefilter " + q(kSky) + " --lobe phong --gloss-scale 6 --gloss-bias 1 --mip-count 3 --to cube "
-                             "--resolution 16 --no-edge-fixup --json -o " + q(out));
+  const auto result = runCli("prefilter " + q(kSky) +
+                             " --lobe phong --gloss-scale 6 --gloss-bias 1 --mip-count 3 --to cube "
+                             "--resolution 16 --no-edge-fixup --json -o " +
+                             q(out));
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto report = nlohmann::json::parse(result.output);
   ASSERT_EQ(report["gloss_chain"]["levels"].size(), 3u);
@@ -97,18 +101,22 @@ TEST(PrefilterCli, GlossChainWritesOneLevelPerExponentEachMatchingTheReference) 
     const auto cube = makeParameterization(ParameterizationKind::Cube, 16 >> level);
     ASSERT_EQ(map.image.width(), cube->width());
     // Texel centres on the +z face's middle row and one near a corner of the +y face.
-    std::vector<Vec2> texels{Vec2(cube->width() / 2 + 0.5, cube->height() / 2 + 0.5), Vec2(cube->width() / 4 + 0.5, 0.5)};
+    std::vector<Vec2> texels{Vec2(cube->width() / 2 + 0.5, cube->height() / 2 + 0.5),
+                             Vec2(cube->width() / 4 + 0.5, 0.5)};
     for (const Vec2& t : texels) {
       const auto axis = cube->getDirectionFor(t);
       if (!axis) continue;
       const Rgb reference = prefilterReferenceAt(sky, PrefilterLobe::phong(exponents[level]), {*axis})[0];
       const Rgb value = map.image.at(static_cast<int>(t.x()), static_cast<int>(t.y())).head<3>();
-      EXPECT_LT((value - reference).matrix().norm() / reference.matrix().norm(), 0.03) << "level " << level << " " << axis->transpose();
+      EXPECT_LT((value - reference).matrix().norm() / reference.matrix().norm(), 0.03)
+          << "level " << level << " " << axis->transpose();
     }
   }
   // Bad combinations name the flag.
-  EXPECT_EQ(runCli("prefilter " + q(kSky) + " --lobe phong:10 --gloss-scale 6 --to cube -o " + q(dir / "x.exr")).exitCode, 2);
-  const auto mips = runCli("prefilter " + q(kSky) + " --lobe phong --gloss-scale 6 --mips --to cube -o " + q(dir / "x.exr"));
+  EXPECT_EQ(
+      runCli("prefilter " + q(kSky) + " --lobe phong:10 --gloss-scale 6 --to cube -o " + q(dir / "x.exr")).exitCode, 2);
+  const auto mips =
+      runCli("prefilter " + q(kSky) + " --lobe phong --gloss-scale 6 --mips --to cube -o " + q(dir / "x.exr"));
   EXPECT_EQ(mips.exitCode, 2);
   EXPECT_NE(mips.output.find("--gloss-scale"), std::string::npos) << mips.output;
 }
@@ -117,7 +125,8 @@ TEST(PrefilterCli, FurnaceIrradianceIsPi) {
   test::TempDir dir;
   for (const char* to : {"sphere", "cube", "latlong"}) {
     const fs::path out = dir / (std::string("furnace_") + to + ".exr");
-    const auto result = runCli("prefilter " + q(kFurnace) + " --lobe irradiance --to " + to + " --resolution 8 --quiet -o " + q(out));
+    const auto result =
+        runCli("prefilter " + q(kFurnace) + " --lobe irradiance --to " + to + " --resolution 8 --quiet -o " + q(out));
     ASSERT_EQ(result.exitCode, 0) << result.output;
     EXPECT_TRUE(result.output.empty()) << result.output;
     for (const Vec3& d : {Vec3(0, 0, 1), Vec3(0.3, -0.8, 0.2).normalized(), Vec3(1, 1, 1).normalized()}) {
@@ -128,14 +137,16 @@ TEST(PrefilterCli, FurnaceIrradianceIsPi) {
 
 TEST(PrefilterCli, SpecsBakeEnvironmentMaps) {
   test::TempDir dir;
-  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/prefilter_sky.json")) + " --out-dir " + q(dir.path()) + " --json");
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/prefilter_sky.json")) + " --out-dir " +
+                             q(dir.path()) + " --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto report = nlohmann::json::parse(result.output);
   ASSERT_EQ(report["maps"].size(), 4u);
   for (const auto& map : report["maps"]) {
     EXPECT_TRUE(fs::exists(map["output"].get<std::string>())) << map.dump();
     EXPECT_EQ(map["bake_path"].get<std::string>().rfind("prefilter:", 0), 0u);
-    EXPECT_LE(map["prefilter"]["error_estimate"].is_null() ? 0.0 : map["prefilter"]["error_estimate"].get<double>(), 0.01);
+    EXPECT_LE(map["prefilter"]["error_estimate"].is_null() ? 0.0 : map["prefilter"]["error_estimate"].get<double>(),
+              0.01);
   }
   // Mirror sphere map of the coloured cube: the centre reflects +z, the blue face.
   const Rgb centre = sampleMap(dir / "colored_cube_mirror_sphere.exr", Vec3(0, 0, 1));
@@ -144,13 +155,15 @@ TEST(PrefilterCli, SpecsBakeEnvironmentMaps) {
   // Environment and material together: exit 2, the JSON path named, nothing written.
   const fs::path bad = dir / "bad.json";
   std::ofstream(bad) << R"({"maps": [{"output": "x.exr", "parameterization": "sphere", "resolution": 8,
-      "environment": {"file": ")" << kSky << R"(", "lobe": "phong:10"},
+      "environment": {"file": ")"
+                     << kSky << R"(", "lobe": "phong:10"},
       "material": {"model": "phong", "exponent": 5}}]})";
   const auto refused = runCli("bake " + q(bad));
   EXPECT_EQ(refused.exitCode, 2) << refused.output;
   EXPECT_NE(refused.output.find("maps[0].material"), std::string::npos) << refused.output;
   std::ofstream(bad) << R"({"maps": [{"output": "x.exr", "parameterization": "sphere", "resolution": 8,
-      "environment": {"file": ")" << kSky << R"(", "lobe": "phong:-1"}}]})";
+      "environment": {"file": ")"
+                     << kSky << R"(", "lobe": "phong:-1"}}]})";
   const auto badLobe = runCli("bake " + q(bad));
   EXPECT_EQ(badLobe.exitCode, 2) << badLobe.output;
   EXPECT_NE(badLobe.output.find("maps[0].environment.lobe"), std::string::npos) << badLobe.output;
@@ -168,7 +181,8 @@ TEST(PrefilterCli, FittedLobesFromAFitFile) {
   }
   writeFitFile(dir / "fit.json", fit);
   const fs::path out = dir / "fitted.exr";
-  const auto result = runCli("prefilter " + q(kFurnace) + " --lobe lobes:" + q(dir / "fit.json") + " --to cube --resolution 4 --json -o " + q(out));
+  const auto result = runCli("prefilter " + q(kFurnace) + " --lobe lobes:" + q(dir / "fit.json") +
+                             " --to cube --resolution 4 --json -o " + q(out));
   ASSERT_EQ(result.exitCode, 0) << result.output;
   // Furnace: C (n + 2)/(n + 1) per channel.
   EXPECT_NEAR(sampleMap(out, Vec3(0.2, 0.3, -1).normalized())[0], 0.5 * 42.0 / 41.0, 1e-3);
@@ -206,8 +220,8 @@ TEST(PrefilterCli, FittedLobesFromAFitFile) {
   }
   // Bad slice counts: exit 2 naming the flag.
   for (const char* bad : {"1", "0", "65", "x"}) {
-    const auto refused = runCli("prefilter " + q(kFurnace) + " --lobe lobes:" + q(dir / "varying.json") + " --to cube --elevations " +
-                                bad + " -o " + q(dir / "w.exr"));
+    const auto refused = runCli("prefilter " + q(kFurnace) + " --lobe lobes:" + q(dir / "varying.json") +
+                                " --to cube --elevations " + bad + " -o " + q(dir / "w.exr"));
     EXPECT_EQ(refused.exitCode, 2) << bad << ": " << refused.output;
     EXPECT_NE(refused.output.find("--elevations"), std::string::npos) << refused.output;
   }
@@ -217,8 +231,9 @@ TEST(PrefilterCli, FittedLobesFromAFitFile) {
 TEST(PrefilterCli, FresnelDecompositionWritesThreeFilesAndSaysHowToCombineThem) {
   test::TempDir dir;
   const fs::path out = dir / "coat.exr";
-  const auto result = runCli("prefilter " + q(kFurnace) + " --lobe mirror --fresnel-ior 1.5 --combine mix --to latlong --resolution 8 --json -o " +
-                             q(out));
+  const auto result =
+      runCli("prefilter " + q(kFurnace) +
+             " --lobe mirror --fresnel-ior 1.5 --combine mix --to latlong --resolution 8 --json -o " + q(out));
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto report = nlohmann::json::parse(result.output);
   ASSERT_EQ(report["files"].size(), 3u);
@@ -240,12 +255,13 @@ TEST(PrefilterCli, FresnelDecompositionWritesThreeFilesAndSaysHowToCombineThem) 
     EXPECT_NE(fresnel["formula"].get<std::string>().find("(1 - F(n.v))"), std::string::npos) << file;
   }
   // Refused: an irradiance lobe, --combine alone, a bad combine, a non-positive index.
-  for (const std::string& flags : std::vector<std::string>{"--lobe irradiance --fresnel-ior 1.5", "--lobe mirror --combine mix",
-                                                           "--lobe mirror --fresnel-ior 1.5 --combine over",
-                                                           "--lobe mirror --fresnel-ior -2"}) {
+  for (const std::string& flags :
+       std::vector<std::string>{"--lobe irradiance --fresnel-ior 1.5", "--lobe mirror --combine mix",
+                                "--lobe mirror --fresnel-ior 1.5 --combine over", "--lobe mirror --fresnel-ior -2"}) {
     const auto refused = runCli("prefilter " + q(kFurnace) + " " + flags + " --to cube -o " + q(dir / "bad.exr"));
     EXPECT_EQ(refused.exitCode, 2) << flags << ": " << refused.output;
-    EXPECT_TRUE(refused.output.find("--fresnel-ior") != std::string::npos || refused.output.find("--combine") != std::string::npos)
+    EXPECT_TRUE(refused.output.find("--fresnel-ior") != std::string::npos ||
+                refused.output.find("--combine") != std::string::npos)
         << refused.output;
   }
   EXPECT_FALSE(fs::exists(dir / "bad.exr"));
@@ -254,8 +270,8 @@ TEST(PrefilterCli, FresnelDecompositionWritesThreeFilesAndSaysHowToCombineThem) 
 
 TEST(PrefilterCli, SpecsMakeStacksAndFresnelDecompositions) {
   test::TempDir dir;
-  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/prefilter_decomposition.json")) + " --out-dir " + q(dir.path()) +
-                             " --json");
+  const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/prefilter_decomposition.json")) +
+                             " --out-dir " + q(dir.path()) + " --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto report = nlohmann::json::parse(result.output);
   ASSERT_EQ(report["maps"].size(), 2u);
@@ -274,13 +290,15 @@ TEST(PrefilterCli, SpecsMakeStacksAndFresnelDecompositions) {
       {R"("lobe": "lobes:)" + fit + R"(", "elevations": 1)", "maps[0].environment.elevations: must be in [2, 64]"},
       {R"("lobe": "lobes:)" + fit + R"(", "elevations": 4.5)", "maps[0].environment.elevations: must be an integer"},
       {R"("lobe": "phong:10", "elevations": 4)", "maps[0].environment.elevations: only lobe models that vary"},
-      {R"("lobe": "irradiance", "fresnel": {"ior": 1.5})", "maps[0].environment.fresnel: a Fresnel decomposition needs a specular lobe"},
+      {R"("lobe": "irradiance", "fresnel": {"ior": 1.5})",
+       "maps[0].environment.fresnel: a Fresnel decomposition needs a specular lobe"},
       {R"("lobe": "mirror", "combine": "mix")", "maps[0].environment.combine: needs \"fresnel\""},
       {R"("lobe": "mirror", "fresnel": {"ior": 1.5}, "combine": "over")", "maps[0].environment.combine"},
       {R"("lobe": "mirror", "fresnel": {"ior": -1.5})", "maps[0].environment.fresnel.ior"}};
   for (const auto& [keys, expected] : cases) {
     std::ofstream(bad) << R"({"maps": [{"output": "x.exr", "parameterization": "sphere", "resolution": 8,
-        "environment": {"file": ")" << kSky << R"(", )" << keys << "}}]}";
+        "environment": {"file": ")"
+                       << kSky << R"(", )" << keys << "}}]}";
     const auto refused = runCli("bake " + q(bad));
     EXPECT_EQ(refused.exitCode, 2) << keys << ": " << refused.output;
     EXPECT_NE(refused.output.find(expected), std::string::npos) << keys << ": " << refused.output;
@@ -292,10 +310,11 @@ TEST(PrefilterCli, SpecsMakeStacksAndFresnelDecompositions) {
 TEST(PrefilterCli, BadFlagsExitTwoAndBadEnvironmentsAreNamed) {
   test::TempDir dir;
   const std::string out = " -o " + q(dir / "out.exr");
-  for (const std::string& flags : std::vector<std::string>{"--lobe phong:abc --to sphere", "--lobe cook --to sphere", "--lobe phong:10 --to nowhere",
-                                   "--lobe phong:10 --to sphere --method bogus", "--lobe phong:10 --to sphere --max-error 2",
-                                   "--lobe phong:10 --to cube --view 1,0,0", "--lobe phong:10 --to sphere --resolution 0",
-                                   "--lobe mirror --to sphere --method sh"}) {
+  for (const std::string& flags : std::vector<std::string>{
+           "--lobe phong:abc --to sphere", "--lobe cook --to sphere", "--lobe phong:10 --to nowhere",
+           "--lobe phong:10 --to sphere --method bogus", "--lobe phong:10 --to sphere --max-error 2",
+           "--lobe phong:10 --to cube --view 1,0,0", "--lobe phong:10 --to sphere --resolution 0",
+           "--lobe mirror --to sphere --method sh"}) {
     const auto result = runCli("prefilter " + q(kSky) + " " + flags + out);
     EXPECT_EQ(result.exitCode, 2) << flags << ": " << result.output;
   }

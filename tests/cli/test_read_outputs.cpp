@@ -2,13 +2,13 @@
 // `preview` with the value a renderer would get: each kind is made small, sampled at known
 // directions and compared with an independent value (the exact model where the map is accurate,
 // a furnace integral, the textbook Fresnel formula), then inspected, resampled and previewed.
-#include <brdfbake/maps/image_io.hpp>
+#include <gtest/gtest.h>
 #include <brdfbake/core/math.hpp>
 #include <brdfbake/fit/fit_file.hpp>
-#include <gtest/gtest.h>
+#include <brdfbake/maps/image_io.hpp>
 
-#include "map_function_support.hpp"
 #include <nlohmann/json.hpp>
+#include "map_function_support.hpp"
 
 #include <fstream>
 #include <random>
@@ -48,7 +48,6 @@ std::vector<Rgb> sampleAll(const fs::path& output, const std::vector<Vec3>& dire
   }
   return values;
 }
-
 
 nlohmann::json infoOf(const fs::path& output, const std::string& flags = "") {
   const auto result = runCli("info " + q(output) + " --json " + flags);
@@ -101,15 +100,15 @@ TEST(ReadOutputs, EveryBakedKindSamplesConvertsAndPreviews) {
   const auto directions = randomDirections(40, 7);
   struct Case {
     const char* file;
-    Vec3 light;           // the lobe's axis: the light, or the view +z for eye-lit maps
-    const char* kind;     // what info says
+    Vec3 light;        // the lobe's axis: the light, or the view +z for eye-lit maps
+    const char* kind;  // what info says
     const char* parameterization;
   };
   const Case cases[] = {{"s.exr", Vec3::UnitZ(), "map", "sphere"},
                         {"p.exr", light, "map", "paraboloid"},
                         {"l.exr", light, "map", "latlong"},
-                        {"c.exr", light, "map", "cube"},         // STEM.EXT of the six faces
-                        {"c_posy.exr", light, "map", "cube"},    // or any one face
+                        {"c.exr", light, "map", "cube"},       // STEM.EXT of the six faces
+                        {"c_posy.exr", light, "map", "cube"},  // or any one face
                         {"r.exr", Vec3::UnitZ(), "radial_profile", "profile"}};
   for (const Case& c : cases) {
     SCOPED_TRACE(c.file);
@@ -125,7 +124,8 @@ TEST(ReadOutputs, EveryBakedKindSamplesConvertsAndPreviews) {
     EXPECT_EQ(info["parameterization"], c.parameterization);
     // Resampled into a lat-long map, the value is still the model's (within the coarser map's error).
     const fs::path converted = dir / (std::string("conv_") + c.file);
-    const auto convert = runCli("convert " + q(dir / c.file) + " --to latlong --resolution 64 --quiet -o " + q(converted));
+    const auto convert =
+        runCli("convert " + q(dir / c.file) + " --to latlong --resolution 64 --quiet -o " + q(converted));
     ASSERT_EQ(convert.exitCode, 0) << convert.output;
     const auto resampled = sampleAll(converted, directions);
     ASSERT_EQ(resampled.size(), directions.size());
@@ -134,8 +134,10 @@ TEST(ReadOutputs, EveryBakedKindSamplesConvertsAndPreviews) {
       if (c.light == Vec3::UnitZ() && r.z() < -0.5) continue;
       EXPECT_NEAR(resampled[i][0], phong(r, c.light), 0.03) << r.transpose();
     }
-    if (c.light == Vec3::UnitZ()) expectPreviews(dir / c.file);  // eye space: the default view +z
-    else expectPreviews(dir / c.file, "--view 0.3,0.2,1");
+    if (c.light == Vec3::UnitZ())
+      expectPreviews(dir / c.file);  // eye space: the default view +z
+    else
+      expectPreviews(dir / c.file, "--view 0.3,0.2,1");
   }
   EXPECT_EQ(infoOf(dir / "c.exr")["files"].size(), 6u);
   EXPECT_EQ(infoOf(dir / "r.exr")["axis"], nlohmann::json({0.0, 0.0, 1.0}));
@@ -151,7 +153,10 @@ TEST(ReadOutputs, EveryBakedKindSamplesConvertsAndPreviews) {
   EXPECT_EQ(infoOf(dir / "f_1d.exr")["kind"], "fresnel_table");
   expectPreviews(dir / "f_1d.exr");
   // --to sphere: the sphere map of F as seen from +z matches the fresnel model's own sphere map.
-  ASSERT_EQ(runCli("convert " + q(dir / "f_1d.exr") + " --to sphere --resolution 32 --quiet -o " + q(dir / "f_conv.exr")).exitCode, 0);
+  ASSERT_EQ(
+      runCli("convert " + q(dir / "f_1d.exr") + " --to sphere --resolution 32 --quiet -o " + q(dir / "f_conv.exr"))
+          .exitCode,
+      0);
   const std::vector<Vec3> front{Vec3(0, 0, 1), Vec3(0.3, 0.2, 0.9).normalized(), Vec3(-0.6, 0.1, 0.4).normalized()};
   const auto fromTable = sampleAll(dir / "f_conv.exr", front), fromModel = sampleAll(dir / "f.exr", front);
   ASSERT_EQ(fromTable.size(), front.size());
@@ -166,8 +171,9 @@ TEST(ReadOutputs, PrefilterMipLevelsStacksAndFresnelMapsReadBack) {
   test::TempDir dir;
   // Mip levels of a furnace's irradiance: pi at every level, whether read from STEM_mipK.EXT or as
   // --mip-level K of STEM.EXT; cube faces at every level too.
-  const auto mips = runCli("prefilter " + q(kFurnace) + " --lobe irradiance --to cube --faces --resolution 8 --mips --quiet -o " +
-                           q(dir / "irr.exr"));
+  const auto mips =
+      runCli("prefilter " + q(kFurnace) + " --lobe irradiance --to cube --faces --resolution 8 --mips --quiet -o " +
+             q(dir / "irr.exr"));
   ASSERT_EQ(mips.exitCode, 0) << mips.output;
   const auto directions = randomDirections(12, 3);
   for (int level = 0; level < 4; ++level) {  // 8, 4, 2, 1 texels per face
@@ -205,7 +211,8 @@ TEST(ReadOutputs, PrefilterMipLevelsStacksAndFresnelMapsReadBack) {
     const double x = t * 2.0;
     const int j = std::min(static_cast<int>(x), 1);
     const double f = x - j;
-    const double u0 = report["elevations"]["cos_theta"][j].get<double>(), u1 = report["elevations"]["cos_theta"][j + 1].get<double>();
+    const double u0 = report["elevations"]["cos_theta"][j].get<double>(),
+                 u1 = report["elevations"]["cos_theta"][j + 1].get<double>();
     const double expected = (1.0 - f) * furnaceValue(u0) + f * furnaceValue(u1);
     const auto values = sampleAll(dir / "v.exr", {r}, "--cos-view " + std::to_string(u));
     ASSERT_EQ(values.size(), 1u);
@@ -224,8 +231,10 @@ TEST(ReadOutputs, PrefilterMipLevelsStacksAndFresnelMapsReadBack) {
   EXPECT_NE(mapCos.output.find("--cos-view"), std::string::npos) << mapCos.output;
   // Converted at one n.v: a 2-D map of that blend.
   const double uHalf = minCos * std::pow(maxCos / minCos, 0.25);
-  ASSERT_EQ(runCli("convert " + q(dir / "v.exr") + " --cos-view " + std::to_string(uHalf) + " --to latlong --resolution 8 --quiet -o " +
-                   q(dir / "v_at.exr")).exitCode, 0);
+  ASSERT_EQ(runCli("convert " + q(dir / "v.exr") + " --cos-view " + std::to_string(uHalf) +
+                   " --to latlong --resolution 8 --quiet -o " + q(dir / "v_at.exr"))
+                .exitCode,
+            0);
   const double quarter = 0.5 * furnaceValue(report["elevations"]["cos_theta"][0].get<double>()) +
                          0.5 * furnaceValue(report["elevations"]["cos_theta"][1].get<double>());
   const auto converted = sampleAll(dir / "v_at.exr", {r, Vec3(0, 1, 0)});
@@ -234,8 +243,9 @@ TEST(ReadOutputs, PrefilterMipLevelsStacksAndFresnelMapsReadBack) {
   expectPreviews(dir / "v.exr", "--view 0,0.4,1");
 
   // The Fresnel decomposition: specular map, irradiance map (looked up at the normal), profile.
-  const auto coat = runCli("prefilter " + q(kFurnace) + " --lobe phong:20 --fresnel-ior 1.5 --to sphere --resolution 16 --quiet -o " +
-                           q(dir / "coat.exr"));
+  const auto coat =
+      runCli("prefilter " + q(kFurnace) + " --lobe phong:20 --fresnel-ior 1.5 --to sphere --resolution 16 --quiet -o " +
+             q(dir / "coat.exr"));
   ASSERT_EQ(coat.exitCode, 0) << coat.output;
   for (const double c : {0.15625, 0.46875, 0.96875}) {  // texel centres (i + 0.5) / 16
     const auto values = runCli("sample " + q(dir / "coat_fresnel.exr") + " --cos-view " + std::to_string(c));
@@ -279,7 +289,8 @@ TEST(ReadOutputs, TiledMipChainsAndShIrradianceReadBack) {
     EXPECT_EQ(refused.exitCode, 2) << refused.output;
     EXPECT_NE(refused.output.find(message), std::string::npos) << refused.output;
   }
-  const auto png = runCli("prefilter " + q(sky) + " --lobe phong:20 --to cube --resolution 16 --mips --tiled -o " + q(dir / "bad.png"));
+  const auto png = runCli("prefilter " + q(sky) + " --lobe phong:20 --to cube --resolution 16 --mips --tiled -o " +
+                          q(dir / "bad.png"));
   EXPECT_EQ(png.exitCode, 2);
   EXPECT_NE(png.output.find(".exr"), std::string::npos) << png.output;
   EXPECT_FALSE(fs::exists(dir / "bad.exr"));
@@ -287,7 +298,8 @@ TEST(ReadOutputs, TiledMipChainsAndShIrradianceReadBack) {
   // In a spec: "mip_layout": "tiled" beside "mips", for prefiltered and silhouette maps.
   std::ofstream(dir / "spec.json") << R"({"maps": [
     {"output": "env.exr", "parameterization": "latlong", "resolution": 8,
-     "environment": {"file": ")" << sky << R"(", "lobe": "irradiance", "mips": true, "mip_layout": "tiled"}},
+     "environment": {"file": ")" << sky
+                                   << R"(", "lobe": "irradiance", "mips": true, "mip_layout": "tiled"}},
     {"output": "sil.exr", "parameterization": "sphere", "resolution": 32, "samples_per_texel": 4, "mips": true,
      "mip_layout": "tiled", "material": {"model": "silhouette", "width": 15}}]})";
   const auto spec = runCli("bake " + q(dir / "spec.json") + " --quiet");
@@ -296,7 +308,8 @@ TEST(ReadOutputs, TiledMipChainsAndShIrradianceReadBack) {
   EXPECT_FALSE(fs::exists(dir / "sil_mip1.exr"));
   EXPECT_EQ(infoOf(dir / "sil.exr")["metadata"]["mip_levels"], 6);
   EXPECT_EQ(runCli("sample " + q(dir / "sil.exr") + " --mip-level 5 --dir 0,0,1").exitCode, 0);
-  std::ofstream(dir / "bad_spec.json") << R"({"maps": [{"output": "x.exr", "parameterization": "sphere", "resolution": 32,
+  std::ofstream(dir / "bad_spec.json")
+      << R"({"maps": [{"output": "x.exr", "parameterization": "sphere", "resolution": 32,
      "mip_layout": "tiled", "material": {"model": "silhouette", "width": 15}}]})";
   const auto badSpec = runCli("bake " + q(dir / "bad_spec.json") + " --quiet");
   EXPECT_EQ(badSpec.exitCode, 2);
@@ -305,18 +318,24 @@ TEST(ReadOutputs, TiledMipChainsAndShIrradianceReadBack) {
   // SH irradiance: the furnace (radiance 1) gives 1 everywhere. A sky of radiance 1 above the horizon
   // (y > 0) has E(n)/pi = (1 + n.y)/2, which three bands hold exactly; its irradiance cube map,
   // computed by the reference sum (another method), agrees.
-  const auto furnace = runCli("prefilter " + q(kFurnace) + " --lobe irradiance --to cube --resolution 8 --quiet --sh-output " +
-                              q(dir / "furnace_sh.json") + " -o " + q(dir / "furnace_irr.exr"));
+  const auto furnace =
+      runCli("prefilter " + q(kFurnace) + " --lobe irradiance --to cube --resolution 8 --quiet --sh-output " +
+             q(dir / "furnace_sh.json") + " -o " + q(dir / "furnace_irr.exr"));
   ASSERT_EQ(furnace.exitCode, 0) << furnace.output;
   for (const Rgb& v : sampleAll(dir / "furnace_sh.json", directions)) EXPECT_NEAR(v[0], 1.0, 1e-3);
   {
     Image hemisphere(256, 128);
     for (int y = 0; y < 128; ++y)
-      for (int x = 0; x < 256; ++x) hemisphere.set(x, y, y < 64 ? Rgba(1, 1, 1, 1) : Rgba(0, 0, 0, 1));  // top rows: y > 0
+      for (int x = 0; x < 256; ++x)
+        hemisphere.set(x, y, y < 64 ? Rgba(1, 1, 1, 1) : Rgba(0, 0, 0, 1));  // top rows: y > 0
     writeImage(hemisphere, dir / "hemisphere.exr");
   }
-  ASSERT_EQ(runCli("prefilter " + q(dir / "hemisphere.exr") + " --lobe irradiance --method reference --to cube --resolution 16 --quiet "
-                   "--sh-output " + q(dir / "sky_sh.json") + " -o " + q(dir / "sky_irr.exr")).exitCode, 0);
+  ASSERT_EQ(runCli("prefilter " + q(dir / "hemisphere.exr") +
+                   " --lobe irradiance --method reference --to cube --resolution 16 --quiet "
+                   "--sh-output " +
+                   q(dir / "sky_sh.json") + " -o " + q(dir / "sky_irr.exr"))
+                .exitCode,
+            0);
   const auto fromSh = sampleAll(dir / "sky_sh.json", directions), fromMap = sampleAll(dir / "sky_irr.exr", directions);
   ASSERT_EQ(fromSh.size(), fromMap.size());
   for (std::size_t i = 0; i < fromSh.size(); ++i) {
@@ -331,10 +350,13 @@ TEST(ReadOutputs, TiledMipChainsAndShIrradianceReadBack) {
   const auto info = infoOf(dir / "sky_sh.json");
   EXPECT_EQ(info["kind"], "sh_irradiance");
   EXPECT_EQ(info["indexed_by"], "normal");
-  ASSERT_EQ(runCli("convert " + q(dir / "sky_sh.json") + " --to latlong --resolution 16 --quiet -o " + q(dir / "sh_ll.exr")).exitCode, 0);
+  ASSERT_EQ(
+      runCli("convert " + q(dir / "sky_sh.json") + " --to latlong --resolution 16 --quiet -o " + q(dir / "sh_ll.exr"))
+          .exitCode,
+      0);
   expectPreviews(dir / "sky_sh.json", "--view 0,1,1");
-  const auto wrongLobe = runCli("prefilter " + q(sky) + " --lobe phong:20 --to cube --resolution 8 --sh-output " + q(dir / "x.json") +
-                                " -o " + q(dir / "x.exr"));
+  const auto wrongLobe = runCli("prefilter " + q(sky) + " --lobe phong:20 --to cube --resolution 8 --sh-output " +
+                                q(dir / "x.json") + " -o " + q(dir / "x.exr"));
   EXPECT_EQ(wrongLobe.exitCode, 2);
   EXPECT_NE(wrongLobe.output.find("--sh-output"), std::string::npos) << wrongLobe.output;
 }
@@ -342,14 +364,19 @@ TEST(ReadOutputs, TiledMipChainsAndShIrradianceReadBack) {
 // --dirs: one line per direction in the format of --dir, errors naming FILE:LINE.
 TEST(ReadOutputs, DirectionsFileGivesOneLinePerDirectionAndNamesBadLines) {
   test::TempDir dir;
-  ASSERT_EQ(runCli("prefilter " + q(kFurnace) + " --lobe mirror --to latlong --resolution 8 --quiet -o " + q(dir / "m.exr")).exitCode, 0);
+  ASSERT_EQ(
+      runCli("prefilter " + q(kFurnace) + " --lobe mirror --to latlong --resolution 8 --quiet -o " + q(dir / "m.exr"))
+          .exitCode,
+      0);
   std::ofstream(dir / "good.txt") << "# three directions\n0 0 1\n\n  1 0 0   # x\n0 2.5 -1\n";
   const auto batch = runCli("sample " + q(dir / "m.exr") + " --dirs " + q(dir / "good.txt"));
   ASSERT_EQ(batch.exitCode, 0) << batch.output;
   std::string lines;
-  for (const char* d : {"0,0,1", "1,0,0", "0,2.5,-1"}) lines += runCli("sample " + q(dir / "m.exr") + " --dir " + d).output;
+  for (const char* d : {"0,0,1", "1,0,0", "0,2.5,-1"})
+    lines += runCli("sample " + q(dir / "m.exr") + " --dir " + d).output;
   EXPECT_EQ(batch.output, lines);  // the same lines as one --dir each
-  const auto json = nlohmann::json::parse(runCli("sample " + q(dir / "m.exr") + " --dirs " + q(dir / "good.txt") + " --json").output);
+  const auto json =
+      nlohmann::json::parse(runCli("sample " + q(dir / "m.exr") + " --dirs " + q(dir / "good.txt") + " --json").output);
   ASSERT_TRUE(json.is_array());
   ASSERT_EQ(json.size(), 3u);
   EXPECT_EQ(json[1]["line"], 4);

@@ -1,8 +1,8 @@
 // The file-system rules: atomic outputs, temporaries removed on every path out, planned files
 // checked against each other (through symlinks, "..", hard links) before any work.
+#include <gtest/gtest.h>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/files.hpp>
-#include <gtest/gtest.h>
 
 #include <fstream>
 
@@ -97,10 +97,12 @@ TEST(RequireInputFile, NamesMissingFilesAndFolders) {
   test::TempDir dir;
   put(dir / "t.astm", "12345");
   EXPECT_EQ(requireInputFile(dir / "t.astm"), 5u);
-  EXPECT_NE(errorOf([&] { requireInputFile(dir / "none.astm", "table"); }, Error::Kind::Io).find("none.astm: no such file (table)"),
+  EXPECT_NE(errorOf([&] { requireInputFile(dir / "none.astm", "table"); }, Error::Kind::Io)
+                .find("none.astm: no such file (table)"),
             std::string::npos);
-  EXPECT_NE(errorOf([&] { requireInputFile(dir.path(), "spec"); }, Error::Kind::Io).find(": is a folder, not a file (spec)"),
-            std::string::npos);
+  EXPECT_NE(
+      errorOf([&] { requireInputFile(dir.path(), "spec"); }, Error::Kind::Io).find(": is a folder, not a file (spec)"),
+      std::string::npos);
 }
 
 TEST(ShortenForMessage, ElidesTheMiddleOfLongText) {
@@ -129,8 +131,8 @@ class FilePlanTest : public ::testing::Test {
 };
 
 TEST_F(FilePlanTest, AnOutputIsNeverAnInputHoweverItIsSpelled) {
-  for (const fs::path& output : {dir / "table.astm", dir / "link.json", dir / "sub" / ".." / "table.astm", dir / "hard.astm",
-                                 dir / "." / "table.astm"}) {
+  for (const fs::path& output : {dir / "table.astm", dir / "link.json", dir / "sub" / ".." / "table.astm",
+                                 dir / "hard.astm", dir / "." / "table.astm"}) {
     EXPECT_NE(planError(output).find("is the table (an input)"), std::string::npos) << output;
   }
 }
@@ -145,7 +147,8 @@ TEST_F(FilePlanTest, TwoOutputsNeverShareAFile) {
 }
 
 TEST_F(FilePlanTest, OutputsStayInsideTheOutputFolder) {
-  EXPECT_NE(planError(dir / "sub" / ".." / ".." / "x.exr", dir / "sub").find("lies outside the output folder"), std::string::npos);
+  EXPECT_NE(planError(dir / "sub" / ".." / ".." / "x.exr", dir / "sub").find("lies outside the output folder"),
+            std::string::npos);
   EXPECT_NE(planError(dir / "x.exr", dir / "sub").find("lies outside the output folder"), std::string::npos);
   fs::create_symlink(dir.path(), dir / "sub" / "escape");
   EXPECT_NE(planError(dir / "sub" / "escape" / "x.exr", dir / "sub").find("lies outside"), std::string::npos);

@@ -1,15 +1,17 @@
 // Bounded JSON parsing: hostile nesting and out-of-range numbers are errors naming the source and
 // the JSON path, never crashes or stray exceptions.
+#include <gtest/gtest.h>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/json_text.hpp>
-#include <gtest/gtest.h>
 
 #include <string>
 
 namespace brdfbake {
 namespace {
 
-std::string nestedArrays(int depth) { return std::string(static_cast<std::size_t>(depth), '[') + std::string(static_cast<std::size_t>(depth), ']'); }
+std::string nestedArrays(int depth) {
+  return std::string(static_cast<std::size_t>(depth), '[') + std::string(static_cast<std::size_t>(depth), ']');
+}
 
 std::string errorFor(const std::string& text) {
   try {

@@ -1,8 +1,8 @@
 // The memory budget: sizes from headers and specs are refused before anything is allocated.
-#include <brdfbake/maps/image.hpp>
+#include <gtest/gtest.h>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/memory_budget.hpp>
-#include <gtest/gtest.h>
+#include <brdfbake/maps/image.hpp>
 
 #include <cstdlib>
 
@@ -34,7 +34,7 @@ TEST(MemoryBudget, ParsesTheEnvironmentVariable) {
 }
 
 TEST(MemoryBudget, ImagesOverTheBudgetAreRefusedBeforeAllocating) {
-  LimitGuard limit("1M");  // 65536 float RGBA texels
+  LimitGuard limit("1M");            // 65536 float RGBA texels
   EXPECT_NO_THROW(Image(128, 128));  // 256 KiB
   try {
     Image image(1024, 1024);  // 16 MiB

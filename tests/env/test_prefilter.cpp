@@ -1,19 +1,19 @@
 // Prefiltered environment maps: lobes and their normalisation, spherical harmonics, the furnace,
 // closed-form environments, fast methods against the reference (and their own error estimates),
 // seams at every mip level, bad environments, metadata round trips.
-#include <brdfbake/maps/cube_map.hpp>
-#include <brdfbake/maps/map_mips.hpp>
+#include <gtest/gtest.h>
+#include <brdfbake/core/error.hpp>
 #include <brdfbake/env/environment.hpp>
+#include <brdfbake/env/prefilter.hpp>
+#include <brdfbake/env/prefilter_stack.hpp>
+#include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/maps/latlong_map.hpp>
 #include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/maps/map_mips.hpp>
 #include <brdfbake/maps/paraboloid_map.hpp>
-#include <brdfbake/env/prefilter.hpp>
-#include <brdfbake/env/prefilter_stack.hpp>
 #include <brdfbake/maps/sh.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
-#include <brdfbake/core/error.hpp>
-#include <gtest/gtest.h>
 
 #include <fstream>
 #include <random>
@@ -54,11 +54,13 @@ double sphereIntegral(const std::function<double(double)>& f, int intervals = 20
 // ---- lobes -----------------------------------------------------------------------------------
 
 TEST(PrefilterLobe, NormalisedLobesIntegrateToOneAndIrradianceToPi) {
-  for (const auto& lobe : {PrefilterLobe::phong(0), PrefilterLobe::phong(1), PrefilterLobe::phong(10), PrefilterLobe::phong(1000),
-                           PrefilterLobe::blinn(40), PrefilterLobe::ggx(0.1), PrefilterLobe::ggx(0.5), PrefilterLobe::ggx(1.0)}) {
+  for (const auto& lobe :
+       {PrefilterLobe::phong(0), PrefilterLobe::phong(1), PrefilterLobe::phong(10), PrefilterLobe::phong(1000),
+        PrefilterLobe::blinn(40), PrefilterLobe::ggx(0.1), PrefilterLobe::ggx(0.5), PrefilterLobe::ggx(1.0)}) {
     EXPECT_NEAR(lobe.mass(), 1.0, 1e-12) << lobe.name();
     const int intervals = lobe.phongExponent() == 0.0 ? 2000000 : 200000;  // a step at the horizon
-    EXPECT_NEAR(sphereIntegral([&](double t) { return lobe.weight(std::cos(t)); }, intervals), 1.0, 2e-5) << lobe.name();
+    EXPECT_NEAR(sphereIntegral([&](double t) { return lobe.weight(std::cos(t)); }, intervals), 1.0, 2e-5)
+        << lobe.name();
   }
   const auto irradiance = PrefilterLobe::irradiance();
   EXPECT_DOUBLE_EQ(irradiance.mass(), kPi);
@@ -104,7 +106,8 @@ TEST(PrefilterLobe, ParseAcceptsTheDocumentedFormsAndNamesTheRest) {
   EXPECT_EQ(PrefilterLobe::parse("irradiance").kind(), LobeKind::Irradiance);
   EXPECT_EQ(PrefilterLobe::parse("phong:50").name(), "phong:50");
   EXPECT_EQ(PrefilterLobe::parse("ggx:0.25").ggxAlpha(), 0.0625);
-  for (const char* bad : {"phong", "phong:", "phong:x", "phong:-1", "ggx:0", "ggx:2", "mirror:3", "cook", "blinn:1e99"}) {
+  for (const char* bad :
+       {"phong", "phong:", "phong:x", "phong:-1", "ggx:0", "ggx:2", "mirror:3", "cook", "blinn:1e99"}) {
     try {
       PrefilterLobe::parse(bad);
       ADD_FAILURE() << bad << " was accepted";
@@ -180,21 +183,25 @@ class LinearEnvironment final : public MapFunction {
 };
 
 const Environment& furnace() {
-  static const Environment environment = bakeEnvironment(ConstantEnvironment(), ParameterizationKind::LatLong, 32, "furnace", 4);
+  static const Environment environment =
+      bakeEnvironment(ConstantEnvironment(), ParameterizationKind::LatLong, 32, "furnace", 4);
   return environment;
 }
 
 const Environment& sky() {
-  static const Environment environment = bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, 32, "sky", 16);
+  static const Environment environment =
+      bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, 32, "sky", 16);
   return environment;
 }
 
 const Environment& linear() {
-  static const Environment environment = bakeEnvironment(LinearEnvironment(), ParameterizationKind::LatLong, 32, "linear", 16);
+  static const Environment environment =
+      bakeEnvironment(LinearEnvironment(), ParameterizationKind::LatLong, 32, "linear", 16);
   return environment;
 }
 
-Image referenceImage(const Environment& environment, const PrefilterLobe& lobe, ParameterizationKind kind, int resolution) {
+Image referenceImage(const Environment& environment, const PrefilterLobe& lobe, ParameterizationKind kind,
+                     int resolution) {
   PrefilterOptions options;
   options.parameterization = kind;
   options.resolution = resolution;
@@ -205,12 +212,14 @@ Image referenceImage(const Environment& environment, const PrefilterLobe& lobe, 
 // ---- furnace ---------------------------------------------------------------------------------
 
 TEST(Prefilter, FurnaceGivesTheLobeMassForEveryLobeOutputAndMethod) {
-  const std::vector<PrefilterLobe> lobes{PrefilterLobe::mirror(), PrefilterLobe::irradiance(), PrefilterLobe::phong(10),
-                                         PrefilterLobe::phong(100), PrefilterLobe::blinn(40), PrefilterLobe::ggx(0.5)};
+  const std::vector<PrefilterLobe> lobes{PrefilterLobe::mirror(),  PrefilterLobe::irradiance(),
+                                         PrefilterLobe::phong(10), PrefilterLobe::phong(100),
+                                         PrefilterLobe::blinn(40), PrefilterLobe::ggx(0.5)};
   for (const auto& lobe : lobes) {
     std::vector<PrefilterMethod> methods{PrefilterMethod::Auto, PrefilterMethod::Reference};
     if (!lobe.isMirror()) {
-      for (auto m : {PrefilterMethod::SphericalHarmonics, PrefilterMethod::Importance, PrefilterMethod::Direct}) methods.push_back(m);
+      for (auto m : {PrefilterMethod::SphericalHarmonics, PrefilterMethod::Importance, PrefilterMethod::Direct})
+        methods.push_back(m);
     }
     for (const auto kind : kAllKinds) {
       for (const auto method : methods) {
@@ -230,7 +239,8 @@ TEST(Prefilter, FurnaceGivesTheLobeMassForEveryLobeOutputAndMethod) {
               const Rgba v = map.levels[level].at(x, y);
               worst = std::max(worst, (v.head<3>() / lobe.mass() - 1.0).abs().maxCoeff());
             }
-          EXPECT_LT(worst, 1e-3) << lobe.name() << " " << toString(kind) << " " << toString(method) << " level " << level;
+          EXPECT_LT(worst, 1e-3) << lobe.name() << " " << toString(kind) << " " << toString(method) << " level "
+                                 << level;
         }
       }
     }
@@ -257,11 +267,12 @@ TEST(Prefilter, LinearEnvironmentMatchesItsClosedFormForEveryMethod) {
           if (x % 12 == 0 || x % 12 == 11) continue;  // the ring: border texels (alignParaboloidBorder)
           const Vec3 d = *paraboloid.getDirectionFor(Vec2(x + 0.5, y + 0.5));
           const Rgb expected = LinearEnvironment::filtered(lobe, d);
-          worst = std::max(worst, (map.levels[0].at(x, y).head<3>() - expected).matrix().norm() / expected.matrix().norm());
+          worst =
+              std::max(worst, (map.levels[0].at(x, y).head<3>() - expected).matrix().norm() / expected.matrix().norm());
         }
       // Filtered importance sampling reads bilinear mip levels: a biased method, allowed 1 %.
-      EXPECT_LT(worst, method == PrefilterMethod::Importance ? 0.01 : 0.004) << lobe.name() << " " << toString(method) << " "
-                                                                                << map.summary.briefReport();
+      EXPECT_LT(worst, method == PrefilterMethod::Importance ? 0.01 : 0.004)
+          << lobe.name() << " " << toString(method) << " " << map.summary.briefReport();
     }
   }
 }
@@ -324,10 +335,10 @@ LobeModel varyingModel() {
   model.elevation = LobeElevation::Varying;
   model.minCos = 0.2;
   model.maxCos = 0.9;
-  const double weights[3][2][3] = {{{0.8, 0.3, 0.1}, {0.05, 0.1, 0.2}},
-                                   {{0.6, 0.35, 0.15}, {0.1, 0.1, 0.1}},
-                                   {{0.4, 0.4, 0.3}, {0.2, 0.12, 0.05}}};
-  const double exponents[3][2][3] = {{{200, 80, 30}, {4, 6, 9}}, {{150, 90, 40}, {3, 3, 3}}, {{100, 60, 50}, {8, 5, 2}}};
+  const double weights[3][2][3] = {
+      {{0.8, 0.3, 0.1}, {0.05, 0.1, 0.2}}, {{0.6, 0.35, 0.15}, {0.1, 0.1, 0.1}}, {{0.4, 0.4, 0.3}, {0.2, 0.12, 0.05}}};
+  const double exponents[3][2][3] = {
+      {{200, 80, 30}, {4, 6, 9}}, {{150, 90, 40}, {3, 3, 3}}, {{100, 60, 50}, {8, 5, 2}}};
   for (int c = 0; c < 3; ++c) {
     LobeChannel channel;
     channel.name = std::string(1, "RGB"[c]);
@@ -421,8 +432,10 @@ TEST(PrefilterStack, SlicesAreUniformInTheModelsElevationCoordinate) {
       for (std::size_t k = 0; k < 2; ++k) {
         const Lobe& lobe = model.channels[c].lobes[k];
         const double weight = blendByHand(lobe.weight, t), exponent = blendByHand(lobe.exponent, t);
-        EXPECT_NEAR(frozen.channels[c].lobes[k].weight[0], weight, 1e-13 * weight) << "u " << u << " c " << c << " k " << k;
-        EXPECT_NEAR(frozen.channels[c].lobes[k].exponent[0], exponent, 1e-13 * exponent) << "u " << u << " c " << c << " k " << k;
+        EXPECT_NEAR(frozen.channels[c].lobes[k].weight[0], weight, 1e-13 * weight)
+            << "u " << u << " c " << c << " k " << k;
+        EXPECT_NEAR(frozen.channels[c].lobes[k].exponent[0], exponent, 1e-13 * exponent)
+            << "u " << u << " c " << c << " k " << k;
         EXPECT_NEAR(model.weight(c, k, u), weight, 1e-13 * weight);
         EXPECT_NEAR(model.exponent(c, k, u), exponent, 1e-13 * exponent);
       }
@@ -436,7 +449,8 @@ TEST(PrefilterStack, SlicesAreUniformInTheModelsElevationCoordinate) {
 TEST(PrefilterStack, ConstantParametersGiveIdenticalSlicesEqualToTheConstantMap) {
   // A varying model whose three values per parameter are equal is the constant model: every slice
   // must be that model's prefiltered linear environment, the closed form linearLobeSum.
-  const std::vector<std::vector<double>> weights{{0.3, 0.05}, {0.25, 0.1}, {0.2, 0.15}}, exponents{{60, 4}, {40, 3}, {30, 6}};
+  const std::vector<std::vector<double>> weights{{0.3, 0.05}, {0.25, 0.1}, {0.2, 0.15}},
+      exponents{{60, 4}, {40, 3}, {30, 6}};
   LobeModel varying;
   varying.elevation = LobeElevation::Varying;
   varying.minCos = 0.2, varying.maxCos = 0.9;
@@ -444,7 +458,8 @@ TEST(PrefilterStack, ConstantParametersGiveIdenticalSlicesEqualToTheConstantMap)
     LobeChannel channel;
     channel.name = std::string(1, "RGB"[c]);
     channel.diffuse = 0.1;
-    for (int k = 0; k < 2; ++k) channel.lobes.push_back({std::vector<double>(3, weights[c][k]), std::vector<double>(3, exponents[c][k])});
+    for (int k = 0; k < 2; ++k)
+      channel.lobes.push_back({std::vector<double>(3, weights[c][k]), std::vector<double>(3, exponents[c][k])});
     varying.channels.push_back(channel);
   }
   PrefilterOptions options;
@@ -565,7 +580,8 @@ TEST(PrefilterStack, LinearInterpolationInTBetweenEightSlicesIsClose) {
     const Image exact = prefilterLobeModel(sky(), model.atElevation(u), "mid", options).levels[0];
     Image blended = exact;
     for (int y = 0; y < 8; ++y)
-      for (int x = 0; x < 16; ++x) blended.set(x, y, 0.5 * (stack.slices[j].levels[0].at(x, y) + stack.slices[j + 1].levels[0].at(x, y)));
+      for (int x = 0; x < 16; ++x)
+        blended.set(x, y, 0.5 * (stack.slices[j].levels[0].at(x, y) + stack.slices[j + 1].levels[0].at(x, y)));
     const PrefilterError error = prefilterError(blended, exact, *map, 1e-3);
     worst = std::max(worst, error.rms);
   }
@@ -580,13 +596,15 @@ TEST(PrefilterStack, BadSliceCountsAndConstantModelsAreRefused) {
   for (int bad : {-1, 0, 1, 65}) {
     options.elevations = bad;
     Error::Kind kind{};
-    const std::string message = errorOf([&] { prefilterLobeModelStack(furnace(), varyingModel(), "v", options); }, &kind);
+    const std::string message =
+        errorOf([&] { prefilterLobeModelStack(furnace(), varyingModel(), "v", options); }, &kind);
     EXPECT_EQ(kind, Error::Kind::InvalidArgument) << bad;
     EXPECT_NE(message.find("elevations"), std::string::npos) << message;
     EXPECT_NE(message.find("[2, 64]"), std::string::npos) << message;
   }
   options.elevations = 2;
-  const std::string message = errorOf([&] { prefilterLobeModelStack(furnace(), varyingModel().atElevation(0.5), "c", options); });
+  const std::string message =
+      errorOf([&] { prefilterLobeModelStack(furnace(), varyingModel().atElevation(0.5), "c", options); });
   EXPECT_NE(message.find("constant lobe model prefilters into one map"), std::string::npos) << message;
 }
 
@@ -652,7 +670,8 @@ TEST(FresnelDecomposition, RecombinedOutputsMatchABruteForceSum) {
         const Rgb lm = a + b * (21.0 / 22.0) * r.dot(LinearEnvironment::axis());
         const Rgb e = kPi * a + kTwoPi / 3.0 * b * n.dot(LinearEnvironment::axis());
         const double f = dielectricByHand(n.z(), 1.5);
-        const Rgb exact = combine == FresnelCombine::Add ? Rgb(f * lm + albedo * e / kPi) : Rgb(f * lm + (1.0 - f) * albedo * e / kPi);
+        const Rgb exact = combine == FresnelCombine::Add ? Rgb(f * lm + albedo * e / kPi)
+                                                         : Rgb(f * lm + (1.0 - f) * albedo * e / kPi);
         // What a renderer does: the maps at the texel, F by a linear lookup at s = c.
         const double u = std::clamp(n.z() * 64.0 - 0.5, 0.0, 63.0);
         const int i0 = std::min(62, static_cast<int>(u));
@@ -662,8 +681,8 @@ TEST(FresnelDecomposition, RecombinedOutputsMatchABruteForceSum) {
         const double error = (rendered - exact).abs().maxCoeff() / exact.abs().maxCoeff();
         ++checked;
         // The reference sum over a 32-row lat-long environment: 6e-4 at worst here.
-        EXPECT_LT(error, 2e-3) << toString(combine) << " texel " << x << "," << y << ": " << rendered.transpose() << " vs "
-                               << exact.transpose();
+        EXPECT_LT(error, 2e-3) << toString(combine) << " texel " << x << "," << y << ": " << rendered.transpose()
+                               << " vs " << exact.transpose();
       }
     EXPECT_GT(checked, 300);
   }
@@ -674,8 +693,9 @@ TEST(FresnelDecomposition, FurnaceMixWithWhiteAlbedoIsOne) {
   PrefilterOptions options;
   options.parameterization = ParameterizationKind::Cube;
   options.resolution = 8;
-  const auto d = prefilterFresnelDecomposition(furnace(), PrefilterLobe::mirror(), FresnelTerm::dielectric(Rgb(1.3, 1.5, 2.4)),
-                                               FresnelCombine::Mix, options, 16);
+  const auto d =
+      prefilterFresnelDecomposition(furnace(), PrefilterLobe::mirror(), FresnelTerm::dielectric(Rgb(1.3, 1.5, 2.4)),
+                                    FresnelCombine::Mix, options, 16);
   ASSERT_EQ(d.table.size(), 16u);
   double worst = 0.0;
   for (int y = 0; y < d.specular.map->height(); ++y)
@@ -691,13 +711,19 @@ TEST(FresnelDecomposition, FurnaceMixWithWhiteAlbedoIsOne) {
   EXPECT_NEAR(d.table[15][2], fresnelDielectric(15.5 / 16.0, 2.4), 1e-15);
   // Refused: an irradiance "specular" lobe, a table of no texels.
   Error::Kind kind{};
-  EXPECT_NE(errorOf([&] { prefilterFresnelDecomposition(furnace(), PrefilterLobe::irradiance(), d.fresnel, FresnelCombine::Add, options, 8); },
-                    &kind)
+  EXPECT_NE(errorOf(
+                [&] {
+                  prefilterFresnelDecomposition(furnace(), PrefilterLobe::irradiance(), d.fresnel, FresnelCombine::Add,
+                                                options, 8);
+                },
+                &kind)
                 .find("specular lobe"),
             std::string::npos);
   EXPECT_EQ(kind, Error::Kind::InvalidArgument);
-  EXPECT_NE(errorOf([&] { prefilterFresnelDecomposition(furnace(), PrefilterLobe::mirror(), d.fresnel, FresnelCombine::Add, options, 0); })
-                .find("1 to 65536 texels"),
+  EXPECT_NE(errorOf([&] {
+              prefilterFresnelDecomposition(furnace(), PrefilterLobe::mirror(), d.fresnel, FresnelCombine::Add, options,
+                                            0);
+            }).find("1 to 65536 texels"),
             std::string::npos);
 }
 
@@ -868,7 +894,8 @@ TEST(GlossChain, RowConvolutionGridMatchesABruteForceSum) {
       numerator += w * radiance[j], denominator += w;
     }
     const Rgb expected = numerator / denominator;
-    const double e = (map.levels[0].at(x, y).head<3>() - expected).matrix().norm() / std::max(expected.matrix().norm(), floor);
+    const double e =
+        (map.levels[0].at(x, y).head<3>() - expected).matrix().norm() / std::max(expected.matrix().norm(), floor);
     sum += out.texelSolidAngle(x, y) * e * e, weights += out.texelSolidAngle(x, y), worst = std::max(worst, e);
   }
   const double rms = std::sqrt(sum / weights);
@@ -883,8 +910,10 @@ TEST(GlossChain, BadChainsAreRefused) {
   options.resolution = 4;
   EXPECT_NE(errorOf([&] { prefilterGlossChain(sky(), {}, options); }).find("at least one level"), std::string::npos);
   const std::vector<PrefilterLobe> four(4, PrefilterLobe::phong(10));
-  EXPECT_NE(errorOf([&] { prefilterGlossChain(sky(), four, options); }).find("resolution of at least 8"), std::string::npos);
-  EXPECT_NE(errorOf([&] { prefilterGlossChain(sky(), {PrefilterLobe::mirror()}, options); }).find("mirror"), std::string::npos);
+  EXPECT_NE(errorOf([&] { prefilterGlossChain(sky(), four, options); }).find("resolution of at least 8"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { prefilterGlossChain(sky(), {PrefilterLobe::mirror()}, options); }).find("mirror"),
+            std::string::npos);
   options.mips = true;
   EXPECT_NE(errorOf([&] { prefilterGlossChain(sky(), {PrefilterLobe::phong(10)}, options); }).find("its own mip chain"),
             std::string::npos);
@@ -906,8 +935,10 @@ TEST(Prefilter, EstimateSeesTheResamplingOfACubeOrParaboloidEnvironment) {
     const Environment environment = bakeEnvironment(SkyEnvironment(), c.environment, 12, "sky", 16);
     const PrefilterLobe lobe = PrefilterLobe::phong(c.exponent);
     const Image reference = referenceImage(environment, lobe, ParameterizationKind::Paraboloid, 48);
-    const Measured m = measure(environment, lobe, ParameterizationKind::Paraboloid, 48, PrefilterMethod::Direct, 0.02, reference);
-    SCOPED_TRACE(std::string(toString(c.environment)) + " " + m.summary.briefReport() + " measured rms " + std::to_string(m.error.rms));
+    const Measured m =
+        measure(environment, lobe, ParameterizationKind::Paraboloid, 48, PrefilterMethod::Direct, 0.02, reference);
+    SCOPED_TRACE(std::string(toString(c.environment)) + " " + m.summary.briefReport() + " measured rms " +
+                 std::to_string(m.error.rms));
     ASSERT_TRUE(m.summary.errorEstimated);
     EXPECT_GT(m.error.rms, 0.03);  // the resampling error is there to be seen
     EXPECT_LT(m.summary.errorEstimate, 1.5 * m.error.rms);
@@ -984,8 +1015,8 @@ TEST(Prefilter, NoSeamsAtCubeEdgesOrTheParaboloidEquatorAtAnyLevel) {
         worstRatio = std::max(worstRatio, s.jump / std::max(s.spread, 1e-9));
         scale = std::max(scale, sampleBilinear(map.levels[level], *levelMap, onSeam).head<3>().matrix().norm());
       }
-      SCOPED_TRACE(std::string(toString(kind)) + " level " + std::to_string(level) + " jump " + std::to_string(worstJump) +
-                   " ratio " + std::to_string(worstRatio));
+      SCOPED_TRACE(std::string(toString(kind)) + " level " + std::to_string(level) + " jump " +
+                   std::to_string(worstJump) + " ratio " + std::to_string(worstRatio));
       if (kind == ParameterizationKind::Cube) {
         EXPECT_LT(worstJump, 1e-5 * scale);  // edge fixup: both sides read the same texels
       } else if (resolution >= 4) {
@@ -1012,7 +1043,8 @@ TEST(Prefilter, ParaboloidEquatorJumpIsSecondOrder) {
     double worst = 0.0;
     for (int i = 0; i < 4000; ++i) {
       const double phi = kTwoPi * i / 4000.0;
-      worst = std::max(worst, seamAcross(map.levels[0], *map.map, Vec3(std::cos(phi), std::sin(phi), 0.0), Vec3::UnitZ()).jump);
+      worst = std::max(
+          worst, seamAcross(map.levels[0], *map.map, Vec3(std::cos(phi), std::sin(phi), 0.0), Vec3::UnitZ()).jump);
     }
     if (previous > 0.0) {
       EXPECT_LT(worst, previous / 3.0) << resolution;
@@ -1109,7 +1141,8 @@ TEST(Environment, SixFacesMakeACube) {
   writeMap(cube.image, info, dir / "faces.exr", CubeLayout::Faces);
   const Environment read = loadEnvironment(dir / "faces.exr");
   EXPECT_EQ(read.kind(), ParameterizationKind::Cube);
-  for (const Vec3& d : std::vector<Vec3>{Vec3::UnitX(), -Vec3::UnitX(), Vec3::UnitY(), -Vec3::UnitY(), Vec3::UnitZ(), -Vec3::UnitZ()}) {
+  for (const Vec3& d :
+       std::vector<Vec3>{Vec3::UnitX(), -Vec3::UnitX(), Vec3::UnitY(), -Vec3::UnitY(), Vec3::UnitZ(), -Vec3::UnitZ()}) {
     EXPECT_LT((read.radiance(d) - ColoredCubeEnvironment().evaluate(d)).abs().maxCoeff(), 1e-6) << d.transpose();
   }
 }
@@ -1125,8 +1158,10 @@ TEST(Prefilter, MirrorSphereMapOfTheColouredCubeSeesEachFace) {
   const PrefilteredMap map = prefilter(cube, PrefilterLobe::mirror(), options);
   const SphereMap sphere(64);
   for (const Vec3& d : std::vector<Vec3>{Vec3::UnitX(), -Vec3::UnitX(), Vec3::UnitY(), -Vec3::UnitY(), Vec3::UnitZ(),
-                                        Vec3(0.1, 0.1, -1).normalized()}) {
-    EXPECT_LT((sampleBilinear(map.levels[0], sphere, d).head<3>() - ColoredCubeEnvironment().evaluate(d)).abs().maxCoeff(), 0.02)
+                                         Vec3(0.1, 0.1, -1).normalized()}) {
+    EXPECT_LT(
+        (sampleBilinear(map.levels[0], sphere, d).head<3>() - ColoredCubeEnvironment().evaluate(d)).abs().maxCoeff(),
+        0.02)
         << d.transpose();
   }
   // A view along +x: the centre reflects +x (red).
@@ -1142,7 +1177,8 @@ TEST(Prefilter, WrittenMapsRecordLobeMethodBoundAndSource) {
   options.resolution = 8;
   options.mips = true;
   const PrefilteredMap map = prefilter(sky(), PrefilterLobe::phong(30), options);
-  const auto written = writePrefilteredMap(map, dir / "glossy.exr", {{"environment", {{"file", "sky.exr"}, {"lobe", "phong:30"}}}});
+  const auto written =
+      writePrefilteredMap(map, dir / "glossy.exr", {{"environment", {{"file", "sky.exr"}, {"lobe", "phong:30"}}}});
   ASSERT_EQ(written.files.size(), 4u);
   for (int level = 0; level < 4; ++level) {
     const MapFile file = readMap(mipLevelPath(dir / "glossy.exr", level));

@@ -1,7 +1,7 @@
 // Internals of the prefilter's direct sums (bake/prefilter_internal.hpp) checked against brute force.
-#include <brdfbake/maps/image.hpp>
-#include <brdfbake/core/math.hpp>
 #include <gtest/gtest.h>
+#include <brdfbake/core/math.hpp>
+#include <brdfbake/maps/image.hpp>
 
 #include <cmath>
 
@@ -28,8 +28,8 @@ std::vector<std::pair<double, double>> capBoundary(double thetaAxis, double cosC
 // The widest azimuth offset of the cap over the polar band [theta0, theta1], found by sampling: the
 // boundary points that fall in the band, and points of the band's two edge parallels (20 001
 // offsets in [0, pi] each) that lie in the cap. Negative when none qualifies.
-double bruteHalfWidth(const std::vector<std::pair<double, double>>& boundary, double theta0, double theta1, double thetaAxis,
-                      double cosCap) {
+double bruteHalfWidth(const std::vector<std::pair<double, double>>& boundary, double theta0, double theta1,
+                      double thetaAxis, double cosCap) {
   double widest = -1.0;
   for (const auto& [theta, dphi] : boundary)
     if (theta >= theta0 && theta <= theta1) widest = std::max(widest, dphi);
@@ -57,7 +57,8 @@ TEST(PrefilterInternals, CapRowHalfWidthMatchesTheSampledCapBoundary) {
         ASSERT_NEAR(theta0, y * kPi / level.height, 1e-9);
         const double expected = bruteHalfWidth(boundary, theta0, theta1, thetaAxis, cosCap);
         const double got = capRowHalfWidth(level, y, std::cos(thetaAxis), std::sin(thetaAxis), cosCap);
-        SCOPED_TRACE("axis theta " + std::to_string(thetaAxis) + ", cos cap " + std::to_string(cosCap) + ", row " + std::to_string(y));
+        SCOPED_TRACE("axis theta " + std::to_string(thetaAxis) + ", cos cap " + std::to_string(cosCap) + ", row " +
+                     std::to_string(y));
         if (expected < 0.0) {
           EXPECT_LT(got, 0.0);
           ++rowsMissed;

@@ -2,8 +2,8 @@
 // the real files, recovery of known lobes from synthetic tables on that geometry (holes, 1 %
 // noise), degenerate tables, fit.json, table interpolation, the mirror-direction tables and the
 // "measured" / "lobes" spec materials.
+#include <gtest/gtest.h>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/cornell_grid.hpp>
@@ -12,9 +12,9 @@
 #include <brdfbake/fit/lobe_fit.hpp>
 #include <brdfbake/fit/mirror_direction.hpp>
 #include <brdfbake/fit/table_interpolation.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/measured/measured_io.hpp>
 #include <brdfbake/spec/spec.hpp>
-#include <gtest/gtest.h>
 
 #include <fstream>
 #include <random>
@@ -102,7 +102,8 @@ TEST(LobeFormula, MatchesTheFormulaTypedOut) {
     const Vec3 rv(-wo.x(), -wo.y(), wo.z());
     for (std::size_t c = 0; c < 3; ++c) {
       double expected = m.channels[c].diffuse / kPi;
-      for (const auto& lobe : m.channels[c].lobes) expected += phongLobeByHand(lobe.weight[0], lobe.exponent[0], rv.dot(wi));
+      for (const auto& lobe : m.channels[c].lobes)
+        expected += phongLobeByHand(lobe.weight[0], lobe.exponent[0], rv.dot(wi));
       EXPECT_NEAR(m.evaluate(c, wi, wo), expected, 1e-12 * std::max(1.0, expected));
     }
   }
@@ -162,7 +163,8 @@ TEST(CornellGrid, HasTheGeometryOfTheCornellFiles) {
   int far = 0;
   for (const auto& a : full) {
     if (!isCornellHole(a)) continue;
-    const double angle = std::acos(directionFromAngles(a.thetaIn, a.phiIn).dot(directionFromAngles(a.thetaOut, a.phiOut)));
+    const double angle =
+        std::acos(directionFromAngles(a.thetaIn, a.phiIn).dot(directionFromAngles(a.thetaOut, a.phiOut)));
     far += angle > radians(17.0);
   }
   EXPECT_EQ(far, 1);
@@ -250,7 +252,8 @@ TEST(LobeFit, RecoversKnownVaryingLobesFromANoisyCornellTable) {
   ASSERT_TRUE(fit.usable()) << fit.briefReport();
   EXPECT_NEAR(fit.model.minCos, truth.minCos, 1e-6);
   // At the elevations of the table's incident angles, where the highlights are measured.
-  for (int degreesIn = 10; degreesIn <= 80; degreesIn += 10) expectRecovered(truth, fit.model, std::cos(radians(degreesIn)));
+  for (int degreesIn = 10; degreesIn <= 80; degreesIn += 10)
+    expectRecovered(truth, fit.model, std::cos(radians(degreesIn)));
 }
 
 TEST(LobeFit, AutoElevationPrefersVaryingOnlyWhenTheDataVaries) {
@@ -269,7 +272,8 @@ TEST(LobeFit, AutoElevationPrefersVaryingOnlyWhenTheDataVaries) {
   EXPECT_LT(scoreOf(varying, LobeElevation::Varying), scoreOf(varying, LobeElevation::Constant));
   // Data from constant lobes (one per channel, 1 % noise): the fit stays constant and recovers them.
   LobeModel constant;
-  constant.channels = {{"R", 0.15, {{{0.50}, {80.0}}}}, {"G", 0.10, {{{0.40}, {120.0}}}}, {"B", 0.05, {{{0.60}, {60.0}}}}};
+  constant.channels = {
+      {"R", 0.15, {{{0.50}, {80.0}}}}, {"G", 0.10, {{{0.40}, {120.0}}}}, {"B", 0.05, {{{0.60}, {60.0}}}}};
   const FitResult flat = fitLobes(makeSyntheticTable(constant, 0.01, 6), options);
   ASSERT_TRUE(flat.usable()) << flat.briefReport();
   EXPECT_EQ(flat.model.elevation, LobeElevation::Constant) << flat.briefReport();
@@ -379,7 +383,8 @@ TEST(LobeFitDegenerate, ThreeSamplesFitOneConstantLobeAndTwoAreRefused) {
     for (int j = 0; j < 3; ++j) {
       const double measured = table.values(j, static_cast<Eigen::Index>(c));
       EXPECT_NEAR(modelByHand(fit.model, c, table.angles[static_cast<std::size_t>(j)]), measured, 1e-6 * measured)
-          << "channel " << c << " sample " << j << "\n" << fit.briefReport();
+          << "channel " << c << " sample " << j << "\n"
+          << fit.briefReport();
     }
   // Asking for more than three samples can determine is an error, not a silent fallback.
   FitOptions options = perChannel;
@@ -537,7 +542,8 @@ TEST(MirrorDirectionTable, SeedsWayTakesTheStrongestSampleNearTheMirror) {
   // for these sharp lobes.
   const MirrorDirectionTable fitted = fittedMirrorTable(constantModel(), seed.thetas);
   for (std::size_t r = 0; r < 8; ++r) {
-    EXPECT_NEAR(fitted.values(static_cast<Eigen::Index>(r), 0), 0.2 / kPi + 0.3 * 14 / kTwoPi + 0.5 * 302 / kTwoPi, 1e-12);
+    EXPECT_NEAR(fitted.values(static_cast<Eigen::Index>(r), 0), 0.2 / kPi + 0.3 * 14 / kTwoPi + 0.5 * 302 / kTwoPi,
+                1e-12);
     EXPECT_LT(seed.values(static_cast<Eigen::Index>(r), 0), fitted.values(static_cast<Eigen::Index>(r), 0));
   }
   // Linear in theta between angles, held beyond them.
@@ -567,7 +573,8 @@ TEST(LobeMaterialTest, ReflectanceAndLightingFollowTheModel) {
     const Vec3 wi = toLocal * light, wo = toLocal * geometry.view;
     const Rgb lit = lighting.shade(geometry, light);
     for (int c = 0; c < 3; ++c) {
-      EXPECT_NEAR(lit[c], model.evaluate(static_cast<std::size_t>(c), wi, wo) * std::max(0.0, wi.z()), 1e-9 * (1.0 + lit[c]));
+      EXPECT_NEAR(lit[c], model.evaluate(static_cast<std::size_t>(c), wi, wo) * std::max(0.0, wi.z()),
+                  1e-9 * (1.0 + lit[c]));
     }
   }
 }
@@ -580,16 +587,24 @@ TEST(SpecMaterials, LobesAndMeasuredBakeIntoSphereMaps) {
   file.hasSource = false;
   writeFitFile(dir / "fit.json", file);
   writeAstm(dir / "table.astm", makeSyntheticTable(constantModel(), 0.0, 1));
-  const nlohmann::json spec = {
-      {"maps",
-       {{{"output", "lobes.exr"}, {"parameterization", "sphere"}, {"resolution", 32}, {"samples_per_texel", 1},
-         {"material", {{"model", "lobes"}, {"file", "fit.json"}}}},
-        {{"output", "mirror.exr"}, {"parameterization", "sphere"}, {"resolution", 32}, {"samples_per_texel", 1},
-         {"material", {{"model", "measured"}, {"file", "table.astm"}, {"method", "mirror"}}}},
-        {{"output", "lit.exr"}, {"parameterization", "paraboloid"}, {"resolution", 32}, {"samples_per_texel", 1},
-         {"view", {0, 0, 1}},
-         {"material", {{"model", "lobes"}, {"file", "fit.json"}, {"mode", "lighting"}}},
-         {"lights", {{{"direction", {0.3, 0.2, 1.0}}}}}}}}};
+  const nlohmann::json spec = {{"maps",
+                                {{{"output", "lobes.exr"},
+                                  {"parameterization", "sphere"},
+                                  {"resolution", 32},
+                                  {"samples_per_texel", 1},
+                                  {"material", {{"model", "lobes"}, {"file", "fit.json"}}}},
+                                 {{"output", "mirror.exr"},
+                                  {"parameterization", "sphere"},
+                                  {"resolution", 32},
+                                  {"samples_per_texel", 1},
+                                  {"material", {{"model", "measured"}, {"file", "table.astm"}, {"method", "mirror"}}}},
+                                 {{"output", "lit.exr"},
+                                  {"parameterization", "paraboloid"},
+                                  {"resolution", 32},
+                                  {"samples_per_texel", 1},
+                                  {"view", {0, 0, 1}},
+                                  {"material", {{"model", "lobes"}, {"file", "fit.json"}, {"mode", "lighting"}}},
+                                  {"lights", {{{"direction", {0.3, 0.2, 1.0}}}}}}}}};
   const BakeSpec parsed = parseBakeSpec(spec, dir.path(), "spec.json");
   ASSERT_EQ(parsed.maps.size(), 3u);
   BakeOptions options;
@@ -605,7 +620,8 @@ TEST(SpecMaterials, LobesAndMeasuredBakeIntoSphereMaps) {
       if (sx * sx + sy * sy > 0.95) continue;
       const double nz = std::sqrt(1 - sx * sx - sy * sy);
       for (int c = 0; c < 3; ++c) {
-        EXPECT_NEAR(lobes.at(x, y)[c], varyingModel().mirrorValue(static_cast<std::size_t>(c), nz), 1e-4 * (1 + lobes.at(x, y)[c]));
+        EXPECT_NEAR(lobes.at(x, y)[c], varyingModel().mirrorValue(static_cast<std::size_t>(c), nz),
+                    1e-4 * (1 + lobes.at(x, y)[c]));
         EXPECT_NEAR(mirror.at(x, y)[c], table.at(std::acos(nz))[c], 1e-4 * (1 + mirror.at(x, y)[c]));
       }
     }
@@ -635,7 +651,8 @@ TEST(SpecMaterials, LobesAndMeasuredBakeIntoSphereMaps) {
           }
           expected *= nl;
         }
-        EXPECT_NEAR(lit.at(x, y)[static_cast<int>(c)], expected, 1e-5 * (1.0 + expected)) << "texel " << x << "," << y << " channel " << c;
+        EXPECT_NEAR(lit.at(x, y)[static_cast<int>(c)], expected, 1e-5 * (1.0 + expected))
+            << "texel " << x << "," << y << " channel " << c;
       }
       ++checked;
     }
@@ -647,20 +664,25 @@ TEST(SpecMaterials, ErrorsNameTheJsonPath) {
   writeAstm(dir / "table.astm", makeSyntheticTable(constantModel(), 0.0, 1));
   auto errorFor = [&](const nlohmann::json& material) -> std::string {
     try {
-      parseBakeSpec({{"maps", {{{"output", "a.exr"}, {"parameterization", "sphere"}, {"material", material}}}}}, dir.path(), "spec.json");
+      parseBakeSpec({{"maps", {{{"output", "a.exr"}, {"parameterization", "sphere"}, {"material", material}}}}},
+                    dir.path(), "spec.json");
     } catch (const Error& e) {
       EXPECT_EQ(e.kind(), Error::Kind::InvalidInput) << e.what();
       return e.what();
     }
     return "no error";
   };
-  EXPECT_NE(errorFor({{"model", "measured"}, {"file", "table.astm"}}).find("maps[0].material.method: required"), std::string::npos);
-  EXPECT_NE(errorFor({{"model", "measured"}, {"file", "table.astm"}, {"method", "mirror"}, {"lobes", 2}}).find("maps[0].material.lobes"),
+  EXPECT_NE(errorFor({{"model", "measured"}, {"file", "table.astm"}}).find("maps[0].material.method: required"),
             std::string::npos);
-  EXPECT_NE(errorFor({{"model", "measured"}, {"file", "missing.astm"}, {"method", "mirror"}}).find("maps[0].material.file"),
+  EXPECT_NE(errorFor({{"model", "measured"}, {"file", "table.astm"}, {"method", "mirror"}, {"lobes", 2}})
+                .find("maps[0].material.lobes"),
             std::string::npos);
+  EXPECT_NE(
+      errorFor({{"model", "measured"}, {"file", "missing.astm"}, {"method", "mirror"}}).find("maps[0].material.file"),
+      std::string::npos);
   EXPECT_NE(errorFor({{"model", "lobes"}, {"file", "table.astm"}}).find("maps[0].material.file"), std::string::npos);
-  EXPECT_NE(errorFor({{"model", "lobes"}, {"file", "x.json"}, {"mode", "shiny"}}).find("maps[0].material.mode"), std::string::npos);
+  EXPECT_NE(errorFor({{"model", "lobes"}, {"file", "x.json"}, {"mode", "shiny"}}).find("maps[0].material.mode"),
+            std::string::npos);
 }
 
 TEST(FitReport, ScriptPlotsThePlaneOfIncidence) {
@@ -696,7 +718,8 @@ TEST_P(RealTable, FitsConvergesAndBakes) {
   }
   std::cout << GetParam() << ": " << fit.briefReport();
   const LobeMaterial material(fit.model, LobeMaterialMode::Reflectance);
-  const Image image = bake(SphereMap(32), MaterialMapFunction(std::make_shared<LobeMaterial>(material), {}, Vec3::UnitZ()));
+  const Image image =
+      bake(SphereMap(32), MaterialMapFunction(std::make_shared<LobeMaterial>(material), {}, Vec3::UnitZ()));
   EXPECT_TRUE(imageIsFinite(image));
   EXPECT_GT(image.at(16, 16)[0], 0.0);
 }
@@ -750,10 +773,13 @@ TEST(MerlSampling, SamplesTheFullCornellGridAndSkipsUnmeasuredBins) {
   std::vector<double> stored(3 * MerlTable::kBinsPerChannel, 1500.0);
   const MerlTable probe(stored);
   const auto a = cornellSampleAngles(false)[100];
-  const auto hd = MerlTable::halfDiffCoordinates(directionFromAngles(a.thetaIn, a.phiIn), directionFromAngles(a.thetaOut, a.phiOut));
-  const std::size_t bin = static_cast<std::size_t>(MerlTable::phiDiffIndex(hd.phiDiff)) +
-                          MerlTable::kPhiDiffBins * (static_cast<std::size_t>(MerlTable::thetaDiffIndex(hd.thetaDiff)) +
-                                                     MerlTable::kThetaDiffBins * static_cast<std::size_t>(MerlTable::thetaHalfIndex(hd.thetaHalf)));
+  const auto hd = MerlTable::halfDiffCoordinates(directionFromAngles(a.thetaIn, a.phiIn),
+                                                 directionFromAngles(a.thetaOut, a.phiOut));
+  const std::size_t bin =
+      static_cast<std::size_t>(MerlTable::phiDiffIndex(hd.phiDiff)) +
+      MerlTable::kPhiDiffBins *
+          (static_cast<std::size_t>(MerlTable::thetaDiffIndex(hd.thetaDiff)) +
+           MerlTable::kThetaDiffBins * static_cast<std::size_t>(MerlTable::thetaHalfIndex(hd.thetaHalf)));
   stored[bin] = -1.0;
   const MeasuredTable table = sampleMerlOnCornellGrid(MerlTable(std::move(stored)));
   EXPECT_LT(table.size(), 1520u);

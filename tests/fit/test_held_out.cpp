@@ -2,13 +2,13 @@
 // the error measure and the splits against sums typed out here, the noise level of a synthetic
 // table, the Lambert ratio of a Lambertian table, Lafortune lobes against Lafortune et al. 1997
 // Eq. 4 typed out, their symmetry axis, reciprocity and energy, and the real Cornell tables.
+#include <gtest/gtest.h>
 #include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/cornell_grid.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/fit/held_out.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
-#include <gtest/gtest.h>
 
 #include <cmath>
 #include <map>
@@ -158,7 +158,8 @@ TEST(HalfVectorLobe, MatchesMicrofacetFormTypedOut) {
   }
   // On the mirror direction h = n, l.h = u: (C + C_F (1 - u)^5) (n + 2) / (2 pi) / (4 u^2).
   const double u = std::cos(radians(70.0));
-  EXPECT_NEAR(m.mirrorValue(0, u), 0.1 / kPi + (0.05 + 0.6 * std::pow(1.0 - u, 5.0)) * 82.0 / (2.0 * kPi) / (4.0 * u * u), 1e-12);
+  EXPECT_NEAR(m.mirrorValue(0, u),
+              0.1 / kPi + (0.05 + 0.6 * std::pow(1.0 - u, 5.0)) * 82.0 / (2.0 * kPi) / (4.0 * u * u), 1e-12);
   // The lighting material evaluates the same BRDF (in a frame where the normal is not z).
   const Vec3 l = direction(1.2, 0.0), v = direction(1.35, 3.0);
   const LobeMaterial material(m, LobeMaterialMode::Lighting);
@@ -205,7 +206,8 @@ TEST(HalfVectorLobe, ReflectsCAtNormalIncidence) {
   // fraction is C times integral D (n.h) dh over theta_h < 45 degrees = C (1 - cos^(n+2) 45 deg),
   // plus C_F (n + 2) integral_{cos 45}^1 (1 - x)^5 x^(n+1) dx (x = n.h = l.h), done here by Simpson's rule.
   const double n = 10.0;
-  EXPECT_NEAR(reflectedFraction(halfVectorModel(0.3, 0.0, n, 0.0), Vec3::UnitZ()), 0.3 * (1.0 - std::pow(0.5, 6.0)), 2e-5);
+  EXPECT_NEAR(reflectedFraction(halfVectorModel(0.3, 0.0, n, 0.0), Vec3::UnitZ()), 0.3 * (1.0 - std::pow(0.5, 6.0)),
+              2e-5);
   const double a = std::sqrt(0.5);
   const int steps = 2000;
   double simpson = 0.0;
@@ -292,7 +294,8 @@ TEST(HeldOut, ErrorAndSplitsMatchSumsTypedOut) {
     const Vec3 mirror(-wi.x(), -wi.y(), wi.z());
     double squares = 0.0;
     for (std::size_t c = 0; c < 3; ++c) {
-      const double r = logTerm(wi.z(), truth.evaluate(c, wi, wo)) - logTerm(wi.z(), table.values(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(c)));
+      const double r = logTerm(wi.z(), truth.evaluate(c, wi, wo)) -
+                       logTerm(wi.z(), table.values(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(c)));
       squares += r * r;
     }
     if (std::acos(std::clamp(mirror.dot(wo), -1.0, 1.0)) > radians(5.0)) offSquares += squares, ++offRows;
@@ -360,7 +363,9 @@ TEST(HeldOut, LambertFitIsTheMinimumOfTheLogError) {
         double s = 0.0;
         for (std::size_t i : rows) {
           const double cosIn = std::cos(table.angles[i].thetaIn);
-          s += std::pow(logTerm(cosIn, value) - logTerm(cosIn, table.values(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(c))), 2);
+          s += std::pow(logTerm(cosIn, value) -
+                            logTerm(cosIn, table.values(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(c))),
+                        2);
         }
         return s;
       }();
@@ -396,7 +401,8 @@ TEST(HeldOut, SharedFitOfASharedModelIsAtTheNoiseLevel) {
   ASSERT_TRUE(fit.heldOut);
   // Measured: 1.12 times the noise on the 5-fold split, 1.0 to 1.27 times on held-out elevations
   // (the fitted weights and shapes carry the training rows' noise to the rows they predict).
-  EXPECT_LT(fit.heldOut->kfold.error, 1.15 * noise.kfold.error) << fit.heldOut->kfold.error << " vs " << noise.kfold.error;
+  EXPECT_LT(fit.heldOut->kfold.error, 1.15 * noise.kfold.error)
+      << fit.heldOut->kfold.error << " vs " << noise.kfold.error;
   EXPECT_GT(fit.heldOut->kfold.error, 0.95 * noise.kfold.error);
   for (std::size_t e = 0; e < noise.elevations.size(); ++e) {
     EXPECT_LT(fit.heldOut->elevations[e].error, 1.3 * noise.elevations[e].error) << noise.elevations[e].name;
@@ -404,7 +410,8 @@ TEST(HeldOut, SharedFitOfASharedModelIsAtTheNoiseLevel) {
   // The shapes are recovered: lobe exponents 40 and 4, c_xy -1.3 and +1 (broadest first).
   const auto& lobes = fit.model.channels[0].lobes;
   ASSERT_EQ(lobes.size(), 2u);
-  std::vector<std::pair<double, double>> shapes{{lobes[0].exponent[0], lobes[0].cxy}, {lobes[1].exponent[0], lobes[1].cxy}};
+  std::vector<std::pair<double, double>> shapes{{lobes[0].exponent[0], lobes[0].cxy},
+                                                {lobes[1].exponent[0], lobes[1].cxy}};
   std::sort(shapes.begin(), shapes.end());
   EXPECT_NEAR(shapes[0].first, 4.0, 0.4);
   EXPECT_NEAR(shapes[0].second, 1.0, 0.05);

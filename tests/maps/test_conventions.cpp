@@ -1,10 +1,10 @@
 // Pins the conventions of docs/conventions.md: frames, image orientation, texel centres, layouts.
+#include <gtest/gtest.h>
 #include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/maps/image.hpp>
 #include <brdfbake/maps/latlong_map.hpp>
 #include <brdfbake/maps/paraboloid_map.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
-#include <gtest/gtest.h>
 
 namespace brdfbake {
 namespace {

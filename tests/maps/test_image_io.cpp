@@ -1,9 +1,9 @@
 // Image files: formats, metadata round trips, atomic writes, refusing to overwrite inputs.
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/maps/map_file.hpp>
+#include <gtest/gtest.h>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/version.hpp>
-#include <gtest/gtest.h>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/map_file.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -22,7 +22,9 @@ Image gradient(int w, int h) {
   return image;
 }
 
-MapInfo sphereInfo(int n) { return {ParameterizationKind::Sphere, n, kConventionVersion, {{"material", {{"model", "phong"}}}}}; }
+MapInfo sphereInfo(int n) {
+  return {ParameterizationKind::Sphere, n, kConventionVersion, {{"material", {{"model", "phong"}}}}};
+}
 
 TEST(ImageIo, ExrRoundTripsFloatRgbaAndMetadata) {
   test::TempDir dir;
@@ -141,7 +143,8 @@ TEST(ImageIo, ClearErrorsForBadPaths) {
 TEST(ImageIo, CubeFacesAreWrittenAsSixFiles) {
   test::TempDir dir;
   Image cross(4 * 4, 3 * 4);
-  const auto report = writeMap(cross, {ParameterizationKind::Cube, 4, kConventionVersion, {}}, dir / "cube.exr", CubeLayout::Faces);
+  const auto report =
+      writeMap(cross, {ParameterizationKind::Cube, 4, kConventionVersion, {}}, dir / "cube.exr", CubeLayout::Faces);
   ASSERT_EQ(report.files.size(), 6u);
   for (const auto& path : cubeFacePaths(dir / "cube.exr")) {
     const Image face = readImage(path);

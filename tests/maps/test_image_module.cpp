@@ -1,8 +1,8 @@
 // OpenImageIO is loaded on the first image read or written, not at start-up (shared builds load it
 // through the module brdfbake_image_oiio; static builds link it and skip this test). Its own
 // executable, linked with brdfbake::bake only, so that nothing else maps OpenImageIO first.
-#include <brdfbake/maps/image_io.hpp>
 #include <gtest/gtest.h>
+#include <brdfbake/maps/image_io.hpp>
 
 #include <fstream>
 #include <sstream>

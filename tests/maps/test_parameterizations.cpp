@@ -1,11 +1,11 @@
 // Forward, inverse, anisotropy and seams of every parameterization, tested against each other
 // and against closed forms.
+#include <gtest/gtest.h>
+#include <brdfbake/core/error.hpp>
 #include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/maps/latlong_map.hpp>
 #include <brdfbake/maps/paraboloid_map.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
-#include <brdfbake/core/error.hpp>
-#include <gtest/gtest.h>
 
 #include <random>
 
@@ -24,7 +24,8 @@ std::vector<Vec3> randomDirections(int count, unsigned seed = 7) {
 }
 
 // Round trip over a dense grid of image positions: pixel -> direction -> pixel.
-void expectPixelRoundTrip(const Parameterization& map, double tolerance, const std::function<bool(const Vec2&)>& singular) {
+void expectPixelRoundTrip(const Parameterization& map, double tolerance,
+                          const std::function<bool(const Vec2&)>& singular) {
   int checked = 0;
   for (double y = 0.013; y < map.height(); y += 0.37) {
     for (double x = 0.011; x < map.width(); x += 0.37) {
@@ -59,7 +60,8 @@ TEST(Parameterizations, CoverageRowIsTexelCoverage) {
     std::vector<double> row(map->width());
     for (int y = 0; y < map->height(); ++y) {
       map->texelCoverageRow(y, row.data());
-      for (int x = 0; x < map->width(); ++x) ASSERT_EQ(row[x], map->texelCoverage(x, y)) << toString(kind) << " " << x << ", " << y;
+      for (int x = 0; x < map->width(); ++x)
+        ASSERT_EQ(row[x], map->texelCoverage(x, y)) << toString(kind) << " " << x << ", " << y;
     }
   }
 }
@@ -248,7 +250,7 @@ TEST(CubeMap, EdgesAreSeamlessInTheCross) {
 TEST(CubeMap, UnusedCellsHaveNoDirection) {
   const CubeMap map(16);
   EXPECT_FALSE(map.getDirectionFor(Vec2(3, 3)).has_value());    // cell (0, 0)
-  EXPECT_FALSE(map.getDirectionFor(Vec2(60, 40)).has_value());   // cell (3, 2)
+  EXPECT_FALSE(map.getDirectionFor(Vec2(60, 40)).has_value());  // cell (3, 2)
   EXPECT_EQ(map.texelCoverage(3, 3), 0.0);
   EXPECT_EQ(map.texelSolidAngle(3, 3), 0.0);
 }

@@ -1,10 +1,10 @@
 // Exact texel solid angles against totals, closed-form ratios (Heidrich), the sphere map's equal
 // area, and brute-force integration of the numerical Jacobian.
+#include <gtest/gtest.h>
 #include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/maps/latlong_map.hpp>
 #include <brdfbake/maps/paraboloid_map.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
-#include <gtest/gtest.h>
 
 namespace brdfbake {
 namespace {
@@ -83,7 +83,8 @@ TEST(CubeArea, FaceCentreCoversThreeRootThreeTimesTheCorner) {
   const double centre = map.solidAngleDensity(Vec2(face.x0 + n / 2.0, face.y0 + n / 2.0));
   const double corner = map.solidAngleDensity(Vec2(face.x0 + 1e-3, face.y0 + 1e-3));
   EXPECT_NEAR(centre / corner, 3 * std::sqrt(3.0), 1e-2);
-  const double texelRatio = map.texelSolidAngle(face.x0 + n / 2, face.y0 + n / 2) / map.texelSolidAngle(face.x0, face.y0);
+  const double texelRatio =
+      map.texelSolidAngle(face.x0 + n / 2, face.y0 + n / 2) / map.texelSolidAngle(face.x0, face.y0);
   EXPECT_NEAR(texelRatio, 3 * std::sqrt(3.0), 0.01);
 }
 

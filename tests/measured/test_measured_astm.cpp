@@ -220,7 +220,8 @@ TEST(ReadAstm, MissingFileIsAnIoError) {
   test::TempDir dir;
   EXPECT_TRUE(
       test::throwsError([&] { readAstm(dir / "absent.astm"); }, Error::Kind::Io, {"absent.astm", "no such file"}));
-  EXPECT_TRUE(test::throwsError([&] { readAstm(dir.path()); }, Error::Kind::Io, {dir.path().string(), "is a folder, not a file"}));
+  EXPECT_TRUE(test::throwsError([&] { readAstm(dir.path()); }, Error::Kind::Io,
+                                {dir.path().string(), "is a folder, not a file"}));
 }
 
 }  // namespace

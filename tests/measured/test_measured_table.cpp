@@ -170,7 +170,8 @@ TEST(MeasuredTable, RealGarnetRedToRgb) {
   for (Eigen::Index row = 0; row < 1439; ++row) {
     double scale = 0.0;
     const Rgb expected = expectedRgb(row, scale);
-    for (Eigen::Index c = 0; c < 3; ++c) ASSERT_NEAR(rgb.values(row, c), expected[c], 5e-4 * scale + 1e-12) << "row " << row << " channel " << c;
+    for (Eigen::Index c = 0; c < 3; ++c)
+      ASSERT_NEAR(rgb.values(row, c), expected[c], 5e-4 * scale + 1e-12) << "row " << row << " channel " << c;
   }
   // The diffuse part of garnet red is red; the highlight (last row, near mirror at 80 deg) is
   // much brighter and about neutral.

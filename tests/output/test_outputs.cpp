@@ -2,15 +2,15 @@
 // with OpenImageIO's own ImageInput and TextureSystem, level by level against the separate-file
 // chain), and irradiance as 9 spherical-harmonic coefficients (against the closed forms of a
 // constant and a hemispherical sky, and the documented basis polynomials).
-#include <brdfbake/output/baked_output.hpp>
-#include <brdfbake/maps/map_mips.hpp>
+#include <gtest/gtest.h>
+#include <brdfbake/core/error.hpp>
 #include <brdfbake/env/environment.hpp>
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/env/sh_irradiance.hpp>
-#include <brdfbake/core/error.hpp>
-#include <gtest/gtest.h>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/maps/map_mips.hpp>
+#include <brdfbake/output/baked_output.hpp>
 
 #include "map_function_support.hpp"
 
@@ -26,7 +26,6 @@ namespace {
 
 using test::randomDirections;
 namespace fs = std::filesystem;
-
 
 // A lat-long environment of `rows` rows whose texels take f at their centres.
 Environment latLongEnvironment(int rows, const std::function<Rgb(const Vec3&)>& f) {
@@ -123,15 +122,17 @@ TEST_P(TiledMips, OneFileHoldsEveryLevelAsMaketxWritesIt) {
   for (const auto& [x, y] : texels) {
     float rgba[4] = {0, 0, 0, 0};
     const float s = (x + 0.5f) / w, t = (y + 0.5f) / h;
-    ASSERT_TRUE(ts->texture(OIIO::ustring((dir / "tiled.exr").string()), opt, s, t, 0, 0, 0, 0, 4, rgba)) << ts->geterror();
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(rgba[c], level0.at(x, y)[c], 1e-5 * std::abs(level0.at(x, y)[c]) + 1e-6) << x << "," << y;
+    ASSERT_TRUE(ts->texture(OIIO::ustring((dir / "tiled.exr").string()), opt, s, t, 0, 0, 0, 0, 4, rgba))
+        << ts->geterror();
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(rgba[c], level0.at(x, y)[c], 1e-5 * std::abs(level0.at(x, y)[c]) + 1e-6) << x << "," << y;
   }
   ts->invalidate(OIIO::ustring((dir / "tiled.exr").string()));  // close the file before the folder goes
 }
 
 INSTANTIATE_TEST_SUITE_P(Kinds, TiledMips,
-                         ::testing::Values(ParameterizationKind::Sphere, ParameterizationKind::Paraboloid, ParameterizationKind::Cube,
-                                           ParameterizationKind::LatLong),
+                         ::testing::Values(ParameterizationKind::Sphere, ParameterizationKind::Paraboloid,
+                                           ParameterizationKind::Cube, ParameterizationKind::LatLong),
                          [](const auto& param) { return std::string(toString(param.param)); });
 
 TEST(TiledMips, CubeFacesAreSixTiledFilesAndBadRequestsAreRefused) {
@@ -156,8 +157,8 @@ TEST(TiledMips, CubeFacesAreSixTiledFilesAndBadRequestsAreRefused) {
   EXPECT_EQ(tiledMipProblem(dir / "c.exr", 16), "");
   PrefilterOptions odd = options;
   odd.resolution = 6;
-  EXPECT_THROW(writePrefilteredMap(prefilter(furnace, PrefilterLobe::irradiance(), odd), dir / "odd.exr", {}, CubeLayout::Cross, {},
-                                   MipLayout::Tiled),
+  EXPECT_THROW(writePrefilteredMap(prefilter(furnace, PrefilterLobe::irradiance(), odd), dir / "odd.exr", {},
+                                   CubeLayout::Cross, {}, MipLayout::Tiled),
                Error);
   EXPECT_FALSE(fs::exists(dir / "odd.exr"));
 }
@@ -181,8 +182,15 @@ TEST(FresnelTable, AFileWithTheFormerParameterizationNameStillOpens) {
 TEST(ShIrradiance, TheDocumentedBasisIsTheOneEvaluated) {
   for (const Vec3& d : randomDirections(20, 5)) {
     const double x = d.x(), y = d.y(), z = d.z();
-    const double expected[9] = {0.282095,        -0.488603 * y,     0.488603 * z,  -0.488603 * x,          1.092548 * x * y,
-                                -1.092548 * y * z, 0.315392 * (3 * z * z - 1), -1.092548 * x * z, 0.546274 * (x * x - y * y)};
+    const double expected[9] = {0.282095,
+                                -0.488603 * y,
+                                0.488603 * z,
+                                -0.488603 * x,
+                                1.092548 * x * y,
+                                -1.092548 * y * z,
+                                0.315392 * (3 * z * z - 1),
+                                -1.092548 * x * z,
+                                0.546274 * (x * x - y * y)};
     double basis[9];
     evaluateShBasis(2, d, basis);
     for (int i = 0; i < 9; ++i) EXPECT_NEAR(basis[i], expected[i], 2e-6) << i;
@@ -215,7 +223,8 @@ TEST(ShIrradiance, AHemisphericalSkyMatchesTheClosedForm) {
   EXPECT_EQ(document["coefficients"].size(), 9u);
   const ShExpansion back = irradianceShFromJson(document, "doc");
   for (int i = 0; i < 9; ++i) {
-    EXPECT_TRUE((back.coefficients[static_cast<std::size_t>(i)] == sh.coefficients[static_cast<std::size_t>(i)]).all()) << i;
+    EXPECT_TRUE((back.coefficients[static_cast<std::size_t>(i)] == sh.coefficients[static_cast<std::size_t>(i)]).all())
+        << i;
   }
   nlohmann::json bad = document;
   bad["coefficients"].erase(3);

@@ -1,11 +1,11 @@
 // The preview renderer: geometry, per-pixel lookups against the analytic reflection, and the
 // per-vertex mode's interpolation error.
+#include <gtest/gtest.h>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/output/preview.hpp>
-#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/core/error.hpp>
-#include <gtest/gtest.h>
+#include <brdfbake/maps/sphere_map.hpp>
+#include <brdfbake/output/preview.hpp>
 
 namespace brdfbake {
 namespace {
@@ -21,7 +21,8 @@ TEST(PreviewMeshes, HaveUnitNormalsAndFitTheUnitSphere) {
   }
   // The sphere's normals are its positions.
   const Mesh sphere = makeSphereMesh(8);
-  for (std::size_t i = 0; i < sphere.positions.size(); ++i) EXPECT_NEAR((sphere.normals[i] - sphere.positions[i]).norm(), 0.0, 1e-12);
+  for (std::size_t i = 0; i < sphere.positions.size(); ++i)
+    EXPECT_NEAR((sphere.normals[i] - sphere.positions[i]).norm(), 0.0, 1e-12);
 }
 
 TEST(Preview, ConstantMapShadesTheObjectUniformly) {

@@ -1,7 +1,7 @@
 // Bake specs: valid specs parse; every bad spec gets an error naming the JSON path.
+#include <gtest/gtest.h>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/spec/spec.hpp>
-#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <fstream>
@@ -72,16 +72,27 @@ TEST(Spec, NamesTheJsonPathOfEveryError) {
       {[](json& m) { m["samples_per_texel"] = 0; }, "maps[0].samples_per_texel: must be in [1, 4096]"},
       {[](json& m) { m["output"] = "a.jpg"; }, "maps[0].output: "},
       {[](json& m) { m.erase("output"); }, "maps[0].output: required"},
-      {[](json& m) { m["lights"][0]["direction"] = {0, 0, 0}; }, "maps[0].lights[0].direction: must be a non-zero vector"},
-      {[](json& m) { m["lights"][0]["direction"] = "sun"; }, "maps[0].lights[0].direction: must be \"eye\" or [x, y, z]"},
-      {[](json& m) { m["lights"][0]["color"] = {1, -1, 1}; }, "maps[0].lights[0].color: must be >= 0"},
-      {[](json& m) { m["lights"][0]["color"] = {1, 1}; }, "maps[0].lights[0].color: must be [r, g, b]"},
-      {[](json& m) { m["lights"] = json::array(); }, "maps[0].lights: phong needs at least one light"},
-      {[](json& m) { m["view"] = {0, 0, 1}; }, "maps[0].view: sphere maps live in eye space"},
-      {[](json& m) { m["layout"] = "faces"; }, "maps[0].layout: only applies to cube maps"},
       {[](json& m) {
-         m["parameterization"] = "paraboloid";
+         m["lights"][0]["direction"] = {0, 0, 0};
        },
+       "maps[0].lights[0].direction: must be a non-zero vector"},
+      {[](json& m) { m["lights"][0]["direction"] = "sun"; },
+       "maps[0].lights[0].direction: must be \"eye\" or [x, y, z]"},
+      {[](json& m) {
+         m["lights"][0]["color"] = {1, -1, 1};
+       },
+       "maps[0].lights[0].color: must be >= 0"},
+      {[](json& m) {
+         m["lights"][0]["color"] = {1, 1};
+       },
+       "maps[0].lights[0].color: must be [r, g, b]"},
+      {[](json& m) { m["lights"] = json::array(); }, "maps[0].lights: phong needs at least one light"},
+      {[](json& m) {
+         m["view"] = {0, 0, 1};
+       },
+       "maps[0].view: sphere maps live in eye space"},
+      {[](json& m) { m["layout"] = "faces"; }, "maps[0].layout: only applies to cube maps"},
+      {[](json& m) { m["parameterization"] = "paraboloid"; },
        "maps[0]: phong lit from the eye depends on the view direction"},
       {[](json& m) {
          m["material"] = {{"model", "blinn_phong"}, {"exponent", 10}, {"phong_exponent", 3}};
@@ -99,7 +110,8 @@ TEST(Spec, NamesTheJsonPathOfEveryError) {
   EXPECT_NE(errorFor({{"maps", json::array()}}).find("maps: must hold at least one map"), std::string::npos);
   EXPECT_NE(errorFor({{"map", json::array()}}).find("maps: required"), std::string::npos);
   EXPECT_NE(errorFor(json::array()).find("(root): must be an object"), std::string::npos);
-  EXPECT_NE(errorFor({{"maps", {validMap(), validMap()}}}).find("maps[1].output: same file as maps[0].output"), std::string::npos);
+  EXPECT_NE(errorFor({{"maps", {validMap(), validMap()}}}).find("maps[1].output: same file as maps[0].output"),
+            std::string::npos);
 }
 
 TEST(Spec, AViewMakesViewDependentMaterialsValidInOtherMaps) {
@@ -125,7 +137,11 @@ TEST(Spec, AutoValuesNeedATargetAndAViewThatFits) {
   const AutoOptions options = spec.maps[0].autoOptions();
   EXPECT_EQ(options.parameterizations.size(), 4u);  // fixed view (default): sphere is a candidate
   EXPECT_EQ(options.maxError, 0.01);
-  const BakeSpec free = parseBakeSpec(withMap([&](json& m) { autoMap(m); m["view"] = "free"; }), "/b");
+  const BakeSpec free = parseBakeSpec(withMap([&](json& m) {
+                                        autoMap(m);
+                                        m["view"] = "free";
+                                      }),
+                                      "/b");
   const auto freeKinds = free.maps[0].autoOptions().parameterizations;
   EXPECT_EQ(std::count(freeKinds.begin(), freeKinds.end(), ParameterizationKind::Sphere), 0);
   EXPECT_EQ(freeKinds.size(), 3u);
@@ -135,16 +151,41 @@ TEST(Spec, AutoValuesNeedATargetAndAViewThatFits) {
     std::string expected;
   };
   const std::vector<Case> cases{
-      {[&](json& m) { autoMap(m); m.erase("max_error"); }, "maps[0].max_error: required with \"auto\" values"},
-      {[&](json& m) { autoMap(m); m["max_error"] = 0; }, "maps[0].max_error: must be > 0"},
-      {[&](json& m) { autoMap(m); m["max_error"] = 1.5; }, "maps[0].max_error: must be <= 1"},
+      {[&](json& m) {
+         autoMap(m);
+         m.erase("max_error");
+       },
+       "maps[0].max_error: required with \"auto\" values"},
+      {[&](json& m) {
+         autoMap(m);
+         m["max_error"] = 0;
+       },
+       "maps[0].max_error: must be > 0"},
+      {[&](json& m) {
+         autoMap(m);
+         m["max_error"] = 1.5;
+       },
+       "maps[0].max_error: must be <= 1"},
       {[](json& m) { m["max_error"] = 0.01; }, "maps[0].max_error: only applies when"},
       {[](json& m) { m["resolution"] = "big"; }, "maps[0].resolution: must be an integer"},
-      {[&](json& m) { autoMap(m); m["view"] = "moving"; }, "maps[0].view: must be \"fixed\", \"free\" or [x, y, z]"},
-      {[&](json& m) { autoMap(m); m["view"] = {0, 0, 1}; }, "maps[0].view: with \"parameterization\": \"auto\" give"},
+      {[&](json& m) {
+         autoMap(m);
+         m["view"] = "moving";
+       },
+       "maps[0].view: must be \"fixed\", \"free\" or [x, y, z]"},
+      {[&](json& m) {
+         autoMap(m);
+         m["view"] = {0, 0, 1};
+       },
+       "maps[0].view: with \"parameterization\": \"auto\" give"},
       {[](json& m) { m["view"] = "free"; }, "maps[0].view: a sphere map holds one view"},
-      {[&](json& m) { autoMap(m); m["view"] = "free"; m["lights"] = {{{"direction", "eye"}}}; },
-       "maps[0].view: phong lit from the eye depends on the view direction, so no environment map can serve a free view"},
+      {[&](json& m) {
+         autoMap(m);
+         m["view"] = "free";
+         m["lights"] = {{{"direction", "eye"}}};
+       },
+       "maps[0].view: phong lit from the eye depends on the view direction, so no environment map can serve a free "
+       "view"},
   };
   for (const auto& c : cases) {
     const std::string message = errorFor(withMap(c.edit));
@@ -182,8 +223,7 @@ TEST(Spec, EverySampleSpecParses) {
     std::size_t lights;
   };
   const std::map<std::string, std::vector<Expected>> expected{
-      {"auto.json",
-       {{"phong_auto_fixed.exr", "phong", "auto", 0, 2}, {"phong_auto_free.exr", "phong", "auto", 0, 2}}},
+      {"auto.json", {{"phong_auto_fixed.exr", "phong", "auto", 0, 2}, {"phong_auto_free.exr", "phong", "auto", 0, 2}}},
       {"blinn_phong.json",
        {{"blinn_exact.exr", "blinn_phong", "sphere", 256, 1},
         {"blinn_4n.exr", "blinn_phong", "sphere", 256, 1},
@@ -204,7 +244,8 @@ TEST(Spec, EverySampleSpecParses) {
         {"measured_lobes_lighting.exr", "lobes", "paraboloid", 256, 1},
         {"measured_lobes_prefiltered.exr", "lobes", "paraboloid", 256, 1}}},
       {"measured_mirror.json",
-       {{"measured_mirror_seed.exr", "measured", "sphere", 256, 0}, {"measured_mirror_fit.exr", "measured", "sphere", 256, 0}}},
+       {{"measured_mirror_seed.exr", "measured", "sphere", 256, 0},
+        {"measured_mirror_fit.exr", "measured", "sphere", 256, 0}}},
       {"phong_diffuse.json", {{"phong_diffuse.exr", "phong", "sphere", 256, 2}}},
       {"phong_eye.json",
        {{"phong_eye.exr", "phong", "sphere", 256, 1}, {"phong_paraboloid.exr", "phong", "paraboloid", 256, 1}}},
@@ -216,7 +257,8 @@ TEST(Spec, EverySampleSpecParses) {
        {{"sky_varying_lobes_paraboloid.exr", "environment:lobes:../fits/synthetic_varying.json", "paraboloid", 64, 0},
         {"sky_coat_sphere.exr", "environment:mirror", "sphere", 128, 0}}},
       {"prefilter_fitted.json",
-       {{"sky_fitted_lobes_paraboloid.exr", "environment:lobes:../fits/synthetic_two_lobes.json", "paraboloid", 64, 0}}},
+       {{"sky_fitted_lobes_paraboloid.exr", "environment:lobes:../fits/synthetic_two_lobes.json", "paraboloid", 64,
+         0}}},
       {"prefilter_sky.json",
        {{"sky_phong100_paraboloid.exr", "environment:phong:100", "paraboloid", 128, 0},
         {"sky_ggx040_cube.exr", "environment:ggx:0.4", "cube", 64, 0},
@@ -264,7 +306,8 @@ TEST(Spec, EverySampleSpecParses) {
       } else {
         EXPECT_FALSE(map.autoSelect.parameterization);
         EXPECT_EQ(map.radialProfile, e.parameterization == "profile");
-        EXPECT_EQ(std::string(toString(map.parameterization)), e.parameterization == "profile" ? "sphere" : e.parameterization);
+        EXPECT_EQ(std::string(toString(map.parameterization)),
+                  e.parameterization == "profile" ? "sphere" : e.parameterization);
         EXPECT_EQ(map.resolution, e.resolution);
       }
     }
@@ -301,11 +344,19 @@ TEST(Spec, MeasuredFitsRunWhenTheMapIsPreparedNotWhileParsing) {
 
 TEST(Spec, RulesThatNeedTheFittedMaterialAreCheckedWhenItIsMade) {
   // Fitted lobes lit by two lights have no common axis: no profile. Known only after the fit.
-  nlohmann::json document = {{"maps", {{{"output", "a.exr"}, {"parameterization", "profile"}, {"resolution", 64},
-                                        {"samples_per_texel", 1},
-                                        {"material", {{"model", "measured"}, {"file", test::sourcePath("data_samples/tables/synthetic_varying.astm")},
-                                                      {"method", "fit"}, {"lobes", 1}, {"elevation", "constant"}, {"mode", "prefiltered"}}},
-                                        {"lights", {{{"direction", {0, 0, 1}}}, {{"direction", {1, 0, 1}}}}}}}}};
+  nlohmann::json document = {{"maps",
+                              {{{"output", "a.exr"},
+                                {"parameterization", "profile"},
+                                {"resolution", 64},
+                                {"samples_per_texel", 1},
+                                {"material",
+                                 {{"model", "measured"},
+                                  {"file", test::sourcePath("data_samples/tables/synthetic_varying.astm")},
+                                  {"method", "fit"},
+                                  {"lobes", 1},
+                                  {"elevation", "constant"},
+                                  {"mode", "prefiltered"}}},
+                                {"lights", {{{"direction", {0, 0, 1}}}, {{"direction", {1, 0, 1}}}}}}}}};
   BakeSpec spec = parseBakeSpec(document, "/base", "s.json");
   try {
     spec.maps[0].prepare();

@@ -1,11 +1,11 @@
 // Zero, negative, NaN and Inf values in input images and measured tables.
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/maps/map_file.hpp>
-#include <brdfbake/core/error.hpp>
-#include <brdfbake/core/version.hpp>
-#include <brdfbake/measured/measured_io.hpp>
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/core/version.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/measured/measured_io.hpp>
 
 #include <algorithm>
 #include <fstream>
@@ -33,8 +33,9 @@ TEST(InputImages, NaNAndInfTexelsAreRefusedNamingTheTexel) {
       FAIL() << "expected an error";
     } catch (const Error& e) {
       EXPECT_EQ(e.kind(), Error::Kind::InvalidInput);
-      EXPECT_NE(std::string(e.what()).find(path.string() + ": texel (5, 2) is " + (std::isnan(bad) ? "NaN" : "infinite")),
-                std::string::npos)
+      EXPECT_NE(
+          std::string(e.what()).find(path.string() + ": texel (5, 2) is " + (std::isnan(bad) ? "NaN" : "infinite")),
+          std::string::npos)
           << e.what();
     }
   }
@@ -61,7 +62,8 @@ TEST(InputImages, WrongShapeIsAClearError) {
 std::string astm(const std::string& values) {
   return "NUM_POINTS 2\nVARS theta_i,phi_i,theta_s,phi_s,R,G,B\n"
          "0.174533,0.000000,0.0,0.0,0.1,0.1,0.1\n"
-         "0.174533,0.000000,0.139626,3.141593," + values + "\n";
+         "0.174533,0.000000,0.139626,3.141593," +
+         values + "\n";
 }
 
 TEST(InputTables, NaNAndInfFieldsAreRefusedNamingTheLine) {
@@ -86,10 +88,12 @@ TEST(InputTables, ZeroAndNegativeValuesAreKeptAndNoted) {
   // The note about negative values, with the count: one of the 2 x 3 values. (An RGB table always
   // also gets a note about its primaries, so "some note" would prove nothing.)
   auto negativeNotes = [](const MeasuredTable& t) {
-    return std::count_if(t.notes.begin(), t.notes.end(), [](const std::string& n) { return n.find("negative") != std::string::npos; });
+    return std::count_if(t.notes.begin(), t.notes.end(),
+                         [](const std::string& n) { return n.find("negative") != std::string::npos; });
   };
   EXPECT_EQ(negativeNotes(table), 1) << ::testing::PrintToString(table.notes);
-  EXPECT_NE(std::find(table.notes.begin(), table.notes.end(), "1 of 6 values are negative; they are kept as stored in the file"),
+  EXPECT_NE(std::find(table.notes.begin(), table.notes.end(),
+                      "1 of 6 values are negative; they are kept as stored in the file"),
             table.notes.end())
       << ::testing::PrintToString(table.notes);
   // Zeros alone are kept without a note about negative values.

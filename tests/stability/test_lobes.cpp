@@ -1,11 +1,11 @@
 // Where lobes fail: exponents 0, 1e-6 and 1e6 (a lobe far narrower than a texel), the N.H
 // conversion at N.H -> 1 and N.H <= 1/sqrt 2, lights of zero length or below the horizon.
+#include <gtest/gtest.h>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/maps/paraboloid_map.hpp>
-#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/core/error.hpp>
-#include <gtest/gtest.h>
+#include <brdfbake/maps/paraboloid_map.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 
 namespace brdfbake {
 namespace {
@@ -88,8 +88,10 @@ TEST(Lights, BelowTheHorizonLightsNoDiffuseAndNoBlinn) {
   // Blinn-Phong give exactly 0; the Phong lobe (a function of r alone, documented) lights r near -z.
   const SphereMap map(64);
   const Vec3 below(0, 0, -1);
-  const MaterialMapFunction diffuse(std::make_shared<PhongMaterial>(Rgb::Zero(), 1.0, Rgb::Ones()), {{below, Rgb::Ones()}}, Vec3::UnitZ());
-  const MaterialMapFunction blinn(std::make_shared<BlinnPhongMaterial>(Rgb::Ones(), 10.0), {{below, Rgb::Ones()}}, Vec3::UnitZ());
+  const MaterialMapFunction diffuse(std::make_shared<PhongMaterial>(Rgb::Zero(), 1.0, Rgb::Ones()),
+                                    {{below, Rgb::Ones()}}, Vec3::UnitZ());
+  const MaterialMapFunction blinn(std::make_shared<BlinnPhongMaterial>(Rgb::Ones(), 10.0), {{below, Rgb::Ones()}},
+                                  Vec3::UnitZ());
   const Image a = bake(map, diffuse), b = bake(map, blinn);
   double worst = 0.0;
   for (int y = 0; y < 64; ++y)

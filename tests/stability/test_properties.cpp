@@ -1,12 +1,12 @@
 // Property tests over random directions and parameters: no NaN or Inf, round trips hold,
 // normalised lobes never reflect more than they receive.
+#include <gtest/gtest.h>
+#include <rapidcheck/gtest.h>
+#include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/maps/latlong_map.hpp>
 #include <brdfbake/maps/paraboloid_map.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
-#include <brdfbake/brdf/phong.hpp>
-#include <gtest/gtest.h>
-#include <rapidcheck/gtest.h>
 
 namespace brdfbake {
 namespace {

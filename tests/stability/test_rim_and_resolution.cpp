@@ -1,15 +1,16 @@
 // Where parameterizations and the baker fail: the sphere-map rim, resolutions 1 and 16384.
+#include <gtest/gtest.h>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/core/error.hpp>
-#include <gtest/gtest.h>
+#include <brdfbake/maps/sphere_map.hpp>
 
 namespace brdfbake {
 namespace {
 
 MaterialMapFunction phong(double n, const Vec3& light, const Rgb& diffuse = Rgb::Zero()) {
-  return MaterialMapFunction(std::make_shared<PhongMaterial>(Rgb::Ones(), n, diffuse), {{light, Rgb::Ones()}}, Vec3::UnitZ());
+  return MaterialMapFunction(std::make_shared<PhongMaterial>(Rgb::Ones(), n, diffuse), {{light, Rgb::Ones()}},
+                             Vec3::UnitZ());
 }
 
 // The rim circle is the single direction -z. Documented: forward maps -z and anything within

@@ -37,10 +37,11 @@ inline std::filesystem::path sharedPath(const std::string& relative) {
 }
 
 /// Skips the current test with a clear message when ../shared/<relative> is absent.
-#define BRDFBAKE_REQUIRE_SHARED(var, relative)                                                         \
-  const std::filesystem::path var = ::brdfbake::test::sharedPath(relative);                           \
-  if (var.empty()) GTEST_SKIP() << "shared data '" << (relative) << "' not found beside the repository (" \
-                                << BRDFBAKE_SHARED_DIR << "); skipping"
+#define BRDFBAKE_REQUIRE_SHARED(var, relative)                                                                  \
+  const std::filesystem::path var = ::brdfbake::test::sharedPath(relative);                                     \
+  if (var.empty())                                                                                              \
+  GTEST_SKIP() << "shared data '" << (relative) << "' not found beside the repository (" << BRDFBAKE_SHARED_DIR \
+               << "); skipping"
 
 /// Result of running a command.
 struct CommandResult {

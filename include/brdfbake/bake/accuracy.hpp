@@ -3,8 +3,8 @@
 /// How close a baked map is to the function it stands for, as a renderer sees it. The measures
 /// and why there are three: docs/accuracy.md.
 
-#include <brdfbake/maps/image.hpp>
 #include <brdfbake/bake/map_function.hpp>
+#include <brdfbake/maps/image.hpp>
 
 #include <functional>
 #include <vector>
@@ -12,8 +12,8 @@
 namespace brdfbake {
 
 struct ErrorOptions {
-  int samples = 20000;    ///< lookup directions per set (uniform, visible sphere, highlight); >= 1
-  unsigned seed = 1;      ///< for the random directions (results are reproducible)
+  int samples = 20000;  ///< lookup directions per set (uniform, visible sphere, highlight); >= 1
+  unsigned seed = 1;    ///< for the random directions (results are reproducible)
   /// Sphere maps: also measure over the directions a renderer looks up for a visible sphere
   /// (reflected vectors of normals uniform over the sphere's screen disc, i.e. uniform over the
   /// map's disc, since the map is equal-area).
@@ -73,7 +73,8 @@ class ErrorProbes {
     double weight = 1.0;  ///< self-normalised importance weight (highlight set), else 1
   };
   // measure(), with lookup(index into directions(visibleSphere), direction).
-  ErrorStats measureAt(const std::function<Rgb(std::size_t, const Vec3&)>& lookup, double rimCos, bool visibleSphere) const;
+  ErrorStats measureAt(const std::function<Rgb(std::size_t, const Vec3&)>& lookup, double rimCos,
+                       bool visibleSphere) const;
 
   std::vector<Probe> uniform_, visible_, highlight_;
 };

@@ -23,7 +23,7 @@ struct MapConfiguration {
   bool radialProfile = false;
   /// Cost: texels x samples per texel (memory and bake time both follow it).
   long long cost() const;
-  long long texels() const;  ///< width x height (N for a profile)
+  long long texels() const;      ///< width x height (N for a profile)
   std::string describe() const;  ///< "sphere 64^2, 4 samples/texel" or "profile 64 texels, 4 samples/texel"
 };
 
@@ -39,8 +39,8 @@ struct AutoOptions {
   /// value-weighted RMS (highlightRms: the highlight is within this fraction of its peak) and the
   /// RMS over the lookups a renderer makes (visibleRms for sphere maps, else rms). docs/accuracy.md.
   double maxError = 0.01;
-  ErrorOptions error;      ///< how errors are measured
-  BakeOptions bake;        ///< threads, limits (samplesPerTexel and progress are overridden)
+  ErrorOptions error;  ///< how errors are measured
+  BakeOptions bake;    ///< threads, limits (samplesPerTexel and progress are overridden)
   /// Called with the fraction of the work done as far as it is known, never decreasing: the
   /// search (estimates) fills the first 30 %, each bake most of what is left.
   std::function<void(double)> progress;
@@ -50,11 +50,11 @@ struct AutoOptions {
 
 struct AutoResult {
   MapConfiguration chosen;
-  double error = 0.0;      ///< its measured error
-  Image image;             ///< the chosen map, baked (a profile: N x 1, RadialProfile::toImage)
+  double error = 0.0;                          ///< its measured error
+  Image image;                                 ///< the chosen map, baked (a profile: N x 1, RadialProfile::toImage)
   std::optional<RadialProfile> radialProfile;  ///< set when a profile was chosen
-  int bakes = 0;           ///< configurations baked in full and measured, the chosen one included
-  int estimated = 0;       ///< configurations whose error was estimated (estimateMapError) without a bake
+  int bakes = 0;                               ///< configurations baked in full and measured, the chosen one included
+  int estimated = 0;  ///< configurations whose error was estimated (estimateMapError) without a bake
   /// The cheaper configurations looked at and their errors (all above maxError), cheapest first:
   /// estimates, and the measured error of any bake that missed.
   std::vector<std::pair<MapConfiguration, double>> rejected;

@@ -4,8 +4,8 @@
 /// above (Heidrich 2000 section 4: a silhouette ring that keeps its width in texels at every level).
 
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/maps/map_mips.hpp>
 #include <brdfbake/brdf/npr.hpp>
+#include <brdfbake/maps/map_mips.hpp>
 
 #include <functional>
 #include <memory>
@@ -27,6 +27,7 @@ std::vector<Image> bakeMipChain(ParameterizationKind kind, int resolution, const
 /// material.ringTexels(resolution) texels wide at every level (until it fills the disc), and a
 /// renderer that picks the level whose texels match its pixels draws silhouettes of about constant
 /// width whatever the curvature.
-std::vector<Image> silhouetteMipChain(const SilhouetteMaterial& material, int resolution, const BakeOptions& options = {});
+std::vector<Image> silhouetteMipChain(const SilhouetteMaterial& material, int resolution,
+                                      const BakeOptions& options = {});
 
 }  // namespace brdfbake

@@ -2,9 +2,9 @@
 /// @file
 /// Integrating a MapFunction over every texel's footprint.
 
+#include <brdfbake/bake/map_function.hpp>
 #include <brdfbake/core/run_options.hpp>
 #include <brdfbake/maps/image.hpp>
-#include <brdfbake/bake/map_function.hpp>
 
 #include <functional>
 #include <string>
@@ -31,11 +31,11 @@ struct BakeSummary {
   /// its disc position instead of the inverse mapping, and the radial path skips runs of texels
   /// a lobe cannot reach; the output is the same to rounding (tests/bake: 2e-6 and 1e-6 of the peak).
   std::string path;
-  int lobes = 0;              ///< tabulated lobes (radial paths)
-  int largestTable = 0;       ///< entries of the largest table
-  double tableError = 0.0;    ///< worst table interpolation error relative to its peak
-  long long samples = 0;      ///< footprint samples evaluated
-  int deltaLobes = 0;         ///< lobes narrower than the sample spacing, deposited as deltas
+  int lobes = 0;            ///< tabulated lobes (radial paths)
+  int largestTable = 0;     ///< entries of the largest table
+  double tableError = 0.0;  ///< worst table interpolation error relative to its peak
+  long long samples = 0;    ///< footprint samples evaluated
+  int deltaLobes = 0;       ///< lobes narrower than the sample spacing, deposited as deltas
   double seconds = 0.0;
 
   std::string briefReport() const;

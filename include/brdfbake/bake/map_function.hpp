@@ -2,8 +2,8 @@
 /// @file
 /// What a map stores, as a function of the map-frame direction.
 
-#include <brdfbake/maps/image.hpp>
 #include <brdfbake/brdf/material.hpp>
+#include <brdfbake/maps/image.hpp>
 
 #include <memory>
 #include <optional>
@@ -41,8 +41,7 @@ struct DirectionalLight {
 class MaterialMapFunction final : public MapFunction {
  public:
   /// Throws Error(InvalidArgument) for zero or non-finite directions.
-  MaterialMapFunction(std::shared_ptr<const Material> material, std::vector<DirectionalLight> lights,
-                      const Vec3& view);
+  MaterialMapFunction(std::shared_ptr<const Material> material, std::vector<DirectionalLight> lights, const Vec3& view);
   Rgb evaluate(const Vec3& direction) const override;
   std::optional<std::vector<RadialLobe>> radialLobes() const override;
   std::optional<std::vector<MicrofacetLobe>> microfacetLobes() const override;

@@ -14,8 +14,8 @@
 
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/maps/image.hpp>
 #include <brdfbake/bake/map_function.hpp>
+#include <brdfbake/maps/image.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -64,7 +64,8 @@ RadialProfile bakeRadialProfile(const MapFunction& function, const Vec3& axis, i
 /// About the view, the rim band measureMapError skips for a sphere map of 2N texels across (the
 /// same radial texel size) is skipped too: there the profile is looked up through sphere-map
 /// coordinates, whose rim is singular.
-ErrorStats measureProfileError(const RadialProfile& profile, const MapFunction& exact, const ErrorOptions& options = {});
+ErrorStats measureProfileError(const RadialProfile& profile, const MapFunction& exact,
+                               const ErrorOptions& options = {});
 /// The same against probes already drawn for the function.
 ErrorStats measureProfileError(const RadialProfile& profile, const ErrorProbes& probes, bool visibleSphere = true);
 /// What measureProfileError reports for bakeRadialProfile(function, axis, resolution,

@@ -15,9 +15,9 @@ namespace brdfbake {
 
 /// How a Blinn-Phong map meant to match a Phong one chooses its exponent.
 enum class BlinnConversion {
-  Exact,     ///< n' = n ratio(N.H) per texel: matches Phong exactly in the plane of incidence
-  FourN,     ///< the classic constant n' = 4 n (the ratio's limit at N.H = 1)
-  Fit,       ///< the constant n' minimising the L2 difference of the lobes (blinnFitExponent)
+  Exact,  ///< n' = n ratio(N.H) per texel: matches Phong exactly in the plane of incidence
+  FourN,  ///< the classic constant n' = 4 n (the ratio's limit at N.H = 1)
+  Fit,    ///< the constant n' minimising the L2 difference of the lobes (blinnFitExponent)
 };
 
 std::string_view toString(BlinnConversion policy);

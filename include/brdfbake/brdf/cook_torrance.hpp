@@ -1,7 +1,7 @@
 #pragma once
 /// @file
-/// Cook-Torrance (Cook & Torrance 1981; Zimmons & Bastos 1999 section 7), as a lighting model and as Zimmons & Bastos 1999's
-/// sphere-map reflectance model. docs/materials.md explains the choices made here.
+/// Cook-Torrance (Cook & Torrance 1981; Zimmons & Bastos 1999 section 7), as a lighting model and as Zimmons & Bastos
+/// 1999's sphere-map reflectance model. docs/materials.md explains the choices made here.
 ///
 /// Conventions: all vectors are unit vectors pointing away from the surface (n normal, v towards the
 /// viewer, l towards the light, h = normalize(l + v)); the dot products below are cosines:

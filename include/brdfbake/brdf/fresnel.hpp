@@ -56,8 +56,8 @@ T fresnelDielectric(const T& cosTheta, const T& eta) {
   const T g2 = eta * eta + c * c - T(1);
   if (!(g2 > T(0))) return T(1);
   const T g = sqrt(g2);
-  const T a = (g - c) / (g + c);                                   // g + c > 0 here
-  const T b = (c * (g + c) - T(1)) / (c * (g - c) + T(1));         // c (g - c) + 1 = c g + 1 - c^2 > 0
+  const T a = (g - c) / (g + c);                            // g + c > 0 here
+  const T b = (c * (g + c) - T(1)) / (c * (g - c) + T(1));  // c (g - c) + 1 = c g + 1 - c^2 > 0
   return T(0.5) * a * a * (T(1) + b * b);
 }
 

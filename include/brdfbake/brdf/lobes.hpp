@@ -185,7 +185,8 @@ struct LobeGeometry {
 template <class T>
 T halfVectorLobe(const T& weight, const T& fresnelWeight, const T& exponent, const LobeGeometry& g) {
   if (!(g.lightZ > 0.0) || !(g.viewZ > 0.0)) return T(0.0);
-  return normalizedLobe(weight + fresnelWeight * T(g.schlick()), exponent, g.cosHalf()) * T(0.25 / (g.lightZ * g.viewZ));
+  return normalizedLobe(weight + fresnelWeight * T(g.schlick()), exponent, g.cosHalf()) *
+         T(0.25 / (g.lightZ * g.viewZ));
 }
 
 /// diffuse / pi plus the lobes of the given weights and exponents (already evaluated at the

@@ -67,7 +67,7 @@ class ColorGradient {
 
  private:
   struct Piece {
-    double a, b;  // interval, may be infinite
+    double a, b;      // interval, may be infinite
     Rgb alpha, beta;  // g(t) = alpha + beta t on [a, b]
   };
   std::vector<ColorStop> stops_;
@@ -122,8 +122,8 @@ struct GoochParams {
   Rgb cool{0.10, 0.20, 0.75};  ///< the shadowed side
   Rgb warm{0.95, 0.80, 0.25};  ///< the side facing the light
   Rgb highlight = Rgb::Ones();
-  double highlightSize = 10.0;  ///< angular radius (degrees) of the highlight disc about h; 0 = none
-  double blur = 20.0;           ///< Gaussian blur in angle (degrees) of both edges; 0 = hard edges
+  double highlightSize = 10.0;         ///< angular radius (degrees) of the highlight disc about h; 0 = none
+  double blur = 20.0;                  ///< Gaussian blur in angle (degrees) of both edges; 0 = hard edges
   Vec3 lightDirection{1.0, 1.0, 1.0};  ///< towards the light, map frame (normalised on construction)
 };
 

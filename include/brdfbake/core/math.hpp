@@ -33,9 +33,7 @@ Vec3T<T> reflect(const Vec3T<T>& v, const Vec3T<T>& n) {
 }
 
 /// Clamp to [lo, hi]; unlike std::clamp it also maps NaN to lo.
-inline double clampFinite(double x, double lo, double hi) {
-  return x >= lo ? (x <= hi ? x : hi) : lo;
-}
+inline double clampFinite(double x, double lo, double hi) { return x >= lo ? (x <= hi ? x : hi) : lo; }
 
 /// A unit vector perpendicular to the unit vector `a` (deterministic, branch-free of NaN).
 inline Vec3 anyPerpendicular(const Vec3& a) {

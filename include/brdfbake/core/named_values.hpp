@@ -21,7 +21,8 @@ Enum parseByName(std::string_view name, const std::array<Enum, N>& values, std::
     accepted += (accepted.empty() ? "" : ", ") + std::string(toString(value));
   }
   const std::string shown = name.size() > 40 ? std::string(name.substr(0, 40)) + "..." : std::string(name);
-  throw Error(Error::Kind::InvalidArgument, std::string(what) + " must be one of " + accepted + "; got \"" + shown + "\"");
+  throw Error(Error::Kind::InvalidArgument,
+              std::string(what) + " must be one of " + accepted + "; got \"" + shown + "\"");
 }
 
 }  // namespace brdfbake

@@ -16,12 +16,12 @@
 /// Errors are the per-point relative error |a - r| / max(|r|, floor) (prefilterErrorFloor) as a
 /// weighted RMS and a maximum.
 
+#include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/env/environment.hpp>
-#include <brdfbake/maps/image.hpp>
-#include <brdfbake/maps/parameterization.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/env/prefilter_lobe.hpp>
-#include <brdfbake/brdf/lobes.hpp>
+#include <brdfbake/maps/image.hpp>
+#include <brdfbake/maps/parameterization.hpp>
 
 #include <array>
 #include <utility>
@@ -54,7 +54,8 @@ PrefilterCheckPoints prefilterLookupSet(const Parameterization& map, const Prefi
                                         const PrefilterOptions& options, int count, unsigned seed);
 
 /// The map's RGB at the points: the texels, or bilinear lookups at the directions.
-std::vector<Rgb> prefilterValuesAt(const Image& level0, const Parameterization& map, const PrefilterCheckPoints& points);
+std::vector<Rgb> prefilterValuesAt(const Image& level0, const Parameterization& map,
+                                   const PrefilterCheckPoints& points);
 
 /// Weighted RMS and maximum of the relative error of `values` against `reference` (same length as
 /// `weights`): |v - r| / max(|r|, floor), |.| the RGB norm.

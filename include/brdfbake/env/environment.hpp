@@ -3,8 +3,8 @@
 /// Environments: incoming radiance L(l) stored as an image in one of the four parameterizations,
 /// read from EXR/HDR files or generated (furnace, sky with sun, coloured cube) for tests.
 
-#include <brdfbake/maps/image.hpp>
 #include <brdfbake/bake/map_function.hpp>
+#include <brdfbake/maps/image.hpp>
 #include <brdfbake/maps/parameterization.hpp>
 
 #include <filesystem>

@@ -34,12 +34,12 @@
 /// unbiased solid-angle RMS. The probes are read in four batches; an estimate stops once it lies
 /// more than two standard errors above the bound, or below it after at least half the probes.
 
+#include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/core/run_options.hpp>
 #include <brdfbake/env/environment.hpp>
+#include <brdfbake/env/prefilter_lobe.hpp>
 #include <brdfbake/maps/image.hpp>
 #include <brdfbake/maps/map_file.hpp>
-#include <brdfbake/env/prefilter_lobe.hpp>
-#include <brdfbake/brdf/lobes.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -107,31 +107,31 @@ struct PrefilterOptions : RunOptions {
 /// One configuration tried (auto) or used.
 struct PrefilterCandidate {
   PrefilterMethod method = PrefilterMethod::Auto;
-  std::string detail;             ///< e.g. "order 24", "256 samples", "level 2 (q = 4), tail 1e-05, grid 64"
-  double predictedSeconds = 0.0;  ///< from the cost model, for ordering
-  double seconds = 0.0;           ///< setup (and grid) time actually spent
-  double errorEstimate = -1.0;    ///< RMS relative error on the probes (-1: not estimated)
-  double errorEstimateMax = -1.0; ///< largest probe error
-  int probes = 0;                 ///< probes the estimate read (it stops once clearly above or below the bound)
+  std::string detail;              ///< e.g. "order 24", "256 samples", "level 2 (q = 4), tail 1e-05, grid 64"
+  double predictedSeconds = 0.0;   ///< from the cost model, for ordering
+  double seconds = 0.0;            ///< setup (and grid) time actually spent
+  double errorEstimate = -1.0;     ///< RMS relative error on the probes (-1: not estimated)
+  double errorEstimateMax = -1.0;  ///< largest probe error
+  int probes = 0;                  ///< probes the estimate read (it stops once clearly above or below the bound)
   bool chosen = false;
 };
 
 struct PrefilterSummary {
   PrefilterMethod method = PrefilterMethod::Auto;  ///< the method that made the map
   std::string detail;
-  std::string lobe;                ///< canonical lobe name
-  double maxError = 0.0;           ///< the bound it was built to
-  double errorEstimate = 0.0;      ///< RMS relative error estimate (0 when not estimated)
-  double errorEstimateMax = 0.0;   ///< largest probe error
-  bool errorEstimated = false;     ///< an estimate was made (never for reference and mirror, nor with estimation off)
-  bool exact = false;              ///< every part was made by the reference sum or mirror resampling
+  std::string lobe;               ///< canonical lobe name
+  double maxError = 0.0;          ///< the bound it was built to
+  double errorEstimate = 0.0;     ///< RMS relative error estimate (0 when not estimated)
+  double errorEstimateMax = 0.0;  ///< largest probe error
+  bool errorEstimated = false;    ///< an estimate was made (never for reference and mirror, nor with estimation off)
+  bool exact = false;             ///< every part was made by the reference sum or mirror resampling
   /// Known to meet the bound: exact, or estimated within maxError. False when the error is unknown
   /// (a fast method with estimation off): neither exact nor errorEstimated.
   bool metTarget = false;
   int levels = 1;
-  double seconds = 0.0;            ///< everything: setup, selection, probes, output, mips
-  double estimateSeconds = 0.0;    ///< probes and their reference
-  double outputSeconds = 0.0;      ///< evaluating the output texels with the chosen method
+  double seconds = 0.0;          ///< everything: setup, selection, probes, output, mips
+  double estimateSeconds = 0.0;  ///< probes and their reference
+  double outputSeconds = 0.0;    ///< evaluating the output texels with the chosen method
   double mipSeconds = 0.0;
   std::vector<PrefilterCandidate> candidates;
   std::vector<std::string> notes;
@@ -156,7 +156,8 @@ struct PrefilteredMap {
 
 /// Prefilters `environment` with `lobe`. Throws Error(InvalidArgument) for bad options,
 /// Error(Resource) above maxTexels, Error(Numerical) if a value comes out non-finite.
-PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lobe, const PrefilterOptions& options = {});
+PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lobe,
+                         const PrefilterOptions& options = {});
 
 /// Prefilters with a fitted lobe model (brdf/lobes.hpp, `brdfbake fit`) in its prefiltered form
 /// (Kautz & McCool; LobeMaterialMode::Prefiltered): per channel c,
@@ -190,8 +191,7 @@ struct PrefilterError {
 };
 /// Error of `result` against `reference` (both level-0 images of `map`) over the texels of
 /// non-zero solid angle, weighted by texelSolidAngle.
-PrefilterError prefilterError(const Image& result, const Image& reference, const Parameterization& map,
-                              double floor);
+PrefilterError prefilterError(const Image& result, const Image& reference, const Parameterization& map, double floor);
 
 /// Writes every level: level 0 at `path`, level k at mipLevelPath(path, k), each a map
 /// (writeMap) whose MapInfo::spec is `spec` plus "prefilter": {lobe, method, detail, max_error,

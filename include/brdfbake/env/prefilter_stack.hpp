@@ -17,9 +17,9 @@
 ///   renderer combines them as L = F L_m + k_d E / pi ("add") or F L_m + (1 - F) k_d E / pi ("mix"),
 ///   with F = F(n.v) and k_d its diffuse albedo (combineFresnelDecomposition).
 
-#include <brdfbake/maps/map_file.hpp>
-#include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/brdf/fresnel.hpp>
+#include <brdfbake/env/prefilter.hpp>
+#include <brdfbake/maps/map_file.hpp>
 
 #include <filesystem>
 #include <string>
@@ -43,8 +43,8 @@ struct PrefilteredStack {
 /// Prefilters a Varying lobe model into options.elevations slices (see @file), each to `options`
 /// (method, bound, mips). Throws Error(InvalidArgument) for a Constant model (one map suffices:
 /// prefilterLobeModel) and everything prefilterLobeModel throws.
-PrefilteredStack prefilterLobeModelStack(const Environment& environment, const LobeModel& model, const std::string& name,
-                                         const PrefilterOptions& options = {});
+PrefilteredStack prefilterLobeModelStack(const Environment& environment, const LobeModel& model,
+                                         const std::string& name, const PrefilterOptions& options = {});
 
 /// STEM_elevJ.EXT beside `path`: where slice j of a stack is written.
 std::filesystem::path elevationSlicePath(const std::filesystem::path& path, int slice);
@@ -52,9 +52,9 @@ std::filesystem::path elevationSlicePath(const std::filesystem::path& path, int 
 /// Writes slice j with writePrefilteredMap at elevationSlicePath(path, j) (its mip levels, if any,
 /// at STEM_elevJ_mipL.EXT); nothing is written at `path` itself. Each slice's "prefilter" metadata
 /// has "elevation": {slice, slices, cos_theta, t, min_cos, max_cos, interpolation}.
-MapWriteReport writePrefilteredStack(const PrefilteredStack& stack, const std::filesystem::path& path, nlohmann::json spec,
-                                     CubeLayout layout = CubeLayout::Cross, const WriteOptions& options = {},
-                                     MipLayout mipLayout = MipLayout::Files);
+MapWriteReport writePrefilteredStack(const PrefilteredStack& stack, const std::filesystem::path& path,
+                                     nlohmann::json spec, CubeLayout layout = CubeLayout::Cross,
+                                     const WriteOptions& options = {}, MipLayout mipLayout = MipLayout::Files);
 
 /// The three outputs of a Fresnel decomposition (see @file).
 struct FresnelDecomposition {
@@ -100,12 +100,12 @@ PrefilteredMap prefilterGlossChain(const Environment& environment, const std::ve
 struct PrefilterOutputs {
   ParameterizationKind parameterization = ParameterizationKind::Sphere;
   int resolution = 256;
-  bool mips = false;                      ///< every mip level as STEM_mipK.EXT
+  bool mips = false;  ///< every mip level as STEM_mipK.EXT
   CubeLayout layout = CubeLayout::Cross;
   MipLayout mipLayout = MipLayout::Files;  ///< Tiled: the mip levels inside each map's file
-  int mipLevels = 0;                      ///< with mips: the levels written (a gloss chain's count), 0 = all
-  int elevationSlices = 0;                ///< a stack over elevation (STEM_elevJ.EXT), or 0
-  bool fresnel = false;                   ///< a Fresnel decomposition (irradiance map and Fresnel table too)
+  int mipLevels = 0;                       ///< with mips: the levels written (a gloss chain's count), 0 = all
+  int elevationSlices = 0;                 ///< a stack over elevation (STEM_elevJ.EXT), or 0
+  bool fresnel = false;                    ///< a Fresnel decomposition (irradiance map and Fresnel table too)
 };
 
 /// Every file writePrefilteredMap, writePrefilteredStack or writeFresnelDecomposition writes or

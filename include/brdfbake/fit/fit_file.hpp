@@ -40,10 +40,10 @@ inline constexpr const char* kFitFileFormat = "brdfbake.lobe_fit";
 
 /// Where the fitted data came from.
 struct FitSource {
-  std::string file;     ///< the table as given on the command line ("" if in memory)
-  std::string format;   ///< "astm", "pbrt", "merl", "mat", "synthetic", ...
+  std::string file;    ///< the table as given on the command line ("" if in memory)
+  std::string format;  ///< "astm", "pbrt", "merl", "mat", "synthetic", ...
   std::size_t samples = 0;
-  std::string channels; ///< how the fitted channels were made, e.g. "rgb: CIE 1931 from 31 spectral channels"
+  std::string channels;  ///< how the fitted channels were made, e.g. "rgb: CIE 1931 from 31 spectral channels"
   std::vector<std::string> notes;  ///< the table's notes
 };
 
@@ -52,8 +52,8 @@ struct FitFile {
   /// The model and statistics. Read back: `fit.channels` is empty when the file has no "stats",
   /// `fit.candidates` when it has no "fit"; `fit.options` holds what "fit" says (defaults without).
   FitResult fit;
-  bool hasSource = true;  ///< false when read from a file without "source"
-  bool hasFitInfo = true; ///< false when read from a file without "fit"
+  bool hasSource = true;   ///< false when read from a file without "source"
+  bool hasFitInfo = true;  ///< false when read from a file without "fit"
 };
 
 /// One line describing the model formula for `elevation` (the file's model.description).

@@ -13,8 +13,9 @@ namespace brdfbake {
 /// The gnuplot executable, or std::nullopt when there is none.
 std::optional<std::filesystem::path> findGnuplot();
 
-/// Runs gnuplot on `script`, written to a scratch file (removed afterwards, and on an interrupt). Throws Error(InvalidArgument) "gnuplot not
-/// found ..." when there is none, Error(Io) with gnuplot's own messages when it fails.
+/// Runs gnuplot on `script`, written to a scratch file (removed afterwards, and on an interrupt). Throws
+/// Error(InvalidArgument) "gnuplot not found ..." when there is none, Error(Io) with gnuplot's own messages when it
+/// fails.
 void runGnuplot(const std::string& script);
 
 /// `text` quoted for a gnuplot string literal (single quotes, quotes doubled).

@@ -48,11 +48,11 @@ struct HeldOutOptions {
 
 /// One split's pooled error.
 struct HeldOutSplit {
-  std::string name;            ///< "off-mirror 5-fold", "theta_i 30 deg"
-  double elevationDegrees = 0; ///< the held-out theta_i; 0 for the k-fold split
-  std::size_t heldRows = 0;    ///< held-out rows (each counted once, over every channel)
-  double error = 0.0;          ///< E of the fitted models on the held-out rows
-  double lambertError = 0.0;   ///< E of the Lambertian fits on the same rows
+  std::string name;             ///< "off-mirror 5-fold", "theta_i 30 deg"
+  double elevationDegrees = 0;  ///< the held-out theta_i; 0 for the k-fold split
+  std::size_t heldRows = 0;     ///< held-out rows (each counted once, over every channel)
+  double error = 0.0;           ///< E of the fitted models on the held-out rows
+  double lambertError = 0.0;    ///< E of the Lambertian fits on the same rows
   /// error / lambertError, both offset by 1e-9 so that a table Lambert fits exactly (a constant
   /// BRDF) gives a finite ratio, 1 when both vanish.
   double ratio() const { return (error + 1e-9) / (lambertError + 1e-9); }
@@ -95,7 +95,8 @@ LogErrorSum cosineLogError(const LobeModel& model, const MeasuredTable& table, c
 /// ln(1 + cos theta_i max(f_i, 0)))^2 over `rows` (safeguarded Newton on [0, max f]).
 std::vector<double> lambertianFit(const MeasuredTable& table, const std::vector<std::size_t>& rows);
 /// E of the Lambertian constants `k` on `rows`.
-LogErrorSum lambertianLogError(const std::vector<double>& k, const MeasuredTable& table, const std::vector<std::size_t>& rows);
+LogErrorSum lambertianLogError(const std::vector<double>& k, const MeasuredTable& table,
+                               const std::vector<std::size_t>& rows);
 
 /// The splits of one table (see @file), made once with their training tables and Lambertian
 /// baselines, so that every candidate model of a search is scored on the same splits for the
@@ -128,6 +129,7 @@ class HeldOutSplits {
 };
 
 /// HeldOutSplits(table, options).estimate(fit) for a fit that ignores the split index.
-HeldOutReport estimateHeldOutError(const MeasuredTable& table, const TableFitter& fit, const HeldOutOptions& options = {});
+HeldOutReport estimateHeldOutError(const MeasuredTable& table, const TableFitter& fit,
+                                   const HeldOutOptions& options = {});
 
 }  // namespace brdfbake

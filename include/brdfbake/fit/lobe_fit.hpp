@@ -54,18 +54,20 @@ enum class FitMethod {
   Shared,      ///< lobe shapes shared by every channel, weights by non-negative least squares
   PerChannel,  ///< every channel on its own with Ceres (cube-root residual, robust loss)
 };
-/// "shared", "per_channel"; parse throws Error(InvalidArgument) listing the accepted names for others (core/named_values.hpp).
+/// "shared", "per_channel"; parse throws Error(InvalidArgument) listing the accepted names for others
+/// (core/named_values.hpp).
 std::string_view toString(FitMethod method);
 FitMethod parseFitMethod(std::string_view name);
 
 /// Which lobes FitMethod::Shared fits.
 enum class LobeKindChoice {
-  Auto,       ///< mirror or Lafortune, by held-out error
-  Mirror,     ///< Phong lobes about the mirrored view (c_xy = -1)
-  Lafortune,  ///< Lafortune lobes, c_xy free per lobe (brdf/lobes.hpp)
-  HalfVector, ///< half-vector lobes with a Fresnel weight (halfVectorLobe), or Lafortune ones where they fit better
+  Auto,        ///< mirror or Lafortune, by held-out error
+  Mirror,      ///< Phong lobes about the mirrored view (c_xy = -1)
+  Lafortune,   ///< Lafortune lobes, c_xy free per lobe (brdf/lobes.hpp)
+  HalfVector,  ///< half-vector lobes with a Fresnel weight (halfVectorLobe), or Lafortune ones where they fit better
 };
-/// "auto", "mirror", "lafortune", "half_vector"; parse throws Error(InvalidArgument) listing the accepted names for others (core/named_values.hpp).
+/// "auto", "mirror", "lafortune", "half_vector"; parse throws Error(InvalidArgument) listing the accepted names for
+/// others (core/named_values.hpp).
 std::string_view toString(LobeKindChoice kind);
 LobeKindChoice parseLobeKindChoice(std::string_view name);
 
@@ -75,7 +77,8 @@ enum class ElevationChoice {
   Constant,  ///< LobeElevation::Constant
   Varying,   ///< LobeElevation::Varying
 };
-/// "auto", "constant", "varying"; parse throws Error(InvalidArgument) listing the accepted names for others (core/named_values.hpp).
+/// "auto", "constant", "varying"; parse throws Error(InvalidArgument) listing the accepted names for others
+/// (core/named_values.hpp).
 std::string_view toString(ElevationChoice choice);
 ElevationChoice parseElevationChoice(std::string_view name);
 
@@ -136,7 +139,7 @@ struct SolverReport {
   std::string termination;  ///< "CONVERGENCE", "NO_CONVERGENCE" (iteration limit), "FAILURE", ...
   bool usable = false;      ///< Summary::IsSolutionUsable() and every parameter finite
   int iterations = 0;
-  double seconds = 0.0;     ///< Ceres' total time
+  double seconds = 0.0;  ///< Ceres' total time
   double initialCost = 0.0, finalCost = 0.0;
   std::string briefReport;  ///< Summary::BriefReport()
 };
@@ -170,13 +173,13 @@ struct ModelCandidate {
   int lobes = 0;
   LobeElevation elevation = LobeElevation::Constant;
   LobeKindChoice kind = LobeKindChoice::Mirror;  ///< Mirror, Lafortune or HalfVector
-  int parameters = 0;       ///< free parameters of the model, all channels
-  double inSampleError = 0.0;  ///< E of fit/held_out.hpp on every row of the table, fitted on all of them
-  double heldOutScore = 0.0;   ///< HeldOutReport::score
-  double kfoldRatio = 0.0;     ///< off-mirror k-fold error / Lambert
-  double elevationRatio = 0.0; ///< pooled leave-one-elevation-out error / Lambert
-  double seconds = 0.0;        ///< wall time of the held-out estimate (every split's fit)
-  double maxExponent = 0.0;    ///< the exponent cap of the shared method (0: not recorded)
+  int parameters = 0;                            ///< free parameters of the model, all channels
+  double inSampleError = 0.0;   ///< E of fit/held_out.hpp on every row of the table, fitted on all of them
+  double heldOutScore = 0.0;    ///< HeldOutReport::score
+  double kfoldRatio = 0.0;      ///< off-mirror k-fold error / Lambert
+  double elevationRatio = 0.0;  ///< pooled leave-one-elevation-out error / Lambert
+  double seconds = 0.0;         ///< wall time of the held-out estimate (every split's fit)
+  double maxExponent = 0.0;     ///< the exponent cap of the shared method (0: not recorded)
   bool chosen = false;
 };
 
@@ -188,8 +191,8 @@ struct FitResult {
   std::optional<HeldOutReport> heldOut;
   /// E of fit/held_out.hpp over every row of the table (in-sample).
   double inSampleError = 0.0;
-  FitOptions options;                      ///< as requested (progress dropped)
-  double seconds = 0.0;                    ///< wall time of the whole fit
+  FitOptions options;    ///< as requested (progress dropped)
+  double seconds = 0.0;  ///< wall time of the whole fit
 
   /// True when every channel's final solve is usable.
   bool usable() const;

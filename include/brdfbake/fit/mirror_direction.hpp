@@ -1,8 +1,8 @@
 #pragma once
 /// @file
-/// Zimmons & Bastos 1999's measured reflectance map (Zimmons & Bastos 1999 section 8): for each incident angle the BRDF in
-/// the mirror direction, as a table over theta, baked as a radially symmetric sphere map. Two
-/// ways to get the mirror value (docs/fitting.md, "The mirror-direction table"):
+/// Zimmons & Bastos 1999's measured reflectance map (Zimmons & Bastos 1999 section 8): for each incident angle the BRDF
+/// in the mirror direction, as a table over theta, baked as a radially symmetric sphere map. Two ways to get the mirror
+/// value (docs/fitting.md, "The mirror-direction table"):
 ///
 /// - `strongestNearMirrorTable`, Zimmons & Bastos 1999's: for each incident angle and channel, the strongest
 ///   sample within `window` of the exact mirror direction (Zimmons & Bastos 1999 "pieced together the strongest
@@ -29,13 +29,13 @@ namespace brdfbake {
 
 /// A per-channel table of the mirror-direction BRDF (1/sr) over the incident angle theta.
 struct MirrorDirectionTable {
-  std::vector<double> thetas;               ///< radians, strictly increasing
-  Eigen::MatrixXd values;                   ///< thetas.size() x channels, 1/sr
+  std::vector<double> thetas;  ///< radians, strictly increasing
+  Eigen::MatrixXd values;      ///< thetas.size() x channels, 1/sr
   /// Angle (radians) between the sample used and the exact mirror direction, per theta and
   /// channel (0 for fitted tables).
   Eigen::MatrixXd offsets;
   std::vector<std::string> channelNames;
-  std::vector<double> wavelengthsNm;        ///< spectral tables; else empty
+  std::vector<double> wavelengthsNm;  ///< spectral tables; else empty
 
   std::size_t channelCount() const { return static_cast<std::size_t>(values.cols()); }
   /// The table at `theta` (radians), interpolated as in @file.

@@ -2,8 +2,8 @@
 /// @file
 /// In-memory float RGBA images (row 0 is the top row) and the metadata every map carries.
 
-#include <brdfbake/maps/parameterization.hpp>
 #include <brdfbake/core/color.hpp>
+#include <brdfbake/maps/parameterization.hpp>
 
 #include <nlohmann/json.hpp>
 

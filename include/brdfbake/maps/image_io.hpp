@@ -64,5 +64,4 @@ WriteReport writeTiledMipChain(const std::vector<Image>& levels, const nlohmann:
 /// value. Zero and negative values are accepted (negative radiance is kept as stored).
 void requireFinite(const Image& image, const std::string& label);
 
-
 }  // namespace brdfbake

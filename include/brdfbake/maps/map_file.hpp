@@ -2,9 +2,9 @@
 /// @file
 /// Maps on disk: an image plus the MapInfo that says how to read it.
 
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/maps/image.hpp>
 #include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/core/files.hpp>
 
 #include <filesystem>
 #include <memory>

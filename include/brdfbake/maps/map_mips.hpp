@@ -24,13 +24,11 @@ int mipResolution(int resolution, int level);
 /// Levels from `resolution` down to 1 texel: floor(log2(resolution)) + 1.
 int mipLevelCount(int resolution);
 
-
 /// The weight (sr) a texel gets when averaged into the next level: its exact solid angle
 /// (texelSolidAngle), except for paraboloid maps, whose texels stand for their whole square
 /// under the stereographic density 4 / (1 + x^2 + y^2)^2 continued outside the circle (the border
 /// that replicates the other hemisphere). Sphere-map texels outside the disc weigh 0.
 double mipTexelWeight(const Parameterization& map, int x, int y);
-
 
 /// Level k+1 from level k (of `map`): each coarse texel is the weighted mean (mipTexelWeight) of
 /// the fine texels whose centres fall inside it, region by region (2 x 2 for even sizes); texels

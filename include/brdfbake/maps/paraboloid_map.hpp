@@ -39,8 +39,7 @@ class ParaboloidMap final : public Parameterization {
   /// eye-to-map rotation (M_l^-1 in Heidrich 2000). With `atlas` the matrix targets this class's
   /// 2N x N image instead (s scaled into the left or right half; t still upwards as in OpenGL, so
   /// a renderer that uploads row 0 first flips t).
-  static Mat4 textureMatrix(Hemisphere hemisphere, const Mat3& eyeToMap = Mat3::Identity(),
-                            bool atlas = false);
+  static Mat4 textureMatrix(Hemisphere hemisphere, const Mat3& eyeToMap = Mat3::Identity(), bool atlas = false);
 };
 
 }  // namespace brdfbake

@@ -23,8 +23,8 @@ class RadialTable {
   /// A read-only view for hot loops: plain pointer and bounds held in registers.
   struct View {
     const float* values;
-    double scale;             // intervals
-    long lastInterval;        // intervals - 1
+    double scale;       // intervals
+    long lastInterval;  // intervals - 1
     double operator()(double u) const {
       const double f = std::min(std::max(u, 0.0), 1.0) * scale;
       const long i = std::min(static_cast<long>(f), lastInterval);

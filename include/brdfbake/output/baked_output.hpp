@@ -3,25 +3,26 @@
 /// Every output of `brdfbake bake` and `brdfbake prefilter`, opened for lookups the way a renderer
 /// makes them. `brdfbake sample`, `info`, `convert` and `preview` all read files through this.
 ///
-/// | kind              | files                                                   | a renderer looks it up                                  |
+/// | kind              | files                                                   | a renderer looks it up |
 /// |-------------------|---------------------------------------------------------|---------------------------------------------------------|
-/// | Map               | one map (sphere, paraboloid, cube cross, lat-long); a   | bilinear at the direction (sampleBilinear)              |
-/// |                   | cube's six faces; one mip level (STEM_mipK.EXT or a     |                                                         |
-/// |                   | level of a tiled MIP-mapped file)                       |                                                         |
-/// | RadialProfile     | N x 1, metadata "parameterization": "profile"           | linear in u = |d - axis| / 2 (radial_profile.hpp)       |
-/// | ElevationStack    | STEM_elev0.EXT ... STEM_elev{K-1}.EXT (open STEM.EXT)   | each slice bilinear at d, then linear in the model's    |
-/// |                   |                                                         | elevation coordinate t(n.v) (prefilter_stack.hpp)       |
-/// | FresnelTable    | N x 1, "parameterization": "fresnel_table"            | linear in cos theta = n.v, texel i at (i + 0.5) / N     |
-/// | ShIrradiance      | JSON of spherical-harmonic coefficients (sh_irradiance) | Σ_i c_i Y_i(n) at the normal                            |
+/// | Map               | one map (sphere, paraboloid, cube cross, lat-long); a   | bilinear at the direction
+/// (sampleBilinear)              | |                   | cube's six faces; one mip level (STEM_mipK.EXT or a     | | |
+/// | level of a tiled MIP-mapped file)                       | | | RadialProfile     | N x 1, metadata
+/// "parameterization": "profile"           | linear in u = |d - axis| / 2 (radial_profile.hpp)       | | ElevationStack
+/// | STEM_elev0.EXT ... STEM_elev{K-1}.EXT (open STEM.EXT)   | each slice bilinear at d, then linear in the model's |
+/// |                   |                                                         | elevation coordinate t(n.v)
+/// (prefilter_stack.hpp)       | | FresnelTable    | N x 1, "parameterization": "fresnel_table"            | linear in
+/// cos theta = n.v, texel i at (i + 0.5) / N     | | ShIrradiance      | JSON of spherical-harmonic coefficients
+/// (sh_irradiance) | Σ_i c_i Y_i(n) at the normal                            |
 ///
 /// The lookup direction is the one the map is indexed by, in the map's frame: the reflected
 /// direction r for most maps, the normal n for irradiance (prefiltered irradiance maps other than
 /// sphere maps, which hold E at r for their one view, and SH irradiance). n.v ("cos_view") is the
 /// cosine between the surface normal and the direction towards the viewer.
 
-#include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/bake/map_function.hpp>
 #include <brdfbake/bake/radial_profile.hpp>
+#include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/maps/sh.hpp>
 
 #include <nlohmann/json.hpp>
@@ -95,11 +96,11 @@ class BakedOutput {
   OutputKind kind_ = OutputKind::Map;
   std::vector<std::filesystem::path> files_;
   nlohmann::json metadata_;
-  std::vector<MapFile> maps_;                 // Map: one; ElevationStack: the slices in order
+  std::vector<MapFile> maps_;  // Map: one; ElevationStack: the slices in order
   std::optional<RadialProfile> radial_;
   std::vector<Rgb> fresnel_;
   std::optional<ShExpansion> sh_;
-  double minCos_ = 1.0, maxCos_ = 1.0;        // ElevationStack
+  double minCos_ = 1.0, maxCos_ = 1.0;  // ElevationStack
   bool indexedByNormal_ = false, eyeSpace_ = false;
 };
 

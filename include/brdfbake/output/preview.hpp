@@ -29,14 +29,14 @@ Mesh makePreviewMesh(PreviewObject object, int segments);
 
 struct PreviewOptions {
   PreviewObject object = PreviewObject::Sphere;
-  int size = 512;                 ///< output is size x size pixels
-  Vec3 view = Vec3::UnitZ();      ///< towards the viewer, in the map frame (sphere maps: +z only)
+  int size = 512;             ///< output is size x size pixels
+  Vec3 view = Vec3::UnitZ();  ///< towards the viewer, in the map frame (sphere maps: +z only)
   /// Per-vertex mode: texture coordinates (sphere maps) or reflected vectors (other maps) are
   /// computed at the vertices and interpolated linearly across each triangle, as fixed-function
   /// hardware did; otherwise the normal is interpolated and the map looked up exactly per pixel.
   bool perVertex = false;
-  int segments = 64;              ///< tessellation (per-vertex artefacts grow as it drops)
-  double exposure = 0.0;          ///< values are scaled by 2^exposure
+  int segments = 64;      ///< tessellation (per-vertex artefacts grow as it drops)
+  double exposure = 0.0;  ///< values are scaled by 2^exposure
   Rgb background = Rgb(0.18, 0.18, 0.2);
 
   void validate() const;

@@ -6,9 +6,9 @@
 #include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/brdf/material.hpp>
 #include <brdfbake/core/files.hpp>
+#include <brdfbake/core/json_reader.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 #include <brdfbake/measured/measured_table.hpp>
-#include <brdfbake/core/json_reader.hpp>
 
 #include <filesystem>
 #include <functional>

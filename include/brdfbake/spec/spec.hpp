@@ -2,14 +2,14 @@
 /// @file
 /// Bake specs: the JSON files `brdfbake bake` reads. See docs/spec.md for the format.
 
-#include <brdfbake/bake/baker.hpp>
 #include <brdfbake/bake/auto_config.hpp>
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/bake/baker.hpp>
 #include <brdfbake/bake/map_function.hpp>
-#include <brdfbake/maps/parameterization.hpp>
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/env/prefilter_stack.hpp>
-#include <brdfbake/core/files.hpp>
+#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/maps/parameterization.hpp>
 #include <brdfbake/spec/material_spec.hpp>
 
 #include <nlohmann/json.hpp>
@@ -27,18 +27,18 @@ namespace brdfbake {
 /// (docs/prefilter.md): the map's parameterization, resolution, samples_per_texel (mirror lobe)
 /// and layout apply as for any map.
 struct EnvironmentMapSpec {
-  std::filesystem::path file;                    ///< "file", resolved against the spec's folder
-  std::string lobeName;                          ///< "lobe" as written: "phong:100", "lobes:FIT.json", ...
+  std::filesystem::path file;  ///< "file", resolved against the spec's folder
+  std::string lobeName;        ///< "lobe" as written: "phong:100", "lobes:FIT.json", ...
   /// The lobe, parsed: an analytic lobe (PrefilterLobe::parse) or the fitted model read from
   /// "lobes:FIT.json".
   std::variant<PrefilterLobe, std::shared_ptr<const LobeModel>> lobe = PrefilterLobe::mirror();
   PrefilterMethod method = PrefilterMethod::Auto;  ///< "method" (default "auto")
-  double maxError = 0.01;                        ///< "max_error" (default 0.01)
-  bool mips = false;                             ///< "mips": also write STEM_mipK.EXT
+  double maxError = 0.01;                          ///< "max_error" (default 0.01)
+  bool mips = false;                               ///< "mips": also write STEM_mipK.EXT
   /// "mip_layout": "files" (default: STEM_mipK.EXT) | "tiled" (the chain inside OUTPUT, one tiled
   /// MIP-mapped OpenEXR; needs "mips", a .exr output and a power-of-two resolution).
   MipLayout mipLayout = MipLayout::Files;
-  std::optional<ParameterizationKind> from;      ///< "from": parameterization of a plain image
+  std::optional<ParameterizationKind> from;       ///< "from": parameterization of a plain image
   Vec3 view = Vec3::UnitZ(), up = Vec3::UnitY();  ///< "view", "up": sphere maps only
   /// "elevations" (varying lobe models only, in [2, 64], default 8): maps in the stack over view
   /// elevation, written as STEM_elev0.EXT ... (prefilter_stack.hpp).
@@ -66,7 +66,7 @@ struct MaterialMapSpec {
   /// A "measured" material's fit, parsed but not run yet (see MapSpec::prepare()).
   std::optional<DeferredFit> deferredFit;
   std::vector<DirectionalLight> lights;
-  bool lightAtEye = false;              ///< a light was given as "direction": "eye"
+  bool lightAtEye = false;  ///< a light was given as "direction": "eye"
   /// "mips": true (silhouette sphere maps only): also write the hand-made mip levels 1.. as
   /// STEM_mip1.EXT, STEM_mip2.EXT, ... beside the output (docs/materials.md).
   bool mips = false;
@@ -97,8 +97,8 @@ Overloaded(F...) -> Overloaded<F...>;
 /// One entry of "maps", validated: what every map has (output, parameterization, resolution, view,
 /// files), and its content, one of its kinds (std::visit it, or ask materialMap() / environmentMap()).
 struct MapSpec {
-  std::string jsonPath;                 ///< "maps[0]", for messages
-  std::filesystem::path output;         ///< resolved against the spec's folder
+  std::string jsonPath;          ///< "maps[0]", for messages
+  std::filesystem::path output;  ///< resolved against the spec's folder
   ParameterizationKind parameterization = ParameterizationKind::Sphere;
   /// "parameterization": "profile": a 1-D radial profile (bake/radial_profile.hpp) instead of a
   /// 2-D map, for materials radially symmetric about one axis; eye space as for sphere maps
@@ -106,11 +106,11 @@ struct MapSpec {
   bool radialProfile = false;
   int resolution = 256;
   int samplesPerTexel = 16;
-  Vec3 view = Vec3::UnitZ();            ///< view vector in the map frame (+z for sphere maps)
-  bool viewGiven = false;               ///< the spec fixed the view ("view": [x, y, z])
+  Vec3 view = Vec3::UnitZ();  ///< view vector in the map frame (+z for sphere maps)
+  bool viewGiven = false;     ///< the spec fixed the view ("view": [x, y, z])
   CubeLayout cubeLayout = CubeLayout::Cross;
-  nlohmann::json raw;                   ///< the map's JSON as written, stored in the map's metadata
-  std::string specLabel;                ///< the spec's file name (parseBakeSpec's label), for messages
+  nlohmann::json raw;     ///< the map's JSON as written, stored in the map's metadata
+  std::string specLabel;  ///< the spec's file name (parseBakeSpec's label), for messages
   /// The material map ("material", "lights") or the prefiltered environment map ("environment").
   MapContent content;
 
@@ -175,7 +175,8 @@ BakeSpec parseBakeSpec(const nlohmann::json& document, const std::filesystem::pa
 /// Writes the extra files a map asks for besides its image ("mips", "fresnel_table_output"; see MapSpec),
 /// each written with writeImage/writeMap semantics. `bakeOptions` is used for baking mip levels.
 /// Returns the files written and notes (nothing if the map asks for no extras).
-MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions, const WriteOptions& writeOptions = {});
+MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions,
+                              const WriteOptions& writeOptions = {});
 
 /// The files baking `spec` reads and writes, for FilePlan::check(): `specFile`, every map's
 /// inputs and planned outputs, with `outputFolder` as the folder outputs must stay in.

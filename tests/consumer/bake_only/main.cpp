@@ -1,10 +1,10 @@
 // A renderer-side program using the installed brdfbake package: bake a Phong sphere map, write
 // it, read it back and check a lookup against the analytic value.
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/maps/map_file.hpp>
-#include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/core/version.hpp>
+#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/maps/sphere_map.hpp>
 
 #include <cstdio>
 #include <filesystem>
@@ -13,8 +13,8 @@ int main(int argc, char** argv) {
   using namespace brdfbake;
   const std::filesystem::path dir = argc > 1 ? argv[1] : ".";
   const SphereMap map(64);
-  const MaterialMapFunction phong(std::make_shared<PhongMaterial>(Rgb::Ones(), 10.0),
-                                  {{Vec3::UnitZ(), Rgb::Ones()}}, Vec3::UnitZ());
+  const MaterialMapFunction phong(std::make_shared<PhongMaterial>(Rgb::Ones(), 10.0), {{Vec3::UnitZ(), Rgb::Ones()}},
+                                  Vec3::UnitZ());
   const Image image = bake(map, phong);
   MapInfo info{ParameterizationKind::Sphere, 64, kConventionVersion, {{"material", "phong"}}};
   writeMap(image, info, dir / "consumer.exr");

@@ -18,7 +18,9 @@ int main(int argc, char** argv) {
   if (!file.fit.usable()) return 1;
   writeFitFile(dir / "fit.json", file);
   const nlohmann::json spec = {{"maps",
-                                {{{"output", "lobes.exr"}, {"parameterization", "sphere"}, {"resolution", 32},
+                                {{{"output", "lobes.exr"},
+                                  {"parameterization", "sphere"},
+                                  {"resolution", 32},
                                   {"material", {{"model", "lobes"}, {"file", "fit.json"}}}}}}};
   const BakeSpec parsed = parseBakeSpec(spec, dir);
   const Image image = bake(*makeParameterization(ParameterizationKind::Sphere, 32), *parsed.maps[0].makeFunction());
