@@ -57,10 +57,10 @@ std::string encodeDds(const Texture& texture, TexelFormat format, EncodingTally&
   putU32(out, height);
   putU32(out, width);
   putU32(out, width * static_cast<std::uint32_t>(bytesPerTexel(format)));  // dwPitchOrLinearSize: row bytes
-  putU32(out, 0);                                                           // dwDepth
-  putU32(out, levels);                                                      // dwMipMapCount
-  for (int i = 0; i < 11; ++i) putU32(out, 0);                              // dwReserved1
-  putU32(out, 32);                                                          // DDS_PIXELFORMAT: dwSize
+  putU32(out, 0);                                                          // dwDepth
+  putU32(out, levels);                                                     // dwMipMapCount
+  for (int i = 0; i < 11; ++i) putU32(out, 0);                             // dwReserved1
+  putU32(out, 32);                                                         // DDS_PIXELFORMAT: dwSize
   putU32(out, kPixelFourCC);
   putU32(out, kFourCCDx10);
   for (int i = 0; i < 5; ++i) putU32(out, 0);  // dwRGBBitCount and the four masks
@@ -109,7 +109,8 @@ ParsedTexture parseDds(std::string_view bytes, const std::string& label) {
               "R11G11B10_FLOAT)");
     }
     if (dimension != kDimensionTexture2D && dimension != kDimensionTexture1D) {
-      in.fail("resource dimension " + std::to_string(dimension) + " is not supported (2-D textures and cube maps only)");
+      in.fail("resource dimension " + std::to_string(dimension) +
+              " is not supported (2-D textures and cube maps only)");
     }
     if (arraySize != 1) in.fail("texture arrays are not supported (arraySize " + std::to_string(arraySize) + ")");
     if (misc & kMiscTextureCube) faces = 6;

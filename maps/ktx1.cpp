@@ -86,8 +86,7 @@ ParsedTexture parseKtx1(std::string_view bytes, const std::string& label) {
   for (const auto& r : kGlFormats)
     if (r.internalFormat == internalFormat) gl = &r;
   if (!gl) {
-    in.fail("unsupported glInternalFormat " + std::to_string(internalFormat) +
-            (type == 0 ? " (compressed)" : "") +
+    in.fail("unsupported glInternalFormat " + std::to_string(internalFormat) + (type == 0 ? " (compressed)" : "") +
             " (brdfbake reads GL_RGBA16F, GL_RGBA32F, GL_RGB16F, GL_RGB32F, GL_RGB9_E5 and GL_R11F_G11F_B10F)");
   }
   if (type != gl->type || typeSize != gl->typeSize || glFormat != gl->baseFormat) {
@@ -99,7 +98,8 @@ ParsedTexture parseKtx1(std::string_view bytes, const std::string& label) {
   const std::uint64_t levels = std::max<std::uint32_t>(1, in.u32(56, "numberOfMipmapLevels"));
   const std::uint64_t kvdLength = in.u32(60, "bytesOfKeyValueData");
   if (depth != 0) in.fail("3-D textures are not supported (pixelDepth " + std::to_string(depth) + ")");
-  if (elements != 0) in.fail("array textures are not supported (numberOfArrayElements " + std::to_string(elements) + ")");
+  if (elements != 0)
+    in.fail("array textures are not supported (numberOfArrayElements " + std::to_string(elements) + ")");
   checkShape(in, width, height, faces, levels);
 
   ParsedTexture parsed;

@@ -89,10 +89,10 @@ std::string dataFormatDescriptor(TexelFormat format) {
   const std::uint32_t blockSize = 24 + 16 * static_cast<std::uint32_t>(samples.size());
   std::string out;
   putU32(out, 4 + blockSize);
-  putU32(out, 0);                              // vendorId 0 (Khronos), descriptorType 0 (basic)
-  putU32(out, 2u | (blockSize << 16));         // versionNumber 2 (KDFS 1.3), descriptorBlockSize
-  putU32(out, 1u | (1u << 8) | (1u << 16));    // colorModel RGBSDA, primaries BT709, transfer linear, flags 0
-  putU32(out, 0);                              // texelBlockDimension 1x1x1x1 (stored minus 1)
+  putU32(out, 0);                            // vendorId 0 (Khronos), descriptorType 0 (basic)
+  putU32(out, 2u | (blockSize << 16));       // versionNumber 2 (KDFS 1.3), descriptorBlockSize
+  putU32(out, 1u | (1u << 8) | (1u << 16));  // colorModel RGBSDA, primaries BT709, transfer linear, flags 0
+  putU32(out, 0);                            // texelBlockDimension 1x1x1x1 (stored minus 1)
   putU32(out, static_cast<std::uint32_t>(bytesPerTexel(format)));  // bytesPlane0; planes 1-3 zero
   putU32(out, 0);                                                  // bytesPlane4-7
   for (const Sample& s : samples) {

@@ -88,7 +88,7 @@ std::uint16_t floatToHalf(float value) {
   const std::uint32_t exponent = (ax >> 23) - 127 + 15;  // 1 .. 30
   const std::uint32_t mantissa = ax & 0x7FFFFFu;
   std::uint32_t h = (exponent << 10) | (mantissa >> 13);
-  const std::uint32_t rest = mantissa & 0x1FFFu;  // the 13 bits dropped
+  const std::uint32_t rest = mantissa & 0x1FFFu;             // the 13 bits dropped
   if (rest > 0x1000u || (rest == 0x1000u && (h & 1u))) ++h;  // a carry moves into the exponent, as it should
   return static_cast<std::uint16_t>(sign | h);
 }
@@ -169,8 +169,7 @@ Rgb decodeB10g11r11(std::uint32_t packed) {
           unsignedFloatToFloat((packed >> 22) & 0x3FFu, 5)};
 }
 
-void encodeTexels(const float* rgba, std::size_t count, TexelFormat format, unsigned char* out,
-                  EncodingTally& tally) {
+void encodeTexels(const float* rgba, std::size_t count, TexelFormat format, unsigned char* out, EncodingTally& tally) {
   const int bytes = bytesPerTexel(format);
   const bool alpha = hasAlpha(format);
   for (std::size_t i = 0; i < count; ++i, rgba += 4, out += bytes) {

@@ -126,16 +126,16 @@ ParsedTexture parse(std::string_view bytes, const std::string& label) {
   return parseKtx2(bytes, label);
 }
 
-Image decodeImage(std::string_view bytes, const ImageSpan& span, int width, int height, TexelFormat format,
-                  bool rowsUp, const std::string& label) {
+Image decodeImage(std::string_view bytes, const ImageSpan& span, int width, int height, TexelFormat format, bool rowsUp,
+                  const std::string& label) {
   Image image(width, height);
   const std::uint64_t rowBytes = static_cast<std::uint64_t>(width) * bytesPerTexel(format);
   for (int y = 0; y < height; ++y) {
     const std::uint64_t offset = span.offset + span.rowPitch * static_cast<std::uint64_t>(y);
     require(offset + rowBytes <= bytes.size(), label + ": row beyond the file");  // parsers checked it
     const int row = rowsUp ? height - 1 - y : y;
-    decodeTexels(reinterpret_cast<const unsigned char*>(bytes.data() + offset), static_cast<std::size_t>(width),
-                 format, image.data() + image.index(0, row));
+    decodeTexels(reinterpret_cast<const unsigned char*>(bytes.data() + offset), static_cast<std::size_t>(width), format,
+                 image.data() + image.index(0, row));
   }
   try {
     requireFinite(image, label);
@@ -147,9 +147,7 @@ Image decodeImage(std::string_view bytes, const ImageSpan& span, int width, int 
 
 }  // namespace
 
-TextureHeader readTextureHeader(std::string_view bytes, const std::string& label) {
-  return parse(bytes, label).header;
-}
+TextureHeader readTextureHeader(std::string_view bytes, const std::string& label) { return parse(bytes, label).header; }
 
 Texture decodeTexture(std::string_view bytes, const std::string& label, std::optional<int> level) {
   const ParsedTexture parsed = parse(bytes, label);
@@ -161,7 +159,8 @@ Texture decodeTexture(std::string_view bytes, const std::string& label, std::opt
   const int first = level.value_or(0), last = level ? *level : h.levels - 1;
   // Decoded floats: at most 4 floats per texel for every texel the file holds.
   double texels = 0.0;
-  for (int k = first; k <= last; ++k) texels += double(levelSize(h.width, k)) * double(levelSize(h.height, k)) * h.faces;
+  for (int k = first; k <= last; ++k)
+    texels += double(levelSize(h.width, k)) * double(levelSize(h.height, k)) * h.faces;
   requireWithinMemoryBudget(texels * 4 * sizeof(float), label + ": decoding " + std::to_string(texels) + " texels");
   Texture texture;
   texture.metadata = h.metadata;
@@ -169,11 +168,12 @@ Texture decodeTexture(std::string_view bytes, const std::string& label, std::opt
     const int w = static_cast<int>(levelSize(h.width, k)), ht = static_cast<int>(levelSize(h.height, k));
     texture.levels.emplace_back();
     for (int f = 0; f < h.faces; ++f) {
-      const std::string where = label + ": level " + std::to_string(k) +
-                                (h.faces == 6 ? " face " + std::string(CubeMap::faceName(static_cast<CubeMap::Face>(f)))
-                                              : std::string());
-      texture.levels.back().push_back(decodeImage(bytes, parsed.images[static_cast<std::size_t>(k)][static_cast<std::size_t>(f)],
-                                                  w, ht, h.format, parsed.rowsUp, where));
+      const std::string where =
+          label + ": level " + std::to_string(k) +
+          (h.faces == 6 ? " face " + std::string(CubeMap::faceName(static_cast<CubeMap::Face>(f))) : std::string());
+      texture.levels.back().push_back(
+          decodeImage(bytes, parsed.images[static_cast<std::size_t>(k)][static_cast<std::size_t>(f)], w, ht, h.format,
+                      parsed.rowsUp, where));
     }
   }
   return texture;

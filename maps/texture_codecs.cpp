@@ -32,7 +32,8 @@ void padTo(std::string& out, std::size_t alignment) {
 }
 
 void appendImage(std::string& out, const Image& image, TexelFormat format, int rowAlignment, EncodingTally& tally) {
-  const std::size_t rowBytes = static_cast<std::size_t>(image.width()) * static_cast<std::size_t>(bytesPerTexel(format));
+  const std::size_t rowBytes =
+      static_cast<std::size_t>(image.width()) * static_cast<std::size_t>(bytesPerTexel(format));
   const std::size_t pitch = (rowBytes + rowAlignment - 1) / rowAlignment * rowAlignment;
   for (int y = 0; y < image.height(); ++y) {
     const std::size_t start = out.size();
@@ -47,7 +48,9 @@ void appendLevel(std::string& out, const std::vector<Image>& faces, TexelFormat 
   for (const Image& face : faces) appendImage(out, face, format, rowAlignment, tally);
 }
 
-void ByteReader::fail(const std::string& message) const { throw Error(Error::Kind::InvalidInput, label_ + ": " + message); }
+void ByteReader::fail(const std::string& message) const {
+  throw Error(Error::Kind::InvalidInput, label_ + ": " + message);
+}
 
 void ByteReader::requireRange(std::uint64_t offset, std::uint64_t length, const std::string& what) const {
   if (offset > bytes_.size() || length > bytes_.size() - offset) {
@@ -118,8 +121,8 @@ void applyKeyValues(ParsedTexture& parsed, const KeyValues& keyValues, const Byt
       if (axes == up && parsed.header.faces == 1) {
         parsed.rowsUp = true;
       } else if (axes != down) {
-        in.fail("KTXorientation '" + shortenForMessage(value, 64) + "' is not supported (brdfbake reads '" + down + "'" +
-                (parsed.header.faces == 1 ? " and '" + up + "'" : std::string(" for cube maps")) + ")");
+        in.fail("KTXorientation '" + shortenForMessage(value, 64) + "' is not supported (brdfbake reads '" + down +
+                "'" + (parsed.header.faces == 1 ? " and '" + up + "'" : std::string(" for cube maps")) + ")");
       }
     }
   }

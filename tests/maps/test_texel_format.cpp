@@ -154,8 +154,8 @@ TEST(TexelFormat, B10g11r11MatchesHandComputedBits) {
   EXPECT_EQ(unsignedFloatToFloat(0x3DF, 5), kFloat10Max);
   // Negative -> 0; smallest subnormal 2^-20 (11-bit) -> 1; a tie rounds to even.
   EXPECT_EQ(encodeB10g11r11(-1.0f, 0x1p-20f, 0.0f), 1u << 11);
-  EXPECT_EQ(floatToUnsignedFloat(1.0f + 0x1p-7f, 6), 0x3C0u);           // tie between 0x3C0 and 0x3C1: even
-  EXPECT_EQ(floatToUnsignedFloat(1.0f + 0x3p-7f, 6), 0x3C2u);           // tie between 0x3C1 and 0x3C2: even
+  EXPECT_EQ(floatToUnsignedFloat(1.0f + 0x1p-7f, 6), 0x3C0u);             // tie between 0x3C0 and 0x3C1: even
+  EXPECT_EQ(floatToUnsignedFloat(1.0f + 0x3p-7f, 6), 0x3C2u);             // tie between 0x3C1 and 0x3C2: even
   EXPECT_EQ(floatToUnsignedFloat(1.0f + 0x1p-7f + 0x1p-12f, 6), 0x3C1u);  // above the tie
   EXPECT_EQ(floatToUnsignedFloat(127.9f, 6), 22u << 6);  // rounds up to 128 = 2^7: exponent 7 + 15, mantissa 0
   const Rgb back = decodeB10g11r11(0x781E03C0u);

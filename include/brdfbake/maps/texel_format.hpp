@@ -70,8 +70,8 @@ Rgb decodeB10g11r11(std::uint32_t packed);
 
 /// What encoding changed beyond rounding, for the write report.
 struct EncodingTally {
-  std::uint64_t overflowed = 0;  ///< channel values above the format's largest finite value, stored as it
-  std::uint64_t negative = 0;    ///< negative channel values stored as 0 (unsigned formats)
+  std::uint64_t overflowed = 0;   ///< channel values above the format's largest finite value, stored as it
+  std::uint64_t negative = 0;     ///< negative channel values stored as 0 (unsigned formats)
   std::uint64_t alphaNotOne = 0;  ///< texels whose alpha was not 1, dropped by an RGB format
 };
 
