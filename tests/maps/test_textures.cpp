@@ -72,9 +72,8 @@ TEST(Textures, RoundTripEveryFormatInEveryContainerWithinItsPrecision) {
                      std::to_string(faces));
         const bool signedValues = !isUnsigned(format);
         const int w = faces == 6 ? 8 : 12, h = 8;
-        const Texture texture = makeTexture(w, h, faces, 4, [&](int k, int f, int x, int y) {
-          return testValue(k, f, x, y, signedValues);
-        });
+        const Texture texture = makeTexture(
+            w, h, faces, 4, [&](int k, int f, int x, int y) { return testValue(k, f, x, y, signedValues); });
         if (!texelFormatProblem(container, format).empty()) {
           EXPECT_THROW(encodeTexture(texture, container, format, "t"), Error);
           continue;
@@ -112,7 +111,8 @@ TEST(Textures, MetadataAndWriterTravelInKtxKeyValueData) {
     EXPECT_EQ(header.metadata, texture.metadata);
     ASSERT_EQ(header.keyValues.size(), 3u);
     bool writer = false;
-    for (const auto& [key, value] : header.keyValues) writer = writer || (key == "KTXwriter" && value.rfind("brdfbake ", 0) == 0);
+    for (const auto& [key, value] : header.keyValues)
+      writer = writer || (key == "KTXwriter" && value.rfind("brdfbake ", 0) == 0);
     EXPECT_TRUE(writer);
   }
 }
@@ -151,13 +151,32 @@ TEST(Textures, Ktx2HeaderIndexAndDescriptorFollowTheSpecification) {
   EXPECT_EQ(u64At(bytes, 72), 0u);
   // The basic descriptor block (Khronos Data Format 1.3, section 5), word by word.
   const std::uint32_t expectedDfd[] = {
-      92, 0, 2u | (88u << 16), 0x00010101u, 0, 8, 0,
-      0u | (15u << 16) | (0xC0u << 24), 0, 0xBF800000u, 0x3F800000u,   // R: bits 0-15, float | signed
-      16u | (15u << 16) | (0xC1u << 24), 0, 0xBF800000u, 0x3F800000u,  // G
-      32u | (15u << 16) | (0xC2u << 24), 0, 0xBF800000u, 0x3F800000u,  // B
-      48u | (15u << 16) | (0xCFu << 24), 0, 0xBF800000u, 0x3F800000u,  // A: channel 15
+      92,
+      0,
+      2u | (88u << 16),
+      0x00010101u,
+      0,
+      8,
+      0,
+      0u | (15u << 16) | (0xC0u << 24),
+      0,
+      0xBF800000u,
+      0x3F800000u,  // R: bits 0-15, float | signed
+      16u | (15u << 16) | (0xC1u << 24),
+      0,
+      0xBF800000u,
+      0x3F800000u,  // G
+      32u | (15u << 16) | (0xC2u << 24),
+      0,
+      0xBF800000u,
+      0x3F800000u,  // B
+      48u | (15u << 16) | (0xCFu << 24),
+      0,
+      0xBF800000u,
+      0x3F800000u,  // A: channel 15
   };
-  for (std::size_t i = 0; i < std::size(expectedDfd); ++i) EXPECT_EQ(u32At(bytes, dfdOffset + 4 * i), expectedDfd[i]) << i;
+  for (std::size_t i = 0; i < std::size(expectedDfd); ++i)
+    EXPECT_EQ(u32At(bytes, dfdOffset + 4 * i), expectedDfd[i]) << i;
   // Levels: smallest first in the file, each 8-byte aligned (lcm(8, 4)), 6 faces of w^2 x 8 bytes.
   std::uint64_t previousOffset = bytes.size();
   for (int k = 0; k < 3; ++k) {
@@ -185,20 +204,23 @@ TEST(Textures, Ktx2DescriptorsOfThePackedFormats) {
   EXPECT_EQ(u32At(e5, d), 4u + 24 + 6 * 16);
   EXPECT_EQ(u32At(e5, d + 20), 4u);  // bytesPlane0
   // Red mantissa bits 0-8 (upper 8448), red exponent bits 27-31 (bias 15, max 31), green, blue.
-  const std::uint32_t samples[6][4] = {{0u | (8u << 16), 0, 0, 8448},        {27u | (4u << 16) | (0x20u << 24), 0, 15, 31},
-                                       {9u | (8u << 16) | (1u << 24), 0, 0, 8448},  {27u | (4u << 16) | (0x21u << 24), 0, 15, 31},
-                                       {18u | (8u << 16) | (2u << 24), 0, 0, 8448}, {27u | (4u << 16) | (0x22u << 24), 0, 15, 31}};
+  const std::uint32_t samples[6][4] = {{0u | (8u << 16), 0, 0, 8448},
+                                       {27u | (4u << 16) | (0x20u << 24), 0, 15, 31},
+                                       {9u | (8u << 16) | (1u << 24), 0, 0, 8448},
+                                       {27u | (4u << 16) | (0x21u << 24), 0, 15, 31},
+                                       {18u | (8u << 16) | (2u << 24), 0, 0, 8448},
+                                       {27u | (4u << 16) | (0x22u << 24), 0, 15, 31}};
   for (int s = 0; s < 6; ++s)
     for (int w = 0; w < 4; ++w) EXPECT_EQ(u32At(e5, d + 28 + 16 * s + 4 * w), samples[s][w]) << s << " " << w;
   EXPECT_EQ(u32At(e5, static_cast<std::size_t>(u64At(e5, 80))), 0x84020100u);  // (1, 1, 1), see TexelFormat
   const std::string rg = encodeTexture(t, TextureContainer::Ktx2, TexelFormat::B10g11r11).bytes;
   EXPECT_EQ(u32At(rg, 12), 122u);  // VK_FORMAT_B10G11R11_UFLOAT_PACK32
   const std::uint32_t r = u32At(rg, 48);
-  EXPECT_EQ(u32At(rg, r + 28), 0u | (10u << 16) | (0x80u << 24));    // red: 11 bits at 0, unsigned float
-  EXPECT_EQ(u32At(rg, r + 44), 11u | (10u << 16) | (0x81u << 24));   // green: 11 bits at 11
-  EXPECT_EQ(u32At(rg, r + 60), 22u | (9u << 16) | (0x82u << 24));    // blue: 10 bits at 22
-  EXPECT_EQ(u32At(rg, r + 36), 0u);                                  // sampleLower 0.0f
-  EXPECT_EQ(u32At(rg, r + 40), 0x3F800000u);                         // sampleUpper 1.0f
+  EXPECT_EQ(u32At(rg, r + 28), 0u | (10u << 16) | (0x80u << 24));   // red: 11 bits at 0, unsigned float
+  EXPECT_EQ(u32At(rg, r + 44), 11u | (10u << 16) | (0x81u << 24));  // green: 11 bits at 11
+  EXPECT_EQ(u32At(rg, r + 60), 22u | (9u << 16) | (0x82u << 24));   // blue: 10 bits at 22
+  EXPECT_EQ(u32At(rg, r + 36), 0u);                                 // sampleLower 0.0f
+  EXPECT_EQ(u32At(rg, r + 40), 0x3F800000u);                        // sampleUpper 1.0f
 }
 
 TEST(Textures, DdsHeaderFollowsTheSpecification) {
@@ -206,7 +228,7 @@ TEST(Textures, DdsHeaderFollowsTheSpecification) {
   const std::string bytes = encodeTexture(cube, TextureContainer::Dds, TexelFormat::Rgba16Float).bytes;
   EXPECT_EQ(bytes.substr(0, 4), "DDS ");
   EXPECT_EQ(u32At(bytes, 4), 124u);
-  EXPECT_EQ(u32At(bytes, 8) & 0x1007u, 0x1007u);  // CAPS | HEIGHT | WIDTH | PIXELFORMAT
+  EXPECT_EQ(u32At(bytes, 8) & 0x1007u, 0x1007u);    // CAPS | HEIGHT | WIDTH | PIXELFORMAT
   EXPECT_EQ(u32At(bytes, 8) & 0x20000u, 0x20000u);  // MIPMAPCOUNT
   EXPECT_EQ(u32At(bytes, 12), 4u);                  // height
   EXPECT_EQ(u32At(bytes, 16), 4u);                  // width
@@ -231,8 +253,18 @@ TEST(Textures, Ktx1HeaderAndCubeImageSizeFollowTheSpecification) {
   const Texture cube = makeTexture(4, 4, 6, 2, [](int k, int f, int, int) { return Rgba(k, f, 0.5, 1); });
   const std::string bytes = encodeTexture(cube, TextureContainer::Ktx1, TexelFormat::Rgba32Float).bytes;
   EXPECT_EQ(bytes.substr(0, 12), std::string("\xABKTX 11\xBB\r\n\x1A\n", 12));
-  const std::uint32_t expected[] = {0x04030201u, 0x1406u /* GL_FLOAT */, 4, 0x1908u /* GL_RGBA */,
-                                    0x8814u /* GL_RGBA32F */, 0x1908u, 4, 4, 0, 0, 6, 2};
+  const std::uint32_t expected[] = {0x04030201u,
+                                    0x1406u /* GL_FLOAT */,
+                                    4,
+                                    0x1908u /* GL_RGBA */,
+                                    0x8814u /* GL_RGBA32F */,
+                                    0x1908u,
+                                    4,
+                                    4,
+                                    0,
+                                    0,
+                                    6,
+                                    2};
   for (std::size_t i = 0; i < std::size(expected); ++i) EXPECT_EQ(u32At(bytes, 12 + 4 * i), expected[i]) << i;
   const std::uint32_t kvd = u32At(bytes, 60);
   // For a cube map, imageSize is the size of one face (KTX 1.1, "imageSize").
@@ -318,10 +350,10 @@ TEST(Textures, Ktx2ThatLiesAboutItsSizesIsRefused) {
   expectRefused(withU32(good, 152, 12), "a.ktx2", "dfdTotalSize");
   expectRefused(withU32(good, 60, 0x7FFFFFFF), "a.ktx2", "key/value data");
   expectRefused(withU64(good, 72, 16), "a.ktx2", "global data");
-  expectRefused(withU64(good, 80, ~0ull - 4), "a.ktx2", "level 0");      // offset at the end of 2^64
+  expectRefused(withU64(good, 80, ~0ull - 4), "a.ktx2", "level 0");        // offset at the end of 2^64
   expectRefused(withU64(good, 80, good.size() - 8), "a.ktx2", "level 0");  // runs past the end
   expectRefused(withU64(good, 88, 1ull << 62), "a.ktx2", "level 0 has");
-  expectRefused(withU64(good, 96 + 24, 7), "a.ktx2", "level 1 has");     // uncompressed length lies
+  expectRefused(withU64(good, 96 + 24, 7), "a.ktx2", "level 1 has");  // uncompressed length lies
   expectRefused(withU64(good, 80, 0), "a.ktx2", "overlaps the header");
   // A key/value entry longer than the key/value data, and a malformed metadata value.
   const std::uint32_t kvd = u32At(good, 56);
@@ -418,14 +450,13 @@ TEST(Textures, InvalidTexturesAreNotWritten) {
   Texture wrong = makeTexture(4, 4, 1, 2, [](int, int, int, int) { return Rgba(1, 1, 1, 1); });
   wrong.levels[1][0] = Image(3, 2);
   EXPECT_THROW(writeTexture(wrong, dir / "sizes.dds"), Error);
-  EXPECT_THROW(writeTexture(makeTexture(4, 4, 1, 1, [](int, int, int, int) { return Rgba(1, 1, 1, 1); }),
-                            dir / "x.png"),
-               Error);
+  EXPECT_THROW(
+      writeTexture(makeTexture(4, 4, 1, 1, [](int, int, int, int) { return Rgba(1, 1, 1, 1); }), dir / "x.png"), Error);
   WriteOptions rgb16;
   rgb16.texelFormat = TexelFormat::Rgb16Float;
-  EXPECT_THROW(writeTexture(makeTexture(4, 4, 1, 1, [](int, int, int, int) { return Rgba(1, 1, 1, 1); }),
-                            dir / "x.dds", rgb16),
-               Error);
+  EXPECT_THROW(
+      writeTexture(makeTexture(4, 4, 1, 1, [](int, int, int, int) { return Rgba(1, 1, 1, 1); }), dir / "x.dds", rgb16),
+      Error);
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }
 
