@@ -198,8 +198,8 @@ TEST(TextureMaps, WritesKeepTheImagePolicies) {
   image.set(0, 0, Rgba(-1, 70000, 1, 0.5));
   WriteOptions packed;
   packed.texelFormat = TexelFormat::Rgb9e5;
-  const MapWriteReport report = writeMap(image, infoOf(ParameterizationKind::Sphere, 8), dir / "p.ktx2",
-                                         CubeLayout::Cross, packed);
+  const MapWriteReport report =
+      writeMap(image, infoOf(ParameterizationKind::Sphere, 8), dir / "p.ktx2", CubeLayout::Cross, packed);
   std::string notes;
   for (const auto& n : report.notes) notes += n + "\n";
   EXPECT_NE(notes.find("stored as 0"), std::string::npos) << notes;
