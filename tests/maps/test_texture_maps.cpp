@@ -215,6 +215,27 @@ TEST(TextureMaps, WritesKeepTheImagePolicies) {
   EXPECT_FALSE(fs::exists(dir / "nan.dds"));
 }
 
+TEST(TextureMaps, ACubeTextureFromAnotherToolReadsAsTheCross) {
+  test::TempDir dir;
+  // Six faces without brdfbake metadata, face f holding f everywhere.
+  Texture texture;
+  texture.levels.emplace_back();
+  for (int f = 0; f < 6; ++f) texture.levels[0].emplace_back(4, 4, Rgba(f, 0, 0, 1));
+  writeTexture(texture, dir / "other.ktx2");
+  const Image cross = readImage(dir / "other.ktx2");
+  ASSERT_EQ(cross.width(), 16);
+  ASSERT_EQ(cross.height(), 12);
+  EXPECT_TRUE(cross.metadata.empty());
+  const CubeMap cube(4);
+  for (int f = 0; f < 6; ++f) {
+    const TexelRect r = cube.region(f);
+    EXPECT_EQ(cross.at(r.x0 + 1, r.y0 + 2)[0], f) << f;
+  }
+  EXPECT_EQ(cross.at(0, 0)[3], 0.0f);  // unused cells: coverage 0
+  const MapFile map = adoptImage(cross, ParameterizationKind::Cube, "other.ktx2");
+  EXPECT_EQ(sampleBilinear(map.image, *map.parameterization, Vec3(0, -1, 0))[0], 3.0);  // -Y is face 3
+}
+
 TEST(TextureMaps, AKtx2FileWithAnotherExtensionIsStillReadAsOne) {
   test::TempDir dir;
   const auto map = makeParameterization(ParameterizationKind::Sphere, 4);

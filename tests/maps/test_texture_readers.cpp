@@ -29,13 +29,14 @@ namespace fs = std::filesystem;
 const fs::path kJs = fs::path(BRDFBAKE_SOURCE_DIR) / "tests" / "js";
 
 // Skips unless node and the npm package are installed (scripts/quickstart.sh test runs `npm ci` in tests/js).
-#define REQUIRE_NODE_PACKAGE(package)                                                                        \
+#define REQUIRE_NODE_PACKAGE(package)                                                                            \
   if (test::run("node --version").exitCode != 0 || !fs::exists(kJs / "node_modules" / package / "package.json")) \
-  GTEST_SKIP() << "node or the npm package " << package << " is missing: run `npm ci` in " << kJs.string()         \
+  GTEST_SKIP() << "node or the npm package " << package << " is missing: run `npm ci` in " << kJs.string()       \
                << " (scripts/quickstart.sh test does when npm is there); skipping the independent reader"
 
 nlohmann::json runNode(const std::string& script, const fs::path& file, const nlohmann::json& directions) {
-  const std::string command = "node '" + (kJs / script).string() + "' '" + file.string() + "' '" + directions.dump() + "'";
+  const std::string command =
+      "node '" + (kJs / script).string() + "' '" + file.string() + "' '" + directions.dump() + "'";
   const test::CommandResult result = test::run(command);
   EXPECT_EQ(result.exitCode, 0) << result.output;
   return nlohmann::json::parse(result.output);
@@ -67,9 +68,9 @@ struct Known {
 };
 std::vector<Known> knownDirections() {
   const Rgb red(1, 0, 0), cyan(0, 1, 1), green(0, 1, 0), magenta(1, 0, 1), blue(0, 0, 1), yellow(1, 1, 0);
-  return {{{1, 0, 0}, red},       {{1, 0.3, -0.2}, red},      {{-1, 0, 0}, cyan},    {{-1, -0.25, 0.3}, cyan},
-          {{0, 1, 0}, green},     {{0.2, 1, 0.3}, green},     {{0, -1, 0}, magenta}, {{-0.3, -1, -0.2}, magenta},
-          {{0, 0, 1}, blue},      {{0.25, -0.3, 1}, blue},    {{0, 0, -1}, yellow},  {{-0.2, 0.3, -1}, yellow}};
+  return {{{1, 0, 0}, red},   {{1, 0.3, -0.2}, red},   {{-1, 0, 0}, cyan},    {{-1, -0.25, 0.3}, cyan},
+          {{0, 1, 0}, green}, {{0.2, 1, 0.3}, green},  {{0, -1, 0}, magenta}, {{-0.3, -1, -0.2}, magenta},
+          {{0, 0, 1}, blue},  {{0.25, -0.3, 1}, blue}, {{0, 0, -1}, yellow},  {{-0.2, 0.3, -1}, yellow}};
 }
 
 nlohmann::json directionsJson(const std::vector<Vec3>& directions) {
@@ -138,7 +139,8 @@ TEST(TextureReaders, Ktx2CubeAsKtxParseReadsItAndAVulkanSamplerLooksItUp) {
   EXPECT_EQ(metadata["parameterization"], "cube");
   EXPECT_EQ(metadata["mip_levels"], 6);
   EXPECT_EQ(ktx["index"]["dfdByteOffset"], 80 + 24 * 6);
-  EXPECT_EQ(ktx["index"]["kvdByteOffset"], ktx["index"]["dfdByteOffset"].get<int>() + ktx["index"]["dfdByteLength"].get<int>());
+  EXPECT_EQ(ktx["index"]["kvdByteOffset"],
+            ktx["index"]["dfdByteOffset"].get<int>() + ktx["index"]["dfdByteLength"].get<int>());
   // Levels smallest first, 8-byte aligned, six faces each.
   for (int k = 0; k < 6; ++k) {
     const nlohmann::json& level = ktx["levels"][k];
@@ -146,7 +148,8 @@ TEST(TextureReaders, Ktx2CubeAsKtxParseReadsItAndAVulkanSamplerLooksItUp) {
     EXPECT_EQ(level["byteLength"], 6 * n * n * 8) << k;
     EXPECT_EQ(level["uncompressedByteLength"], level["byteLength"]) << k;
     EXPECT_EQ(level["byteOffset"].get<std::uint64_t>() % 8, 0u) << k;
-    if (k > 0) EXPECT_LT(level["byteOffset"].get<std::uint64_t>(), ktx["levels"][k - 1]["byteOffset"].get<std::uint64_t>());
+    if (k > 0)
+      EXPECT_LT(level["byteOffset"].get<std::uint64_t>(), ktx["levels"][k - 1]["byteOffset"].get<std::uint64_t>());
   }
   expectKnownColours(ktx["lookups"], 32, 0.01);
 }
@@ -253,14 +256,14 @@ SmallDds readSmallDds(const fs::path& path) {
   dds.bytes.assign(std::istreambuf_iterator<char>(in), {});
   EXPECT_GE(dds.bytes.size(), 148u);
   EXPECT_EQ(std::string(dds.bytes.data(), 4), "DDS ");
-  EXPECT_EQ(dds.word(4), 124u);                           // DDS_HEADER.dwSize
-  dds.height = dds.word(12), dds.width = dds.word(16);    // dwHeight, dwWidth
-  dds.levels = dds.word(28);                              // dwMipMapCount
+  EXPECT_EQ(dds.word(4), 124u);                              // DDS_HEADER.dwSize
+  dds.height = dds.word(12), dds.width = dds.word(16);       // dwHeight, dwWidth
+  dds.levels = dds.word(28);                                 // dwMipMapCount
   EXPECT_EQ(std::string(dds.bytes.data() + 84, 4), "DX10");  // ddspf.dwFourCC
-  dds.dxgi = dds.word(128);                               // DDS_HEADER_DXT10.dxgiFormat
-  const bool cube = (dds.word(136) & 0x4) != 0;           // miscFlag TEXTURECUBE
-  EXPECT_EQ(cube, (dds.word(112) & 0xFE00) == 0xFE00);    // dwCaps2: CUBEMAP and all faces
-  dds.faces = cube ? 6 * dds.word(140) : dds.word(140);   // arraySize counts cubes
+  dds.dxgi = dds.word(128);                                  // DDS_HEADER_DXT10.dxgiFormat
+  const bool cube = (dds.word(136) & 0x4) != 0;              // miscFlag TEXTURECUBE
+  EXPECT_EQ(cube, (dds.word(112) & 0xFE00) == 0xFE00);       // dwCaps2: CUBEMAP and all faces
+  dds.faces = cube ? 6 * dds.word(140) : dds.word(140);      // arraySize counts cubes
   dds.dataStart = 148;
   return dds;
 }
