@@ -56,8 +56,9 @@ struct MapFile {
 
 /// Reads a map written by writeMap or writeTiledMap: one file, or a cube's six faces
 /// (CubeLayout::Faces), named by STEM.EXT (which then need not exist) or by any one face file.
-/// `mipLevel` > 0 reads that level of the chain: from the file itself if it is MIP-mapped
-/// (writeTiledMap), else from STEM_mipK.EXT (mipLevelPath). Throws Error(InvalidInput) if the
+/// A KTX2, KTX1 or DDS cube texture reads as the cross. `mipLevel` > 0 reads that level of the
+/// chain: from the file itself if it is MIP-mapped (writeTiledMap: a tiled OpenEXR or a texture's
+/// levels), else from STEM_mipK.EXT (mipLevelPath). Throws Error(InvalidInput) if the
 /// file has no brdfbake metadata, its size does not match the metadata, a texel is NaN or
 /// infinite, or the level does not exist (or lies below the map's 1-texel level); Error(Io) if
 /// the file (or a face) is missing.
