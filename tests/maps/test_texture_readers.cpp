@@ -39,7 +39,9 @@ nlohmann::json runNode(const std::string& script, const fs::path& file, const nl
       "node '" + (kJs / script).string() + "' '" + file.string() + "' '" + directions.dump() + "'";
   const test::CommandResult result = test::run(command);
   EXPECT_EQ(result.exitCode, 0) << result.output;
-  return nlohmann::json::parse(result.output);
+  // The JSON is the last line; anything node prints before it (warnings) is skipped.
+  const std::size_t last = result.output.rfind("\n{");
+  return nlohmann::json::parse(last == std::string::npos ? result.output : result.output.substr(last + 1));
 }
 
 // The colored cube environment as a cube map: each texel samples the lat-long file at its centre's
