@@ -20,7 +20,6 @@ std::vector<TabulatedLobe> tabulateLobes(const std::vector<RadialLobe>& radial, 
   return lobes;
 }
 
-
 namespace {
 
 /// Radial lobes about any axes, in any map: samples mapped through the inverse mapping, u = |d - a| / 2.

@@ -56,7 +56,7 @@ struct SampleRow {
 
 /// Maps the samples at height py of every run of texels with needed[x] set, counting valid ones.
 inline void mapSampleRow(const Parameterization& map, const SampleLayout& layout, double py,
-                  const std::vector<unsigned char>& needed, SampleRow& row) {
+                         const std::vector<unsigned char>& needed, SampleRow& row) {
   const int width = layout.width, columns = layout.columns;
   for (int x0 = 0; x0 < width;) {
     if (!needed[x0]) {
@@ -81,7 +81,7 @@ inline std::vector<double> rowCoverage(const Parameterization& map, int y) {
 
 /// Texel x of row y = sums[x] / counted[x] (0 with no valid sample), alpha = coverage.
 inline void writeRow(Image& image, int y, const std::vector<Rgb>& sums, const std::vector<int>& counted,
-              const std::vector<double>& coverage) {
+                     const std::vector<double>& coverage) {
   for (int x = 0; x < image.width(); ++x) {
     const Rgb mean = counted[x] > 0 ? Rgb(sums[x] / counted[x]) : Rgb::Zero();
     image.set(x, y, Rgba(mean[0], mean[1], mean[2], coverage[x]));
@@ -122,7 +122,6 @@ inline bool allAboutViewAxis(const Parameterization& map, const std::vector<Tabu
                      [](const TabulatedLobe& l) { return (l.axis - Vec3::UnitZ()).squaredNorm() < 1e-30; });
 }
 
-
 /// anyActive[x] for some lobe.
 struct RowCulling {
   std::vector<unsigned char> active, anyActive;
@@ -130,8 +129,9 @@ struct RowCulling {
 
 /// Sums of the radial lobes' table values over a row's samples, [lobe][texel], and the texel
 /// means they make (lobe weights are per light and channel: applied once per texel).
-inline void writeLobeRow(Image& image, int y, const std::vector<TabulatedLobe>& lobes, const std::vector<double>& lobeSums,
-                  const std::vector<int>& counted, const std::vector<double>& coverage) {
+inline void writeLobeRow(Image& image, int y, const std::vector<TabulatedLobe>& lobes,
+                         const std::vector<double>& lobeSums, const std::vector<int>& counted,
+                         const std::vector<double>& coverage) {
   const int width = image.width();
   for (int x = 0; x < width; ++x) {
     Rgb sum = Rgb::Zero();

@@ -141,8 +141,7 @@ std::vector<Rgb> fresnelTable(const FresnelTerm& fresnel, int size) {
 }
 
 FresnelCombine parseFresnelCombine(std::string_view name) {
-  return parseByName(name, std::array{FresnelCombine::Add, FresnelCombine::Mix},
-                     "combine");
+  return parseByName(name, std::array{FresnelCombine::Add, FresnelCombine::Mix}, "combine");
 }
 
 std::string_view toString(FresnelCombine combine) { return combine == FresnelCombine::Add ? "add" : "mix"; }

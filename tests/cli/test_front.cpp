@@ -31,9 +31,10 @@ TEST(Front, AMistypedCommandOrFlagGetsASuggestion) {
 }
 
 TEST(Front, EveryCommandHasJsonAndEveryComputingCommandHasThreads) {
-  const std::vector<std::string> commands = {"bake",    "prefilter", "chart",   "fit",           "eval",
-                                             "sample",  "info",      "convert", "preview",       "interpolation"};
-  const std::vector<std::string> computing = {"bake", "prefilter", "chart", "fit", "convert", "preview", "interpolation"};
+  const std::vector<std::string> commands = {"bake",   "prefilter", "chart",   "fit",     "eval",
+                                             "sample", "info",      "convert", "preview", "interpolation"};
+  const std::vector<std::string> computing = {"bake",    "prefilter", "chart",        "fit",
+                                              "convert", "preview",   "interpolation"};
   for (const auto& command : commands) {
     const auto help = runCli(command + " --help");
     ASSERT_EQ(help.exitCode, 0) << command;
