@@ -1,24 +1,5 @@
 #pragma once
 /// @file
-/// Running gnuplot (an optional external program) for charts: `brdfbake fit --report` and the
-/// benches. gnuplot is found on PATH, or taken from the environment variable BRDFBAKE_GNUPLOT when
-/// it is set (an empty value means "no gnuplot", which the tests use).
+/// Charts moved to core (core/gnuplot.hpp); this header stays while callers still include it.
 
-#include <filesystem>
-#include <optional>
-#include <string>
-
-namespace brdfbake {
-
-/// The gnuplot executable, or std::nullopt when there is none.
-std::optional<std::filesystem::path> findGnuplot();
-
-/// Runs gnuplot on `script`, written to a scratch file (removed afterwards, and on an interrupt). Throws
-/// Error(InvalidArgument) "gnuplot not found ..." when there is none, Error(Io) with gnuplot's own messages when it
-/// fails.
-void runGnuplot(const std::string& script);
-
-/// `text` quoted for a gnuplot string literal (single quotes, quotes doubled).
-std::string gnuplotQuote(const std::string& text);
-
-}  // namespace brdfbake
+#include <brdfbake/core/gnuplot.hpp>
