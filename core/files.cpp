@@ -176,8 +176,8 @@ void requireReplaceableOutput(const fs::path& path, Error::Kind kind, const std:
   const fs::file_status status = fs::symlink_status(path, ec);  // never follows a link at the target
   if (!fs::exists(status) || fs::is_regular_file(status)) return;
   const std::string prefix = role.empty() ? "" : role + ": ";
-  if (fs::is_directory(status)) throw Error(kind, prefix + named(path) + ": is a folder; give an output file name");
-  throw Error(kind, prefix + named(path) + ": is " + describeFileType(status.type()) +
+  if (fs::is_directory(status)) throw Error(kind, prefix + named(path) + " is a folder; give an output file name");
+  throw Error(kind, prefix + named(path) + " is " + describeFileType(status.type()) +
                         "; brdfbake replaces only regular files (remove it or choose another output)");
 }
 

@@ -365,9 +365,11 @@ Claim checkHeader(std::string_view bytes, std::uintmax_t fileBytes, const std::s
   }
   const double holdable = claim.maxExpansion * static_cast<double>(fileBytes) + 65536.0;
   if (claim.rawBytes > holdable) {
-    b.fail("the header says " + sizeText(claim.width, claim.height) + " pixels (" +
-           std::to_string(static_cast<long long>(claim.rawBytes)) + " bytes of samples), more than a " +
-           std::to_string(fileBytes) + "-byte file of this kind can hold (truncated or corrupt)");
+    b.fail("the header says " + sizeText(claim.width, claim.height) + " pixels, more than a " +
+           std::to_string(fileBytes) + "-byte file can hold (" +
+           std::to_string(static_cast<long long>(claim.rawBytes)) +
+           " bytes of samples; this kind of file holds at most " +
+           std::to_string(static_cast<long long>(claim.maxExpansion)) + " per byte: truncated or corrupt)");
   }
   return claim;
 }

@@ -160,7 +160,7 @@ TEST(AtomicOutput, NeverReplacesOrFollowsAnythingButARegularFile) {
   if (root) cases.push_back({"null.txt", "is a character device"});
   for (const Case& c : cases) {
     const std::string message = errorOf([&] { writeFileAtomically(dir / c.name, "new"); }, Error::Kind::Io);
-    EXPECT_NE(message.find(std::string(c.name) + ": " + c.what + "; brdfbake replaces only regular files"),
+    EXPECT_NE(message.find(std::string(c.name) + " " + c.what + "; brdfbake replaces only regular files"),
               std::string::npos)
         << message;
   }
@@ -242,7 +242,7 @@ TEST_F(FilePlanTest, OutputsMustBeWritableFiles) {
 
 TEST_F(FilePlanTest, OutputsMustBeRegularFilesWithNamesTheSystemAccepts) {
   ASSERT_EQ(::mkfifo((dir / "fifo.exr").c_str(), 0600), 0);
-  EXPECT_NE(planError(dir / "fifo.exr").find("-o: " + (dir / "fifo.exr").string() + ": is a FIFO"), std::string::npos);
+  EXPECT_NE(planError(dir / "fifo.exr").find("-o: " + (dir / "fifo.exr").string() + " is a FIFO"), std::string::npos);
   fs::create_symlink(dir / "elsewhere.exr", dir / "dangling.exr");
   EXPECT_NE(planError(dir / "dangling.exr").find("is a symbolic link"), std::string::npos);
   const std::string longName(300, 'n');
