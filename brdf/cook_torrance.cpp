@@ -105,21 +105,21 @@ MicrofacetDistribution parseMicrofacetDistribution(std::string_view name) {
   if (name == "beckmann") return MicrofacetDistribution::Beckmann;
   if (name == "ggx") return MicrofacetDistribution::Ggx;
   throw Error(Error::Kind::InvalidArgument,
-              "distribution must be \"beckmann\" or \"ggx\", got \"" + std::string(name) + "\"");
+              "distribution must be \"beckmann\" or \"ggx\", got \"" + printable(name, 40) + "\"");
 }
 
 CookTorranceMode parseCookTorranceMode(std::string_view name) {
   if (name == "lighting") return CookTorranceMode::Lighting;
   if (name == "reflectance") return CookTorranceMode::Reflectance;
   throw Error(Error::Kind::InvalidArgument,
-              "mode must be \"lighting\" or \"reflectance\", got \"" + std::string(name) + "\"");
+              "mode must be \"lighting\" or \"reflectance\", got \"" + printable(name, 40) + "\"");
 }
 
 CookTorranceNormalization parseCookTorranceNormalization(std::string_view name) {
   if (name == "microfacet") return CookTorranceNormalization::Microfacet;
   if (name == "1981") return CookTorranceNormalization::CookTorrance1981;
   throw Error(Error::Kind::InvalidArgument,
-              "normalization must be \"microfacet\" or \"1981\", got \"" + std::string(name) + "\"");
+              "normalization must be \"microfacet\" or \"1981\", got \"" + printable(name, 40) + "\"");
 }
 
 }  // namespace brdfbake

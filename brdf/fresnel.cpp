@@ -158,7 +158,7 @@ FresnelCombine parseFresnelCombine(std::string_view name) {
   if (name == "mix") return FresnelCombine::Mix;
   throw Error(
       Error::Kind::InvalidArgument,
-      "combine must be \"add\" (F L_m + L_d) or \"mix\" (F L_m + (1 - F) L_d), got \"" + std::string(name) + "\"");
+      "combine must be \"add\" (F L_m + L_d) or \"mix\" (F L_m + (1 - F) L_d), got \"" + printable(name, 40) + "\"");
 }
 
 std::string_view toString(FresnelCombine combine) { return combine == FresnelCombine::Add ? "add" : "mix"; }

@@ -176,8 +176,8 @@ void requireFinite(const Image& image, const std::string& label) {
       const Rgba v = image.at(x, y);
       if (allFinite(v)) continue;
       const bool nan = v.isNaN().any();
-      throw Error(Error::Kind::InvalidInput, label + ": texel (" + std::to_string(x) + ", " + std::to_string(y) +
-                                                 ") is " + (nan ? "NaN" : "infinite") +
+      throw Error(Error::Kind::InvalidInput, printable(label) + ": texel (" + std::to_string(x) + ", " +
+                                                 std::to_string(y) + ") is " + (nan ? "NaN" : "infinite") +
                                                  "; brdfbake needs finite values (repair or clamp the image first)");
     }
   }

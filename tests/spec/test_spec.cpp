@@ -117,6 +117,24 @@ TEST(Spec, ParametersOutsideTheirStableRangeAreRefusedWithTheirPath) {
   EXPECT_NE(errorFor(many).find("spec.json: maps: at most 1024 entries (docs/limits.md), got 1025"), std::string::npos);
 }
 
+// Keys and values reach messages escaped: "\x1b]0;pwned\x07" as written here, never the bytes.
+TEST(Spec, KeysAndValuesInMessagesArePrintable) {
+  const std::string hostile = "\x1b]0;pwned\x07\x1b[2J";
+  const std::vector<std::pair<std::function<void(json&)>, std::string>> cases{
+      {[&](json& m) { m[hostile] = 1; }, "maps[0].\\x1b]0;pwned\\x07\\x1b[2J: unknown key"},
+      {[&](json& m) { m["parameterization"] = hostile; }, "unknown parameterization '\\x1b]0;pwned\\x07\\x1b[2J'"},
+      {[&](json& m) { m["material"]["model"] = hostile; }, "unknown model '\\x1b]0;pwned\\x07\\x1b[2J'"},
+      {[&](json& m) { m["material"]["exponent"] = hostile + std::string(100000, 'e'); },
+       "must be a number, got \"\\u001b]0;pwned"},
+  };
+  for (const auto& [edit, expected] : cases) {
+    const std::string message = errorFor(withMap(edit));
+    EXPECT_NE(message.find(expected), std::string::npos) << message.substr(0, 300);
+    EXPECT_EQ(message.find('\x1b'), std::string::npos);
+    EXPECT_LT(message.size(), 600u);
+  }
+}
+
 TEST(Spec, NamesTheJsonPathOfEveryError) {
   struct Case {
     std::function<void(json&)> edit;
