@@ -23,7 +23,7 @@ BlinnConversion parseBlinnConversion(std::string_view name) {
     if (name == toString(p)) return p;
   }
   throw Error(Error::Kind::InvalidArgument,
-              "unknown conversion '" + std::string(name) + "' (expected exact, 4n or fit)");
+              "unknown conversion '" + printable(name, 40) + "' (expected exact, 4n or fit)");
 }
 
 namespace {

@@ -5,8 +5,8 @@ namespace brdfbake {
 
 CookTorranceMaterial::CookTorranceMaterial(CookTorranceParams params) : params_(std::move(params)) {
   const auto& p = params_;
-  require(std::isfinite(p.roughness) && p.roughness > 0.0 && p.roughness <= 10.0,
-          "roughness must be in (0, 10], got " + std::to_string(p.roughness));
+  require(std::isfinite(p.roughness) && p.roughness >= kMinRoughness && p.roughness <= kMaxRoughness,
+          "roughness must be in [1e-06, 10], got " + std::to_string(p.roughness));
   require(std::isfinite(p.specularWeight) && p.specularWeight >= 0.0 && p.specularWeight <= 1.0,
           "specular_weight must be in [0, 1], got " + std::to_string(p.specularWeight));
   require(allFinite(p.diffuse) && (p.diffuse >= 0.0).all() && (p.diffuse <= 1.0).all(),
@@ -105,21 +105,21 @@ MicrofacetDistribution parseMicrofacetDistribution(std::string_view name) {
   if (name == "beckmann") return MicrofacetDistribution::Beckmann;
   if (name == "ggx") return MicrofacetDistribution::Ggx;
   throw Error(Error::Kind::InvalidArgument,
-              "distribution must be \"beckmann\" or \"ggx\", got \"" + std::string(name) + "\"");
+              "distribution must be \"beckmann\" or \"ggx\", got \"" + printable(name, 40) + "\"");
 }
 
 CookTorranceMode parseCookTorranceMode(std::string_view name) {
   if (name == "lighting") return CookTorranceMode::Lighting;
   if (name == "reflectance") return CookTorranceMode::Reflectance;
   throw Error(Error::Kind::InvalidArgument,
-              "mode must be \"lighting\" or \"reflectance\", got \"" + std::string(name) + "\"");
+              "mode must be \"lighting\" or \"reflectance\", got \"" + printable(name, 40) + "\"");
 }
 
 CookTorranceNormalization parseCookTorranceNormalization(std::string_view name) {
   if (name == "microfacet") return CookTorranceNormalization::Microfacet;
   if (name == "1981") return CookTorranceNormalization::CookTorrance1981;
   throw Error(Error::Kind::InvalidArgument,
-              "normalization must be \"microfacet\" or \"1981\", got \"" + std::string(name) + "\"");
+              "normalization must be \"microfacet\" or \"1981\", got \"" + printable(name, 40) + "\"");
 }
 
 }  // namespace brdfbake

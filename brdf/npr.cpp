@@ -97,7 +97,7 @@ ColorgramBlend parseColorgramBlend(std::string_view name) {
   if (name == "modulate") return ColorgramBlend::Modulate;
   if (name == "add") return ColorgramBlend::Add;
   throw Error(Error::Kind::InvalidArgument,
-              "blend must be \"replace\", \"modulate\" or \"add\", got \"" + std::string(name) + "\"");
+              "blend must be \"replace\", \"modulate\" or \"add\", got \"" + printable(name, 40) + "\"");
 }
 
 std::string_view toString(ColorgramBlend blend) {

@@ -29,7 +29,7 @@ ParameterizationKind parseParameterizationKind(std::string_view name) {
     if (name == toString(kind)) return kind;
   }
   throw Error(Error::Kind::InvalidArgument,
-              "unknown parameterization '" + std::string(name) + "' (expected sphere, paraboloid, cube or latlong)");
+              "unknown parameterization '" + printable(name, 40) + "' (expected sphere, paraboloid, cube or latlong)");
 }
 
 Parameterization::Parameterization(int resolution) : resolution_(resolution), inverseResolution_(1.0 / resolution) {

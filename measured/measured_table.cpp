@@ -48,7 +48,7 @@ TableFormat parseTableFormat(std::string_view name) {
     if (equalsIgnoringCase(name, known)) return f;
     accepted += (accepted.empty() ? "" : ", ") + std::string(known);
   }
-  const std::string shown = name.size() > 40 ? std::string(name.substr(0, 40)) + "..." : std::string(name);
+  const std::string shown = printable(name, 40);
   throw Error(Error::Kind::InvalidArgument, "format must be one of " + accepted + " (any case); got \"" + shown + "\"");
 }
 
