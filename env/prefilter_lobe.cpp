@@ -92,7 +92,7 @@ double parseNumber(std::string_view text, std::string_view lobe) {
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) {
     throw Error(Error::Kind::InvalidArgument,
-                "lobe '" + std::string(lobe) + "': '" + std::string(text) + "' is not a number");
+                "lobe '" + printable(lobe, 60) + "': '" + printable(text, 40) + "' is not a number");
   }
   return value;
 }
@@ -167,11 +167,11 @@ PrefilterLobe PrefilterLobe::parse(std::string_view text, const std::filesystem:
   auto needsArgument = [&](bool needs) {
     if (needs && tail.empty()) {
       throw Error(Error::Kind::InvalidArgument,
-                  "lobe '" + std::string(text) + "' needs a parameter after ':' (" + accepted + ")");
+                  "lobe '" + printable(text, 60) + "' needs a parameter after ':' (" + accepted + ")");
     }
     if (!needs && colon != std::string_view::npos) {
       throw Error(Error::Kind::InvalidArgument,
-                  "lobe '" + std::string(head) + "' takes no parameter (" + accepted + ")");
+                  "lobe '" + printable(head, 60) + "' takes no parameter (" + accepted + ")");
     }
   };
   if (head == "mirror") return needsArgument(false), mirror();
@@ -186,11 +186,11 @@ PrefilterLobe PrefilterLobe::parse(std::string_view text, const std::filesystem:
                                            : baseDirectory / std::filesystem::path(tail);
     // Fitted lobes are RGB-weighted sums of Phong lobes, not one scalar lobe: the CLI and specs read
     // the fit.json (readFitFile) and call prefilterLobeModel.
-    throw Error(Error::Kind::InvalidArgument, "lobe 'lobes:" + file.string() +
+    throw Error(Error::Kind::InvalidArgument, "lobe 'lobes:" + printable(file.string()) +
                                                   "' is a fitted lobe model: read it with readFitFile and prefilter it "
                                                   "with prefilterLobeModel");
   }
-  throw Error(Error::Kind::InvalidArgument, "unknown lobe '" + std::string(text) + "' (" + accepted + ")");
+  throw Error(Error::Kind::InvalidArgument, "unknown lobe '" + printable(text, 60) + "' (" + accepted + ")");
 }
 
 LobeKind PrefilterLobe::kind() const { return data_->kind; }

@@ -13,7 +13,7 @@ case "$mode" in demo|test) ;; *) echo "usage: $0 demo|test" >&2; exit 2 ;; esac
 cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake libeigen3-dev libceres-dev libopenimageio-dev nlohmann-json3-dev
-          libgtest-dev libtbb-dev libcli11-dev libbenchmark-dev librapidcheck-dev libmatio-dev gnuplot-nox)
+          libgtest-dev libtbb-dev libcli11-dev libbenchmark-dev librapidcheck-dev libmatio-dev zlib1g-dev gnuplot-nox)
 # The test run also checks the formatting of the sources.
 [ "$mode" = test ] && packages+=(clang-format git)
 missing=()

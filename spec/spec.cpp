@@ -1,10 +1,13 @@
 #include <brdfbake/bake/baked_mips.hpp>
 #include <brdfbake/core/files.hpp>
+#include <brdfbake/core/printable.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/maps/map_mips.hpp>
 #include <brdfbake/spec/material_spec.hpp>
 #include <brdfbake/spec/spec.hpp>
+
+#include <sys/stat.h>
 
 #include <fstream>
 #include <sstream>
@@ -16,6 +19,9 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr std::size_t kMaxPathLength = 4096;  // PATH_MAX on Linux
+constexpr std::size_t kMaxNameLength = 255;   // NAME_MAX of Linux file systems
+constexpr std::size_t kMaxLights = 256;       // per map (docs/limits.md)
+constexpr std::size_t kMaxMaps = 1024;        // per spec
 
 DirectionalLight parseLight(const nlohmann::json& value, const std::string& path, const Vec3& view, bool& atEye) {
   JsonObjectReader light(value, path);
@@ -220,7 +226,7 @@ void parseMaterialMap(JsonObjectReader& map, MapSpec& spec, const fs::path& base
   m.deferredFit = std::move(deferred);
 
   if (map.has("lights")) {
-    const auto& lights = map.array("lights");
+    const auto& lights = map.array("lights", kMaxLights);
     for (std::size_t i = 0; i < lights.size(); ++i) {
       bool atEye = false;
       m.lights.push_back(parseLight(lights[i], map.child("lights") + "[" + std::to_string(i) + "]", spec.view, atEye));
@@ -254,6 +260,13 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     throw specError(map.child("output"), "a name of " + std::to_string(output.size()) +
                                              " characters; paths are limited to " + std::to_string(kMaxPathLength));
   }
+  for (const auto& part : fs::path(output)) {
+    if (part.string().size() > kMaxNameLength) {
+      throw specError(map.child("output"), "a name of " + std::to_string(part.string().size()) +
+                                               " bytes in the path; file names are limited to " +
+                                               std::to_string(kMaxNameLength) + " (NAME_MAX)");
+    }
+  }
   try {
     imageFormatFor(output);
   } catch (const Error& e) {
@@ -272,7 +285,7 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     } catch (const Error&) {
       throw specError(map.child("parameterization"),
                       "parameterization must be one of sphere, paraboloid, cube, latlong, profile, auto; got \"" +
-                          shortenForMessage(kind, 40) + "\"");
+                          printable(kind, 40) + "\"");
     }
   }
   auto isAuto = [&](const char* key) {
@@ -464,23 +477,33 @@ BakeSpec parseBakeSpec(const nlohmann::json& document, const fs::path& baseDirec
   try {
     JsonObjectReader root(document, "");
     BakeSpec spec;
-    const auto& maps = root.array("maps");
+    const auto& maps = root.array("maps", kMaxMaps);
     if (maps.empty()) throw specError("maps", "must hold at least one map");
     for (std::size_t i = 0; i < maps.size(); ++i) {
       spec.maps.push_back(parseMap(maps[i], "maps[" + std::to_string(i) + "]", baseDirectory));
       spec.maps.back().specLabel = label;
     }
     root.finish();
+    // Each output resolved once (up to kMaxMaps of them), then compared pairwise: the same resolved
+    // path, or the same existing file (a hard link).
+    std::vector<fs::path> resolved;
+    std::vector<std::pair<dev_t, ino_t>> inodes;
+    for (const MapSpec& map : spec.maps) {
+      resolved.push_back(resolvedPath(map.output));
+      struct stat info {};
+      inodes.emplace_back(::stat(map.output.c_str(), &info) == 0 ? std::pair(info.st_dev, info.st_ino)
+                                                                 : std::pair<dev_t, ino_t>(0, 0));
+    }
     for (std::size_t i = 0; i < spec.maps.size(); ++i) {
       for (std::size_t j = 0; j < i; ++j) {
-        if (sameFile(spec.maps[i].output, spec.maps[j].output)) {
+        if (resolved[i] == resolved[j] || (inodes[i].second != 0 && inodes[i] == inodes[j])) {
           throw specError(spec.maps[i].jsonPath + ".output", "same file as " + spec.maps[j].jsonPath + ".output");
         }
       }
     }
     return spec;
   } catch (const Error& e) {
-    throw Error(e.kind(), label + ": " + e.what());
+    throw Error(e.kind(), printable(label) + ": " + e.what());
   }
 }
 

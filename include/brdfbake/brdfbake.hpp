@@ -8,13 +8,16 @@
 #include <brdfbake/core/color.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/files.hpp>
+#include <brdfbake/core/gnuplot.hpp>
 #include <brdfbake/core/json_reader.hpp>
 #include <brdfbake/core/json_text.hpp>
 #include <brdfbake/core/math.hpp>
 #include <brdfbake/core/memory_budget.hpp>
 #include <brdfbake/core/named_values.hpp>
+#include <brdfbake/core/printable.hpp>
 #include <brdfbake/core/progress.hpp>
 #include <brdfbake/core/run_options.hpp>
+#include <brdfbake/core/text_io.hpp>
 #include <brdfbake/core/version.hpp>
 #endif
 
@@ -85,7 +88,6 @@
 #include <brdfbake/fit/cornell_grid.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/fit/fit_report.hpp>
-#include <brdfbake/fit/gnuplot.hpp>
 #include <brdfbake/fit/held_out.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 #include <brdfbake/fit/mirror_direction.hpp>

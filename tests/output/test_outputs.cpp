@@ -163,6 +163,30 @@ TEST(TiledMips, CubeFacesAreSixTiledFilesAndBadRequestsAreRefused) {
   EXPECT_FALSE(fs::exists(dir / "odd.exr"));
 }
 
+// --mips --tiled of a 1 x 1 map: one level, so one tiled file of one level (it said "needs the mip
+// levels (PrefilterOptions::mips)", naming an option the user had set). Without mips: refused in words.
+TEST(TiledMips, AOneTexelMapIsAOneLevelFileAndNoMipsIsRefusedInWords) {
+  test::TempDir dir;
+  const Environment furnace = loadEnvironment(test::sourcePath("data_samples/environments/furnace_latlong.exr"));
+  PrefilterOptions options;
+  options.parameterization = ParameterizationKind::Sphere;
+  options.resolution = 1;
+  options.mips = true;
+  writePrefilteredMap(prefilter(furnace, PrefilterLobe::irradiance(), options), dir / "dot.exr", {}, CubeLayout::Cross,
+                      {}, MipLayout::Tiled);
+  EXPECT_EQ(imageMipLevelCount(dir / "dot.exr"), 1);
+  options.resolution = 8;
+  options.mips = false;
+  try {
+    writePrefilteredMap(prefilter(furnace, PrefilterLobe::irradiance(), options), dir / "flat.exr", {},
+                        CubeLayout::Cross, {}, MipLayout::Tiled);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "a tiled MIP-mapped output holds every mip level; prefilter with mips on (\"mips\": true, --mips)");
+  }
+}
+
 // A Fresnel table written before the rename says "parameterization": "fresnel_profile"; it still
 // opens as a Fresnel table. Texels hold 0.1, 0.2, 0.3, 0.4 at cos theta = 0.125, 0.375, ...: at
 // n.v = 0.5, halfway between texels 1 and 2, the linear lookup gives 0.25.
