@@ -1053,30 +1053,7 @@ TEST(Prefilter, ParaboloidEquatorJumpIsSecondOrder) {
   }
 }
 
-// ---- mips ------------------------------------------------------------------------------------
-
-TEST(EnvironmentMips, LevelsKeepTheSolidAngleIntegral) {
-  // Solid-angle weighting keeps ∫ L dω from level to level (exactly where texels nest).
-  for (auto kind : {ParameterizationKind::LatLong, ParameterizationKind::Cube, ParameterizationKind::Sphere}) {
-    const Environment environment = bakeEnvironment(SkyEnvironment(), kind, 32, "sky", 4);
-    const auto chain = environmentMipChain(environment.image, *environment.map);
-    ASSERT_EQ(chain.size(), 6u);
-    auto integral = [&](const Image& image, int resolution) {
-      const auto map = makeParameterization(kind, resolution);
-      Rgb sum = Rgb::Zero();
-      for (int y = 0; y < map->height(); ++y)
-        for (int x = 0; x < map->width(); ++x) sum += mipTexelWeight(*map, x, y) * image.at(x, y).head<3>();
-      return sum;
-    };
-    const Rgb base = integral(chain[0], 32);
-    for (int level = 1; level < 6; ++level) {
-      const Rgb value = integral(chain[level], 32 >> level);
-      // Cube edge fixup moves a little energy between edge texels of unequal solid angle.
-      const double tolerance = kind == ParameterizationKind::Cube ? 2e-3 : 1e-5;
-      EXPECT_LT(((value - base) / base).abs().maxCoeff(), tolerance) << toString(kind) << " level " << level;
-    }
-  }
-}
+// The mip chain's weights and integrals: tests/maps/test_map_mips.cpp.
 
 // ---- bad environments ------------------------------------------------------------------------
 
