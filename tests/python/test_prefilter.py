@@ -124,3 +124,30 @@ def test_a_missing_environment_raises_an_io_error_naming_it(tmp_path, scratch):
     with pytest.raises(brdfbake.IoError, match="nowhere.exr"):
         brdfbake.prefilter(tmp_path / "nowhere.exr", "phong:20", "sphere", 8, progress=False)
     assert list(scratch.iterdir()) == []
+
+
+def test_a_lambertian_surface_in_the_furnace_file_reflects_its_albedo(source_dir, scratch):
+    # data_samples' furnace is radiance 1 everywhere (checked here): the irradiance is pi at every
+    # normal, and a Lambertian surface of albedo a reflects a/pi times it, a itself.
+    furnace = source_dir / "data_samples" / "environments" / "furnace_latlong.exr"
+    assert np.all(brdfbake.read_map(furnace, from_="latlong").pixels[:, :, :3] == 1.0)
+    irradiance = brdfbake.prefilter(furnace, "irradiance", "cube", 8, progress=False)
+    albedo = np.array([0.2, 0.5, 0.8])
+    reflected = albedo / math.pi * irradiance.sample(random_directions(1000, seed=9))[:, :3]
+    assert np.allclose(reflected, albedo, rtol=1e-6, atol=0)
+    assert list(scratch.iterdir()) == []
+
+
+def test_fitted_lobes_in_the_furnace_give_their_integral(source_dir, tmp_path, scratch):
+    # A fitted channel's lobes sum_k C_k (n_k + 2)/(2 pi) max(0, r.l)^n_k integrate over the sphere to
+    # sum_k C_k (n_k + 2)/(n_k + 1) (docs/prefilter.md), the value a white furnace gives at every r.
+    fit = brdfbake.fit(source_dir / "data_samples" / "tables" / "synthetic_two_lobes.astm", kind="mirror",
+                       held_out=False, progress=False)
+    fit.save(tmp_path / "fit.json")
+    m = brdfbake.prefilter(np.ones((32, 64, 3), dtype=np.float32), f"lobes:{tmp_path / 'fit.json'}", "paraboloid", 16,
+                           progress=False)
+    integrals = [sum(lobe["weight"][0] * (lobe["exponent"][0] + 2) / (lobe["exponent"][0] + 1) for lobe in lobes)
+                 for lobes in fit.lobes]
+    values = m.sample(random_directions(1000, seed=3))[:, :3]
+    assert np.allclose(values, integrals, rtol=1e-5, atol=0)
+    assert list(scratch.iterdir()) == []
