@@ -86,8 +86,8 @@ def bake(
 
     The whole spec is checked before any map is made. Returns the BakeResult (to_json() is what
     ``bake --json`` prints). Raises Error naming the JSON path for a bad spec; when a map fails while
-    being made the others are still made, and the first failure is raised with ``.result`` set to the
-    BakeResult of all of them.
+    being made the others are still made, and the first failure is raised, naming the map's JSON path,
+    with ``.result`` set to the BakeResult of all of them.
     """
     document = spec if isinstance(spec, Mapping) else None
     path = None if document is not None else spec
@@ -95,7 +95,12 @@ def bake(
         result = _core.run_spec(path, document, out_dir, threads, allow_large, "spec", callback)
     failure = result._first_error
     if failure is not None:
-        raise error_class(failure[0])(failure[1], result=result)
+        kind, message = failure
+        # The first failed map's place in the spec, as the tool's "maps[0] failed: ..." line gives it.
+        failed = next((m for m in result.maps if not m.written), None)
+        if failed is not None and failed.json_path not in message:
+            message = f"{'spec' if document is not None else os.fspath(spec)}: {failed.json_path}: {message}"
+        raise error_class(kind)(message, result=result)
     return result
 
 

@@ -165,3 +165,19 @@ def test_a_lambertian_sphere_map_lit_from_the_eye_holds_the_albedo_times_n_z(tmp
         assert np.max(np.abs(pixels[inside][:, c] - a * n_z)) < 2e-4 * a
     # The centre texels, n_z ~ 1, hold the albedo itself.
     assert np.allclose(pixels[63:65, 63:65, :3], albedo, rtol=2e-4, atol=0)
+
+
+def test_a_map_failing_while_made_does_not_stop_the_others_and_is_raised_with_them(tmp_path):
+    # An `auto` bound no configuration meets fails while the map is made (docs/spec.md), after the spec
+    # was checked whole: the next map is still written, and the error names maps[0].
+    unreachable = dict(PHONG_EYE, output="unreachable.exr", resolution="auto", samples_per_texel=1, max_error=1e-9,
+                       material={"model": "phong", "exponent": 5000})
+    fine = dict(PHONG_EYE, output="fine.exr", resolution=16)
+    with pytest.raises(brdfbake.InvalidInputError) as caught:
+        brdfbake.bake({"maps": [unreachable, fine]}, out_dir=tmp_path, progress=False)
+    assert str(caught.value).startswith("spec: maps[0]: no configuration meets max_error 1e-09")
+    result = caught.value.result
+    assert isinstance(result, brdfbake.BakeResult) and result.failed == 1
+    assert [m.written for m in result.maps] == [False, True] and result.maps[0].error in str(caught.value)
+    assert result.to_json()["maps"][0]["status"] == "failed"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["fine.exr"]
