@@ -125,10 +125,7 @@ void bindSpecResults(py::module_& module) {
       });
 }
 
-}  // namespace
-
-void bindResults(py::module_& module) {
-  bindSpecResults(module);
+void bindFitResult(py::module_& module) {
   py::class_<FitTableResult, std::shared_ptr<FitTableResult>>(
       module, "Fit", "Lobes fitted to a measured table (brdfbake.fit), with the fit's statistics and held-out error.")
       .def_readonly("table", &FitTableResult::table, "The table as given.")
@@ -195,6 +192,13 @@ void bindResults(py::module_& module) {
         return "<brdfbake.Fit '" + f.table.string() + "': " + std::to_string(f.file.fit.model.channels.size()) +
                " channel(s), " + std::to_string(f.file.fit.model.channels.front().lobes.size()) + " lobe(s)>";
       });
+}
+
+}  // namespace
+
+void bindResults(py::module_& module) {
+  bindSpecResults(module);
+  bindFitResult(module);
 }
 
 }  // namespace brdfbake::python
