@@ -3,13 +3,15 @@
 // Ctrl-C.
 //
 // The job runs on a thread of its own while the calling (Python) thread waits for it without the
-// GIL. Every 50 ms, and whenever the job reports progress, the calling thread takes the GIL, passes
-// the latest fraction of each task to the progress callback and runs Python's signal handlers
-// (PyErr_CheckSignals, which acts on the main thread only: the job's worker threads could not).
-// When a handler raises (Ctrl-C: KeyboardInterrupt) or the callback does, the job is cancelled: its
-// next progress report throws JobCancelled, which unwinds it like any error (the unfinished output's
-// temporaries are removed, core/files.hpp), and the Python exception is raised once it has stopped.
-// Whatever finished before stays: the maps of a spec already written, for instance.
+// GIL. Every 50 ms, and at once when a task reports its end (fraction 1), the calling thread takes the
+// GIL, passes the latest fraction of each task to the progress callback and runs Python's signal
+// handlers (PyErr_CheckSignals, which acts on the main thread only: the job's worker threads could
+// not). A task's last report waits until the callback has seen it, so a callback may stop the job
+// there, before the task's output is written. When a handler raises (Ctrl-C: KeyboardInterrupt) or
+// the callback does, the job is cancelled: its next progress report throws JobCancelled, which
+// unwinds it like any error (the unfinished output's temporaries are removed, core/files.hpp), and
+// the Python exception is raised once it has stopped. Whatever finished before stays: the maps of a
+// spec already written, for instance.
 #include <brdfbake/core/progress.hpp>
 
 #include <pybind11/pybind11.h>

@@ -140,3 +140,33 @@ def test_ctrl_c_stops_the_work_cleanly(tmp_path, source_dir, job):
     assert out.strip() == "KeyboardInterrupt"
     assert stopped < 5, f"stopped {stopped:.1f} s after SIGINT"
     assert list((tmp_path / "out").iterdir()) == []
+
+
+def test_a_callback_raising_at_a_maps_last_report_stops_it_before_it_is_written(tmp_path):
+    # A task's last report (fraction 1) waits for the callback, and comes before the map is written:
+    # raising there leaves the map unwritten, whatever the threads' timing. The map before it stays.
+    class Stop(Exception):
+        pass
+
+    seen = []
+
+    def progress(task, fraction):
+        seen.append((task, fraction))
+        if task.startswith("maps[1]") and fraction >= 1.0:
+            raise Stop(task)
+
+    spec = {"maps": [dict(PHONG_EYE, output="first.exr", resolution=64), dict(PHONG_EYE, output="second.exr", resolution=64)]}
+    for _ in range(5):
+        with pytest.raises(Stop):
+            brdfbake.bake(spec, out_dir=tmp_path, threads=2, progress=progress)
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["first.exr"]
+        (tmp_path / "first.exr").unlink()
+    assert ("maps[0] first.exr", 1.0) in seen and ("maps[1] second.exr", 1.0) in seen
+
+
+def test_a_callback_is_called_a_few_times_a_second_not_per_row(tmp_path):
+    calls = []
+    brdfbake.bake({"maps": [dict(SLOW, resolution=512, samples_per_texel=4)]}, out_dir=tmp_path, threads=1,
+                  progress=lambda task, fraction: calls.append(time.monotonic()))
+    seconds = calls[-1] - calls[0]
+    assert len(calls) <= seconds / 0.05 + 3, f"{len(calls)} calls in {seconds:.2f} s"
