@@ -65,6 +65,26 @@ __all__ = [
 PathLike = Union[str, "os.PathLike[str]"]
 
 
+def _whole(value: Any, keyword: str, optional: bool = False) -> Any:
+    """`value` of an integer keyword, checked here so that a wrong type or a number beyond 32 bits is
+    an error naming the keyword (the library checks the range of the others)."""
+    if optional and value is None:
+        return value
+    if isinstance(value, bool) or not isinstance(value, int):
+        try:
+            import numpy  # numpy integers are integers
+
+            if isinstance(value, numpy.integer):
+                value = int(value)
+        except ImportError:
+            pass
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise TypeError(f"{keyword}: expected an int, got {value!r}")
+    if not -(2**31) <= value < 2**31:
+        raise InvalidArgumentError(f"{keyword}: {value} is out of range")
+    return value
+
+
 def bake(
     spec: Union[PathLike, Mapping[str, Any]],
     out_dir: Optional[PathLike] = None,
@@ -91,6 +111,9 @@ def bake(
     """
     document = spec if isinstance(spec, Mapping) else None
     path = None if document is not None else spec
+    if path is not None and isinstance(path, (str, os.PathLike)) and not os.fspath(path):
+        raise InvalidArgumentError("spec: an empty path")
+    threads = _whole(threads, "threads")
     with progress_callback(progress) as callback:
         result = _core.run_spec(path, document, out_dir, threads, allow_large, "spec", callback)
     failure = result._first_error
@@ -135,6 +158,7 @@ def fit(
     Returns a Fit: held_out, lobes, channels, evaluate(wi, wo), save(path) (the fit.json the tool writes),
     to_json() (what ``fit --json`` prints). A fit whose solve failed is returned with usable False.
     """
+    threads, folds = _whole(threads, "threads"), _whole(folds, "folds")
     with progress_callback(progress) as callback:
         return _core.fit_table(
             table, lobes, kind, elevation, method, max_exponent, held_out, folds, channels, rgb, format,
@@ -227,6 +251,9 @@ def prefilter(
     Returns the Map read back from the file written; Map.result is the map's entry as
     ``prefilter --json`` prints it (method chosen, error estimate). Errors name the keyword.
     """
+    resolution, samples_per_texel, threads = (_whole(resolution, "resolution"),
+                                              _whole(samples_per_texel, "samples_per_texel"), _whole(threads, "threads"))
+    elevations, mip_count = _whole(elevations, "elevations", True), _whole(mip_count, "mip_count", True)
     with ExitStack() as cleanup:
         renames = list(_PREFILTER_KEYWORDS)
         if not isinstance(environment, (str, os.PathLike)):

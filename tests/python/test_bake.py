@@ -181,3 +181,15 @@ def test_a_map_failing_while_made_does_not_stop_the_others_and_is_raised_with_th
     assert [m.written for m in result.maps] == [False, True] and result.maps[0].error in str(caught.value)
     assert result.to_json()["maps"][0]["status"] == "failed"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["fine.exr"]
+
+
+@pytest.mark.parametrize("threads, error", [(1.5, TypeError), ("2", TypeError), (True, TypeError),
+                                            (10**12, brdfbake.InvalidArgumentError), (5000, brdfbake.InvalidArgumentError)])
+def test_integer_keywords_of_the_wrong_type_or_size_are_errors_naming_them(tmp_path, threads, error):
+    with pytest.raises(error, match="threads"):
+        brdfbake.bake({"maps": [PHONG_EYE]}, out_dir=tmp_path, threads=threads, progress=False)
+    with pytest.raises(brdfbake.InvalidArgumentError, match="spec: an empty path"):
+        brdfbake.bake("", progress=False)
+    assert list(tmp_path.iterdir()) == []
+    assert brdfbake.bake({"maps": [dict(PHONG_EYE, resolution=8)]}, out_dir=tmp_path, threads=np.int32(1),
+                         progress=False).failed == 0
