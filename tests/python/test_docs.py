@@ -4,6 +4,8 @@ README's Cornell table), so the examples and the asserts in them stay true."""
 
 import os
 import re
+import sys
+import types
 
 import pytest
 
@@ -40,8 +42,27 @@ def test_the_tutorial_of_docs_python_md_runs(tmp_path, monkeypatch):
     assert written == ["fit.json", "phong.exr", "sky_phong20.exr"]  # the cancelled bake left nothing
 
 
-def test_the_python_example_of_readme_runs(tmp_path, monkeypatch, cornell):
+@pytest.mark.parametrize("matplotlib", [False, True])
+def test_the_python_example_of_readme_runs(tmp_path, monkeypatch, cornell, capsys, matplotlib):
     blocks = python_blocks(SOURCE_DIR / "README.md", after="## Python")
     assert len(blocks) == 1 and len(blocks[0].splitlines()) <= 16
+    plotted = {}
+    if matplotlib:  # a stand-in recording the plot (matplotlib itself need not be installed)
+        pyplot = types.ModuleType("matplotlib.pyplot")
+        pyplot.plot = lambda x, y, style: plotted.update(x=x, y=y)
+        pyplot.savefig = lambda path: plotted.update(path=path)
+        package = types.ModuleType("matplotlib")
+        package.pyplot = pyplot
+        monkeypatch.setitem(sys.modules, "matplotlib", package)
+        monkeypatch.setitem(sys.modules, "matplotlib.pyplot", pyplot)
+    else:
+        monkeypatch.setitem(sys.modules, "matplotlib", None)  # import raises ImportError
+        monkeypatch.setitem(sys.modules, "matplotlib.pyplot", None)
     run_blocks(blocks, tmp_path, monkeypatch)
     assert (tmp_path / "repo" / "out" / "garnet.exr").exists()
+    if matplotlib:
+        # The held-out elevations of a Cornell table: 20 to 70 degrees, each better than Lambert.
+        assert [round(x) for x in plotted["x"]] == [20, 30, 40, 50, 60, 70] and max(plotted["y"]) < 1
+        assert plotted["path"] == "out/garnet_held_out.png"
+    else:
+        assert "matplotlib is not installed" in capsys.readouterr().out
