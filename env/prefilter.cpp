@@ -1120,13 +1120,16 @@ MapWriteReport writePrefilteredMap(const PrefilteredMap& map, const std::filesys
                        {"exact", s.exact},
                        {"mip_level", level},
                        {"mip_levels", count}});
+    if (s.lobe == "irradiance") prefilterInfo["irradiance_quantity"] = kIrradianceQuantity;
+    if (!map.levelValues.empty()) info.spec["level_values"] = map.levelValues;
     return info;
   };
   if (mipLayout == MipLayout::Tiled) {
     require(count > 1, "a tiled MIP-mapped output needs the mip levels (PrefilterOptions::mips)");
     MapInfo info = levelInfo(0);
     info.spec["prefilter"]["mip_layout"] = "tiled";
-    return writeTiledMap(map.levels, info, path, layout, options);
+    info.spec.erase("level_values");  // writeTiledMap stores them beside "mip_levels"
+    return writeTiledMap(map.levels, info, path, layout, options, map.levelValues);
   }
   MapWriteReport report;
   for (int level = 0; level < count; ++level) {

@@ -1,5 +1,6 @@
 // A map prefiltered from an environment (docs/prefilter.md): one map, a stack over view elevation
 // (varying lobe models), a Fresnel decomposition (three files) or a gloss chain; SH irradiance beside.
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/env/prefilter_stack.hpp>
 #include <brdfbake/env/sh_irradiance.hpp>
@@ -54,18 +55,29 @@ nlohmann::json environmentSource(const EnvironmentMapSpec& e, const Environment&
 MapWriteReport writePrefiltered(const MapSpec& map, const EnvironmentMapSpec& e, const Prefiltered& made,
                                 const Environment& environment, const MapRunContext& context) {
   MapWriteReport written =
-      made.stack           ? writePrefilteredStack(*made.stack, map.output, map.raw, map.cubeLayout, context.write,
-                                                   e.mipLayout)
-      : made.decomposition ? writeFresnelDecomposition(*made.decomposition, map.output, map.raw, map.cubeLayout,
-                                                       context.write, e.mipLayout)
-                           : writePrefilteredMap(made.map, map.output, map.raw, map.cubeLayout, context.write,
-                                                 e.mipLayout);
+      made.stack ? writePrefilteredStack(*made.stack, map.output, map.raw, map.cubeLayout, context.write, e.mipLayout)
+      : made.decomposition
+          ? writeFresnelDecomposition(*made.decomposition, map.output, map.raw, map.cubeLayout, context.write,
+                                      e.mipLayout)
+          : writePrefilteredMap(made.map, map.output, map.raw, map.cubeLayout, context.write, e.mipLayout);
   if (const auto& sh = e.shOutput) {
-    writeIrradianceSh(irradianceSh(environment), environmentSource(e, environment), *sh, context.write.inputs);
+    const ShExpansion coefficients = irradianceSh(environment);
+    if (e.shCmgen) {
+      for (const auto& input : context.write.inputs)
+        if (sameFile(input, *sh))
+          throw Error(Error::Kind::InvalidArgument, sh->string() + ": would overwrite an input");
+      writeFileAtomically(*sh, irradianceShCmgenText(coefficients));
+    } else {
+      writeIrradianceSh(coefficients, environmentSource(e, environment), *sh, context.write.inputs);
+    }
     written.files.push_back(*sh);
     written.notes.push_back(sh->string() +
-                            ": irradiance as 9 SH coefficients per channel (3 bands), E(n)/pi = sum c_i Y_i(n): "
-                            "cosine convolution and 1/pi included, orthonormal basis (the file states it)");
+                            (e.shCmgen ? ": irradiance as cmgen prints it (--sh-shader): 9 RGB coefficients, E(n)/pi "
+                                         "= sh[0] + sh[1] y + sh[2] z + sh[3] x + sh[4] yx + sh[5] yz + sh[6] (3z^2 "
+                                         "- 1) + sh[7] zx + sh[8] (x^2 - y^2)"
+                                       : ": irradiance as 9 SH coefficients per channel (3 bands), E(n)/pi = sum c_i "
+                                         "Y_i(n): cosine convolution and 1/pi included, orthonormal basis (the file "
+                                         "states it)"));
   }
   return written;
 }
@@ -88,11 +100,23 @@ void addKindEntries(const MapSpec& map, const EnvironmentMapSpec& e, const Prefi
   if (e.glossChain) {
     nlohmann::json levels = nlohmann::json::array();
     for (std::size_t k = 0; k < e.chainLobes.size(); ++k) {
-      levels.push_back({{"level", k},
-                        {"lobe", e.chainLobes[k].name()},
-                        {"resolution", std::max(1, map.resolution >> static_cast<int>(k))}});
+      nlohmann::json level = k < made.map.levelValues.size() ? made.map.levelValues[k] : nlohmann::json::object();
+      level["level"] = k;
+      level["resolution"] = std::max(1, map.resolution >> static_cast<int>(k));
+      levels.push_back(level);
     }
-    entry["gloss_chain"] = {{"scale", e.glossChain->scale}, {"bias", e.glossChain->bias}, {"levels", levels}};
+    if (e.glossChain->ggx) {
+      entry["gloss_chain"] = {{"kind", "ggx"},
+                              {"roughness_mapping",
+                               "level k of L holds perceptual roughness R = k / (L - 1) "
+                               "(alpha = R^2); a renderer reads R at lod = R (L - 1)"},
+                              {"levels", levels}};
+    } else {
+      entry["gloss_chain"] = {{"kind", e.lobeName.substr(0, 5) == "blinn" ? "blinn" : "phong"},
+                              {"scale", e.glossChain->scale},
+                              {"bias", e.glossChain->bias},
+                              {"levels", levels}};
+    }
   }
   if (const auto& sh = e.shOutput) entry["sh"] = sh->string();
 }
@@ -103,9 +127,8 @@ std::vector<std::string> boundNotes(const Prefiltered& made) {
   const PrefilterSummary* irradiance = made.decomposition ? &made.decomposition->irradiance.summary : nullptr;
   for (const PrefilterSummary* summary : {&made.map.summary, irradiance}) {
     if (summary && summary->errorEstimated && !summary->metTarget) {
-      notes.push_back("the estimated error " + formatNumber(100.0 * summary->errorEstimate) + " % of " +
-                      summary->lobe + " exceeds the bound (max_error) " + formatNumber(100.0 * summary->maxError) +
-                      " %");
+      notes.push_back("the estimated error " + formatNumber(100.0 * summary->errorEstimate) + " % of " + summary->lobe +
+                      " exceeds the bound (max_error) " + formatNumber(100.0 * summary->maxError) + " %");
     }
   }
   return notes;
@@ -138,12 +161,11 @@ MapResult runEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e, con
   const double writeSeconds = secondsSince(writeStart);
   for (auto& note : boundNotes(made)) written.notes.push_back(std::move(note));
   const PrefilterSummary& summary = made.map.summary;
-  MapResult result = makeMapResult(map,
-                                   {std::string(toString(map.parameterization)), map.resolution,
-                                    made.map.map->width(), made.map.map->height(),
-                                    "prefilter:" + std::string(toString(summary.method)), summary.seconds,
-                                    writeSeconds},
-                                   written.files, written.notes);
+  MapResult result = makeMapResult(
+      map,
+      {std::string(toString(map.parameterization)), map.resolution, made.map.map->width(), made.map.map->height(),
+       "prefilter:" + std::string(toString(summary.method)), summary.seconds, writeSeconds},
+      written.files, written.notes);
   addKindEntries(map, e, made, environment, result.entry);
   addLines(map, made, writeSeconds, result);
   return result;

@@ -169,7 +169,7 @@ TEST(ReadOutputs, EveryBakedKindSamplesConvertsAndPreviews) {
 
 TEST(ReadOutputs, PrefilterMipLevelsStacksAndFresnelMapsReadBack) {
   test::TempDir dir;
-  // Mip levels of a furnace's irradiance: pi at every level, whether read from STEM_mipK.EXT or as
+  // Mip levels of a furnace's irradiance E/pi: 1 at every level, whether read from STEM_mipK.EXT or as
   // --mip-level K of STEM.EXT; cube faces at every level too.
   const auto mips =
       runCli("prefilter " + q(kFurnace) + " --lobe irradiance --to cube --faces --resolution 8 --mips --quiet -o " +
@@ -182,7 +182,7 @@ TEST(ReadOutputs, PrefilterMipLevelsStacksAndFresnelMapsReadBack) {
     if (level > 0) reads.push_back(sampleAll(dir / ("irr_mip" + std::to_string(level) + "_posx.exr"), directions));
     for (const auto& values : reads) {
       ASSERT_EQ(values.size(), directions.size());
-      for (const Rgb& v : values) EXPECT_NEAR(v[0], kPi, 1e-4 * kPi);
+      for (const Rgb& v : values) EXPECT_NEAR(v[0], 1.0, 1e-4);
     }
   }
   EXPECT_EQ(infoOf(dir / "irr_mip1.exr")["resolution"], 4);
@@ -255,7 +255,7 @@ TEST(ReadOutputs, PrefilterMipLevelsStacksAndFresnelMapsReadBack) {
   const auto withDir = runCli("sample " + q(dir / "coat_fresnel.exr") + " --cos-view 0.5 --dir 0,0,1");
   EXPECT_EQ(withDir.exitCode, 2);
   EXPECT_NE(withDir.output.find("n.v alone"), std::string::npos) << withDir.output;
-  EXPECT_NEAR(sampleAll(dir / "coat_irradiance.exr", {Vec3(0, 0, 1)}).at(0)[0], kPi, 1e-3 * kPi);
+  EXPECT_NEAR(sampleAll(dir / "coat_irradiance.exr", {Vec3(0, 0, 1)}).at(0)[0], 1.0, 1e-3);
   EXPECT_NEAR(sampleAll(dir / "coat.exr", {Vec3(0.1, 0.2, 1)}).at(0)[0], 1.0, 1e-3);
   EXPECT_EQ(infoOf(dir / "coat_fresnel.exr")["metadata"]["spec"]["prefilter"]["fresnel"]["role"], "table");
   expectPreviews(dir / "coat_fresnel.exr");
@@ -341,7 +341,7 @@ TEST(ReadOutputs, TiledMipChainsAndShIrradianceReadBack) {
   for (std::size_t i = 0; i < fromSh.size(); ++i) {
     const double exact = 0.5 * (1.0 + directions[i].y());
     EXPECT_NEAR(fromSh[i][0], exact, 1e-3) << directions[i].transpose();
-    EXPECT_NEAR(fromMap[i][0] / kPi, exact, 1e-2) << directions[i].transpose();  // a 16-texel cube map, bilinear
+    EXPECT_NEAR(fromMap[i][0], exact, 1e-2) << directions[i].transpose();  // E/pi; a 16-texel cube map, bilinear
   }
   const auto document = nlohmann::json::parse(std::ifstream(dir / "sky_sh.json"));
   EXPECT_EQ(document["bands"], 3);
