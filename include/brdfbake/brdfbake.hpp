@@ -28,6 +28,7 @@
 #include <brdfbake/brdf/npr.hpp>
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/brdf/spectrum.hpp>
+#include <brdfbake/brdf/split_sum.hpp>
 #endif
 
 // maps
@@ -43,6 +44,8 @@
 #include <brdfbake/maps/radial_table.hpp>
 #include <brdfbake/maps/sh.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
+#include <brdfbake/maps/texel_format.hpp>
+#include <brdfbake/maps/texture.hpp>
 #endif
 
 // bake
@@ -58,6 +61,7 @@
 
 // env
 #if __has_include(<brdfbake/env/env_accuracy.hpp>)
+#include <brdfbake/env/dfg_table.hpp>
 #include <brdfbake/env/env_accuracy.hpp>
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/env/prefilter.hpp>
@@ -104,6 +108,7 @@
 #include <brdfbake/run/describe_output.hpp>
 #include <brdfbake/run/evaluate.hpp>
 #include <brdfbake/run/fit_table.hpp>
+#include <brdfbake/run/ibl_job.hpp>
 #include <brdfbake/run/interpolation_chart.hpp>
 #include <brdfbake/run/job.hpp>
 #include <brdfbake/run/prefilter_job.hpp>
