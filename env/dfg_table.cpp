@@ -2,6 +2,7 @@
 #include <brdfbake/brdf/split_sum.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
+#include <brdfbake/core/named_values.hpp>
 #include <brdfbake/core/version.hpp>
 #include <brdfbake/env/dfg_table.hpp>
 
@@ -9,6 +10,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -46,10 +48,7 @@ Rule gaussLegendre(int n) {
 std::string_view toString(DfgForm form) { return form == DfgForm::SingleScattering ? "single" : "multiscatter"; }
 
 DfgForm parseDfgForm(std::string_view name) {
-  if (name == "single") return DfgForm::SingleScattering;
-  if (name == "multiscatter") return DfgForm::MultipleScattering;
-  throw Error(Error::Kind::InvalidArgument,
-              "unknown DFG form '" + std::string(name) + "' (accepted: single, multiscatter)");
+  return parseByName(name, std::array{DfgForm::SingleScattering, DfgForm::MultipleScattering}, "the DFG form");
 }
 
 void DfgOptions::validate() const {

@@ -126,7 +126,7 @@ std::vector<std::string> boundNotes(const Prefiltered& made) {
   std::vector<std::string> notes;
   const PrefilterSummary* irradiance = made.decomposition ? &made.decomposition->irradiance.summary : nullptr;
   for (const PrefilterSummary* summary : {&made.map.summary, irradiance}) {
-    if (summary && summary->errorEstimated && !summary->metTarget) {
+    if (summary && summary->errorEstimated && !summary->metBound) {
       notes.push_back("the estimated error " + formatNumber(100.0 * summary->errorEstimate) + " % of " + summary->lobe +
                       " exceeds the bound (max_error) " + formatNumber(100.0 * summary->maxError) + " %");
     }

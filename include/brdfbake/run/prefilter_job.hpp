@@ -34,7 +34,7 @@ struct PrefilterRequest {
   std::optional<int> elevations;       ///< ["elevations"] (varying lobe models)
   std::optional<double> fresnelIor;    ///< ["fresnel"]["ior"]: a Fresnel decomposition
   std::optional<std::string> combine;  ///< ["combine"]: add | mix
-  /// ["lobe"] with ["gloss_chain"]: "ggx" makes cmgen's GGX chain (level k of L: roughness k / (L - 1))
+  /// ["lobe"] with ["gloss_chain"]: "ggx" makes a GGX chain (level k of L: roughness k / (L - 1))
   /// in place of `lobe` (which must then be empty or "ggx").
   std::optional<std::string> chain;
   std::optional<double> glossScale;               ///< ["gloss_chain"]["scale"]: a gloss chain (lobe phong or blinn)
