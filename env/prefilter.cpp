@@ -1122,6 +1122,8 @@ MapWriteReport writePrefilteredMap(const PrefilteredMap& map, const std::filesys
                        {"exact", s.exact},
                        {"mip_level", level},
                        {"mip_levels", count}});
+    if (s.lobe == "irradiance") prefilterInfo["irradiance_quantity"] = kIrradianceQuantity;
+    if (!map.levelValues.empty()) info.spec["level_values"] = map.levelValues;
     return info;
   };
   if (mipLayout == MipLayout::Tiled) {
@@ -1130,7 +1132,8 @@ MapWriteReport writePrefilteredMap(const PrefilteredMap& map, const std::filesys
             "a tiled MIP-mapped output holds every mip level; prefilter with mips on (\"mips\": true, --mips)");
     MapInfo info = levelInfo(0);
     info.spec["prefilter"]["mip_layout"] = "tiled";
-    return writeTiledMap(map.levels, info, path, layout, options);
+    info.spec.erase("level_values");  // writeTiledMap stores them beside "mip_levels"
+    return writeTiledMap(map.levels, info, path, layout, options, map.levelValues);
   }
   MapWriteReport report;
   for (int level = 0; level < count; ++level) {

@@ -18,6 +18,7 @@ struct PrefilterLobe::Data {
   std::string name, description;
   double exponent = 0.0;                  // Phong
   double alpha = 0.0;                     // GGX
+  double roughness = 0.0;                 // GGX perceptual roughness, as given
   double scale = 1.0;                     // normalisation factor applied to the raw weight
   double mass = 0.0;                      // analytic where known, else the grid's integral
   std::vector<double> theta, cumulative;  // cumulative mass over theta (scaled to `mass` at pi)
@@ -118,8 +119,10 @@ PrefilterLobe PrefilterLobe::irradiance() {
   auto d = std::make_shared<Data>();
   d->kind = LobeKind::Irradiance;
   d->name = "irradiance";
-  d->description = "diffuse irradiance ∫ L max(0, n.l) dω, indexed by the normal";
-  return PrefilterLobe(finish(d, kPi, false));
+  d->description = "radiance-equivalent irradiance E(n)/pi = (1/pi) ∫ L max(0, n.l) dω, indexed by the normal";
+  auto lobe = finish(d, 1.0, false);
+  lobe->scale = 1.0 / kPi;
+  return PrefilterLobe(lobe);
 }
 
 PrefilterLobe PrefilterLobe::phong(double exponent) {
@@ -153,6 +156,7 @@ PrefilterLobe PrefilterLobe::ggx(double roughness) {
   auto d = std::make_shared<Data>();
   d->kind = LobeKind::Ggx;
   d->alpha = roughness * roughness;
+  d->roughness = roughness;
   d->name = "ggx:" + formatNumber(roughness);
   d->description = "GGX split-sum lobe D(h) max(0, n.l) with n = v = r, perceptual roughness " +
                    formatNumber(roughness) + " (alpha " + formatNumber(d->alpha) + "), normalised";
@@ -198,6 +202,7 @@ const std::string& PrefilterLobe::name() const { return data_->name; }
 std::string PrefilterLobe::description() const { return data_->description; }
 double PrefilterLobe::phongExponent() const { return data_->kind == LobeKind::Phong ? data_->exponent : 0.0; }
 double PrefilterLobe::ggxAlpha() const { return data_->alpha; }
+double PrefilterLobe::ggxRoughness() const { return data_->roughness; }
 double PrefilterLobe::mass() const { return data_->mass; }
 
 double PrefilterLobe::weight(double c) const { return data_->scale * data_->rawWeight(c); }

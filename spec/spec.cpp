@@ -58,19 +58,32 @@ void parseEnvironmentLobe(JsonObjectReader& env, EnvironmentMapSpec& e, MapSpec&
   }
 }
 
-// "gloss_chain" with "lobe": "phong" | "blinn": each level's lobe from cmft's gloss mapping.
+// "gloss_chain" with "lobe": "phong" | "blinn" (each level's lobe from cmft's gloss mapping) or
+// "ggx" (level k of L: perceptual roughness k / (L - 1), cmgen's mapping).
 void parseGlossChain(JsonObjectReader& env, EnvironmentMapSpec& e, const MapSpec& spec) {
   e.lobeName = env.string("lobe");
-  if (e.lobeName != "phong" && e.lobeName != "blinn") {
+  if (e.lobeName != "phong" && e.lobeName != "blinn" && e.lobeName != "ggx") {
     throw specError(env.child("lobe"),
-                    "a gloss chain is made of Phong or Blinn-Phong levels: \"phong\" or \"blinn\" (no exponent; each "
-                    "level gets its own), got \"" +
+                    "a gloss chain is made of Phong, Blinn-Phong or GGX levels: \"phong\", \"blinn\" or \"ggx\" (no "
+                    "exponent or roughness; each level gets its own), got \"" +
                         shortenForMessage(e.lobeName, 40) + "\"");
   }
   JsonObjectReader chain = env.object("gloss_chain");
   EnvironmentMapSpec::GlossChain g;
-  g.scale = chain.number("scale");
-  g.bias = chain.number("bias", 1.0, -HUGE_VAL, HUGE_VAL, false);
+  g.ggx = e.lobeName == "ggx";
+  if (g.ggx) {
+    for (const char* key : {"scale", "bias"}) {
+      if (chain.has(key)) {
+        throw specError(
+            chain.child(key),
+            "a GGX chain's level k of L holds perceptual roughness k / (L - 1) (cmgen's mapping); scale and "
+            "bias set Phong exponents");
+      }
+    }
+  } else {
+    g.scale = chain.number("scale");
+    g.bias = chain.number("bias", 1.0, -HUGE_VAL, HUGE_VAL, false);
+  }
   const int available = std::min(16, mipLevelCount(spec.resolution));
   g.levels = chain.integer("levels", available, 1, available);
   if (const auto* fixup = chain.find("edge_fixup")) {
@@ -79,8 +92,12 @@ void parseGlossChain(JsonObjectReader& env, EnvironmentMapSpec& e, const MapSpec
   }
   chain.finish();
   try {
-    for (double exponent : glossLevelExponents(g.levels, g.scale, g.bias)) {
-      e.chainLobes.push_back(e.lobeName == "phong" ? PrefilterLobe::phong(exponent) : PrefilterLobe::blinn(exponent));
+    if (g.ggx) {
+      e.chainLobes = ggxChainLobes(g.levels);
+    } else {
+      for (double exponent : glossLevelExponents(g.levels, g.scale, g.bias)) {
+        e.chainLobes.push_back(e.lobeName == "phong" ? PrefilterLobe::phong(exponent) : PrefilterLobe::blinn(exponent));
+      }
     }
   } catch (const Error& error) {
     throw specError(chain.path(), error.what());
@@ -103,7 +120,15 @@ void parseEnvironmentOutputs(JsonObjectReader& env, EnvironmentMapSpec& e, const
                              const fs::path& baseDirectory) {
   const bool normalLobe = e.analyticLobe() && e.analyticLobe()->indexedByNormal();  // irradiance
   e.mips = parseFlag(env, "mips", false);
-  e.mipLayout = materials::parseMipLayout(env, e.mips, spec.output, spec.resolution);
+  // A gloss chain is its own mip chain: "mip_layout": "tiled" puts every level in one file.
+  e.mipLayout = materials::parseMipLayout(env, e.mips || e.glossChain.has_value(), spec.output, spec.resolution);
+  if (e.glossChain && e.mipLayout == MipLayout::Tiled &&
+      static_cast<int>(e.chainLobes.size()) != mipLevelCount(spec.resolution)) {
+    throw specError(env.child("mip_layout"),
+                    "a chain in one file holds every level down to 1 texel: give \"levels\": " +
+                        std::to_string(mipLevelCount(spec.resolution)) + " (or leave it out) for resolution " +
+                        std::to_string(spec.resolution) + ", got " + std::to_string(e.chainLobes.size()));
+  }
   const bool varying = e.lobeModel() && e.lobeModel()->elevation == LobeElevation::Varying;
   if (env.has("elevations")) {
     if (!varying) {
@@ -131,9 +156,18 @@ void parseEnvironmentOutputs(JsonObjectReader& env, EnvironmentMapSpec& e, const
       throw specError(env.child("sh_output"),
                       "spherical-harmonic coefficients hold irradiance: use it with \"lobe\": \"irradiance\"");
     }
-    if (fs::path(*sh).extension() != ".json")
-      throw specError(env.child("sh_output"), "the SH coefficients are written as JSON (.json)");
+    if (const auto format = env.optionalString("sh_format")) {
+      if (*format != "brdfbake" && *format != "cmgen")
+        throw specError(env.child("sh_format"), "must be \"brdfbake\" (JSON) or \"cmgen\" (text)");
+      e.shCmgen = *format == "cmgen";
+    }
+    if (fs::path(*sh).extension() != (e.shCmgen ? ".txt" : ".json")) {
+      throw specError(env.child("sh_output"), e.shCmgen ? "cmgen's SH coefficients are text: give a .txt file"
+                                                        : "the SH coefficients are written as JSON (.json)");
+    }
     e.shOutput = fs::path(*sh).is_absolute() ? fs::path(*sh) : baseDirectory / *sh;
+  } else if (env.has("sh_format")) {
+    throw specError(env.child("sh_format"), "needs \"sh_output\" (the file the coefficients go to)");
   }
   if (e.glossChain && (e.mips || e.fresnel)) {
     throw specError(env.child("gloss_chain"),

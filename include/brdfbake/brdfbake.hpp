@@ -31,6 +31,7 @@
 #include <brdfbake/brdf/npr.hpp>
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/brdf/spectrum.hpp>
+#include <brdfbake/brdf/split_sum.hpp>
 #endif
 
 // maps
@@ -63,6 +64,7 @@
 
 // env
 #if __has_include(<brdfbake/env/env_accuracy.hpp>)
+#include <brdfbake/env/dfg_table.hpp>
 #include <brdfbake/env/env_accuracy.hpp>
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/env/prefilter.hpp>
@@ -108,6 +110,7 @@
 #include <brdfbake/run/describe_output.hpp>
 #include <brdfbake/run/evaluate.hpp>
 #include <brdfbake/run/fit_table.hpp>
+#include <brdfbake/run/ibl_job.hpp>
 #include <brdfbake/run/interpolation_chart.hpp>
 #include <brdfbake/run/job.hpp>
 #include <brdfbake/run/prefilter_job.hpp>

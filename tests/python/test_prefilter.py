@@ -32,10 +32,10 @@ def random_directions(count, seed=1):
 
 
 @pytest.mark.parametrize("lobe, to, value", [("phong:20", "paraboloid", 1.0), ("ggx:0.5", "cube", 1.0),
-                                             ("mirror", "latlong", 1.0), ("irradiance", "cube", math.pi)])
+                                             ("mirror", "latlong", 1.0), ("irradiance", "cube", 1.0)])
 def test_a_white_furnace_comes_out_as_the_lobes_integral(scratch, lobe, to, value):
-    # Radiance 1 everywhere: a normalised lobe (phong, ggx, mirror) integrates to 1, the cosine
-    # (irradiance) to pi. The map holds float32 texels, and each method sums over the sphere in
+    # Radiance 1 everywhere: a normalised lobe (phong, ggx, mirror) integrates to 1, and an
+    # irradiance map holds E/pi (docs/conventions.md), 1. The map holds float32 texels, and each method sums over the sphere in
     # double: 1e-5 of the value bounds float32 rounding of the sums' terms, far inside the 1 % bound
     # the map is made to.
     environment = np.ones((32, 64, 3), dtype=np.float32)
@@ -127,13 +127,13 @@ def test_a_missing_environment_raises_an_io_error_naming_it(tmp_path, scratch):
 
 
 def test_a_lambertian_surface_in_the_furnace_file_reflects_its_albedo(source_dir, scratch):
-    # data_samples' furnace is radiance 1 everywhere (checked here): the irradiance is pi at every
-    # normal, and a Lambertian surface of albedo a reflects a/pi times it, a itself.
+    # data_samples' furnace is radiance 1 everywhere (checked here): the irradiance E is pi at every
+    # normal, the map holds E/pi, and a Lambertian surface of albedo a reflects a E/pi, a itself.
     furnace = source_dir / "data_samples" / "environments" / "furnace_latlong.exr"
     assert np.all(brdfbake.read_map(furnace, from_="latlong").pixels[:, :, :3] == 1.0)
     irradiance = brdfbake.prefilter(furnace, "irradiance", "cube", 8, progress=False)
     albedo = np.array([0.2, 0.5, 0.8])
-    reflected = albedo / math.pi * irradiance.sample(random_directions(1000, seed=9))[:, :3]
+    reflected = albedo * irradiance.sample(random_directions(1000, seed=9))[:, :3]
     assert np.allclose(reflected, albedo, rtol=1e-6, atol=0)
     assert list(scratch.iterdir()) == []
 

@@ -176,7 +176,7 @@ TEST(ChartJob, MirrorMapsAndBadCombinationsAreSkippedWithANote) {
   ASSERT_EQ(entries.size(), 3u);
   for (int i = 0; i < 2; ++i) {
     EXPECT_EQ(entries[i]["map"], "maps[0]");
-    // Irradiance of the furnace is pi everywhere, which every method reproduces.
+    // Irradiance E/pi of the furnace is 1 everywhere, which every method reproduces.
     EXPECT_LT(entries[i]["rms"].get<double>(), 1e-6);
   }
   EXPECT_EQ(entries[2]["map"], "maps[1]");

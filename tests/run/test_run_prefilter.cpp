@@ -124,13 +124,13 @@ TEST(PrefilterJob, GlossChainWritesOneLevelPerExponentEachMatchingTheReference) 
   EXPECT_FALSE(fs::exists(dir / "x.exr"));
 }
 
-TEST(PrefilterJob, FurnaceIrradianceIsPi) {
+TEST(PrefilterJob, FurnaceIrradianceIsOne) {
   test::TempDir dir;
   for (const char* to : {"sphere", "cube", "latlong"}) {
     const fs::path out = dir / (std::string("furnace_") + to + ".exr");
     EXPECT_TRUE(prefilterEnvironment(request(kFurnace, "irradiance", to, 8, out)).written);
     for (const Vec3& d : {Vec3(0, 0, 1), Vec3(0.3, -0.8, 0.2).normalized(), Vec3(1, 1, 1).normalized()}) {
-      EXPECT_NEAR(sampleAt(out, d)[1], kPi, 1e-3 * kPi) << to;
+      EXPECT_NEAR(sampleAt(out, d)[1], 1.0, 1e-3) << to;  // E/pi
     }
   }
 }
@@ -229,7 +229,7 @@ TEST(PrefilterJob, FresnelDecompositionHoldsTheSpecularTheIrradianceAndTheFresne
   // specular map (the mirror lobe: the sky itself, against the reference sum at texel centres),
   // the irradiance map (against the reference sum of the cosine lobe) and the Fresnel table
   // (F at n.v = (i + 0.5) / N, against the formula typed out), with metadata saying how a renderer
-  // combines them. On the furnace, specular 1 and irradiance pi everywhere.
+  // combines them. On the furnace, specular 1 and irradiance E/pi 1 everywhere.
   test::TempDir dir;
   PrefilterRequest r = request(kFurnace, "mirror", "latlong", 8, dir / "coat.exr");
   r.fresnelIor = 1.5;
@@ -244,7 +244,7 @@ TEST(PrefilterJob, FresnelDecompositionHoldsTheSpecularTheIrradianceAndTheFresne
   EXPECT_EQ(report["fresnel"]["irradiance_prefilter"]["lobe"], "irradiance");
   const Vec3 d = Vec3(0.3, -0.8, 0.2).normalized();
   EXPECT_NEAR(sampleAt(dir / "coat.exr", d)[0], 1.0, 1e-3);
-  EXPECT_NEAR(sampleAt(dir / "coat_irradiance.exr", d)[0], kPi, 1e-3 * kPi);
+  EXPECT_NEAR(sampleAt(dir / "coat_irradiance.exr", d)[0], 1.0, 1e-3);
   const Image table = readImage(dir / "coat_fresnel.exr");
   ASSERT_EQ(table.width(), 8);
   ASSERT_EQ(table.height(), 1);
