@@ -102,7 +102,9 @@ TEST(Cli, PreviewFlagsWriteAPngOrExitTwo) {
     ASSERT_EQ(result.exitCode, 0) << flags << "\n" << result.output;
     const Image png = readImage(dir / "p.png");
     EXPECT_EQ(png.width(), png.height()) << flags;
-    if (flags == "--resolution 64") EXPECT_EQ(png.width(), 64);
+    if (flags == "--resolution 64") {
+      EXPECT_EQ(png.width(), 64);
+    }
     fs::remove(dir / "p.png");
   }
   // A paraboloid map can be seen from any view; a sphere map only from +z.

@@ -1,9 +1,9 @@
-// Charts through gnuplot (fit/gnuplot.hpp): the script renderChart hands to gnuplot, read by a
-// stand-in gnuplot that keeps it, and, when gnuplot is installed, the picture it draws decoded and
-// its pixels checked where the script put known colours.
+// Charts through gnuplot (core/gnuplot.hpp; here beside the fit report that draws them): the script renderChart hands
+// to gnuplot, read by a stand-in gnuplot that keeps it, and, when gnuplot is installed, the picture it draws decoded
+// and its pixels checked where the script put known colours.
 #include <gtest/gtest.h>
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/fit/gnuplot.hpp>
+#include <brdfbake/core/gnuplot.hpp>
 #include <brdfbake/maps/image_io.hpp>
 
 #include <sys/stat.h>
@@ -12,6 +12,7 @@
 #include <fstream>
 #include <optional>
 #include <sstream>
+#include <vector>
 
 #include "test_support.hpp"
 
@@ -63,18 +64,19 @@ TEST(Gnuplot, TheScriptSetsTheTerminalTheOutputAndOnePanelPerBody) {
   const fs::path standIn = dir / "gnuplot", kept = dir / "kept.gp";
   std::ofstream(standIn) << "#!/bin/sh\ncp \"$1\" '" << kept.string()
                          << "'\nout=$(sed -n \"s/^set output '\\(.*\\)'$/\\1/p\" \"$1\" | head -n 1)\n"
-                            "printf picture > \"$out\"\n";
+                            "if grep -q pngcairo \"$1\"; then printf '\\211PNG\\r\\n\\032\\npicture IEND\\256B`\\202'\n"
+                            "else printf '<svg>picture</svg>\\n'; fi > \"$out\"\n";
   ::chmod(standIn.c_str(), 0755);
   const GnuplotVariable variable(standIn.string());
-  renderChart({"plot x"}, dir / "one.png");
-  EXPECT_EQ(slurp(dir / "one.png"), "picture");
+  renderChart(std::vector<std::string>{"plot x"}, dir / "one.png");
+  EXPECT_NE(slurp(dir / "one.png").find("picture IEND"), std::string::npos);
   std::string script = slurp(kept);
   EXPECT_EQ(script.rfind("set terminal pngcairo size 900,600 noenhanced\nset output '", 0), 0u) << script;
   EXPECT_NE(script.find("\nplot x\n"), std::string::npos) << script;
   EXPECT_EQ(script.find("multiplot"), std::string::npos) << script;
   EXPECT_NE(script.find("\nset output\n"), std::string::npos) << script;
 
-  renderChart({"plot x", "plot x*x", "plot 1"}, dir / "three.svg");
+  renderChart(std::vector<std::string>{"plot x", "plot x*x", "plot 1"}, dir / "three.svg");
   script = slurp(kept);
   EXPECT_EQ(script.rfind("set terminal svg size 900,1800 noenhanced\n", 0), 0u) << script;
   const std::size_t layout = script.find("set multiplot layout 3,1\n"), first = script.find("reset\nplot x\n"),
@@ -90,7 +92,7 @@ TEST(Gnuplot, TheScriptSetsTheTerminalTheOutputAndOnePanelPerBody) {
   std::ofstream(dir / "failing") << "#!/bin/sh\necho 'line 1: undefined variable' >&2\nexit 1\n";
   ::chmod((dir / "failing").c_str(), 0755);
   const GnuplotVariable failing((dir / "failing").string());
-  EXPECT_THROW(renderChart({"plot nothing"}, dir / "failed.png"), Error);
+  EXPECT_THROW(renderChart(std::vector<std::string>{"plot nothing"}, dir / "failed.png"), Error);
   EXPECT_FALSE(fs::exists(dir / "failed.png"));
 }
 
@@ -105,14 +107,14 @@ TEST(Gnuplot, DrawsPanelsOf900By600PixelsWithTheirColoursWhereTheScriptPutsThem)
            colour + "' fillstyle solid 1.0 noborder\nplot 2 notitle\n";
   };
   test::TempDir dir;
-  renderChart({panel("#ff0000")}, dir / "one.png");
+  renderChart(std::vector<std::string>{panel("#ff0000")}, dir / "one.png");
   const Image one = readImage(dir / "one.png");
   ASSERT_EQ(one.width(), 900);
   ASSERT_EQ(one.height(), 600);
   EXPECT_LT((one.at(250, 300).head<3>() - Rgb(1, 0, 0)).abs().maxCoeff(), 0.01) << one.at(250, 300).transpose();
   EXPECT_LT((one.at(700, 300).head<3>() - Rgb(1, 1, 1)).abs().maxCoeff(), 0.01) << one.at(700, 300).transpose();
 
-  renderChart({panel("#ff0000"), panel("#0000ff")}, dir / "two.png");
+  renderChart(std::vector<std::string>{panel("#ff0000"), panel("#0000ff")}, dir / "two.png");
   const Image two = readImage(dir / "two.png");
   ASSERT_EQ(two.width(), 900);
   ASSERT_EQ(two.height(), 1200);

@@ -55,7 +55,9 @@ TEST(MipTexelWeight, ParaboloidTexelsWeighTheStereographicDensityOverTheirSquare
         // Texels wholly inside the disc: the weight is the texel's exact solid angle.
         const double far =
             std::hypot(std::max(std::abs(x0), std::abs(x0 + 2.0 / n)), std::max(std::abs(y0), std::abs(y0 + 2.0 / n)));
-        if (far < 1.0) EXPECT_NEAR(weight, map->texelSolidAngle(x, y), 1e-9 * weight);
+        if (far < 1.0) {
+          EXPECT_NEAR(weight, map->texelSolidAngle(x, y), 1e-9 * weight);
+        }
       }
     }
     // A half's texels cover its whole square: the disc (2 pi, a hemisphere) and the corners.

@@ -4,10 +4,10 @@
 // CSV, skipped combinations, and the chart decoded. Moved from tests/cli/test_chart_environment.cpp
 // and tests/cli/test_cli.cpp (Cli.ChartSweepsAndMarksTheParetoFront), which keep the flags.
 #include <gtest/gtest.h>
+#include <brdfbake/core/gnuplot.hpp>
 #include <brdfbake/core/math.hpp>
 #include <brdfbake/env/env_accuracy.hpp>
 #include <brdfbake/env/environment.hpp>
-#include <brdfbake/fit/gnuplot.hpp>
 #include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/run/chart.hpp>
 
