@@ -1,5 +1,8 @@
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/named_values.hpp>
+
+#include <array>
 
 namespace brdfbake {
 
@@ -41,7 +44,16 @@ Rgb CookTorranceMaterial::brdf(const Vec3& n, const Vec3& v, const Vec3& l) cons
   // nl > 0 and nv >= 0 exclude l = -v, so l + v is not zero.
   const Vec3 h = (l + v).normalized();
   const double nh = n.dot(h), vh = v.dot(h);
-  const double specular = cookTorranceSpecular(distribution(nh), nh, nv, nl, vh, denominator());
+  double specular = 0.0;
+  if (params_.shadowing == MicrofacetShadowing::VCavity) {
+    specular = cookTorranceSpecular(distribution(nh), nh, nv, nl, vh, denominator());
+  } else if (nh > 0.0) {  // l.h = v.h for h = normalize(l + v)
+    const bool ggx = params_.distribution == MicrofacetDistribution::Ggx;
+    specular = distribution(nh) *
+               smithGOverNlNv(nv, nl, vh, vh, params_.roughness, ggx,
+                              params_.shadowing == MicrofacetShadowing::SmithCorrelated) /
+               denominator();
+  }
   Rgb value = params_.specularWeight * specular * params_.fresnel(vh);
   if (params_.specularWeight < 1.0) value += (1.0 - params_.specularWeight) * params_.diffuse / kPi;
   return value;
@@ -80,7 +92,9 @@ std::optional<std::vector<RadialLobe>> CookTorranceMaterial::unlitRadialLobes(co
 }
 
 std::optional<MicrofacetLobe> CookTorranceMaterial::microfacetLobe(const Vec3& light, const Vec3& view) const {
-  if (params_.mode != CookTorranceMode::Lighting) return std::nullopt;
+  if (params_.mode != CookTorranceMode::Lighting || params_.shadowing != MicrofacetShadowing::VCavity) {
+    return std::nullopt;
+  }
   const Vec3 sum = light + view;
   if (!(sum.squaredNorm() > 1e-24)) return std::nullopt;
   MicrofacetLobe lobe;
@@ -99,6 +113,25 @@ std::optional<MicrofacetLobe> CookTorranceMaterial::microfacetLobe(const Vec3& l
     lobe.distribution = [m](double nh) { return ggxD(std::max(std::abs(nh), 1e-300), m); };
   }
   return lobe;
+}
+
+std::string_view toString(MicrofacetShadowing shadowing) {
+  switch (shadowing) {
+    case MicrofacetShadowing::VCavity:
+      return "v_cavity";
+    case MicrofacetShadowing::SmithCorrelated:
+      return "smith_correlated";
+    case MicrofacetShadowing::SmithSeparable:
+      return "smith_separable";
+  }
+  return "?";
+}
+
+MicrofacetShadowing parseMicrofacetShadowing(std::string_view name) {
+  return parseByName(name,
+                     std::array{MicrofacetShadowing::VCavity, MicrofacetShadowing::SmithCorrelated,
+                                MicrofacetShadowing::SmithSeparable},
+                     "shadowing");
 }
 
 MicrofacetDistribution parseMicrofacetDistribution(std::string_view name) {
