@@ -191,13 +191,13 @@ TEST(Smith, ShadowingSelectsTheTermAndNames) {
   EXPECT_NEAR(sc / vc, 1.0, 1e-12);
   const double theta = radians(80.0);
   const Vec3 grazing(std::sin(theta), 0.0, std::cos(theta)), mirror(-grazing.x(), 0.0, grazing.z());
-  const double vg = smithMaterial(MicrofacetDistribution::Ggx, 0.3, MicrofacetShadowing::VCavity)
-                        .brdf(n, grazing, mirror)[0];
-  const double sg = smithMaterial(MicrofacetDistribution::Ggx, 0.3, MicrofacetShadowing::SmithSeparable)
-                        .brdf(n, grazing, mirror)[0];
+  const double vg =
+      smithMaterial(MicrofacetDistribution::Ggx, 0.3, MicrofacetShadowing::VCavity).brdf(n, grazing, mirror)[0];
+  const double sg =
+      smithMaterial(MicrofacetDistribution::Ggx, 0.3, MicrofacetShadowing::SmithSeparable).brdf(n, grazing, mirror)[0];
   EXPECT_GT(std::abs(sg / vg - 1.0), 0.1) << "at the rim V-cavity and Smith differ by 10 % or more";
-  for (auto s : {MicrofacetShadowing::VCavity, MicrofacetShadowing::SmithCorrelated,
-                 MicrofacetShadowing::SmithSeparable}) {
+  for (auto s :
+       {MicrofacetShadowing::VCavity, MicrofacetShadowing::SmithCorrelated, MicrofacetShadowing::SmithSeparable}) {
     EXPECT_EQ(parseMicrofacetShadowing(toString(s)), s);
   }
   EXPECT_THROW(parseMicrofacetShadowing("smith"), Error);
