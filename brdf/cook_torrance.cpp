@@ -1,8 +1,5 @@
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/core/named_values.hpp>
-
-#include <array>
 
 namespace brdfbake {
 
@@ -115,23 +112,20 @@ std::optional<MicrofacetLobe> CookTorranceMaterial::microfacetLobe(const Vec3& l
   return lobe;
 }
 
-std::string_view toString(MicrofacetShadowing shadowing) {
-  switch (shadowing) {
-    case MicrofacetShadowing::VCavity:
-      return "v_cavity";
-    case MicrofacetShadowing::SmithCorrelated:
-      return "smith_correlated";
-    case MicrofacetShadowing::SmithSeparable:
-      return "smith_separable";
+std::optional<std::vector<ReflectionLobe>> CookTorranceMaterial::reflectionLobes(const ShadingGeometry& g) const {
+  if (params_.mode != CookTorranceMode::Lighting) return std::nullopt;
+  // Weights: the specular part's share is about s F(n.v) (times the albedo of D G, about 1), the
+  // diffuse part's (1 - s) rho_d.
+  const auto shape = params_.distribution == MicrofacetDistribution::Beckmann ? ReflectionLobeShape::Beckmann
+                                                                              : ReflectionLobeShape::Ggx;
+  const double s = params_.specularWeight;
+  std::vector<ReflectionLobe> lobes;
+  const double specular = s * luminance(params_.fresnel(std::max(0.0, g.normal.dot(g.view))));
+  if (specular > 0.0) lobes.push_back({shape, g.normal, params_.roughness, specular});
+  if (const double d = (1.0 - s) * luminance(params_.diffuse); d > 0.0 || lobes.empty()) {
+    lobes.push_back({ReflectionLobeShape::Cosine, g.normal, 0.0, std::max(d, 1e-3)});
   }
-  return "?";
-}
-
-MicrofacetShadowing parseMicrofacetShadowing(std::string_view name) {
-  return parseByName(name,
-                     std::array{MicrofacetShadowing::VCavity, MicrofacetShadowing::SmithCorrelated,
-                                MicrofacetShadowing::SmithSeparable},
-                     "shadowing");
+  return lobes;
 }
 
 MicrofacetDistribution parseMicrofacetDistribution(std::string_view name) {

@@ -132,6 +132,9 @@ class CookTorranceMaterial final : public Material {
   /// Smith shadowing (the lobe's G is the V-cavity term) and for a light opposite the view (then
   /// shade() is 0 everywhere).
   std::optional<MicrofacetLobe> microfacetLobe(const Vec3& light, const Vec3& view) const override;
+  /// Lighting mode: the distribution's half-vector lobe and, with s < 1, the diffuse max(0, n.l).
+  /// nullopt in reflectance mode (its shade() is 0; it has no light to integrate).
+  std::optional<std::vector<ReflectionLobe>> reflectionLobes(const ShadingGeometry& g) const override;
 
   /// The BRDF s R_s + d R_d (1/sr) for unit vectors n, v, l. 0 if N.L <= 0 or N.V < 0; finite at
   /// N.V = 0 (see cookTorranceGOverNlNv).
