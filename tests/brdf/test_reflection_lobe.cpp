@@ -55,9 +55,9 @@ TEST(ReflectionLobe, DrawsFollowTheirDensity) {
     const Vec3 v(std::sin(radians(viewDeg)), 0.0, std::cos(radians(viewDeg)));
     const Vec3 r = reflect(v, n);
     const std::vector<ReflectionLobe> lobes{
-        {ReflectionLobeShape::Cosine, n, 0.0, 1.0},          {ReflectionLobeShape::PowerCosine, r, 50.0, 1.0},
-        {ReflectionLobeShape::PowerCosine, r, 0.0, 1.0},     {ReflectionLobeShape::Beckmann, n, 0.3, 1.0},
-        {ReflectionLobeShape::Ggx, n, 0.2, 1.0},             {ReflectionLobeShape::Ggx, n, 0.6, 1.0},
+        {ReflectionLobeShape::Cosine, n, 0.0, 1.0},       {ReflectionLobeShape::PowerCosine, r, 50.0, 1.0},
+        {ReflectionLobeShape::PowerCosine, r, 0.0, 1.0},  {ReflectionLobeShape::Beckmann, n, 0.3, 1.0},
+        {ReflectionLobeShape::Ggx, n, 0.2, 1.0},          {ReflectionLobeShape::Ggx, n, 0.6, 1.0},
         {ReflectionLobeShape::BlinnPhong, n, 200.0, 1.0},
     };
     for (const auto& lobe : lobes) {
