@@ -21,8 +21,8 @@
 #include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
 
-#include <tbb/parallel_for.h>
 #include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <chrono>
@@ -32,7 +32,6 @@
 #include <random>
 #include <sstream>
 #include <string>
-
 
 namespace brdfbake {
 namespace {
@@ -60,7 +59,8 @@ std::shared_ptr<const Material> materialNamed(const std::string& name) {
     p.roughness = std::stod(name.substr(7));
     return std::make_shared<CookTorranceMaterial>(p);
   }
-  if (name.rfind("phong:", 0) == 0) return std::make_shared<PhongMaterial>(Rgb(0.5, 0.5, 0.5), std::stod(name.substr(6)), Rgb(0.4, 0.1, 0.1));
+  if (name.rfind("phong:", 0) == 0)
+    return std::make_shared<PhongMaterial>(Rgb(0.5, 0.5, 0.5), std::stod(name.substr(6)), Rgb(0.4, 0.1, 0.1));
   if (name == "phong") return std::make_shared<PhongMaterial>(Rgb(0.5, 0.5, 0.5), 200.0, Rgb(0.4, 0.1, 0.1));
   throw Error(Error::Kind::InvalidArgument, "unknown material " + name);
 }
@@ -75,8 +75,8 @@ Rgb bruteForce(const Environment& environment, const Material& material, const V
     for (int x = 0; x < map.width(); ++x) {
       const double omega = map.texelSolidAngle(x, y);
       if (!(omega > 0.0)) continue;
-      sum += material.shade(g, *map.getDirectionFor(Vec2(x + 0.5, y + 0.5))) *
-             environment.image.at(x, y).head<3>() * omega;
+      sum += material.shade(g, *map.getDirectionFor(Vec2(x + 0.5, y + 0.5))) * environment.image.at(x, y).head<3>() *
+             omega;
     }
   return sum * material.lightColorPerIrradiance();
 }
@@ -153,7 +153,7 @@ std::string percent(double x) {
 
 int run(int argc, char** argv) {
   std::map<std::string, std::string> args{{"--sky", "512"},   {"--material", "copper"}, {"--resolution", "512"},
-                                          {"--threads", "2"}, {"--repeat", "3"},         {"--check", "200"}};
+                                          {"--threads", "2"}, {"--repeat", "3"},        {"--check", "200"}};
   for (int i = 1; i + 1 < argc; i += 2) args[argv[i]] = argv[i + 1];
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "--brute-force") args["--brute-force"] = "1";
@@ -167,8 +167,10 @@ int run(int argc, char** argv) {
   UnderEnvironmentOptions options;
   options.resolution = std::stoi(args["--resolution"]);
   options.threads = threads;
-  if (args.count("--samples")) options.method = UnderEnvironmentMethod::Sampled, options.importanceSamples = std::stoi(args["--samples"]);
-  if (args.count("--grid")) options.method = UnderEnvironmentMethod::Sampled, options.gridPerWidth = std::stoi(args["--grid"]);
+  if (args.count("--samples"))
+    options.method = UnderEnvironmentMethod::Sampled, options.importanceSamples = std::stoi(args["--samples"]);
+  if (args.count("--grid"))
+    options.method = UnderEnvironmentMethod::Sampled, options.gridPerWidth = std::stoi(args["--grid"]);
   if (args.count("--max-error")) options.maxError = std::stod(args["--max-error"]);
   std::cout << "environment " << environment.image.width() << " x " << environment.image.height() << ", material "
             << args["--material"] << ", sphere map " << options.resolution << ", " << threads << " threads\n";
@@ -197,8 +199,8 @@ int run(int argc, char** argv) {
   const double bruteSeconds = secondsSince(bruteStart);
   const Errors e = errorsOf(result.image, texels);
   std::cout << "against the brute force at " << texels.size() << " texel centres: RMS " << percent(e.rms)
-            << ", value-weighted " << percent(e.highlight) << ", max " << percent(e.max) << " of the peak "
-            << e.peak << "\n";
+            << ", value-weighted " << percent(e.highlight) << ", max " << percent(e.max) << " of the peak " << e.peak
+            << "\n";
   const double inside = kPi / 4 * options.resolution * options.resolution;
   std::cout << "brute force: " << bruteSeconds / texels.size() * threads * 1e3 << " ms per texel on one core, "
             << bruteSeconds / texels.size() * inside / 60.0 << " min for the " << options.resolution

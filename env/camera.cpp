@@ -28,9 +28,9 @@ void CameraFrame::validate() const {
           "camera forward " + text(forward) + " is not a unit vector (length " + std::to_string(forward.norm()) + ")");
   require(std::abs(up.norm() - 1.0) <= kTolerance,
           "camera up " + text(up) + " is not a unit vector (length " + std::to_string(up.norm()) + ")");
-  require(std::abs(forward.dot(up)) <= kTolerance, "camera forward " + text(forward) + " and up " + text(up) +
-                                                       " are not perpendicular (forward.up = " +
-                                                       std::to_string(forward.dot(up)) + ")");
+  require(std::abs(forward.dot(up)) <= kTolerance,
+          "camera forward " + text(forward) + " and up " + text(up) +
+              " are not perpendicular (forward.up = " + std::to_string(forward.dot(up)) + ")");
 }
 
 Mat3 CameraFrame::eyeToEnvironment() const {

@@ -109,8 +109,8 @@ Candidate makeCandidate(const Setup& setup, int samples, int perWidth, double fo
 
 std::vector<Candidate> candidatesFor(const Setup& setup, double footprintSamples, int threads) {
   const UnderEnvironmentOptions& o = setup.options;
-  std::vector<int> samples = o.importanceSamples > 0 ? std::vector<int>{o.importanceSamples}
-                                                     : std::vector<int>{16, 64, 256, 1024};
+  std::vector<int> samples =
+      o.importanceSamples > 0 ? std::vector<int>{o.importanceSamples} : std::vector<int>{16, 64, 256, 1024};
   std::vector<int> grids = o.gridPerWidth != 0 ? std::vector<int>{o.gridPerWidth} : std::vector<int>{4, 8, -1};
   std::vector<Candidate> out;
   for (int k : samples)
@@ -123,7 +123,8 @@ std::vector<Candidate> candidatesFor(const Setup& setup, double footprintSamples
       out.push_back(c);
     }
   if (out.empty()) out.push_back(makeCandidate(setup, samples.front(), -1, footprintSamples, threads));
-  std::stable_sort(out.begin(), out.end(), [](const Candidate& a, const Candidate& b) { return a.predicted < b.predicted; });
+  std::stable_sort(out.begin(), out.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.predicted < b.predicted; });
   return out;
 }
 
@@ -227,8 +228,8 @@ Image renderOutput(const Parameterization& map, const MapFunction& function, con
         const auto d = map.getDirectionFor(Vec2(x + (corner & 1), y + (corner >> 1)));
         if (d) spread = std::max(spread, 2.0 * std::asin(std::min(1.0, 0.5 * (normalOf(*d) - n).norm())));
       }
-      const Rgb value = spread <= 0.5 * smoothAngle ? function.evaluate(*centre)
-                                                    : bakeTexel(map, function, x, y, samplesPerTexel);
+      const Rgb value =
+          spread <= 0.5 * smoothAngle ? function.evaluate(*centre) : bakeTexel(map, function, x, y, samplesPerTexel);
       image.set(x, y, Rgba(value[0], value[1], value[2], map.texelCoverage(x, y)));
     }
     counter.step();
@@ -262,7 +263,9 @@ std::vector<Probe> drawProbes(const Setup& setup, const NormalGrid& guide, int c
   std::mt19937 rng(setup.options.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::vector<Probe> probes;
-  auto keep = [&](const Vec3& r) { return !(-r.z() > rimCos && setup.options.parameterization == ParameterizationKind::Sphere); };
+  auto keep = [&](const Vec3& r) {
+    return !(-r.z() > rimCos && setup.options.parameterization == ParameterizationKind::Sphere);
+  };
   while (static_cast<int>(probes.size()) < count / 2) {
     const Vec3 r = uniformDirection(rng);
     if (keep(r)) probes.push_back({r, geometryForReflection(r, setup.view).normal});
@@ -287,7 +290,8 @@ std::vector<Probe> drawProbes(const Setup& setup, const NormalGrid& guide, int c
     if (guided > 0.0) {
       double theta = 0.0, phi = 0.0;
       guide.angles(n, theta, phi);
-      const int i = std::min(rows - 1, static_cast<int>(theta / dt)), j = std::min(columns - 1, static_cast<int>(phi / dp));
+      const int i = std::min(rows - 1, static_cast<int>(theta / dt)),
+                j = std::min(columns - 1, static_cast<int>(phi / dp));
       const std::size_t k = static_cast<std::size_t>(i) * columns + j;
       // Uniform in (theta, phi) within the cell: per unit dθ dφ, then per dω_r = 4 cos sin dθ dφ.
       const double perAngle = (cdf[k + 1] - cdf[k]) / total / (dt * dp);
@@ -299,7 +303,8 @@ std::vector<Probe> drawProbes(const Setup& setup, const NormalGrid& guide, int c
     Vec3 n, r;
     if (unit(rng) < guided) {
       const double u = unit(rng) * total;
-      const std::size_t k = std::min<std::size_t>(cdf.size() - 2, std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin() - 1);
+      const std::size_t k =
+          std::min<std::size_t>(cdf.size() - 2, std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin() - 1);
       const double theta = (static_cast<double>(k / columns) + unit(rng)) * dt;
       const double phi = (static_cast<double>(k % columns) + unit(rng)) * dp;
       n = guide.normal(0, 0) * std::cos(theta);  // v
@@ -417,13 +422,15 @@ UnderEnvironmentMethod parseUnderEnvironmentMethod(std::string_view name) {
 }
 
 void UnderEnvironmentOptions::validate() const {
-  require(resolution >= 1 && resolution <= 65536, "resolution must be in [1, 65536], got " + std::to_string(resolution));
+  require(resolution >= 1 && resolution <= 65536,
+          "resolution must be in [1, 65536], got " + std::to_string(resolution));
   require(view.allFinite() && view.norm() > 0.0, "view must be a non-zero finite vector");
   require(parameterization != ParameterizationKind::Sphere || (view.normalized() - Vec3::UnitZ()).norm() < 1e-9,
           "a sphere map views along +z (eye space); turn the camera instead of the view");
   camera.validate();
   require(samplesPerTexel >= 1 && samplesPerTexel <= 4096, "samples per texel must be in [1, 4096]");
-  require(maxError > 0.0 && maxError < 1.0, "max error must be in (0, 1) (0.01 is 1 % of the peak), got " + formatG(maxError));
+  require(maxError > 0.0 && maxError < 1.0,
+          "max error must be in (0, 1) (0.01 is 1 % of the peak), got " + formatG(maxError));
   require(importanceSamples == 0 || (importanceSamples >= 8 && importanceSamples <= 1 << 20),
           "importance samples must be 0 (searched) or in [8, 2^20]");
   require(gridPerWidth == 0 || gridPerWidth == -1 || (gridPerWidth >= 2 && gridPerWidth <= 64),
@@ -531,7 +538,8 @@ MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, c
   require(environment.map && !environment.image.empty(), "an empty environment");
   const auto start = Clock::now();
   MaterialUnderEnvironment result;
-  result.map = std::shared_ptr<const Parameterization>(makeParameterization(options.parameterization, options.resolution));
+  result.map =
+      std::shared_ptr<const Parameterization>(makeParameterization(options.parameterization, options.resolution));
   options.requireImageSize(result.map->width(), result.map->height());
   UnderEnvironmentSummary& summary = result.summary;
   summary.material = std::string(material.model());
@@ -545,8 +553,9 @@ MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, c
     summary.brightShare = setup.split.brightShare;
     summary.setupSeconds = secondsSince(start);
     if (setup.rest->resampled()) {
-      summary.notes.push_back("the environment is not a power-of-two lat-long image: its rest (below the bright "
-                              "texels) is read resampled into one, by the map and by the reference alike");
+      summary.notes.push_back(
+          "the environment is not a power-of-two lat-long image: its rest (below the bright "
+          "texels) is read resampled into one, by the map and by the reference alike");
     }
     const double rimCos = mapRimCos(options.parameterization, options.resolution);
     const double footprintSamples =
@@ -586,8 +595,9 @@ MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, c
       summary.errorMax = m.max, summary.peak = m.peak, summary.probes = static_cast<int>(probes.size());
       summary.metTarget = summary.errorEstimate <= options.maxError;
       if (!summary.metTarget) {
-        summary.notes.push_back("the finished map's lookups miss the bound: its resolution limits them when the "
-                                "sampled values met it (raise the resolution)");
+        summary.notes.push_back(
+            "the finished map's lookups miss the bound: its resolution limits them when the "
+            "sampled values met it (raise the resolution)");
       }
       summary.estimateSeconds += secondsSince(measureStart);
     }
@@ -616,11 +626,10 @@ std::string UnderEnvironmentSummary::briefReport() const {
 nlohmann::json UnderEnvironmentSummary::toJson() const {
   nlohmann::json candidatesJson = nlohmann::json::array();
   for (const auto& c : candidates) {
-    nlohmann::json entry = {{"detail", c.detail},
-                            {"predicted_seconds", c.predictedSeconds},
-                            {"seconds", c.seconds},
-                            {"chosen", c.chosen}};
-    if (c.errorEstimate >= 0.0) entry["error_estimate"] = c.errorEstimate, entry["error_estimate_max"] = c.errorEstimateMax;
+    nlohmann::json entry = {
+        {"detail", c.detail}, {"predicted_seconds", c.predictedSeconds}, {"seconds", c.seconds}, {"chosen", c.chosen}};
+    if (c.errorEstimate >= 0.0)
+      entry["error_estimate"] = c.errorEstimate, entry["error_estimate_max"] = c.errorEstimateMax;
     candidatesJson.push_back(entry);
   }
   auto estimated = [&](double value) { return errorEstimated ? nlohmann::json(value) : nlohmann::json(nullptr); };

@@ -180,15 +180,16 @@ Rgb bruteForce(const Environment& environment, const Material& material, const V
       const Rgb radiance = environment.image.at(x, y).head<3>();
       for (int a = 0; a < 2; ++a)
         for (int b = 0; b < 2; ++b)
-          sum += material.shade(g, *map.getDirectionFor(Vec2(x + 0.25 + 0.5 * b, y + 0.25 + 0.5 * a))) * radiance *
-                 omega;
+          sum +=
+              material.shade(g, *map.getDirectionFor(Vec2(x + 0.25 + 0.5 * b, y + 0.25 + 0.5 * a))) * radiance * omega;
     }
   return sum * material.lightColorPerIrradiance();
 }
 
 TEST(MaterialUnderEnvironment, SkyWithASunAgreesWithABruteForceSum) {
   const Environment sky = bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, 128, "sky", 16);
-  CookTorranceParams copper = lighting(MicrofacetDistribution::Ggx, 0.3, FresnelTerm::schlick(Rgb(0.955, 0.638, 0.538)));
+  CookTorranceParams copper =
+      lighting(MicrofacetDistribution::Ggx, 0.3, FresnelTerm::schlick(Rgb(0.955, 0.638, 0.538)));
   copper.shadowing = MicrofacetShadowing::SmithSeparable;
   const std::vector<std::shared_ptr<const Material>> materials{
       std::make_shared<PhongMaterial>(Rgb::Constant(0.5), 100.0, Rgb(0.4, 0.1, 0.1)),
@@ -214,7 +215,8 @@ TEST(MaterialUnderEnvironment, SkyWithASunAgreesWithABruteForceSum) {
     const double rms = std::sqrt(sum / texels.size()) / peak, max = worst / peak;
     EXPECT_LT(rms, 0.01) << material->model();
     EXPECT_LT(max, 0.03) << material->model();
-    EXPECT_GE(matcap.summary.errorEstimate, rms) << material->model() << ": the reported error is at least the measured";
+    EXPECT_GE(matcap.summary.errorEstimate, rms)
+        << material->model() << ": the reported error is at least the measured";
     EXPECT_GT(matcap.summary.brightTexels, 0) << "the sun is explicit lights";
     std::printf("%s: measured RMS %.3f %%, max %.3f %%; %s\n", std::string(material->model()).c_str(), 100 * rms,
                 100 * max, matcap.summary.briefReport().c_str());
