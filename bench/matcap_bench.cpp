@@ -33,6 +33,8 @@
 #include <sstream>
 #include <string>
 
+#include "matcap_cycles.hpp"
+
 namespace brdfbake {
 namespace {
 
@@ -61,6 +63,7 @@ std::shared_ptr<const Material> materialNamed(const std::string& name) {
   }
   if (name.rfind("phong:", 0) == 0)
     return std::make_shared<PhongMaterial>(Rgb(0.5, 0.5, 0.5), std::stod(name.substr(6)), Rgb(0.4, 0.1, 0.1));
+  if (name == "cycles_copper") return cyclesPrincipledMetal(Rgb(0.955, 0.638, 0.538), 0.3);
   if (name == "phong") return std::make_shared<PhongMaterial>(Rgb(0.5, 0.5, 0.5), 200.0, Rgb(0.4, 0.1, 0.1));
   throw Error(Error::Kind::InvalidArgument, "unknown material " + name);
 }
@@ -151,6 +154,83 @@ std::string percent(double x) {
   return out.str();
 }
 
+struct CyclesInputs {
+  const Environment& environment;
+  const Image& matcap;
+  const std::vector<CheckTexel>& texels;  // with the brute force of the bench's material
+  double seconds;                         // the matcap's median time
+  Errors errors;                          // the matcap's against its brute force
+  int threads;
+};
+
+double interpolateLogLog(const std::vector<std::pair<double, double>>& errorSeconds, double error) {
+  // Seconds at `error` on the curve through (error, seconds) points, linear in log-log, extrapolated.
+  auto sorted = errorSeconds;
+  std::sort(sorted.begin(), sorted.end());
+  std::size_t i = 1;
+  while (i + 1 < sorted.size() && sorted[i].first < error) ++i;
+  const auto [e0, t0] = sorted[i - 1];
+  const auto [e1, t1] = sorted[i];
+  const double slope = std::log(t1 / t0) / std::log(e1 / e0);
+  return t0 * std::exp(slope * std::log(error / e0));
+}
+
+// Renders the sphere with Cycles at each sample count: its error against the brute force of Cycles'
+// own BSDF (cyclesPrincipledMetal) at the checked texels, its time, the seconds Cycles needs for the
+// matcap's error (log-log interpolation) and the matcap's agreement with the render of most samples.
+void compareWithCycles(const CyclesInputs& in, const std::string& counts, const std::filesystem::path& work) {
+  const Rgb copperF0(0.955, 0.638, 0.538);
+  const auto cycles = cyclesPrincipledMetal(copperF0, 0.3);
+  std::filesystem::create_directories(work);
+  Image plain = in.environment.image;
+  plain.metadata = nlohmann::json::object();
+  writeImage(plain, work / "environment.exr");
+  std::vector<CheckTexel> texels = in.texels;
+  tbb::parallel_for(std::size_t(0), texels.size(), [&](std::size_t i) {
+    texels[i].reference = bruteForce(in.environment, *cycles, texels[i].normal);
+  });
+  std::vector<std::pair<double, double>> curve;
+  std::optional<CyclesRender> best;
+  std::stringstream list(counts);
+  for (std::string item; std::getline(list, item, ',');) {
+    std::string message;
+    const int samples = std::stoi(item);
+    auto render = renderWithCycles(work / "environment.exr", copperF0, 0.3, in.matcap.width(), samples, in.threads,
+                                   work, message);
+    if (!render) {
+      std::cout << "Cycles: " << message << "\n";
+      return;
+    }
+    const Errors e = errorsOf(render->image, texels);
+    std::cout << "Cycles " << samples << " samples: render " << render->seconds << " s (blender " << render->wallSeconds
+              << " s); against the brute force of its BSDF: RMS " << percent(e.rms) << ", value-weighted "
+              << percent(e.highlight) << ", max " << percent(e.max) << "\n";
+    curve.emplace_back(std::max(e.rms, e.highlight), render->seconds);
+    best = std::move(render);
+  }
+  const double ours = std::max(in.errors.rms, in.errors.highlight);
+  if (curve.size() >= 2) {
+    const double cyclesSeconds = interpolateLogLog(curve, ours);
+    std::cout << "at the matcap's error " << percent(ours) << ": Cycles about " << cyclesSeconds << " s, the matcap "
+              << in.seconds << " s: " << cyclesSeconds / in.seconds << "x\n";
+  }
+  // The matcap against the render of most samples, over the pixels both cover fully.
+  double peak = 0.0, sum = 0.0, worst = 0.0, count = 0.0;
+  for (int y = 0; y < in.matcap.height(); ++y)
+    for (int x = 0; x < in.matcap.width(); ++x)
+      if (in.matcap.at(x, y)[3] >= 1.0 && best->image.at(x, y)[3] >= 1.0)
+        peak = std::max(peak, in.matcap.at(x, y).head<3>().maxCoeff());
+  for (int y = 0; y < in.matcap.height(); ++y)
+    for (int x = 0; x < in.matcap.width(); ++x) {
+      if (in.matcap.at(x, y)[3] < 1.0 || best->image.at(x, y)[3] < 1.0) continue;
+      const double e2 = (in.matcap.at(x, y).head<3>() - best->image.at(x, y).head<3>()).square().sum() / 3.0;
+      sum += e2, count += 1.0, worst = std::max(worst, std::sqrt(e2));
+    }
+  std::cout << "the matcap against Cycles' render of most samples, over " << count << " pixels: RMS "
+            << percent(std::sqrt(sum / count) / peak) << ", max " << percent(worst / peak) << " of the peak " << peak
+            << "\n";
+}
+
 int run(int argc, char** argv) {
   std::map<std::string, std::string> args{{"--sky", "512"},   {"--material", "copper"}, {"--resolution", "512"},
                                           {"--threads", "2"}, {"--repeat", "3"},        {"--check", "200"}};
@@ -208,6 +288,10 @@ int run(int argc, char** argv) {
   if (args.count("--write")) {
     const std::filesystem::path dir = args["--write"];
     writeImage(result.image, dir / ("matcap_" + args["--material"] + ".exr"));
+  }
+  if (args.count("--cycles")) {
+    CyclesInputs in{environment, result.image, texels, seconds[seconds.size() / 2], e, threads};
+    compareWithCycles(in, args["--cycles"], args.count("--write") ? args["--write"] : "cycles_work");
   }
   return 0;
 }

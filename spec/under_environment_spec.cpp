@@ -24,8 +24,9 @@ CameraFrame parseCamera(JsonObjectReader& map) {
   const bool vectors = camera.has("forward") || camera.has("up");
   const bool angles = camera.has("yaw") || camera.has("pitch");
   if (vectors == angles) {
-    throw specError(camera.path(), "give either \"forward\" and \"up\" ([x, y, z], orthonormal) or \"yaw\" and "
-                                   "\"pitch\" (degrees)");
+    throw specError(camera.path(),
+                    "give either \"forward\" and \"up\" ([x, y, z], orthonormal) or \"yaw\" and "
+                    "\"pitch\" (degrees)");
   }
   CameraFrame frame;
   if (vectors) {

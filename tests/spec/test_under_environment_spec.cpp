@@ -90,10 +90,16 @@ TEST(UnderEnvironmentSpec, BadInputNamesItsJsonPath) {
     std::string expected;
   };
   const std::vector<Case> cases{
-      {[](json& m) { m["material"] = {{"model", "gooch"}}; }, "maps[0].material: gooch has no BRDF"},
-      {[](json& m) { m["material"] = {{"model", "silhouette"}, {"width", 20}}; },
+      {[](json& m) {
+         m["material"] = {{"model", "gooch"}};
+       },
+       "maps[0].material: gooch has no BRDF"},
+      {[](json& m) {
+         m["material"] = {{"model", "silhouette"}, {"width", 20}};
+       },
        "maps[0].material: silhouette has no BRDF"},
-      {[](json& m) { m["material"]["mode"] = "reflectance"; }, "maps[0].material.mode: a material lit by an environment"},
+      {[](json& m) { m["material"]["mode"] = "reflectance"; },
+       "maps[0].material.mode: a material lit by an environment"},
       {[](json& m) {
          m["material"] = {{"model", "lobes"}, {"file", "fits/synthetic_two_lobes.json"}, {"mode", "prefiltered"}};
        },
@@ -103,12 +109,27 @@ TEST(UnderEnvironmentSpec, BadInputNamesItsJsonPath) {
        },
        "maps[0].material.method: a material lit by an environment needs a BRDF"},
       {[](json& m) { m["material"]["shadowing"] = "smith"; }, "maps[0].material.shadowing: shadowing must be one of"},
-      {[](json& m) { m["camera"]["up"] = {0, 1, 0.1}; }, "maps[0].camera: camera up [0, 1, 0.1] is not a unit vector"},
-      {[](json& m) { m["camera"]["up"] = {0, 0.6, 0.8}; }, "maps[0].camera: camera forward [0, 0, -1] and up"},
+      {[](json& m) {
+         m["camera"]["up"] = {0, 1, 0.1};
+       },
+       "maps[0].camera: camera up [0, 1, 0.1] is not a unit vector"},
+      {[](json& m) {
+         m["camera"]["up"] = {0, 0.6, 0.8};
+       },
+       "maps[0].camera: camera forward [0, 0, -1] and up"},
       {[](json& m) { m["camera"]["yaw"] = 10; }, "maps[0].camera: give either"},
-      {[](json& m) { m["camera"] = {{"pitch", 100}}; }, "maps[0].camera.pitch: must be <= 90, got 100"},
-      {[](json& m) { m["camera"]["forward"] = {0, "a", 1}; }, "maps[0].camera.forward[1]: must be a number"},
-      {[](json& m) { m["lights"] = json::array({{{"direction", "eye"}}}); }, "maps[0].lights: a material lit by"},
+      {[](json& m) {
+         m["camera"] = {{"pitch", 100}};
+       },
+       "maps[0].camera.pitch: must be <= 90, got 100"},
+      {[](json& m) {
+         m["camera"]["forward"] = {0, "a", 1};
+       },
+       "maps[0].camera.forward[1]: must be a number"},
+      {[](json& m) {
+         m["lights"] = json::array({{{"direction", "eye"}}});
+       },
+       "maps[0].lights: a material lit by"},
       {[](json& m) { m["environment"]["lobe"] = "phong:100"; }, "maps[0].environment.lobe: with a \"material\""},
       {[](json& m) { m["environment"]["mips"] = true; }, "maps[0].environment.mips: unknown key"},
       {[](json& m) { m["environment"]["file"] = ""; }, "maps[0].environment.file: must not be empty"},
@@ -116,7 +137,10 @@ TEST(UnderEnvironmentSpec, BadInputNamesItsJsonPath) {
       {[](json& m) { m["environment"]["max_error"] = 0.9; }, "maps[0].environment.max_error: must be <= 0.5"},
       {[](json& m) { m["parameterization"] = "profile"; }, "maps[0].parameterization: a material lit by"},
       {[](json& m) { m["resolution"] = "auto"; }, "maps[0].max_error: required with \"auto\" values"},
-      {[](json& m) { m["view"] = {0, 1, 1}; }, "maps[0].view: sphere maps live in eye space"},
+      {[](json& m) {
+         m["view"] = {0, 1, 1};
+       },
+       "maps[0].view: sphere maps live in eye space"},
       {[](json& m) { m["fresnel_table_output"] = "f.exr"; }, "maps[0].fresnel_table_output: unknown key"},
   };
   for (const auto& c : cases) {
