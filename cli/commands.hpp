@@ -1,22 +1,27 @@
 #pragma once
-// The subcommands of `brdfbake`. Each registers its options and returns the function that runs it.
+// The commands of `brdfbake`. Each registers its flags and returns the function that runs it: parse
+// the flags into a job's options, call the job (include/brdfbake/run/), print its result.
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <map>
 
 namespace brdfbake::cli {
 
-using Command = std::function<int()>;  // returns the exit code; throws brdfbake::Error
+using Command = std::function<int()>;  // returns the exit status; throws brdfbake::Error
+
+/// Registers every command on `app`.
+std::map<CLI::App*, Command> addCommands(CLI::App& app);
 
 Command addBakeCommand(CLI::App& app);
+Command addPrefilterCommand(CLI::App& app);
+Command addChartCommand(CLI::App& app);
+Command addFitCommand(CLI::App& app);
+Command addEvalCommand(CLI::App& app);
 Command addSampleCommand(CLI::App& app);
 Command addInfoCommand(CLI::App& app);
 Command addConvertCommand(CLI::App& app);
-Command addPrefilterCommand(CLI::App& app);  // prefilter_command.cpp
-Command addFitCommand(CLI::App& app);        // fit_command.cpp
-Command addEvalCommand(CLI::App& app);       // eval_command.cpp
 Command addPreviewCommand(CLI::App& app);
-Command addChartCommand(CLI::App& app);
 Command addInterpolationCommand(CLI::App& app);
 
 }  // namespace brdfbake::cli

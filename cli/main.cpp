@@ -1,4 +1,6 @@
-// brdfbake: bake reflectance functions into environment-map textures.
+// brdfbake: bake reflectance functions into environment-map textures. The commands parse their
+// flags and call one library job each (include/brdfbake/run/); this file maps errors and signals to
+// exit statuses and suggests the command or flag a mistyped one was meant to be.
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/core/version.hpp>
@@ -6,11 +8,12 @@
 #include <unistd.h>
 
 #include <csignal>
-#include <iostream>
 #include <map>
 #include <new>
 
 #include "commands.hpp"
+#include "flags.hpp"
+#include "suggest.hpp"
 
 namespace {
 
@@ -20,15 +23,16 @@ folder; 3 a file could not be read or written; 4 the work needs more memory than
 (BRDFBAKE_MEMORY_LIMIT, default half the machine's memory); 130, 143, 129 interrupted by
 SIGINT, SIGTERM, SIGHUP (temporary files removed); 1 anything else. Nothing is written when
 a spec is invalid, outputs appear atomically (never half-written), and no input is ever
-overwritten.
+overwritten. Progress goes to stderr (a bar on a terminal, plain lines otherwise).
 
 Examples:
   brdfbake bake data_samples/specs/phong_eye.json --out-dir out/
   brdfbake sample out/phong_eye.exr --dir 0,0,1
-  brdfbake info out/phong_eye.exr --json
-  brdfbake convert out/phong_paraboloid.exr --to cube -o out/phong_cube.exr
+  brdfbake prefilter data_samples/environments/sky_latlong.exr --lobe ggx:0.3 --to cube -o out/sky.exr
+  brdfbake fit table.astm -o fit.json
 
-Conventions (frames, image orientation, texel centres): docs/conventions.md)";
+Every command explains itself: brdfbake COMMAND --help. Conventions (frames, image orientation,
+texel centres, radiometric quantities): docs/conventions.md)";
 
 int exitCodeFor(brdfbake::Error::Kind kind) {
   switch (kind) {
@@ -75,53 +79,43 @@ void installInterruptHandlers() {
   for (int signal : {SIGINT, SIGTERM, SIGHUP}) sigaction(signal, &action, nullptr);
 }
 
+int runCommand(const std::map<CLI::App*, brdfbake::cli::Command>& commands) {
+  using brdfbake::cli::writeStderr;
+  try {
+    for (const auto& [subcommand, run] : commands) {
+      if (subcommand->parsed()) return run();
+    }
+  } catch (const brdfbake::Error& e) {
+    writeStderr(std::string("brdfbake: error: ") + e.what() + "\n");
+    return exitCodeFor(e.kind());
+  } catch (const std::bad_alloc&) {
+    writeStderr("brdfbake: error: out of memory (lower the resolution, or set BRDFBAKE_MEMORY_LIMIT)\n");
+    return 4;
+  } catch (const std::exception& e) {
+    writeStderr(std::string("brdfbake: internal error: ") + e.what() + "\n");
+    return 1;
+  }
+  return 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"brdfbake " BRDFBAKE_VERSION_STRING
-               ": bake reflectance functions (Phong, Blinn-Phong, ...) into sphere, dual-paraboloid,\n"
-               "cube and lat-long environment maps, and inspect or convert the maps it writes."};
+               ": bake reflectance functions (Phong, Cook-Torrance, measured tables and their fits, NPR\n"
+               "maps) into sphere, dual-paraboloid, cube and lat-long maps, prefilter HDR environments, fit\n"
+               "measured tables, and inspect, convert and preview what it writes."};
   app.footer(kFooter);
   app.set_version_flag("--version", BRDFBAKE_VERSION_STRING);
   app.require_subcommand(1);
-
-  std::map<CLI::App*, brdfbake::cli::Command> commands;
-  auto add = [&](brdfbake::cli::Command (*factory)(CLI::App&)) {
-    const std::size_t before = app.get_subcommands({}).size();
-    auto command = factory(app);
-    commands[app.get_subcommands({})[before]] = std::move(command);
-  };
-  add(brdfbake::cli::addBakeCommand);
-  add(brdfbake::cli::addSampleCommand);
-  add(brdfbake::cli::addInfoCommand);
-  add(brdfbake::cli::addConvertCommand);
-  add(brdfbake::cli::addPrefilterCommand);
-  add(brdfbake::cli::addFitCommand);
-  add(brdfbake::cli::addEvalCommand);
-  add(brdfbake::cli::addPreviewCommand);
-  add(brdfbake::cli::addChartCommand);
-  add(brdfbake::cli::addInterpolationCommand);
-
+  const std::map<CLI::App*, brdfbake::cli::Command> commands = brdfbake::cli::addCommands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e);
+    brdfbake::cli::reportParseError(app, e, argc, argv);
+    return 2;
   }
   installInterruptHandlers();
-  try {
-    for (auto& [subcommand, run] : commands) {
-      if (subcommand->parsed()) return run();
-    }
-  } catch (const brdfbake::Error& e) {
-    std::cerr << "brdfbake: error: " << e.what() << "\n";
-    return exitCodeFor(e.kind());
-  } catch (const std::bad_alloc&) {
-    std::cerr << "brdfbake: error: out of memory (lower the resolution, or set BRDFBAKE_MEMORY_LIMIT)\n";
-    return 4;
-  } catch (const std::exception& e) {
-    std::cerr << "brdfbake: internal error: " << e.what() << "\n";
-    return 1;
-  }
-  return 1;
+  return runCommand(commands);
 }

@@ -73,4 +73,35 @@ void runGnuplot(const std::string& script) {
   }
 }
 
+void checkChartPath(const fs::path& output) {
+  const std::string ext = output.extension().string();
+  if (ext != ".png" && ext != ".svg") {
+    throw Error(Error::Kind::InvalidArgument, shortenForMessage(output.string()) + ": a chart must be .png or .svg");
+  }
+}
+
+void renderChart(const std::vector<std::string>& panels, const fs::path& output) {
+  checkChartPath(output);
+  if (!findGnuplot()) {
+    throw Error(Error::Kind::Io,
+                "gnuplot not found: install gnuplot-nox (Debian), or use --csv / --json for the points");
+  }
+  AtomicOutput file(output);
+  const std::string size = "size 900," + std::to_string(600 * std::max<std::size_t>(1, panels.size()));
+  const std::string terminal =
+      (output.extension() == ".png" ? "set terminal pngcairo " : "set terminal svg ") + size + " noenhanced\n";
+  std::string body = panels.size() == 1 ? panels.front() : "";
+  if (panels.size() > 1) {
+    body = "set multiplot layout " + std::to_string(panels.size()) + ",1\n";
+    for (const auto& panel : panels) body += "reset\n" + panel + "\n";
+    body += "unset multiplot\n";
+  }
+  try {
+    runGnuplot(terminal + "set output " + gnuplotQuote(file.temporaryPath().string()) + "\n" + body + "\nset output\n");
+  } catch (const Error& e) {
+    throw Error(Error::Kind::Io, shortenForMessage(output.string()) + ": " + e.what());
+  }
+  file.commit();
+}
+
 }  // namespace brdfbake

@@ -8,6 +8,7 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/texture.hpp>
 #include <brdfbake/measured/measured_io.hpp>
 #include <brdfbake/spec/spec.hpp>
 
@@ -94,6 +95,11 @@ inline std::filesystem::path writeScratch(const std::string& name, const std::ui
 
 namespace detail {
 inline std::string fixed(const char* name) { return name; }
+// Texture containers: every level decoded (readTexture), then level 0 as readImage returns it.
+inline void readContainer(const std::filesystem::path& f) {
+  (void)readTexture(f);
+  (void)readImage(f);
+}
 inline std::string imageName(const std::uint8_t* data, std::size_t size) {
   // Real files keep their own format (so seeds work as they are); anything else by the first
   // byte's parity.
@@ -118,6 +124,9 @@ inline const Target kTargets[] = {
     {"mat", [](const std::uint8_t*, std::size_t) { return detail::fixed("input.mat"); },
      [](const std::filesystem::path& f) { (void)readMat(f); }},
     {"image", detail::imageName, [](const std::filesystem::path& f) { (void)readImage(f); }},
+    {"ktx2", [](const std::uint8_t*, std::size_t) { return detail::fixed("input.ktx2"); }, detail::readContainer},
+    {"ktx1", [](const std::uint8_t*, std::size_t) { return detail::fixed("input.ktx"); }, detail::readContainer},
+    {"dds", [](const std::uint8_t*, std::size_t) { return detail::fixed("input.dds"); }, detail::readContainer},
 };
 
 inline const Target* findTarget(std::string_view name) {

@@ -20,7 +20,7 @@ set -uo pipefail
 
 root="$(cd "$(dirname "$0")/.." && pwd)"
 build="$root/build-fuzz"
-all_targets=(spec fit astm pbrt merl mat image)
+all_targets=(spec fit astm pbrt merl mat image ktx2 ktx1 dds)
 
 seconds="${1:-600}"
 if ! [[ "$seconds" =~ ^[0-9]+$ ]]; then
@@ -40,6 +40,7 @@ max_len_for() {
     astm|pbrt) echo 32768 ;;
     merl|mat) echo 4096 ;;
     image) echo 65536 ;;
+    ktx2|ktx1|dds) echo 16384 ;;
   esac
 }
 

@@ -3,8 +3,10 @@
 #include <brdfbake/core/json_text.hpp>
 #include <brdfbake/core/memory_budget.hpp>
 #include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/texture.hpp>
 
 #include <algorithm>
+#include <fstream>
 #include <memory>
 
 #include "image_backend.hpp"
@@ -82,9 +84,28 @@ ImageFormat imageFormatFor(const fs::path& path) {
   if (ext == ".hdr") return ImageFormat::RadianceHdr;
   if (ext == ".tif" || ext == ".tiff") return ImageFormat::Tiff;
   if (ext == ".png") return ImageFormat::Png;
-  throw Error(Error::Kind::InvalidArgument,
-              path.string() + ": unsupported image extension '" + ext + "' (use .exr, .hdr, .tif, .tiff or .png)");
+  if (ext == ".ktx2") return ImageFormat::Ktx2;
+  if (ext == ".ktx") return ImageFormat::Ktx1;
+  if (ext == ".dds") return ImageFormat::Dds;
+  throw Error(Error::Kind::InvalidArgument, path.string() + ": unsupported image extension '" + ext +
+                                                "' (use .exr, .hdr, .tif, .tiff, .png, .ktx2, .ktx or .dds)");
 }
+
+bool isTextureContainer(ImageFormat format) {
+  return format == ImageFormat::Ktx2 || format == ImageFormat::Ktx1 || format == ImageFormat::Dds;
+}
+
+namespace {
+// True if the file is read as a texture container: its first bytes say so, or its extension does
+// (then the container reader names what is wrong).
+bool readsAsTexture(const fs::path& path) {
+  if (textureContainerFor(path)) return true;
+  std::ifstream in(path, std::ios::binary);
+  char first[12] = {};
+  in.read(first, sizeof first);
+  return textureContainerOf(std::string_view(first, static_cast<std::size_t>(in.gcount()))).has_value();
+}
+}  // namespace
 
 fs::path metadataSidecarPath(const fs::path& path) { return path.string() + ".json"; }
 
@@ -97,6 +118,16 @@ WriteReport writeImage(const Image& image, const fs::path& path, const WriteOpti
   }
   const ImageFormat format = imageFormatFor(path);
   checkFinite(image, path);
+  if (isTextureContainer(format)) {
+    Texture texture;
+    if (image.metadata.is_object()) texture.metadata = image.metadata;
+    if (isCubeCross(image)) {
+      texture.levels = {cubeFacesOfCross(image)};
+    } else {
+      texture.levels = {{image}};
+    }
+    return writeTexture(texture, path, options);
+  }
 
   WriteReport report;
   const int channels = format == ImageFormat::RadianceHdr ? 3 : 4;
@@ -147,6 +178,7 @@ WriteReport writeImage(const Image& image, const fs::path& path, const WriteOpti
 
 int imageMipLevelCount(const fs::path& path) {
   requireInputFile(path, "image");
+  if (readsAsTexture(path)) return readTextureHeaderOf(path).levels;
   std::string error;
   const int levels = imageBackend().mipLevelCount(path.c_str(), error);
   if (levels < 0) throw Error(Error::Kind::Io, path.string() + ": " + error);
@@ -204,6 +236,12 @@ WriteReport writeTiledMipChain(const std::vector<Image>& levels, const nlohmann:
 Image readImage(const fs::path& path, int mipLevel) {
   const std::uintmax_t fileBytes = requireInputFile(path, "image");
   require(mipLevel >= 0, "readImage: MIP level must be >= 0");
+  if (readsAsTexture(path)) {
+    Texture texture = readTexture(path, mipLevel);
+    Image image = texture.isCube() ? crossOfCubeFaces(texture.levels[0]) : std::move(texture.levels[0][0]);
+    image.metadata = std::move(texture.metadata);
+    return image;
+  }
   const image_backend::Functions& backend = imageBackend();
   image_backend::Header header;
   std::string error;

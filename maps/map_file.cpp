@@ -4,7 +4,9 @@
 #include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/maps/map_mips.hpp>
+#include <brdfbake/maps/texture.hpp>
 
+#include <algorithm>
 #include <functional>
 
 namespace brdfbake {
@@ -139,57 +141,70 @@ MapFile readMap(const fs::path& path, int mipLevel) {
   return mapFromImage(readTiledLevel(path, mipLevel, [&](int level) { return readImage(path, level); }), path.string());
 }
 
-std::string tiledMipProblem(const fs::path& path, int resolution) {
-  if (imageFormatFor(path) != ImageFormat::OpenExr) {
-    return path.string() + ": a tiled MIP-mapped file must be OpenEXR (.exr)";
+std::string containerProblem(const fs::path& path, const OutputShape& shape) {
+  ImageFormat format = ImageFormat::OpenExr;
+  try {
+    format = imageFormatFor(path);
+  } catch (const Error& e) {
+    return e.what();
   }
-  if (resolution < 1 || (resolution & (resolution - 1)) != 0) {
-    return "a tiled MIP-mapped OpenEXR needs a power-of-two resolution (OpenEXR halves each level, rounding down), "
-           "got " +
-           std::to_string(resolution);
+  const bool texture = isTextureContainer(format);
+  if (shape.texelFormat) {
+    const std::string name(toString(*shape.texelFormat));
+    if (!texture) return path.string() + ": a texel format (" + name + ") applies to .ktx2, .ktx and .dds outputs only";
+    if (const std::string problem = texelFormatProblem(*textureContainerFor(path), *shape.texelFormat);
+        !problem.empty()) {
+      return path.string() + ": " + problem;
+    }
+  }
+  const int n = shape.resolution;
+  if (shape.wholeChain) {
+    if (format != ImageFormat::OpenExr && !texture) {
+      return path.string() +
+             ": a whole mip chain in one file needs .exr (a tiled MIP-mapped OpenEXR), .ktx2, .ktx or .dds; this "
+             "format holds one image (write the levels as files instead)";
+    }
+    if (n < 1 || (n & (n - 1)) != 0) {
+      return path.string() + ": a whole mip chain in one " + (texture ? "texture" : "tiled MIP-mapped OpenEXR") +
+             " needs a power-of-two resolution (each map level must halve exactly, as the file's levels do), got " +
+             std::to_string(n);
+    }
+  }
+  if (texture && shape.parameterization && n > 0) {
+    const bool cubeTexture = *shape.parameterization == ParameterizationKind::Cube;
+    const auto map = makeParameterization(*shape.parameterization, n);
+    const long long width = cubeTexture ? n : map->width(), height = cubeTexture ? n : map->height();
+    if (width > kMaxTextureSize || height > kMaxTextureSize) {
+      return path.string() + ": a " + std::to_string(width) + " x " + std::to_string(height) +
+             " texture is larger than brdfbake's texture limit of " + std::to_string(kMaxTextureSize) + " texels";
+    }
   }
   return {};
 }
 
-MapWriteReport writeTiledMap(const std::vector<Image>& levels, const MapInfo& info, const fs::path& path,
-                             CubeLayout layout, const WriteOptions& options) {
-  require(!levels.empty(), "writeTiledMap: no levels");
-  const int n = info.resolution;
-  if (const std::string problem = tiledMipProblem(path, n); !problem.empty())
-    throw Error(Error::Kind::InvalidArgument, problem);
-  if (static_cast<int>(levels.size()) != mipLevelCount(n)) {
-    throw Error(Error::Kind::InvalidArgument, "writeTiledMap: a map of resolution " + std::to_string(n) + " has " +
-                                                  std::to_string(mipLevelCount(n)) + " levels, got " +
-                                                  std::to_string(levels.size()));
+std::string tiledMipProblem(const fs::path& path, int resolution) {
+  OutputShape shape;
+  shape.resolution = resolution;
+  shape.wholeChain = true;
+  return containerProblem(path, shape);
+}
+
+nlohmann::json levelValues(const nlohmann::json& metadata, int level) {
+  if (!metadata.is_object() || level < 0) return nlohmann::json::object();
+  const auto values = metadata.find("level_values");
+  if (values == metadata.end() || !values->is_array() || static_cast<std::size_t>(level) >= values->size()) {
+    return nlohmann::json::object();
   }
-  nlohmann::json metadata = info.toJson();
-  metadata["mip_levels"] = static_cast<int>(levels.size());
-  const std::string wrap = info.parameterization == ParameterizationKind::LatLong ? "periodic,clamp" : "clamp,clamp";
-  MapWriteReport report;
-  if (info.parameterization == ParameterizationKind::Cube && layout == CubeLayout::Faces) {
-    // Each face halves to 1 x 1 exactly with the map: no extra levels.
-    const auto paths = cubeFacePaths(path);
-    for (int f = 0; f < 6; ++f) {
-      std::vector<Image> faces;
-      for (std::size_t k = 0; k < levels.size(); ++k) {
-        const int m = std::max(1, n >> k);
-        const TexelRect rect = CubeMap(m).region(f);
-        Image face(m, m);
-        for (int y = 0; y < m; ++y)
-          for (int x = 0; x < m; ++x) face.set(x, y, levels[k].at(rect.x0 + x, rect.y0 + y));
-        faces.push_back(std::move(face));
-      }
-      nlohmann::json faceMetadata = metadata;
-      faceMetadata["layout"] = "faces";
-      faceMetadata["face"] = std::string(CubeMap::faceName(static_cast<CubeMap::Face>(f)));
-      writeTiledMipChain(faces, faceMetadata, paths[static_cast<std::size_t>(f)], wrap, options);
-      report.files.push_back(paths[static_cast<std::size_t>(f)]);
-    }
-    return report;
-  }
-  // Below the map's last level: its solid-angle-weighted mean in every texel, down to 1 x 1.
+  const nlohmann::json& value = (*values)[static_cast<std::size_t>(level)];
+  return value.is_object() ? value : nlohmann::json::object();
+}
+
+namespace {
+// The map's levels, then (down to the size the file's format ends at) levels holding the
+// solid-angle-weighted mean of the map's last level in every texel.
+std::vector<Image> completedChain(const std::vector<Image>& levels, const MapInfo& info) {
   std::vector<Image> chain = levels;
-  const auto last = makeParameterization(info.parameterization, std::max(1, n >> (levels.size() - 1)));
+  const auto last = makeParameterization(info.parameterization, std::max(1, info.resolution >> (levels.size() - 1)));
   Rgba sum = Rgba::Zero();
   double weight = 0.0;
   for (int y = 0; y < last->height(); ++y)
@@ -202,15 +217,88 @@ MapWriteReport writeTiledMap(const std::vector<Image>& levels, const MapInfo& in
   while (chain.back().width() > 1 || chain.back().height() > 1) {
     chain.emplace_back(std::max(1, chain.back().width() / 2), std::max(1, chain.back().height() / 2), mean);
   }
-  writeTiledMipChain(chain, metadata, path, wrap, options);
+  return chain;
+}
+
+// One file holding `chain` (1 face) or `faces` (6 faces per level), in the path's format.
+void writeChainFile(const std::vector<std::vector<Image>>& levels, const nlohmann::json& metadata, const fs::path& path,
+                    const std::string& wrap, const WriteOptions& options, MapWriteReport& report) {
+  WriteReport written;
+  if (isTextureContainer(imageFormatFor(path))) {
+    Texture texture;
+    texture.levels = levels;
+    texture.metadata = metadata;
+    written = writeTexture(texture, path, options);
+  } else {
+    std::vector<Image> chain;
+    for (const auto& level : levels) chain.push_back(level[0]);
+    written = writeTiledMipChain(chain, metadata, path, wrap, options);
+  }
   report.files.push_back(path);
+  for (const std::string& note : written.notes)
+    if (std::find(report.notes.begin(), report.notes.end(), note) == report.notes.end()) report.notes.push_back(note);
+}
+}  // namespace
+
+MapWriteReport writeTiledMap(const std::vector<Image>& levels, const MapInfo& info, const fs::path& path,
+                             CubeLayout layout, const WriteOptions& options,
+                             const std::vector<nlohmann::json>& levelValues) {
+  require(!levels.empty(), "writeTiledMap: no levels");
+  const int n = info.resolution;
+  OutputShape shape;
+  shape.parameterization = info.parameterization;
+  shape.resolution = n;
+  shape.wholeChain = true;
+  shape.cubeLayout = layout;
+  shape.texelFormat = options.texelFormat;
+  if (const std::string problem = containerProblem(path, shape); !problem.empty())
+    throw Error(Error::Kind::InvalidArgument, problem);
+  if (static_cast<int>(levels.size()) != mipLevelCount(n)) {
+    throw Error(Error::Kind::InvalidArgument, "writeTiledMap: a map of resolution " + std::to_string(n) + " has " +
+                                                  std::to_string(mipLevelCount(n)) + " levels, got " +
+                                                  std::to_string(levels.size()));
+  }
+  require(levelValues.empty() || levelValues.size() == levels.size(),
+          "writeTiledMap: level values need one object per level");
+  nlohmann::json metadata = info.toJson();
+  metadata["mip_levels"] = static_cast<int>(levels.size());
+  if (!levelValues.empty()) metadata["level_values"] = levelValues;
+  const std::string wrap = info.parameterization == ParameterizationKind::LatLong ? "periodic,clamp" : "clamp,clamp";
+  const bool texture = isTextureContainer(imageFormatFor(path));
+  MapWriteReport report;
+  if (info.parameterization == ParameterizationKind::Cube) {
+    // Each face halves to 1 x 1 exactly with the map: no extra levels.
+    std::vector<std::vector<std::vector<Image>>> faces(6);  // [face][level][0]
+    std::vector<std::vector<Image>> cube;                   // [level][face]
+    for (const Image& level : levels) {
+      std::vector<Image> six = cubeFacesOfCross(level);
+      for (int f = 0; f < 6; ++f) faces[static_cast<std::size_t>(f)].push_back({six[static_cast<std::size_t>(f)]});
+      cube.push_back(std::move(six));
+    }
+    if (layout == CubeLayout::Faces) {
+      const auto paths = cubeFacePaths(path);
+      for (int f = 0; f < 6; ++f) {
+        nlohmann::json faceMetadata = metadata;
+        faceMetadata["layout"] = "faces";
+        faceMetadata["face"] = std::string(CubeMap::faceName(static_cast<CubeMap::Face>(f)));
+        writeChainFile(faces[static_cast<std::size_t>(f)], faceMetadata, paths[static_cast<std::size_t>(f)], wrap,
+                       options, report);
+      }
+      return report;
+    }
+    if (texture) {
+      writeChainFile(cube, metadata, path, wrap, options, report);
+      return report;
+    }
+  }
+  const std::vector<Image> chain = completedChain(levels, info);
+  std::vector<std::vector<Image>> oneFace;
+  for (const Image& level : chain) oneFace.push_back({level});
+  writeChainFile(oneFace, metadata, path, wrap, options, report);
   if (chain.size() > levels.size()) {
-    report.notes.push_back(path.filename().string() + ": " + std::to_string(levels.size()) +
-                           " map levels in one tiled MIP-mapped "
-                           "OpenEXR; OpenEXR's " +
-                           std::to_string(chain.size() - levels.size()) +
-                           " further level(s) hold the "
-                           "map's mean");
+    report.notes.push_back(path.filename().string() + ": " + std::to_string(levels.size()) + " map levels in one " +
+                           (texture ? "texture" : "tiled MIP-mapped OpenEXR") + "; its " +
+                           std::to_string(chain.size() - levels.size()) + " further level(s) hold the map's mean");
   }
   return report;
 }

@@ -1,4 +1,5 @@
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/named_values.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/output/baked_output.hpp>
 #include <brdfbake/output/preview.hpp>
@@ -8,6 +9,23 @@
 #include <limits>
 
 namespace brdfbake {
+
+std::string_view toString(PreviewObject object) {
+  switch (object) {
+    case PreviewObject::Sphere:
+      return "sphere";
+    case PreviewObject::Torus:
+      return "torus";
+    case PreviewObject::Teapot:
+      return "teapot";
+  }
+  return "sphere";
+}
+
+PreviewObject parsePreviewObject(std::string_view name) {
+  return parseByName(name, std::array{PreviewObject::Sphere, PreviewObject::Torus, PreviewObject::Teapot},
+                     "the preview object");
+}
 namespace {
 
 // Grid of (rows + 1) x (columns + 1) vertices into two triangles per cell.
@@ -131,7 +149,8 @@ Mesh makePreviewMesh(PreviewObject object, int segments) {
 }
 
 void PreviewOptions::validate() const {
-  require(size >= 8 && size <= 8192, "preview size must be in [8, 8192], got " + std::to_string(size));
+  require(resolution >= 8 && resolution <= 8192,
+          "preview resolution must be in [8, 8192] pixels, got " + std::to_string(resolution));
   require(segments >= 3 && segments <= 1024, "segments must be in [3, 1024], got " + std::to_string(segments));
   require(view.allFinite() && view.norm() > 0.0, "view must be a finite non-zero vector");
   require(std::isfinite(exposure), "exposure must be finite");
@@ -146,7 +165,7 @@ Image rasterise(const Mesh& mesh, const Vec3& view, const PreviewOptions& option
   // Screen basis: right, up, and the view vector towards the viewer.
   const Vec3 upHint = std::abs(view.y()) < 0.99 ? Vec3::UnitY() : Vec3(0, 0, view.y() > 0 ? -1 : 1);
   const Vec3 right = upHint.cross(view).normalized(), up = view.cross(right);
-  const int n = options.size;
+  const int n = options.resolution;
   const double extent = 1.08;  // screen half-width in object units
   auto toScreen = [&](const Vec3& p) {
     return Vec3((p.dot(right) / extent + 1) * 0.5 * n, (1 - p.dot(up) / extent) * 0.5 * n, p.dot(view));

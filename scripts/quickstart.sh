@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # brdfbake quick start on Debian 12: installs what is missing, builds, then
 #   demo  bakes the sample maps of data_samples/specs/phong_eye.json into out/
-#   test  checks the sources' formatting (scripts/check_format.sh), then runs the whole test suite
+#   test  checks the sources' formatting (scripts/check_format.sh), installs the test-only npm packages
+#         of tests/js when npm is there, then runs the whole test suite
 #         twice (what CI runs): a Release build, then a build with
 #         AddressSanitizer and UndefinedBehaviorSanitizer (GCC's; no benchmarks, and without the
 #         consumer_* tests, which link uninstrumented programs against the installed package)
@@ -36,6 +37,13 @@ if [ "$mode" = demo ]; then
   echo "Baked maps are in out/ (OpenEXR, float RGBA). Try: build/cli/brdfbake sample out/phong_eye.exr --dir 0,0.3,1"
 else
   scripts/check_format.sh
+  # Test-only readers for the texture containers (tests/js: ktx-parse, parse-dds). The tests that use
+  # them skip with a message when node or the packages are missing.
+  if command -v npm >/dev/null 2>&1 && npm view ktx-parse version >/dev/null 2>&1; then
+    (cd tests/js && npm ci --no-audit --no-fund --silent) || echo "npm ci in tests/js failed: the independent KTX2/DDS reader tests will skip"
+  else
+    echo "npm or its registry is not reachable: the independent KTX2/DDS reader tests will skip"
+  fi
   ctest --test-dir build --output-on-failure -j "$jobs"
   echo "== The same suite under AddressSanitizer and UndefinedBehaviorSanitizer"
   cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=Sanitize -DCMAKE_CXX_FLAGS_SANITIZE="-O1 -g1" \

@@ -35,8 +35,109 @@ DirectionalLight parseLight(const nlohmann::json& value, const std::string& path
   return result;
 }
 
-// "environment": {"file", "lobe", "method", "max_error", "mips", "mip_layout", "from", "view", "up", "elevations",
-// "fresnel", "combine"} in place of "material" and "lights".
+// "lobe": an analytic lobe (PrefilterLobe::parse), or a fitted lobe model ("lobes:FIT.json").
+void parseEnvironmentLobe(JsonObjectReader& env, EnvironmentMapSpec& e, MapSpec& spec, const fs::path& baseDirectory) {
+  e.lobeName = env.string("lobe");
+  try {
+    if (e.lobeName.rfind("lobes:", 0) == 0) {  // a fitted lobe model (docs/fitting.md)
+      const fs::path fit(e.lobeName.substr(6));
+      const fs::path fitFile = fit.is_absolute() ? fit : baseDirectory / fit;
+      spec.inputs.push_back({fitFile, env.child("lobe")});
+      e.lobe = std::make_shared<const LobeModel>(readFitFile(fitFile).fit.model);
+    } else {
+      e.lobe = PrefilterLobe::parse(e.lobeName, baseDirectory);
+    }
+  } catch (const Error& error) {
+    throw specError(env.child("lobe"), error.what());
+  }
+}
+
+// "gloss_chain" with "lobe": "phong" | "blinn": each level's lobe from cmft's gloss mapping.
+void parseGlossChain(JsonObjectReader& env, EnvironmentMapSpec& e, const MapSpec& spec) {
+  e.lobeName = env.string("lobe");
+  if (e.lobeName != "phong" && e.lobeName != "blinn") {
+    throw specError(env.child("lobe"),
+                    "a gloss chain is made of Phong or Blinn-Phong levels: \"phong\" or \"blinn\" (no exponent; each "
+                    "level gets its own), got \"" +
+                        shortenForMessage(e.lobeName, 40) + "\"");
+  }
+  JsonObjectReader chain = env.object("gloss_chain");
+  EnvironmentMapSpec::GlossChain g;
+  g.scale = chain.number("scale");
+  g.bias = chain.number("bias", 1.0, -HUGE_VAL, HUGE_VAL, false);
+  const int available = std::min(16, mipLevelCount(spec.resolution));
+  g.levels = chain.integer("levels", available, 1, available);
+  if (const auto* fixup = chain.find("edge_fixup")) {
+    if (!fixup->is_boolean()) throw specError(chain.child("edge_fixup"), "must be true or false");
+    g.edgeFixup = fixup->get<bool>();
+  }
+  chain.finish();
+  try {
+    for (double exponent : glossLevelExponents(g.levels, g.scale, g.bias)) {
+      e.chainLobes.push_back(e.lobeName == "phong" ? PrefilterLobe::phong(exponent) : PrefilterLobe::blinn(exponent));
+    }
+  } catch (const Error& error) {
+    throw specError(chain.path(), error.what());
+  }
+  e.lobe = e.chainLobes.front();
+  e.lobeName = e.chainLobes.front().name() + " ... " + e.chainLobes.back().name();
+  e.glossChain = g;
+}
+
+bool parseFlag(JsonObjectReader& object, const std::string& key, bool fallback) {
+  const auto* value = object.find(key);
+  if (!value) return fallback;
+  if (!value->is_boolean()) throw specError(object.child(key), "must be true or false, got " + describe(*value));
+  return value->get<bool>();
+}
+
+// What the environment map makes besides one map: mips, a stack over elevation, a Fresnel
+// decomposition, SH irradiance; and which combinations are refused.
+void parseEnvironmentOutputs(JsonObjectReader& env, EnvironmentMapSpec& e, const MapSpec& spec,
+                             const fs::path& baseDirectory) {
+  const bool normalLobe = e.analyticLobe() && e.analyticLobe()->indexedByNormal();  // irradiance
+  e.mips = parseFlag(env, "mips", false);
+  e.mipLayout = materials::parseMipLayout(env, e.mips, spec.output, spec.resolution);
+  const bool varying = e.lobeModel() && e.lobeModel()->elevation == LobeElevation::Varying;
+  if (env.has("elevations")) {
+    if (!varying) {
+      throw specError(env.child("elevations"),
+                      "only lobe models that vary with elevation (lobes:FIT.json with a varying "
+                      "model) make a stack of maps over elevation");
+    }
+    e.elevations = env.integer("elevations", 2, 64);
+  }
+  if (env.has("fresnel")) {
+    if (e.lobeModel() || normalLobe) {
+      throw specError(env.child("fresnel"),
+                      "a Fresnel decomposition needs a specular lobe (mirror, phong:N, blinn:N, "
+                      "ggx:R) for its specular map; the irradiance map is made with it");
+    }
+    e.fresnel = materials::parseFresnelTerm(env, "fresnel");
+  }
+  if (env.has("combine")) {
+    if (!e.fresnel)
+      throw specError(env.child("combine"), "needs \"fresnel\" (how the Fresnel decomposition is combined)");
+    e.combine = env.parsed("combine", parseFresnelCombine);
+  }
+  if (const auto sh = env.optionalString("sh_output")) {
+    if (!normalLobe || e.fresnel) {
+      throw specError(env.child("sh_output"),
+                      "spherical-harmonic coefficients hold irradiance: use it with \"lobe\": \"irradiance\"");
+    }
+    if (fs::path(*sh).extension() != ".json")
+      throw specError(env.child("sh_output"), "the SH coefficients are written as JSON (.json)");
+    e.shOutput = fs::path(*sh).is_absolute() ? fs::path(*sh) : baseDirectory / *sh;
+  }
+  if (e.glossChain && (e.mips || e.fresnel)) {
+    throw specError(env.child("gloss_chain"),
+                    "the chain is its own mip levels (STEM_mipK.EXT); it does not combine with "
+                    "\"mips\" or \"fresnel\"");
+  }
+}
+
+// "environment": {"file", "lobe", "method", "max_error", "mips", "mip_layout", "from", "view", "up",
+// "elevations", "fresnel", "combine", "gloss_chain", "sh_output"} in place of "material" and "lights".
 void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& baseDirectory) {
   for (const char* key : {"material", "lights"}) {
     if (map.has(key))
@@ -55,40 +156,14 @@ void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& b
   if (file.empty()) throw specError(env.child("file"), "must not be empty");
   e.file = fs::path(file).is_absolute() ? fs::path(file) : baseDirectory / file;
   spec.inputs.push_back({e.file, env.child("file")});
-  e.lobeName = env.string("lobe");
-  try {
-    if (e.lobeName.rfind("lobes:", 0) == 0) {  // a fitted lobe model (docs/fitting.md)
-      const fs::path fit(e.lobeName.substr(6));
-      const fs::path fitFile = fit.is_absolute() ? fit : baseDirectory / fit;
-      spec.inputs.push_back({fitFile, env.child("lobe")});
-      e.lobe = std::make_shared<const LobeModel>(readFitFile(fitFile).fit.model);
-    } else {
-      e.lobe = PrefilterLobe::parse(e.lobeName, baseDirectory);
-    }
-  } catch (const Error& error) {
-    throw specError(env.child("lobe"), error.what());
+  if (env.has("gloss_chain")) {
+    parseGlossChain(env, e, spec);
+  } else {
+    parseEnvironmentLobe(env, e, spec, baseDirectory);
   }
-  const bool normalLobe = e.analyticLobe() && e.analyticLobe()->indexedByNormal();  // irradiance: indexed by the normal
-  if (const auto method = env.optionalString("method")) {
-    try {
-      e.method = parsePrefilterMethod(*method);
-    } catch (const Error& error) {
-      throw specError(env.child("method"), error.what());
-    }
-  }
+  if (env.has("method")) e.method = env.parsed("method", parsePrefilterMethod);
   e.maxError = env.number("max_error", 0.01, 0.0, 0.5, /*exclusiveMinimum=*/true);
-  if (const auto* mips = env.find("mips")) {
-    if (!mips->is_boolean()) throw specError(env.child("mips"), "must be true or false, got " + describe(*mips));
-    e.mips = mips->get<bool>();
-  }
-  e.mipLayout = materials::parseMipLayout(env, e.mips, spec.output, spec.resolution);
-  if (const auto from = env.optionalString("from")) {
-    try {
-      e.from = parseParameterizationKind(*from);
-    } catch (const Error& error) {
-      throw specError(env.child("from"), error.what());
-    }
-  }
+  if (env.has("from")) e.from = env.parsed("from", parseParameterizationKind);
   for (const char* key : {"view", "up"}) {
     if (!env.has(key)) continue;
     if (spec.parameterization != ParameterizationKind::Sphere) {
@@ -96,32 +171,7 @@ void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& b
     }
     (std::string(key) == "view" ? e.view : e.up) = env.direction(key);
   }
-  const bool varying = e.lobeModel() && e.lobeModel()->elevation == LobeElevation::Varying;
-  if (env.has("elevations")) {
-    if (!varying) {
-      throw specError(env.child("elevations"),
-                      "only lobe models that vary with elevation (lobes:FIT.json with a varying "
-                      "model) make a stack of maps over elevation");
-    }
-    e.elevations = env.integer("elevations", 2, 64);
-  }
-  if (env.has("fresnel")) {
-    if (e.lobeModel() || normalLobe) {
-      throw specError(env.child("fresnel"),
-                      "a Fresnel decomposition needs a specular lobe (mirror, phong:N, blinn:N, "
-                      "ggx:R) for its specular map; the irradiance map is made with it");
-    }
-    e.fresnel = materials::parseFresnelTerm(env, "fresnel");
-  }
-  if (const auto combine = env.optionalString("combine")) {
-    if (!e.fresnel)
-      throw specError(env.child("combine"), "needs \"fresnel\" (how the Fresnel decomposition is combined)");
-    try {
-      e.combine = parseFresnelCombine(*combine);
-    } catch (const Error& error) {
-      throw specError(env.child("combine"), error.what());
-    }
-  }
+  parseEnvironmentOutputs(env, e, spec, baseDirectory);
   env.finish();
   spec.content = std::move(e);
 }
@@ -338,7 +388,10 @@ std::vector<FilePlan::Entry> MapSpec::plannedOutputs() const {
     PrefilterOutputs outputs{parameterization, resolution, e.mips, cubeLayout, e.mipLayout};
     if (e.lobeModel() && e.lobeModel()->elevation == LobeElevation::Varying) outputs.elevationSlices = e.elevations;
     outputs.fresnel = e.fresnel.has_value();
-    return prefilterOutputFiles(output, outputs, role);
+    if (e.glossChain) outputs.mips = true, outputs.mipLevels = static_cast<int>(e.chainLobes.size());
+    std::vector<FilePlan::Entry> files = prefilterOutputFiles(output, outputs, role);
+    if (const auto& sh = e.shOutput) files.push_back({*sh, jsonPath + ".environment.sh_output"});
+    return files;
   }
   const MaterialMapSpec& m = *materialMap();
   const bool cube = parameterization == ParameterizationKind::Cube && !anyAuto() && !radialProfile;
@@ -356,9 +409,9 @@ std::vector<FilePlan::Entry> MapSpec::plannedOutputs() const {
   return out;
 }
 
-FilePlan planSpecFiles(const BakeSpec& spec, const fs::path& specFile, const fs::path& outputFolder) {
+FilePlan planSpecFiles(const BakeSpec& spec, const fs::path& specFile, const std::optional<fs::path>& outputFolder) {
   FilePlan plan(outputFolder);
-  plan.addInput(specFile, "spec");
+  if (!specFile.empty()) plan.addInput(specFile, "spec");
   for (const auto& map : spec.maps) {
     for (const auto& input : map.inputs) plan.addInput(input.file, input.role);
   }
@@ -401,6 +454,7 @@ PrefilterOptions MapSpec::prefilterOptions() const {
   options.up = environment->up;
   options.mirrorSamples = samplesPerTexel;
   options.elevations = environment->elevations;
+  if (environment->glossChain) options.cubeEdgeFixup = environment->glossChain->edgeFixup;
   return options;
 }
 

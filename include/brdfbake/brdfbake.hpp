@@ -1,10 +1,10 @@
 #pragma once
 /// @file
 /// Every public header of brdfbake in one include. Parts that were not built or installed (a
-/// bake-only package has no measured, fit or spec) are skipped.
+/// bake-only package has no env, output, measured, fit, spec or run) are skipped.
 
 // core
-#if __has_include(<brdfbake/core/color.hpp>)
+#if __has_include(<brdfbake/core/error.hpp>)
 #include <brdfbake/core/color.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/files.hpp>
@@ -12,6 +12,9 @@
 #include <brdfbake/core/json_text.hpp>
 #include <brdfbake/core/math.hpp>
 #include <brdfbake/core/memory_budget.hpp>
+#include <brdfbake/core/named_values.hpp>
+#include <brdfbake/core/progress.hpp>
+#include <brdfbake/core/run_options.hpp>
 #include <brdfbake/core/version.hpp>
 #endif
 
@@ -27,21 +30,8 @@
 #include <brdfbake/brdf/spectrum.hpp>
 #endif
 
-// bake
-#if __has_include(<brdfbake/bake/accuracy.hpp>)
-#include <brdfbake/bake/accuracy.hpp>
-#include <brdfbake/bake/auto_config.hpp>
-#include <brdfbake/bake/baked_mips.hpp>
-#include <brdfbake/bake/baker.hpp>
-#include <brdfbake/bake/interpolation_error.hpp>
-#include <brdfbake/bake/map_function.hpp>
-#include <brdfbake/bake/radial_profile.hpp>
-#include <brdfbake/env/env_accuracy.hpp>
-#include <brdfbake/env/environment.hpp>
-#include <brdfbake/env/prefilter.hpp>
-#include <brdfbake/env/prefilter_lobe.hpp>
-#include <brdfbake/env/prefilter_stack.hpp>
-#include <brdfbake/env/sh_irradiance.hpp>
+// maps
+#if __has_include(<brdfbake/maps/cube_map.hpp>)
 #include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/maps/image.hpp>
 #include <brdfbake/maps/image_io.hpp>
@@ -53,6 +43,31 @@
 #include <brdfbake/maps/radial_table.hpp>
 #include <brdfbake/maps/sh.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
+#endif
+
+// bake
+#if __has_include(<brdfbake/bake/accuracy.hpp>)
+#include <brdfbake/bake/accuracy.hpp>
+#include <brdfbake/bake/auto_config.hpp>
+#include <brdfbake/bake/baked_mips.hpp>
+#include <brdfbake/bake/baker.hpp>
+#include <brdfbake/bake/interpolation_error.hpp>
+#include <brdfbake/bake/map_function.hpp>
+#include <brdfbake/bake/radial_profile.hpp>
+#endif
+
+// env
+#if __has_include(<brdfbake/env/env_accuracy.hpp>)
+#include <brdfbake/env/env_accuracy.hpp>
+#include <brdfbake/env/environment.hpp>
+#include <brdfbake/env/prefilter.hpp>
+#include <brdfbake/env/prefilter_lobe.hpp>
+#include <brdfbake/env/prefilter_stack.hpp>
+#include <brdfbake/env/sh_irradiance.hpp>
+#endif
+
+// output
+#if __has_include(<brdfbake/output/baked_output.hpp>)
 #include <brdfbake/output/baked_output.hpp>
 #include <brdfbake/output/preview.hpp>
 #endif
@@ -69,13 +84,30 @@
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/fit/fit_report.hpp>
 #include <brdfbake/fit/gnuplot.hpp>
+#include <brdfbake/fit/held_out.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 #include <brdfbake/fit/mirror_direction.hpp>
 #include <brdfbake/fit/table_interpolation.hpp>
 #endif
 
 // spec
-#if __has_include(<brdfbake/spec/material_spec.hpp>)
+#if __has_include(<brdfbake/spec/brdf_file.hpp>)
+#include <brdfbake/spec/brdf_file.hpp>
 #include <brdfbake/spec/material_spec.hpp>
 #include <brdfbake/spec/spec.hpp>
+#endif
+
+// run
+#if __has_include(<brdfbake/run/chart.hpp>)
+#include <brdfbake/run/chart.hpp>
+#include <brdfbake/run/convert_output.hpp>
+#include <brdfbake/run/describe_output.hpp>
+#include <brdfbake/run/evaluate.hpp>
+#include <brdfbake/run/fit_table.hpp>
+#include <brdfbake/run/interpolation_chart.hpp>
+#include <brdfbake/run/job.hpp>
+#include <brdfbake/run/prefilter_job.hpp>
+#include <brdfbake/run/preview_job.hpp>
+#include <brdfbake/run/sample_output.hpp>
+#include <brdfbake/run/spec_runner.hpp>
 #endif

@@ -92,7 +92,7 @@ TEST(ChartEnvironment, SkyErrorsAreFiniteBoundedAndAgreeWithThePrefiltersEstimat
   const auto result = runCli("chart " + q(dir / "s.json") + " --json --csv " + q(dir / "s.csv") +
                              " --resolutions 16,32 --parameterizations sphere,paraboloid --threads 2");
   ASSERT_EQ(result.exitCode, 0) << result.output;
-  const auto points = nlohmann::json::parse(result.output);
+  const auto points = nlohmann::json::parse(result.out);
   ASSERT_EQ(points.size(), 2u * 2u * 4u);
   std::map<std::string, nlohmann::json> byKey;
   int front = 0;
@@ -156,7 +156,7 @@ TEST(ChartEnvironment, MirrorMapsAndBadCombinationsAreSkippedWithANote) {
   const auto result = runCli("chart " + q(dir / "m.json") +
                              " --json --resolutions 8 --parameterizations latlong --methods sh,direct --subset 32");
   ASSERT_EQ(result.exitCode, 0) << result.output;
-  const auto entries = nlohmann::json::parse(result.output);
+  const auto entries = nlohmann::json::parse(result.out);
   ASSERT_EQ(entries.size(), 3u);
   for (int i = 0; i < 2; ++i) {
     EXPECT_EQ(entries[i]["map"], "maps[0]");
@@ -181,7 +181,7 @@ TEST(ChartEnvironment, MirrorMapsAndBadCombinationsAreSkippedWithANote) {
   const auto varying = runCli("chart " + q(dir / "v.json") +
                               " --json --resolutions 8 --parameterizations latlong --methods sh --subset 16");
   ASSERT_EQ(varying.exitCode, 0) << varying.output;
-  const auto varyingEntries = nlohmann::json::parse(varying.output);
+  const auto varyingEntries = nlohmann::json::parse(varying.out);
   ASSERT_EQ(varyingEntries.size(), 2u);
   EXPECT_TRUE(varyingEntries[1]["skipped"].get<bool>());
   EXPECT_NE(varyingEntries[1]["note"].get<std::string>().find("vary with elevation"), std::string::npos);
@@ -191,7 +191,7 @@ TEST(ChartEnvironment, MirrorMapsAndBadCombinationsAreSkippedWithANote) {
   const auto big = runCli("chart " + q(dir / "big.json") +
                           " --json --resolutions 8,10000 --parameterizations latlong --methods sh --subset 16");
   ASSERT_EQ(big.exitCode, 0) << big.output;
-  const auto bigEntries = nlohmann::json::parse(big.output);
+  const auto bigEntries = nlohmann::json::parse(big.out);
   ASSERT_EQ(bigEntries.size(), 2u);
   EXPECT_EQ(bigEntries[0]["resolution"], 8);
   EXPECT_FALSE(bigEntries[0].contains("skipped"));

@@ -26,7 +26,7 @@ double sampleValue(const fs::path& map, const Vec3& d) {
   const auto result = runCli("sample " + q(map) + " --json --dir " + std::to_string(d.x()) + "," +
                              std::to_string(d.y()) + "," + std::to_string(d.z()));
   EXPECT_EQ(result.exitCode, 0) << result.output;
-  return nlohmann::json::parse(result.output)["value"][0].get<double>();
+  return nlohmann::json::parse(result.out)["value"][0].get<double>();
 }
 
 TEST(Cli, BakeAndSampleMatchTheAnalyticLobes) {
@@ -59,7 +59,7 @@ TEST(Cli, BakeJsonReportsSecondsPerMap) {
                              q(dir.path()) + " --json");
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   ASSERT_EQ(result.exitCode, 0) << result.output;
-  const auto report = nlohmann::json::parse(result.output);
+  const auto report = nlohmann::json::parse(result.out);
   ASSERT_EQ(report["maps"].size(), 2u);
   const struct {
     const char *file, *parameterization;
@@ -96,7 +96,7 @@ TEST(Cli, InfoReportsTheSpec) {
             0);
   const auto result = runCli("info " + q(dir / "phong_paraboloid.exr") + " --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
-  const auto info = nlohmann::json::parse(result.output);
+  const auto info = nlohmann::json::parse(result.out);
   EXPECT_EQ(info["parameterization"], "paraboloid");
   EXPECT_EQ(info["width"], 512);
   EXPECT_EQ(info["metadata"]["spec"]["material"]["exponent"], 50);
@@ -199,7 +199,7 @@ TEST(Cli, ChartSweepsAndMarksTheParetoFront) {
              " --resolutions 16,64 --samples 1,4 --parameterizations sphere,paraboloid --lookups 2000 --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   EXPECT_TRUE(fs::exists(dir / "c.png"));
-  const auto points = nlohmann::json::parse(result.output);
+  const auto points = nlohmann::json::parse(result.out);
   ASSERT_EQ(points.size(), 8u);
   for (const auto& p : points) {
     EXPECT_GT(p["rms"].get<double>(), 0.0);
@@ -234,7 +234,7 @@ TEST(Cli, AutoPicksAConfigurationAndRecordsIt) {
       "material": {"model": "phong", "exponent": 40}, "lights": [{"direction": [1, 1, 1]}, {"direction": [-1, 0, 1]}]}]})";
   const auto result = runCli("bake " + q(dir / "a.json") + " --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
-  const auto report = nlohmann::json::parse(result.output)["maps"][0];
+  const auto report = nlohmann::json::parse(result.out)["maps"][0];
   EXPECT_NE(report["parameterization"], "sphere");   // a free view rules out sphere maps
   EXPECT_NE(report["parameterization"], "profile");  // two lobes about two axes: no symmetry
   const auto info = nlohmann::json::parse(runCli("info " + q(dir / "a.exr") + " --json").output);
@@ -276,7 +276,7 @@ TEST(Cli, RadiallySymmetricMapsAreBakedAsProfiles) {
   const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/profile.json")) + " --out-dir " +
                              q(dir.path()) + " --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
-  const auto maps = nlohmann::json::parse(result.output)["maps"];
+  const auto maps = nlohmann::json::parse(result.out)["maps"];
   ASSERT_EQ(maps.size(), 2u);
   EXPECT_EQ(maps[0]["parameterization"], "profile");
   EXPECT_LE(maps[0]["auto"]["measured_error"].get<double>(), 0.002);
@@ -314,7 +314,7 @@ TEST(Cli, InterpolationChartsBothSchemesAndTheLineExperiment) {
   ASSERT_EQ(result.exitCode, 0) << result.output;
   // -o is the one file written: the line chart only with its own flag.
   EXPECT_EQ(test::filesIn(dir.path()), std::vector<std::string>{"i.png"});
-  const auto report = nlohmann::json::parse(result.output);
+  const auto report = nlohmann::json::parse(result.out);
   EXPECT_EQ(report["files"], nlohmann::json::array({(dir / "i.png").string()}));
   EXPECT_EQ(report["sweep"].size(), 3u);
   // Zimmons 1999's line, by hand: viewer e = (-8.3, 1, 0) over the plane y = 0 (normal +y), one

@@ -77,7 +77,7 @@ TEST(FitCli, FitsASyntheticTableAndEvalMatchesTheFormula) {
                                           {direction(radians(10), 1.0), direction(radians(50), 0.2)}}) {
     const auto eval = runCli("eval " + q(dir / "fit.json") + " --wi " + vec(wi) + " --wo " + vec(wo) + " --json");
     ASSERT_EQ(eval.exitCode, 0) << eval.output;
-    const auto result = nlohmann::json::parse(eval.output);
+    const auto result = nlohmann::json::parse(eval.out);
     ASSERT_EQ(result["value"].size(), 3u);
     EXPECT_EQ(result["channels"], nlohmann::json({"R", "G", "B"}));
     for (std::size_t c = 0; c < 3; ++c) {
@@ -138,7 +138,7 @@ TEST(FitCli, EvalOfATableReturnsItsSamplesAndOfAMaterialItsBrdf) {
   const auto table = runCli("eval " + q(test::sourcePath("data_samples/tables/synthetic_two_lobes.astm")) + " --wi " +
                             vec(direction(row[0], row[1])) + " --wo " + vec(direction(row[2], row[3])) + " --json");
   ASSERT_EQ(table.exitCode, 0) << table.output;
-  const auto value = nlohmann::json::parse(table.output)["value"];
+  const auto value = nlohmann::json::parse(table.out)["value"];
   for (std::size_t c = 0; c < 3; ++c)
     EXPECT_NEAR(value[c].get<double>(), row[4 + c], 1e-12 * std::max(1.0, row[4 + c]));
 
@@ -148,7 +148,7 @@ TEST(FitCli, EvalOfATableReturnsItsSamplesAndOfAMaterialItsBrdf) {
   const auto phong = runCli("eval " + q(dir / "phong.json") + " --wi " + vec(wi) + " --wo " + vec(wo) + " --json");
   ASSERT_EQ(phong.exitCode, 0) << phong.output;
   const double expected = std::pow(Vec3(-wo.x(), -wo.y(), wo.z()).dot(wi), 20) / wi.z();
-  const auto phongValue = nlohmann::json::parse(phong.output)["value"];
+  const auto phongValue = nlohmann::json::parse(phong.out)["value"];
   EXPECT_NEAR(phongValue[0].get<double>(), expected, 1e-9);
   EXPECT_NEAR(phongValue[2].get<double>(), 0.25 * expected, 1e-9);
 }
@@ -230,7 +230,7 @@ TEST(FitCli, DataSampleSpecsBake) {
   const auto result = runCli("bake " + q(test::sourcePath("data_samples/specs/measured_lobes.json")) + " --out-dir " +
                              q(dir.path()) + " --json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
-  const auto report = nlohmann::json::parse(result.output);
+  const auto report = nlohmann::json::parse(result.out);
   EXPECT_EQ(report["maps"].size(), 4u);
   for (const auto& map : report["maps"]) EXPECT_TRUE(fs::exists(map["output"].get<std::string>()));
   // The reflectance map at the centre (n = v, theta = 0) is the fit's mirror value there:
@@ -238,7 +238,7 @@ TEST(FitCli, DataSampleSpecsBake) {
   const auto fit = readJson(test::sourcePath("data_samples/fits/synthetic_varying.json"));
   const auto sample = runCli("sample " + q(dir / "measured_lobes_reflectance.exr") + " --dir 0,0,1 --json");
   ASSERT_EQ(sample.exitCode, 0) << sample.output;
-  const double value = nlohmann::json::parse(sample.output)["value"][1];
+  const double value = nlohmann::json::parse(sample.out)["value"][1];
   const auto& g = fit["channels"][1];
   const double c = g["lobes"][0]["weight"][2], n = g["lobes"][0]["exponent"][2];
   EXPECT_NEAR(value, g["diffuse"].get<double>() / kPi + c * (n + 2) / (2 * kPi), 2e-3 * value);
@@ -291,7 +291,7 @@ TEST(FitCli, GarnetRedFitBakesAMap) {
   const auto eval = runCli("eval " + q(table) + " --wi " + vec(direction(0.872665, 0)) + " --wo " +
                            vec(direction(0.573513, 0)) + " --json");
   ASSERT_EQ(eval.exitCode, 0) << eval.output;
-  EXPECT_NEAR(nlohmann::json::parse(eval.output)["value"][0].get<double>(), 0.023025,
+  EXPECT_NEAR(nlohmann::json::parse(eval.out)["value"][0].get<double>(), 0.023025,
               1e-9);  // first row of the file, 400 nm
 }
 

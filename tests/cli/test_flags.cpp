@@ -53,7 +53,7 @@ TEST(Flags, FitJsonIsARunReportHoldingTheFit) {
   test::TempDir dir;
   const auto r = runCli("fit " + q(kTable) + " --lobes 1 --elevation constant -o " + q(dir / "fit.json") + " --json");
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  const auto report = nlohmann::json::parse(r.output);
+  const auto report = nlohmann::json::parse(r.out);
   EXPECT_EQ(report["table"], kTable);
   EXPECT_EQ(report["files"], nlohmann::json::array({(dir / "fit.json").string()}));
   EXPECT_EQ(report["fit"]["format"], "brdfbake.lobe_fit");

@@ -268,7 +268,7 @@ TEST(HostileInput, NegativeMeasuredValuesAreClampedWithANote) {
   putJson(dir / "spec.json", {{"maps", {map}}});
   const auto r = runCli("bake " + q(dir / "spec.json") + " --json");
   ASSERT_EQ(r.exitCode, 0) << r.output;
-  const auto report = nlohmann::json::parse(r.output);
+  const auto report = nlohmann::json::parse(r.out);
   const std::string notes = report["maps"][0]["notes"].dump();
   EXPECT_NE(notes.find("maps[0].material.file: 1 negative RGB values clamped to 0 for baking"), std::string::npos)
       << notes;
@@ -283,7 +283,7 @@ TEST(HostileInput, AMapThatFailsWhileBakingDoesNotStopTheOthersAndIsReported) {
   putJson(dir / "spec.json", {{"maps", {phongMap("one.exr"), unreachable, phongMap("three.exr")}}});
   const auto r = runCli("bake " + q(dir / "spec.json") + " --json");
   EXPECT_EQ(r.exitCode, 2) << r.output;
-  const auto report = nlohmann::json::parse(r.output.substr(0, r.output.rfind("}") + 1));
+  const auto report = nlohmann::json::parse(r.out.substr(0, r.output.rfind("}") + 1));
   ASSERT_EQ(report["maps"].size(), 3u);
   EXPECT_EQ(report["maps"][0]["status"], "written");
   EXPECT_EQ(report["maps"][1]["status"], "failed");

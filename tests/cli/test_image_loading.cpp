@@ -57,7 +57,7 @@ TEST(ImageLoading, ImageCommandsLoadOpenImageIOOnFirstUse) {
   const Vec3 r = Vec3(0, 0.3, 1).normalized();
   const auto sample = runCli("sample " + q(dir / "phong_eye.exr") + " --json --dir 0,0.3,1");
   ASSERT_EQ(sample.exitCode, 0) << sample.output;
-  EXPECT_NEAR(nlohmann::json::parse(sample.output)["value"][0].get<double>(), std::pow(r.z(), 50), 0.01);
+  EXPECT_NEAR(nlohmann::json::parse(sample.out)["value"][0].get<double>(), std::pow(r.z(), 50), 0.01);
 }
 
 TEST(ImageLoading, AMissingModuleIsNamedWhenAnImageIsNeeded) {

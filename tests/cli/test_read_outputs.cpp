@@ -40,7 +40,7 @@ std::vector<Rgb> sampleAll(const fs::path& output, const std::vector<Vec3>& dire
   EXPECT_EQ(result.exitCode, 0) << result.output;
   std::vector<Rgb> values;
   if (result.exitCode != 0) return values;
-  const auto array = nlohmann::json::parse(result.output);
+  const auto array = nlohmann::json::parse(result.out);
   EXPECT_EQ(array.size(), directions.size());
   for (const auto& entry : array) {
     const auto& v = entry["value"];
@@ -52,7 +52,7 @@ std::vector<Rgb> sampleAll(const fs::path& output, const std::vector<Vec3>& dire
 nlohmann::json infoOf(const fs::path& output, const std::string& flags = "") {
   const auto result = runCli("info " + q(output) + " --json " + flags);
   EXPECT_EQ(result.exitCode, 0) << result.output;
-  return result.exitCode == 0 ? nlohmann::json::parse(result.output) : nlohmann::json::object();
+  return result.exitCode == 0 ? nlohmann::json::parse(result.out) : nlohmann::json::object();
 }
 
 void expectPreviews(const fs::path& output, const std::string& flags = "") {
@@ -146,7 +146,7 @@ TEST(ReadOutputs, EveryBakedKindSamplesConvertsAndPreviews) {
   for (const double c : {0.05, 0.3, 0.77, 1.0}) {
     const auto result = runCli("sample " + q(dir / "f_1d.exr") + " --cos-view " + std::to_string(c) + " --json");
     ASSERT_EQ(result.exitCode, 0) << result.output;
-    const double f = nlohmann::json::parse(result.output)["value"][0].get<double>();
+    const double f = nlohmann::json::parse(result.out)["value"][0].get<double>();
     // 32 texels: linear interpolation of a smooth F is within 2e-3 away from grazing.
     EXPECT_NEAR(f, dielectricFresnel(std::max(c, 0.5 / 32), 1.5), c < 0.1 ? 0.03 : 2e-3) << c;
   }
@@ -197,7 +197,7 @@ TEST(ReadOutputs, PrefilterMipLevelsStacksAndFresnelMapsReadBack) {
   const auto stack = runCli("prefilter " + q(kFurnace) + " --lobe lobes:" + q(kVaryingFit) +
                             " --to paraboloid --resolution 16 --elevations 3 --json -o " + q(dir / "v.exr"));
   ASSERT_EQ(stack.exitCode, 0) << stack.output;
-  const auto report = nlohmann::json::parse(stack.output);
+  const auto report = nlohmann::json::parse(stack.out);
   const LobeModel model = readFitFile(kVaryingFit).fit.model;
   auto furnaceValue = [&](double u) {
     const double c = model.weight(0, 0, u), n = model.exponent(0, 0, u);

@@ -29,7 +29,7 @@ TEST(Preview, ConstantMapShadesTheObjectUniformly) {
   const SphereMap map(16);
   const Image constant(16, 16, Rgba(0.25, 0.5, 0.75, 1));
   PreviewOptions options;
-  options.size = 64;
+  options.resolution = 64;
   const Image image = renderPreview(constant, map, options);
   int covered = 0;
   for (int y = 0; y < 64; ++y)
@@ -49,7 +49,7 @@ TEST(Preview, PerPixelLookupMatchesTheReflectionOfTheSphereNormal) {
   const Image phong = bake(map, MaterialMapFunction(std::make_shared<PhongMaterial>(Rgb::Ones(), 8.0),
                                                     {{Vec3::UnitZ(), Rgb::Ones()}}, Vec3::UnitZ()));
   PreviewOptions options;
-  options.size = 128;
+  options.resolution = 128;
   options.segments = 96;
   const Image image = renderPreview(phong, map, options);
   double worst = 0.0;
@@ -73,7 +73,7 @@ TEST(Preview, PerVertexInterpolationErrsMostWhereTheMapIsCoarse) {
                                                     {{Vec3(0.5, 0.5, 1).normalized(), Rgb::Ones()}}, Vec3::UnitZ()));
   auto difference = [&](int segments) {
     PreviewOptions exact, vertex;
-    exact.size = vertex.size = 96;
+    exact.resolution = vertex.resolution = 96;
     exact.segments = 96;
     vertex.segments = segments;
     vertex.perVertex = true;
@@ -94,7 +94,7 @@ TEST(Preview, SphereMapsRefuseAnotherView) {
   options.view = Vec3(1, 0, 0);
   EXPECT_THROW(renderPreview(Image(8, 8), map, options), Error);
   options.view = Vec3::UnitZ();
-  options.size = 2;
+  options.resolution = 2;
   EXPECT_THROW(renderPreview(Image(8, 8), map, options), Error);
 }
 

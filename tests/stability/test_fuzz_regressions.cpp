@@ -69,7 +69,9 @@ TEST_P(FuzzTarget, SeedsParseOrThrowErrorNamingTheFile) {
   for (const fs::path& input : inputs) expectParsesOrNamedError(*target, input);
 }
 
-INSTANTIATE_TEST_SUITE_P(Fuzz, FuzzTarget, ::testing::Values("spec", "fit", "astm", "pbrt", "merl", "mat", "image"),
+INSTANTIATE_TEST_SUITE_P(Fuzz, FuzzTarget,
+                         ::testing::Values("spec", "fit", "astm", "pbrt", "merl", "mat", "image", "ktx2", "ktx1",
+                                           "dds"),
                          [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
 
 }  // namespace

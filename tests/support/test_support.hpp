@@ -46,18 +46,30 @@ inline std::filesystem::path sharedPath(const std::string& relative) {
 /// Result of running a command.
 struct CommandResult {
   int exitCode = -1;
-  std::string output;  // stdout and stderr interleaved
+  std::string out;     // stdout
+  std::string err;     // stderr
+  std::string output;  // stdout, then stderr
 };
 
-/// Runs a shell command line, capturing stdout+stderr.
+/// Runs a shell command line, capturing stdout and stderr (stderr through a scratch file).
 inline CommandResult run(const std::string& commandLine) {
   CommandResult result;
-  FILE* pipe = popen((commandLine + " 2>&1").c_str(), "r");
+  std::random_device rd;
+  const std::filesystem::path errors =
+      std::filesystem::temp_directory_path() / ("brdfbake-test-stderr-" + std::to_string(rd()) + std::to_string(rd()));
+  FILE* pipe = popen(("(" + commandLine + ") 2>'" + errors.string() + "'").c_str(), "r");
   if (!pipe) return result;
   char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe)) result.output += buffer;
+  while (std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe)) result.out.append(buffer, n);
   const int status = pclose(pipe);
   result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  if (FILE* err = std::fopen(errors.c_str(), "rb")) {
+    while (std::size_t n = std::fread(buffer, 1, sizeof buffer, err)) result.err.append(buffer, n);
+    std::fclose(err);
+  }
+  std::error_code ec;
+  std::filesystem::remove(errors, ec);
+  result.output = result.out + result.err;
   return result;
 }
 

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace brdfbake {
 
@@ -20,5 +21,14 @@ void runGnuplot(const std::string& script);
 
 /// `text` quoted for a gnuplot string literal (single quotes, quotes doubled).
 std::string gnuplotQuote(const std::string& text);
+
+/// Throws Error(InvalidArgument) unless `output` ends in .png or .svg (checked before the work).
+void checkChartPath(const std::filesystem::path& output);
+
+/// Draws gnuplot script bodies (everything after "set terminal ... / set output ...") into `output`
+/// (.png or .svg), atomically: one body draws a 900 x 600 chart; several draw one panel each,
+/// stacked in one picture 600 pixels taller per panel. Throws Error(InvalidArgument) for another
+/// extension and Error(Io) naming `output` when gnuplot is missing or fails.
+void renderChart(const std::vector<std::string>& panels, const std::filesystem::path& output);
 
 }  // namespace brdfbake

@@ -1,24 +1,33 @@
 #pragma once
 /// @file
-/// Reading and writing images through OpenImageIO.
+/// Reading and writing images: OpenEXR, Radiance HDR, TIFF and PNG through OpenImageIO; KTX2, KTX1
+/// and DDS through brdfbake's own texture containers (texture.hpp).
 
 #include <brdfbake/maps/image.hpp>
+#include <brdfbake/maps/texel_format.hpp>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace brdfbake {
 
 /// Image file formats brdfbake writes, chosen by the output's extension.
-enum class ImageFormat { OpenExr, RadianceHdr, Tiff, Png };
+enum class ImageFormat { OpenExr, RadianceHdr, Tiff, Png, Ktx2, Ktx1, Dds };
 
-/// Format for a path's extension (.exr, .hdr, .tif/.tiff, .png); throws Error(InvalidArgument).
+/// Format for a path's extension (.exr, .hdr, .tif/.tiff, .png, .ktx2, .ktx, .dds); throws
+/// Error(InvalidArgument).
 ImageFormat imageFormatFor(const std::filesystem::path& path);
+/// True for the texture containers KTX2, KTX1 and DDS (texture.hpp).
+bool isTextureContainer(ImageFormat format);
 
 struct WriteOptions {
   /// Paths that must not be overwritten (the inputs of the computation).
   std::vector<std::filesystem::path> inputs;
+  /// How KTX2, KTX1 and DDS outputs store texels (Rgba16Float if unset); ignored by other formats
+  /// (containerProblem, map_file.hpp, reports a format given for them).
+  std::optional<TexelFormat> texelFormat;
 };
 
 /// What writeImage did, for reports.
@@ -31,7 +40,9 @@ struct WriteReport {
 /// so a failure never leaves a half-written file. OpenEXR and TIFF are written as float RGBA,
 /// Radiance HDR as RGB (alpha dropped, noted), PNG as 8-bit sRGB with clamping (noted). Image
 /// metadata is stored in the file's "brdfbake:metadata" attribute, verified by reading it back, or
-/// in a sidecar PATH.json where the format drops it. Throws Error(Io) on failure and
+/// in a sidecar PATH.json where the format drops it. KTX2, KTX1 and DDS: one level in
+/// `options.texelFormat` (writeTexture); a cube cross (isCubeCross) becomes a cube texture of six
+/// faces, anything else a 2-D texture. Throws Error(Io) on failure and
 /// Error(InvalidArgument) if `path` is one of `options.inputs`, or holds NaN/Inf.
 WriteReport writeImage(const Image& image, const std::filesystem::path& path, const WriteOptions& options = {});
 
@@ -39,10 +50,11 @@ WriteReport writeImage(const Image& image, const std::filesystem::path& path, co
 /// custom attributes, and where readImage looks for it.
 std::filesystem::path metadataSidecarPath(const std::filesystem::path& path);
 
-/// Reads any format OpenImageIO reads, as float RGBA (alpha 1 if absent; gray expanded to RGB),
-/// with its brdfbake metadata if present. Throws Error(Io) naming the file. `mipLevel` > 0 reads
-/// that level of a MIP-mapped file (writeTiledMipChain, maketx); Error(InvalidInput) if it has
-/// fewer levels.
+/// Reads any format OpenImageIO reads, and KTX2, KTX1 and DDS (by their identifiers, readTexture;
+/// a cube texture comes back as the cube cross, crossOfCubeFaces), as float RGBA (alpha 1 if
+/// absent; gray expanded to RGB), with its brdfbake metadata if present. Throws Error(Io) naming
+/// the file. `mipLevel` > 0 reads that level of a MIP-mapped file (writeTiledMipChain, maketx, a
+/// texture's levels); Error(InvalidInput) if it has fewer levels.
 Image readImage(const std::filesystem::path& path, int mipLevel = 0);
 
 /// The number of MIP levels in the file's first subimage (1 for an ordinary image).

@@ -5,9 +5,11 @@
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/maps/image.hpp>
 #include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/texel_format.hpp>
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 
 namespace brdfbake {
 
@@ -16,13 +18,34 @@ namespace brdfbake {
 enum class CubeLayout { Cross, Faces };
 
 /// How a mip chain is written: each level a map of its own (level k >= 1 at STEM_mipK.EXT,
-/// mipLevelPath), or the whole chain in one tiled, MIP-mapped OpenEXR (writeTiledMap), as
-/// OpenImageIO's make_texture / maketx write textures.
+/// mipLevelPath), or the whole chain in one file (writeTiledMap): a tiled, MIP-mapped OpenEXR for
+/// .exr, as OpenImageIO's make_texture / maketx write textures, or the mip levels of a KTX2, KTX1
+/// or DDS texture for .ktx2, .ktx, .dds.
 enum class MipLayout { Files, Tiled };
 
-/// Why a chain of a map of `resolution` cannot be written tiled at `path` ("" if it can): the
-/// path must be .exr and the resolution a power of two. For checks before any work.
+/// What an output will hold, for containerProblem.
+struct OutputShape {
+  /// The map's parameterization; nullopt for a plain image (a preview, a 1-D table).
+  std::optional<ParameterizationKind> parameterization;
+  int resolution = 0;       ///< the map's resolution N at level 0 (maps only)
+  bool wholeChain = false;  ///< every mip level in this one file (MipLayout::Tiled)
+  CubeLayout cubeLayout = CubeLayout::Cross;
+  std::optional<TexelFormat> texelFormat;  ///< WriteOptions::texelFormat, if given
+};
+
+/// Why `path` cannot hold `shape` ("" if it can), for checks before any work: an unknown
+/// extension; a whole chain in a format without mip levels (only .exr, .ktx2, .ktx, .dds hold
+/// one) or of a resolution that is not a power of two (each level must halve exactly as the
+/// format's levels do); a texel format given for a format other than KTX2, KTX1, DDS, or one the
+/// container cannot store (texelFormatProblem).
+std::string containerProblem(const std::filesystem::path& path, const OutputShape& shape);
+
+/// containerProblem for a whole chain of a map of `resolution` at `path` (kept for its callers).
 std::string tiledMipProblem(const std::filesystem::path& path, int resolution);
+
+/// The values of level `level` in a map's metadata: element `level` of its "level_values" array
+/// (e.g. {"roughness": 0.25} for a GGX chain), or an empty object.
+nlohmann::json levelValues(const nlohmann::json& metadata, int level);
 
 /// A map read back from disk.
 struct MapFile {
@@ -33,8 +56,9 @@ struct MapFile {
 
 /// Reads a map written by writeMap or writeTiledMap: one file, or a cube's six faces
 /// (CubeLayout::Faces), named by STEM.EXT (which then need not exist) or by any one face file.
-/// `mipLevel` > 0 reads that level of the chain: from the file itself if it is MIP-mapped
-/// (writeTiledMap), else from STEM_mipK.EXT (mipLevelPath). Throws Error(InvalidInput) if the
+/// A KTX2, KTX1 or DDS cube texture reads as the cross. `mipLevel` > 0 reads that level of the
+/// chain: from the file itself if it is MIP-mapped (writeTiledMap: a tiled OpenEXR or a texture's
+/// levels), else from STEM_mipK.EXT (mipLevelPath). Throws Error(InvalidInput) if the
 /// file has no brdfbake metadata, its size does not match the metadata, a texel is NaN or
 /// infinite, or the level does not exist (or lies below the map's 1-texel level); Error(Io) if
 /// the file (or a face) is missing.
@@ -62,7 +86,9 @@ MapFile mapFromImage(Image image, const std::string& label);
 MapFile adoptImage(Image image, ParameterizationKind kind, const std::string& label);
 
 /// Writes a map with its metadata (image.metadata is replaced by info.toJson()). Returns the
-/// files written and the notes of writeImage.
+/// files written and the notes of writeImage. A cube map written as .ktx2, .ktx or .dds with
+/// CubeLayout::Cross becomes one cube texture (six faces, not a cross); with CubeLayout::Faces six
+/// 2-D textures as for any format.
 struct MapWriteReport {
   std::vector<std::filesystem::path> files;
   std::vector<std::string> notes;
@@ -71,15 +97,21 @@ MapWriteReport writeMap(const Image& image, const MapInfo& info, const std::file
                         CubeLayout layout = CubeLayout::Cross, const WriteOptions& options = {});
 
 /// Writes a whole mip chain (`levels`: level k of resolution max(1, N >> k), as environmentMipChain
-/// or bakeMipChain make them) into one tiled, MIP-mapped OpenEXR at `path` (writeTiledMipChain),
-/// or, with CubeLayout::Faces, into six such files, one per face. `info` describes level 0 and is
-/// stored with "mip_levels": the number of map levels. OpenEXR halves each level, rounding down,
-/// to 1 x 1, so below a map's last level (a cube cross of 1-texel faces, 4 x 3; a paraboloid or
-/// lat-long map of 1 row, 2 x 1) it has one or two more levels: each holds, in every texel, the
-/// solid-angle-weighted mean of the map's last level (mipTexelWeight). Needs a power-of-two
-/// resolution N (so every level has OpenEXR's size) and a .exr path: else Error(InvalidArgument).
+/// or bakeMipChain make them) into one file at `path`, or, with CubeLayout::Faces, into six such
+/// files, one per face. `info` describes level 0 and is stored with "mip_levels": the number of map
+/// levels, and `levelValues` (if given, one JSON object per level) as "level_values".
+///   - .exr: a tiled, MIP-mapped OpenEXR (writeTiledMipChain). OpenEXR halves each level, rounding
+///     down, to 1 x 1, so below a map's last level (a cube cross of 1-texel faces, 4 x 3; a
+///     paraboloid or lat-long map of 1 row, 2 x 1) it has one or two more levels.
+///   - .ktx2, .ktx, .dds: a texture (writeTexture, options.texelFormat): a cube becomes a cube
+///     texture whose level k holds the six faces of map level k, so its levels end with the map's;
+///     a 2:1 map (paraboloid, lat-long) gets one more level, 1 x 1, so engines see a complete chain.
+/// Each level beyond the map's holds, in every texel, the solid-angle-weighted mean of the map's
+/// last level (mipTexelWeight). Needs a power-of-two resolution N and one of these extensions
+/// (containerProblem): else Error(InvalidArgument).
 MapWriteReport writeTiledMap(const std::vector<Image>& levels, const MapInfo& info, const std::filesystem::path& path,
-                             CubeLayout layout = CubeLayout::Cross, const WriteOptions& options = {});
+                             CubeLayout layout = CubeLayout::Cross, const WriteOptions& options = {},
+                             const std::vector<nlohmann::json>& levelValues = {});
 
 /// The six face file names of a cube written with CubeLayout::Faces, in OpenGL face order.
 std::vector<std::filesystem::path> cubeFacePaths(const std::filesystem::path& path);

@@ -5,6 +5,7 @@
 #include <brdfbake/maps/image.hpp>
 
 #include <array>
+#include <string_view>
 #include <vector>
 
 namespace brdfbake {
@@ -17,6 +18,10 @@ struct Mesh {
 };
 
 enum class PreviewObject { Sphere, Torus, Teapot };
+/// "sphere", "torus", "teapot".
+std::string_view toString(PreviewObject object);
+/// Inverse of toString; throws Error(InvalidArgument) listing the names.
+PreviewObject parsePreviewObject(std::string_view name);
 
 /// Unit sphere tessellated into `segments` x 2 `segments` quads.
 Mesh makeSphereMesh(int segments);
@@ -29,7 +34,7 @@ Mesh makePreviewMesh(PreviewObject object, int segments);
 
 struct PreviewOptions {
   PreviewObject object = PreviewObject::Sphere;
-  int size = 512;             ///< output is size x size pixels
+  int resolution = 512;       ///< output is resolution x resolution pixels
   Vec3 view = Vec3::UnitZ();  ///< towards the viewer, in the map frame (sphere maps: +z only)
   /// Per-vertex mode: texture coordinates (sphere maps) or reflected vectors (other maps) are
   /// computed at the vertices and interpolated linearly across each triangle, as fixed-function

@@ -50,6 +50,21 @@ struct EnvironmentMapSpec {
   /// the 1-D Fresnel table of `resolution` texels (prefilterFresnelDecomposition).
   std::optional<FresnelTerm> fresnel;
   FresnelCombine combine = FresnelCombine::Add;  ///< "combine": "add" (default) | "mix"; needs "fresnel"
+  /// "gloss_chain": {"scale": S, "bias": B (default 1), "levels": M (default: down to 1 texel, at most 16),
+  /// "edge_fixup": true} with "lobe": "phong" or "blinn" (no exponent): a gloss mip chain as cmft makes
+  /// it, level k at resolution N >> k filtered with the exponent 2^(S g_k + B), g_k = 1 - k/(M - 1)
+  /// (glossLevelExponents), written as the map's mip levels STEM_mipK.EXT. `chainLobes` holds level
+  /// k's lobe; "edge_fixup": false keeps cube texels unaveraged (cmft's --edgeFixup none).
+  struct GlossChain {
+    double scale = 10.0, bias = 1.0;
+    int levels = 0;
+    bool edgeFixup = true;
+  };
+  std::optional<GlossChain> glossChain;
+  std::vector<PrefilterLobe> chainLobes;
+  /// "sh_output": FILE.json, with "lobe": "irradiance": also the irradiance as 3 bands of spherical
+  /// harmonics (env/sh_irradiance.hpp), resolved (and placed under an output folder) like "output".
+  std::optional<std::filesystem::path> shOutput;
 
   /// The analytic lobe, or null for a fitted model.
   const PrefilterLobe* analyticLobe() const { return std::get_if<PrefilterLobe>(&lobe); }
@@ -217,10 +232,11 @@ MaterialUnderEnvironment bakeUnderEnvironment(const MapSpec& map, const Environm
 MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions,
                               const WriteOptions& writeOptions = {});
 
-/// The files baking `spec` reads and writes, for FilePlan::check(): `specFile`, every map's
-/// inputs and planned outputs, with `outputFolder` as the folder outputs must stay in.
+/// The files baking `spec` reads and writes, for FilePlan::check(): `specFile` (none when empty),
+/// every map's inputs and planned outputs, with `outputFolder` (when given) as the folder outputs
+/// must stay in.
 FilePlan planSpecFiles(const BakeSpec& spec, const std::filesystem::path& specFile,
-                       const std::filesystem::path& outputFolder);
+                       const std::optional<std::filesystem::path>& outputFolder);
 
 /// Reads a spec file. Throws Error(Io) if unreadable, Error(InvalidInput) with file, line and
 /// column for JSON syntax errors, and the errors of parseBakeSpec.

@@ -1,0 +1,72 @@
+// brdfbake convert MAP --to KIND -o OUT: resample an output into another parameterization (convertOutput).
+#include <brdfbake/run/convert_output.hpp>
+
+#include "commands.hpp"
+#include "flags.hpp"
+
+namespace brdfbake::cli {
+
+namespace {
+
+constexpr const char* kFooter = R"(Each output texel averages lookups of the input over its footprint, the lookups a renderer makes
+(brdfbake sample --help): any output of bake or prefilter converts. An elevation stack needs
+--cos-view (the map at that n.v); a Fresnel table converts --to sphere only, as seen from +z (the
+texel at r holds F(n.v), n = normalize(r + z)). Plain environment images (no brdfbake metadata)
+need --from.
+
+Examples:
+  brdfbake convert out/phong_paraboloid.exr --to cube -o out/phong_cube.exr
+  brdfbake convert sky.hdr --from latlong --to sphere --resolution 512 -o sky_sphere.exr)";
+
+struct ConvertArgs {
+  CommonFlags flags;
+  ConvertOptions options;
+  std::string map, to, from, output;
+  bool faces = false;
+};
+
+int runConvert(ConvertArgs a) {
+  ConvertOptions& options = a.options;
+  options.source.path = a.map;
+  if (!a.from.empty()) options.source.from = parseParameterizationKind(a.from);
+  options.to = parseParameterizationKind(a.to);
+  options.layout = a.faces ? CubeLayout::Faces : CubeLayout::Cross;
+  options.output = a.output;
+  ProgressPrinter progress(a.flags);
+  static_cast<JobOptions&>(options) = jobOptions(a.flags, progress);
+  try {
+    const ConvertResult result = convertOutput(options);
+    progress.finish();
+    return printResult(result, a.flags);
+  } catch (const Error& e) {
+    throw renameSpecPaths(e, {{"cos_view", "--cos-view"}, {"to:", "--to:"}, {"resolution:", "--resolution:"}});
+  }
+}
+
+}  // namespace
+
+Command addConvertCommand(CLI::App& app) {
+  auto args = std::make_shared<ConvertArgs>();
+  auto* command = app.add_subcommand("convert", "Resample a map into another parameterization");
+  command->footer(kFooter);
+  command->add_option("map", args->map, "Input map or image")->required();
+  command->add_option("--to", args->to, "Output parameterization")
+      ->required()
+      ->check(CLI::IsMember({"sphere", "paraboloid", "cube", "latlong"}));
+  addFromOption(command, args->from);
+  command->add_option("--resolution", args->options.resolution, "Output resolution (default: the input's)")
+      ->check(CLI::Range(1, 65536));
+  command->add_option("--samples-per-texel", args->options.samplesPerTexel, "Samples per output texel")
+      ->default_val(16)
+      ->check(CLI::Range(1, 4096));
+  command->add_option("--samples", args->options.samplesPerTexel, "(old spelling of --samples-per-texel)")->group("");
+  addCosViewOption(command, args->options.source.cosView);
+  addMipLevelOption(command, args->options.source.mipLevel);
+  command->add_flag("--faces", args->faces, "Write a cube map as six files instead of a cross");
+  command->add_option("-o,--output", args->output, "Output file (.exr, .hdr, .tif, .png)")->required();
+  addComputeFlags(command, args->flags, /*makesMaps=*/true);
+  addOutputFlags(command, args->flags, "files, seconds, notes");
+  return [args] { return runConvert(*args); };
+}
+
+}  // namespace brdfbake::cli

@@ -1,0 +1,122 @@
+#pragma once
+// What every command of the tool shares: the flags with one meaning everywhere, progress on stderr,
+// and printing a job's result. The commands only parse flags and call one library job each.
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/core/math.hpp>
+#include <brdfbake/run/job.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace brdfbake::cli {
+
+/// The flags every command has, with one meaning on every command:
+///   --json      print the job's result as JSON on stdout instead of text
+///   --quiet     no progress, notes or "wrote" lines: only errors (and a query's values)
+///   --threads   worker threads, 0 = every core (commands that compute)
+struct CommonFlags {
+  bool json = false, quiet = false;
+  int threads = 0;
+  bool allowLarge = false;
+};
+/// --json and --quiet; `holds` says what --json prints.
+void addOutputFlags(CLI::App* command, CommonFlags& flags, const std::string& holds);
+/// --threads, and --allow-large when the command makes maps.
+void addComputeFlags(CLI::App* command, CommonFlags& flags, bool makesMaps);
+
+/// Progress on stderr: a bar redrawn in place on a terminal, else plain lines (a task's start,
+/// every quarter after a second, its end), nothing with --quiet.
+class ProgressPrinter {
+ public:
+  explicit ProgressPrinter(const CommonFlags& flags);
+  ~ProgressPrinter();
+  ProgressSink sink();
+  /// Clears a bar before results are printed under it.
+  void finish();
+
+ private:
+  void report(const std::string& task, double fraction);
+  bool enabled_, terminal_;
+  std::mutex mutex_;
+  std::string task_;
+  int lastQuarter_ = -1, lastPercent_ = -1;
+  double lastLine_ = 0.0, started_ = 0.0;
+};
+
+/// The JobOptions the flags ask for, with `progress`'s sink.
+JobOptions jobOptions(const CommonFlags& flags, ProgressPrinter& progress);
+
+/// Prints JSON (when not null; `indent` as nlohmann's dump) or else the text unless --quiet, checked.
+void printJsonOrText(const nlohmann::json& json, const std::string& text, const CommonFlags& flags, int indent = 2);
+
+/// Whether a command exists to print values (sample, eval, info: printed even with --quiet).
+enum class Printing { Report, Query };
+
+/// Prints a job's result: toJson() with --json, else briefReport() (a report not with --quiet).
+/// Returns 0.
+template <JobResult R>
+int printResult(const R& result, const CommonFlags& flags, Printing printing = Printing::Report, int indent = 2) {
+  CommonFlags shown = flags;
+  if (printing == Printing::Query) shown.quiet = false;
+  printJsonOrText(flags.json ? result.toJson() : nlohmann::json(), flags.json ? "" : result.briefReport(), shown,
+                  indent);
+  return 0;
+}
+
+/// Writes to stdout and checks it went (a closed or full stdout is Error(Io)).
+void writeStdout(const std::string& text);
+/// Writes a message to stderr with control characters of untrusted text escaped.
+void writeStderr(const std::string& text);
+
+/// "X,Y,Z": three finite numbers; throws Error(InvalidArgument) naming `flag`.
+Vec3 parseVector(const std::string& text, const std::string& flag);
+
+/// A comma-separated list, each item turned into a value by `parse` (which throws on a bad item);
+/// throws Error(InvalidArgument) naming `flag` and the item.
+template <class T, class Parse>
+std::vector<T> parseList(const std::string& text, const std::string& flag, Parse parse) {
+  std::vector<T> out;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t end = std::min(text.find(',', start), text.size());
+    const std::string item = text.substr(start, end - start);
+    try {
+      out.push_back(parse(item));
+    } catch (const std::exception&) {
+      throw Error(Error::Kind::InvalidArgument, flag + ": cannot read '" + item.substr(0, 40) + "' in the list");
+    }
+    start = end + 1;
+  }
+  if (out.empty()) throw Error(Error::Kind::InvalidArgument, flag + ": empty list");
+  return out;
+}
+/// parse(text) (a library parse* function), its error prefixed with the flag's name.
+template <class Parse>
+auto parseFlag(const std::string& flag, const std::string& text, Parse parse) {
+  try {
+    return parse(text);
+  } catch (const Error& e) {
+    throw Error(e.kind(), flag + ": " + e.what());
+  }
+}
+
+/// A whole number (all of `text`); throws std::invalid_argument otherwise.
+int parseWholeNumber(const std::string& text);
+/// A finite number (all of `text`); throws std::invalid_argument otherwise.
+double parseFiniteNumber(const std::string& text);
+
+/// --cos-view C and --mip-level L, with one meaning on every command that reads outputs.
+void addCosViewOption(CLI::App* command, std::optional<double>& cosView);
+void addMipLevelOption(CLI::App* command, int& mipLevel);
+/// --from KIND: the parameterization of a plain (metadata-free) image.
+void addFromOption(CLI::App* command, std::string& from);
+
+/// Renames the JSON paths of a spec the command built from its flags to the flags, in an error
+/// message: each pair is (JSON path or quoted key, flag).
+Error renameSpecPaths(const Error& error, const std::vector<std::pair<std::string, std::string>>& names);
+
+}  // namespace brdfbake::cli

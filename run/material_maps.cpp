@@ -1,0 +1,172 @@
+// A map baked from a material: one bake, a radial profile, or `auto`'s choice (bake/auto_config.hpp).
+#include <brdfbake/bake/auto_config.hpp>
+#include <brdfbake/bake/baker.hpp>
+#include <brdfbake/bake/radial_profile.hpp>
+#include <brdfbake/core/version.hpp>
+#include <brdfbake/maps/map_file.hpp>
+
+#include <chrono>
+
+#include "map_runners.hpp"
+
+namespace brdfbake::run_detail {
+namespace fs = std::filesystem;
+
+namespace {
+
+// What baking made: a map image or a radial profile, how, and auto's report when it chose.
+struct Baked {
+  MapSpec map;  // with auto's choice filled in
+  Image image;
+  std::optional<RadialProfile> profile;
+  BakeSummary summary;
+  nlohmann::json autoReport;  // null unless auto chose
+};
+
+std::string errorMeasureName(const MapSpec& map, const std::optional<RadialProfile>& profile) {
+  const bool visible = map.parameterization == ParameterizationKind::Sphere ||
+                       (profile && (profile->axis() - Vec3::UnitZ()).norm() < 1e-12);
+  return visible ? "RMS over a visible sphere's lookups, relative to the peak"
+                 : "RMS over directions uniform on the sphere, relative to the peak";
+}
+
+// The cheapest configuration meeting max_error (candidates estimated, the choice baked and measured).
+void bakeAuto(const MapFunction& function, BakeOptions options, Baked& baked) {
+  AutoOptions autoOptions = baked.map.autoOptions();
+  autoOptions.progress = options.progress;
+  options.progress = {};
+  autoOptions.bake = options;
+  const auto start = std::chrono::steady_clock::now();
+  AutoResult chosen = chooseConfiguration(function, autoOptions);
+  baked.summary.path = "auto";
+  baked.summary.seconds = secondsSince(start);
+  MapSpec& map = baked.map;
+  map.parameterization = chosen.chosen.parameterization;
+  map.resolution = chosen.chosen.resolution;
+  map.samplesPerTexel = chosen.chosen.samplesPerTexel;
+  baked.image = std::move(chosen.image);
+  baked.profile = std::move(chosen.radialProfile);
+  baked.autoReport = {{"chosen", chosen.chosen.describe()},
+                      {"measured_error", chosen.error},
+                      {"max_error", map.autoSelect.maxError},
+                      {"error_measure", errorMeasureName(map, baked.profile)},
+                      {"bakes", chosen.bakes},
+                      {"configurations_estimated", chosen.estimated}};
+  if (!chosen.rejected.empty()) {
+    baked.autoReport["next_cheaper"] = {{"configuration", chosen.rejected.back().first.describe()},
+                                        {"error", chosen.rejected.back().second}};
+  }
+}
+
+Baked bakeMaterial(const MapSpec& specified, const MapRunContext& context) {
+  Baked baked{specified, {}, {}, {}, nullptr};
+  MapSpec& map = baked.map;
+  if (const auto& fit = map.materialMap()->deferredFit) {  // a measured material's fit runs now
+    map.prepare(progressFor(context.options.progress,
+                            map.jsonPath + " fitting lobes to " + fs::path(fit->table.sourceFile).filename().string()));
+  }
+  const auto function = map.makeFunction();
+  BakeOptions options;
+  options.threads = context.options.threads;
+  options.allowLarge = context.options.allowLarge;
+  options.samplesPerTexel = map.samplesPerTexel;
+  options.progress = progressFor(context.options.progress, map.jsonPath + " " + map.output.filename().string());
+  if (map.anyAuto()) {
+    bakeAuto(*function, options, baked);
+  } else if (map.radialProfile) {
+    const auto start = std::chrono::steady_clock::now();
+    baked.profile =
+        bakeRadialProfile(*function, *function->symmetryAxis(), map.resolution, map.samplesPerTexel, options);
+    baked.summary.path = "profile";
+    baked.summary.seconds = secondsSince(start);
+  } else {
+    BakedMap result = bakeMap(*makeParameterization(map.parameterization, map.resolution), *function, options);
+    baked.image = std::move(result.image);
+    baked.summary = result.summary;
+  }
+  return baked;
+}
+
+void addAutoLines(const nlohmann::json& autoReport, MapResult& result) {
+  if (autoReport.is_null()) return;
+  result.entry["auto"] = autoReport;
+  result.lines.push_back("  auto: chose " + autoReport["chosen"].get<std::string>() + ", measured error " +
+                         formatNumber(autoReport["measured_error"].get<double>()) +
+                         " <= " + formatNumber(autoReport["max_error"].get<double>()) + " (" +
+                         std::to_string(autoReport["configurations_estimated"].get<int>()) +
+                         " configurations estimated, " + std::to_string(autoReport["bakes"].get<int>()) + " baked)");
+}
+
+void addNoteLines(const std::vector<std::string>& notes, MapResult& result) {
+  for (const auto& note : notes) result.lines.push_back("  note: " + note);
+}
+
+// A 1-D radial profile: an N x 1 image whose metadata says how to look it up (bake/radial_profile.hpp).
+MapResult writeProfile(const Baked& baked, const MapRunContext& context) {
+  const RadialProfile& profile = *baked.profile;
+  const MapSpec& map = baked.map;
+  Image image = profile.toImage();
+  image.metadata["convention_version"] = kConventionVersion;
+  image.metadata["spec"] = map.raw;
+  if (!baked.autoReport.is_null()) image.metadata["spec"]["auto"] = baked.autoReport;
+  const auto writeStart = std::chrono::steady_clock::now();
+  const WriteReport written = writeImage(image, map.output, context.write);
+  const double writeSeconds = secondsSince(writeStart);
+  const int n = profile.resolution();
+  MapResult result = makeMapResult(
+      map, {"profile", n, n, 1, baked.summary.path, baked.summary.seconds, writeSeconds}, {map.output}, written.notes);
+  const Vec3& axis = profile.axis();
+  result.entry["axis"] = {axis.x(), axis.y(), axis.z()};
+  result.entry["samples_per_texel"] = map.samplesPerTexel;
+  result.lines.push_back("wrote " + map.output.string() + " (1-D radial profile, " + std::to_string(n) +
+                         " texels about (" + formatNumber(axis.x()) + ", " + formatNumber(axis.y()) + ", " +
+                         formatNumber(axis.z()) + "), " + baked.summary.path + "): bake " +
+                         formatNumber(baked.summary.seconds) + " s, write " + formatNumber(writeSeconds) + " s");
+  result.lines.push_back("  lookup: u = |r - axis| / 2, texel i at u = (i + 0.5) / " + std::to_string(n) +
+                         " (about the view: u = the sphere-map radius)");
+  addAutoLines(baked.autoReport, result);
+  addNoteLines(written.notes, result);
+  return result;
+}
+
+MapResult writeMaterialMap(const Baked& baked, const MapRunContext& context) {
+  const MapSpec& map = baked.map;
+  const auto parameterization = makeParameterization(map.parameterization, map.resolution);
+  MapInfo info;
+  info.parameterization = map.parameterization;
+  info.resolution = map.resolution;
+  info.conventionVersion = kConventionVersion;
+  info.spec = map.raw;
+  if (!baked.autoReport.is_null()) info.spec["auto"] = baked.autoReport;
+  const auto writeStart = std::chrono::steady_clock::now();
+  MapWriteReport written = writeMap(baked.image, info, map.output, map.cubeLayout, context.write);
+  // Extra files the spec asks for: silhouette mip levels ("mips"), the 1-D Fresnel table.
+  BakeOptions extrasOptions;
+  extrasOptions.threads = context.options.threads;
+  const MapWriteReport extras = writeMapExtras(map, extrasOptions, context.write);
+  written.files.insert(written.files.end(), extras.files.begin(), extras.files.end());
+  written.notes.insert(written.notes.end(), extras.notes.begin(), extras.notes.end());
+  const double writeSeconds = secondsSince(writeStart);
+  const std::string kind(toString(map.parameterization));
+  const int width = parameterization->width(), height = parameterization->height();
+  MapResult result =
+      makeMapResult(map, {kind, map.resolution, width, height, baked.summary.path, baked.summary.seconds, writeSeconds},
+                    written.files, written.notes);
+  result.entry["samples_per_texel"] = map.samplesPerTexel;
+  result.lines.push_back("wrote " + map.output.string() + " (" + kind + " " + std::to_string(width) + "x" +
+                         std::to_string(height) + ", " + std::to_string(map.samplesPerTexel) + " samples/texel, " +
+                         baked.summary.path + "): bake " + formatNumber(baked.summary.seconds) + " s, write " +
+                         formatNumber(writeSeconds) + " s");
+  addAutoLines(baked.autoReport, result);
+  addNoteLines(written.notes, result);
+  return result;
+}
+
+}  // namespace
+
+MapResult runMaterialMap(const MapSpec& map, const MapRunContext& context) {
+  const Baked baked = bakeMaterial(map, context);
+  return baked.profile ? writeProfile(baked, context) : writeMaterialMap(baked, context);
+}
+
+}  // namespace brdfbake::run_detail

@@ -1,0 +1,57 @@
+#include <brdfbake/run/prefilter_job.hpp>
+
+namespace brdfbake {
+
+namespace {
+
+nlohmann::json vectorJson(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+nlohmann::json glossChainJson(const PrefilterRequest& request) {
+  nlohmann::json chain = nlohmann::json::object();
+  if (request.glossScale) chain["scale"] = *request.glossScale;
+  if (request.glossBias) chain["bias"] = *request.glossBias;
+  if (request.mipCount) chain["levels"] = *request.mipCount;
+  if (!request.edgeFixup) chain["edge_fixup"] = false;
+  return chain;
+}
+
+nlohmann::json environmentJson(const PrefilterRequest& request) {
+  nlohmann::json e = {{"file", request.environment.string()}, {"lobe", request.lobe}};
+  if (request.method != "auto") e["method"] = request.method;
+  if (request.maxError != 0.01) e["max_error"] = request.maxError;
+  if (request.from) e["from"] = *request.from;
+  if (request.mips) e["mips"] = true;
+  if (request.tiled) e["mip_layout"] = "tiled";
+  if (request.view) e["view"] = vectorJson(*request.view);
+  if (request.up) e["up"] = vectorJson(*request.up);
+  if (request.elevations) e["elevations"] = *request.elevations;
+  if (request.fresnelIor) e["fresnel"] = {{"ior", *request.fresnelIor}};
+  if (request.combine) e["combine"] = *request.combine;
+  if (const nlohmann::json chain = glossChainJson(request); !chain.empty()) e["gloss_chain"] = chain;
+  if (request.shOutput) e["sh_output"] = request.shOutput->string();
+  return e;
+}
+
+}  // namespace
+
+nlohmann::json prefilterSpec(const PrefilterRequest& request) {
+  nlohmann::json map = {{"output", request.output.string()},
+                        {"parameterization", request.to},
+                        {"resolution", request.resolution},
+                        {"environment", environmentJson(request)}};
+  if (request.samplesPerTexel != 16) map["samples_per_texel"] = request.samplesPerTexel;
+  if (request.faces) map["layout"] = "faces";
+  return {{"maps", nlohmann::json::array({map})}};
+}
+
+MapResult prefilterEnvironment(const PrefilterRequest& request, const JobOptions& options) {
+  SpecRunOptions run;
+  static_cast<JobOptions&>(run) = options;
+  run.document = prefilterSpec(request);
+  run.label = "prefilter";
+  SpecRunResult result = runSpec(run);
+  if (result.firstError) throw *result.firstError;
+  return std::move(result.maps.front());
+}
+
+}  // namespace brdfbake
