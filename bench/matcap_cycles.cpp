@@ -53,7 +53,8 @@ for o in list(bpy.data.objects):
     bpy.data.objects.remove(o, do_unlink=True)
 scene.render.engine = 'CYCLES'
 scene.cycles.device = 'CPU'
-scene.cycles.samples = )" << samples << R"(
+scene.cycles.samples = )"
+    << samples << R"(
 scene.cycles.use_adaptive_sampling = False
 scene.cycles.use_denoising = False
 scene.cycles.pixel_filter_type = 'BOX'
@@ -67,9 +68,12 @@ scene.cycles.sample_clamp_indirect = 0.0
 scene.cycles.blur_glossy = 0.0
 scene.cycles.seed = 1
 scene.render.threads_mode = 'FIXED'
-scene.render.threads = )" << threads << R"(
-scene.render.resolution_x = )" << resolution << R"(
-scene.render.resolution_y = )" << resolution << R"(
+scene.render.threads = )"
+    << threads << R"(
+scene.render.resolution_x = )"
+    << resolution << R"(
+scene.render.resolution_y = )"
+    << resolution << R"(
 scene.render.resolution_percentage = 100
 scene.render.film_transparent = True
 scene.view_settings.view_transform = 'Standard'
@@ -95,7 +99,8 @@ world = bpy.data.worlds.new('world')
 world.use_nodes = True
 nodes = world.node_tree.nodes
 texture = nodes.new('ShaderNodeTexEnvironment')
-texture.image = bpy.data.images.load(')" << environment.string() << R"(')
+texture.image = bpy.data.images.load(')"
+    << environment.string() << R"(')
 texture.interpolation = 'Closest'
 texture.projection = 'EQUIRECTANGULAR'
 world.node_tree.links.new(texture.outputs['Color'], nodes['Background'].inputs['Color'])
@@ -105,10 +110,12 @@ material = bpy.data.materials.new('metal')
 material.use_nodes = True
 bsdf = material.node_tree.nodes['Principled BSDF']
 bsdf.distribution = 'GGX'
-bsdf.inputs['Base Color'].default_value = ()" << color[0] << ", " << color[1] << ", " << color[2] << R"(, 1.0)
+bsdf.inputs['Base Color'].default_value = ()"
+    << color[0] << ", " << color[1] << ", " << color[2] << R"(, 1.0)
 bsdf.inputs['Metallic'].default_value = 1.0
 bsdf.inputs['Specular'].default_value = 0.5
-bsdf.inputs['Roughness'].default_value = )" << std::sqrt(alpha) << R"(
+bsdf.inputs['Roughness'].default_value = )"
+    << std::sqrt(alpha) << R"(
 # One point of radius 1: Cycles renders a point cloud's points as exact spheres.
 mesh = bpy.data.meshes.new('carrier')
 carrier = bpy.data.objects.new('sphere', mesh)
@@ -125,7 +132,8 @@ group.links.new(points.outputs['Geometry'], set_material.inputs['Geometry'])
 group.links.new(set_material.outputs['Geometry'], output.inputs[0])
 modifier = carrier.modifiers.new('sphere', 'NODES')
 modifier.node_group = group
-scene.render.filepath = ')" << output.string() << R"('
+scene.render.filepath = ')"
+    << output.string() << R"('
 start = time.time()
 bpy.ops.render.render(write_still=True)
 print('BRDFBAKE_RENDER_SECONDS', time.time() - start)
@@ -162,7 +170,8 @@ std::optional<CyclesRender> renderWithCycles(const std::filesystem::path& enviro
   render.wallSeconds = secondsSince(start);
   std::smatch match;
   if (status != 0 || !std::regex_search(log, match, std::regex("BRDFBAKE_RENDER_SECONDS ([0-9.eE+-]+)"))) {
-    message = "blender failed (status " + std::to_string(status) + "):\n" + log.substr(log.size() > 3000 ? log.size() - 3000 : 0);
+    message = "blender failed (status " + std::to_string(status) + "):\n" +
+              log.substr(log.size() > 3000 ? log.size() - 3000 : 0);
     return std::nullopt;
   }
   render.seconds = std::stod(match[1]);

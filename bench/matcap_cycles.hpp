@@ -21,8 +21,8 @@ namespace brdfbake {
 std::shared_ptr<const Material> cyclesPrincipledMetal(const Rgb& baseColor, double alpha);
 
 struct CyclesRender {
-  Image image;             // resolution^2 float RGBA, linear, row 0 at the top; alpha 0 off the sphere
-  double seconds = 0.0;    // Blender's render call, without start-up and loading
+  Image image;               // resolution^2 float RGBA, linear, row 0 at the top; alpha 0 off the sphere
+  double seconds = 0.0;      // Blender's render call, without start-up and loading
   double wallSeconds = 0.0;  // the whole blender process
 };
 

@@ -24,16 +24,16 @@ namespace brdfbake {
 namespace {
 
 int run(int argc, char** argv) {
-  std::map<std::string, std::string> args{{"--rows", "1024"},       {"--sun-radius", "0.75"}, {"--lobe", "ggx:0.134"},
-                                          {"--to", "cube"},         {"--resolution", "256"},  {"--directions", "30"},
+  std::map<std::string, std::string> args{{"--rows", "1024"}, {"--sun-radius", "0.75"}, {"--lobe", "ggx:0.134"},
+                                          {"--to", "cube"},   {"--resolution", "256"},  {"--directions", "30"},
                                           {"--threads", "2"}};
   for (int i = 1; i + 1 < argc; i += 2) args[argv[i]] = argv[i + 1];
   SkyParameters sky;
   sky.sunAngularRadius = radians(std::stod(args["--sun-radius"]));
   sky.sunRadiance = Rgb::Constant(2000.0);
   const int threads = std::stoi(args["--threads"]);
-  const Environment environment =
-      bakeEnvironment(SkyEnvironment(sky), ParameterizationKind::LatLong, std::stoi(args["--rows"]), "sky", 16, threads);
+  const Environment environment = bakeEnvironment(SkyEnvironment(sky), ParameterizationKind::LatLong,
+                                                  std::stoi(args["--rows"]), "sky", 16, threads);
   const PrefilterLobe lobe = PrefilterLobe::parse(args["--lobe"]);
   PrefilterOptions options;
   options.parameterization = parseParameterizationKind(args["--to"]);
@@ -68,13 +68,15 @@ int run(int argc, char** argv) {
     nearSun.push_back((sn * (std::cos(phi) * t + std::sin(phi) * b) + c * s).normalized());
   }
   const double floor = prefilterErrorFloor(environment, lobe);
-  for (const auto& [name, directions] : {std::pair{"random", random}, std::pair{"within 5 degrees of the sun", nearSun}}) {
+  for (const auto& [name, directions] :
+       {std::pair{"random", random}, std::pair{"within 5 degrees of the sun", nearSun}}) {
     std::vector<Vec3> axes;
     for (const Vec3& d : directions) axes.push_back(prefilterAxis(d, lobe, options));
     const auto reference = prefilterReferenceAt(environment, lobe, axes, threads);
     std::vector<Rgb> looked;
     for (const Vec3& d : directions) looked.push_back(sampleBilinear(map.levels[0], *map.map, d).head<3>());
-    const PrefilterError e = prefilterPointsError(looked, reference, std::vector<double>(directions.size(), 1.0), floor);
+    const PrefilterError e =
+        prefilterPointsError(looked, reference, std::vector<double>(directions.size(), 1.0), floor);
     std::cout << "  " << directions.size() << " directions " << name << ": RMS " << 100.0 * e.rms << " %, max "
               << 100.0 * e.max << " %\n";
   }

@@ -191,7 +191,8 @@ void ProbeSet::extend(int batch) {
       // The mixture's density at d: uniform, guided and near-bright draws in their proportions.
       double q = (static_cast<double>(uniformCount_) / count_) / kFourPi;
       if (guided_ > 0) q += (static_cast<double>(guided_) / count_) * guidedDensity(d);
-      if (near_ > 0) q += (static_cast<double>(near_) / count_) * caps / (static_cast<double>(bright_.size()) * capArea);
+      if (near_ > 0)
+        q += (static_cast<double>(near_) / count_) * caps / (static_cast<double>(bright_.size()) * capArea);
       weights_[static_cast<std::size_t>(p)] = 1.0 / (kFourPi * q);
     }
   });
