@@ -43,12 +43,15 @@ void checkMapSizes(const BakeSpec& spec, const JobOptions& options, const std::s
   }
 }
 
-// The environments of prefiltered maps, read and checked before any work (null for material maps).
+// The environments of prefiltered maps and of materials lit by one, read and checked before any work
+// (null for other material maps).
 std::vector<std::optional<Environment>> loadEnvironments(const BakeSpec& spec) {
   std::vector<std::optional<Environment>> environments(spec.maps.size());
   for (std::size_t i = 0; i < spec.maps.size(); ++i) {
     if (const EnvironmentMapSpec* e = spec.maps[i].environmentMap()) {
       environments[i] = loadEnvironment(e->file, EnvironmentLoadOptions{e->from});
+    } else if (spec.maps[i].environmentLighting()) {
+      environments[i] = loadMapEnvironment(spec.maps[i]);  // errors name maps[i].environment.file
     }
   }
   return environments;
@@ -62,7 +65,11 @@ MapResult runOneMap(const MapSpec& map, const std::optional<Environment>& enviro
                                  context.write.inputs.push_back(e.file);
                                  return runEnvironmentMap(map, e, *environment, context);
                                },
-                               [&](const MaterialMapSpec&) { return runMaterialMap(map, context); }},
+                               [&](const MaterialMapSpec& m) {
+                                 if (!m.environment) return runMaterialMap(map, context);
+                                 context.write.inputs.push_back(m.environment->file);
+                                 return runUnderEnvironmentMap(map, *environment, context);
+                               }},
                     map.content);
 }
 

@@ -81,6 +81,9 @@ void parseEnvironmentLighting(JsonObjectReader& map, MapSpec& spec, const fs::pa
   e.maxError = env.number("max_error", 0.01, 0.0, 0.5, /*exclusiveMinimum=*/true);
   env.finish();
   if (map.has("camera")) e.camera = parseCamera(map);
+  // "exposure": stops the written map is scaled by (2^exposure; for 8-bit outputs). Read again by the
+  // runner from the map's JSON; checked here.
+  if (map.has("exposure")) map.number("exposure", 0.0, -30.0, 30.0, false);
   m.environment = e;
 }
 
