@@ -1,6 +1,7 @@
 #include <brdfbake/brdf/blinn_conversion.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
+#include <brdfbake/core/named_values.hpp>
 
 #include <string>
 
@@ -19,11 +20,8 @@ std::string_view toString(BlinnConversion policy) {
 }
 
 BlinnConversion parseBlinnConversion(std::string_view name) {
-  for (auto p : {BlinnConversion::Exact, BlinnConversion::FourN, BlinnConversion::Fit}) {
-    if (name == toString(p)) return p;
-  }
-  throw Error(Error::Kind::InvalidArgument,
-              "unknown conversion '" + std::string(name) + "' (expected exact, 4n or fit)");
+  return parseByName(name, std::array{BlinnConversion::Exact, BlinnConversion::FourN, BlinnConversion::Fit},
+                     "conversion");
 }
 
 namespace {

@@ -1,5 +1,6 @@
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/named_values.hpp>
 
 namespace brdfbake {
 
@@ -128,25 +129,30 @@ std::optional<std::vector<ReflectionLobe>> CookTorranceMaterial::reflectionLobes
   return lobes;
 }
 
+std::string_view toString(MicrofacetDistribution distribution) {
+  return distribution == MicrofacetDistribution::Ggx ? "ggx" : "beckmann";
+}
+
+std::string_view toString(CookTorranceMode mode) {
+  return mode == CookTorranceMode::Lighting ? "lighting" : "reflectance";
+}
+
+std::string_view toString(CookTorranceNormalization normalization) {
+  return normalization == CookTorranceNormalization::Microfacet ? "microfacet" : "1981";
+}
+
 MicrofacetDistribution parseMicrofacetDistribution(std::string_view name) {
-  if (name == "beckmann") return MicrofacetDistribution::Beckmann;
-  if (name == "ggx") return MicrofacetDistribution::Ggx;
-  throw Error(Error::Kind::InvalidArgument,
-              "distribution must be \"beckmann\" or \"ggx\", got \"" + std::string(name) + "\"");
+  return parseByName(name, std::array{MicrofacetDistribution::Beckmann, MicrofacetDistribution::Ggx}, "distribution");
 }
 
 CookTorranceMode parseCookTorranceMode(std::string_view name) {
-  if (name == "lighting") return CookTorranceMode::Lighting;
-  if (name == "reflectance") return CookTorranceMode::Reflectance;
-  throw Error(Error::Kind::InvalidArgument,
-              "mode must be \"lighting\" or \"reflectance\", got \"" + std::string(name) + "\"");
+  return parseByName(name, std::array{CookTorranceMode::Lighting, CookTorranceMode::Reflectance}, "mode");
 }
 
 CookTorranceNormalization parseCookTorranceNormalization(std::string_view name) {
-  if (name == "microfacet") return CookTorranceNormalization::Microfacet;
-  if (name == "1981") return CookTorranceNormalization::CookTorrance1981;
-  throw Error(Error::Kind::InvalidArgument,
-              "normalization must be \"microfacet\" or \"1981\", got \"" + std::string(name) + "\"");
+  return parseByName(name,
+                     std::array{CookTorranceNormalization::Microfacet, CookTorranceNormalization::CookTorrance1981},
+                     "normalization");
 }
 
 }  // namespace brdfbake

@@ -1,6 +1,7 @@
 #include <brdfbake/brdf/fresnel.hpp>
 #include <brdfbake/brdf/spectrum.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/named_values.hpp>
 
 #include <limits>
 #include <sstream>
@@ -140,11 +141,7 @@ std::vector<Rgb> fresnelTable(const FresnelTerm& fresnel, int size) {
 }
 
 FresnelCombine parseFresnelCombine(std::string_view name) {
-  if (name == "add") return FresnelCombine::Add;
-  if (name == "mix") return FresnelCombine::Mix;
-  throw Error(
-      Error::Kind::InvalidArgument,
-      "combine must be \"add\" (F L_m + L_d) or \"mix\" (F L_m + (1 - F) L_d), got \"" + std::string(name) + "\"");
+  return parseByName(name, std::array{FresnelCombine::Add, FresnelCombine::Mix}, "combine");
 }
 
 std::string_view toString(FresnelCombine combine) { return combine == FresnelCombine::Add ? "add" : "mix"; }

@@ -1,5 +1,6 @@
 #include <brdfbake/brdf/npr.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/named_values.hpp>
 
 #include <algorithm>
 #include <limits>
@@ -93,11 +94,7 @@ Rgb ColorGradient::operator()(double theta) const {
 // ---- colorgram ----------------------------------------------------------------------------------
 
 ColorgramBlend parseColorgramBlend(std::string_view name) {
-  if (name == "replace") return ColorgramBlend::Replace;
-  if (name == "modulate") return ColorgramBlend::Modulate;
-  if (name == "add") return ColorgramBlend::Add;
-  throw Error(Error::Kind::InvalidArgument,
-              "blend must be \"replace\", \"modulate\" or \"add\", got \"" + std::string(name) + "\"");
+  return parseByName(name, std::array{ColorgramBlend::Replace, ColorgramBlend::Modulate, ColorgramBlend::Add}, "blend");
 }
 
 std::string_view toString(ColorgramBlend blend) {

@@ -8,7 +8,8 @@ namespace brdfbake::cli {
 
 namespace {
 
-constexpr const char* kFooter = R"(Each output texel averages lookups of the input over its footprint, the lookups a renderer makes
+constexpr const char* kFooter =
+    R"(Each output texel averages lookups of the input over its footprint, the lookups a renderer makes
 (brdfbake sample --help): any output of bake or prefilter converts. An elevation stack needs
 --cos-view (the map at that n.v); a Fresnel table converts --to sphere only, as seen from +z (the
 texel at r holds F(n.v), n = normalize(r + z)). Plain environment images (no brdfbake metadata)

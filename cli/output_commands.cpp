@@ -9,7 +9,8 @@ namespace brdfbake::cli {
 
 namespace {
 
-constexpr const char* kSampleFooter = R"(MAP is any output of bake or prefilter: a map (sphere, paraboloid, cube, lat-long; a mip level
+constexpr const char* kSampleFooter =
+    R"(MAP is any output of bake or prefilter: a map (sphere, paraboloid, cube, lat-long; a mip level
 STEM_mipK.EXT, or --mip-level K), a cube written as six faces (STEM.EXT or any face), a 1-D radial
 profile, an elevation stack STEM_elev0.EXT ... (pass STEM.EXT, and --cos-view), a 1-D Fresnel table
 (--cos-view only, no direction), or an SH irradiance JSON. The direction is the one the map is

@@ -11,12 +11,19 @@
 #   brdfbake_find_openimageio()  ->  brdfbake_deps::OpenImageIO   (OpenImageIO + Imath)
 #   brdfbake_find_matio()        ->  brdfbake_deps::matio
 
-function(_brdfbake_require var what package)
+# A missing library stops brdfbake's own configure (FATAL_ERROR); in a consumer's find_package
+# (BRDFBAKE_DEPENDENCIES_SOFT set by brdfbakeConfig.cmake) it is recorded in
+# BRDFBAKE_DEPENDENCY_MISSING instead, so the package can report itself not found.
+macro(_brdfbake_require var what package)
   if(NOT ${var})
-    message(FATAL_ERROR "brdfbake: ${what} not found (Debian: apt-get install ${package}); "
-                        "set ${var} to its location")
+    set(_brdfbake_missing "${what} not found (Debian: apt-get install ${package}); set ${var} to its location")
+    if(BRDFBAKE_DEPENDENCIES_SOFT)
+      set(BRDFBAKE_DEPENDENCY_MISSING "${_brdfbake_missing}" PARENT_SCOPE)
+      return()
+    endif()
+    message(FATAL_ERROR "brdfbake: ${_brdfbake_missing}")
   endif()
-endfunction()
+endmacro()
 
 function(brdfbake_find_openimageio)
   if(TARGET brdfbake_deps::OpenImageIO)

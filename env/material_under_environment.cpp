@@ -568,7 +568,7 @@ MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, c
       evaluation = std::make_unique<ReferenceEvaluation>(setup);
       summary.method = UnderEnvironmentMethod::Reference;
       summary.detail = "the reference sum at every footprint sample";
-      summary.exact = summary.metTarget = true;
+      summary.exact = summary.metBound = true;
     } else {
       summary.method = UnderEnvironmentMethod::Sampled;
       const auto candidates = candidatesFor(setup, footprintSamples, arena.max_concurrency());
@@ -593,8 +593,8 @@ MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, c
       summary.errorEstimated = true;
       summary.errorEstimate = m.bound(), summary.lookupRms = m.lookupRms, summary.highlightRms = m.highlightRms;
       summary.errorMax = m.max, summary.peak = m.peak, summary.probes = static_cast<int>(probes.size());
-      summary.metTarget = summary.errorEstimate <= options.maxError;
-      if (!summary.metTarget) {
+      summary.metBound = summary.errorEstimate <= options.maxError;
+      if (!summary.metBound) {
         summary.notes.push_back(
             "the finished map's lookups miss the bound: its resolution limits them when the "
             "sampled values met it (raise the resolution)");
@@ -615,7 +615,7 @@ std::string UnderEnvironmentSummary::briefReport() const {
   } else if (errorEstimated) {
     out << ": estimated error " << formatG(100.0 * errorEstimate) << " % of the peak (lookups "
         << formatG(100.0 * lookupRms) << " %, highlight " << formatG(100.0 * highlightRms) << " %; bound "
-        << formatG(100.0 * maxError) << " %" << (metTarget ? "" : ", NOT met") << ")";
+        << formatG(100.0 * maxError) << " %" << (metBound ? "" : ", NOT met") << ")";
   } else {
     out << ": error not estimated (estimation off)";
   }
@@ -646,7 +646,7 @@ nlohmann::json UnderEnvironmentSummary::toJson() const {
           {"peak", estimated(peak)},
           {"probes", probes},
           {"exact", exact},
-          {"met_target", errorEstimated || exact ? nlohmann::json(metTarget) : nlohmann::json(nullptr)},
+          {"met_bound", errorEstimated || exact ? nlohmann::json(metBound) : nlohmann::json(nullptr)},
           {"bright_texels", brightTexels},
           {"bright_threshold", brightThreshold},
           {"bright_share", brightShare},

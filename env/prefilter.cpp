@@ -443,7 +443,7 @@ Image resampleMirror(const Environment& environment, const Parameterization& map
   summary.method = PrefilterMethod::Resample;
   summary.detail = std::to_string(options.mirrorSamples) + " footprint samples per texel";
   summary.exact = true;
-  summary.metTarget = true;
+  summary.metBound = true;
   summary.outputSeconds = secondsSince(outputStart);
   return image;
 }
@@ -458,7 +458,7 @@ std::unique_ptr<Evaluator> useReference(Context& context, const Workload& work, 
   summary.detail = std::to_string(summer.samples()) + " input samples (" + std::to_string(summer.subdivision()) + "x" +
                    std::to_string(summer.subdivision()) + " per texel)";
   summary.exact = true;
-  summary.metTarget = true;
+  summary.metBound = true;
   summary.errorEstimated = false;
   summary.errorEstimate = summary.errorEstimateMax = 0.0;
   if (!note.empty()) summary.notes.push_back(note);
@@ -482,7 +482,7 @@ void recordChoice(PrefilterSummary& summary, PrefilterCandidate& candidate, bool
   summary.errorEstimateMax = estimated ? std::max(0.0, candidate.errorEstimateMax) : 0.0;
   summary.errorEstimateRms = estimated ? std::max(0.0, candidate.errorEstimateRms) : 0.0;
   summary.errorEstimateHighlight = estimated ? std::max(0.0, candidate.errorEstimateHighlight) : 0.0;
-  summary.metTarget = estimated && candidate.errorEstimate <= summary.maxError;
+  summary.metBound = estimated && candidate.errorEstimate <= summary.maxError;
 }
 
 // Auto's memory of the candidates that failed: it skips a candidate when one already tried predicts
@@ -747,7 +747,7 @@ std::string PrefilterSummary::briefReport() const {
         << formatG(100.0 * errorEstimateRms) << " %, near the highlight " << formatG(100.0 * errorEstimateHighlight)
         << " %";
     if (lookupErrorEstimate >= 0.0) out << ", lookups " << formatG(100.0 * lookupErrorEstimate) << " %";
-    out << "; bound " << formatG(100.0 * maxError) << " %" << (metTarget ? "" : ", NOT met") << ")";
+    out << "; bound " << formatG(100.0 * maxError) << " %" << (metBound ? "" : ", NOT met") << ")";
   } else {
     out << ": error not estimated (estimation off)";
   }
@@ -779,8 +779,8 @@ nlohmann::json PrefilterSummary::toJson() const {
       {"error_metric", "rms_relative"},
       {"error_estimated", errorEstimated},
       {"exact", exact},
-      {"met_target", errorEstimated || exact ? nlohmann::json(metTarget)
-                                             : nlohmann::json(nullptr)},  // unknown when nothing was estimated
+      {"met_bound", errorEstimated || exact ? nlohmann::json(metBound)
+                                            : nlohmann::json(nullptr)},  // unknown when nothing was estimated
       {"levels", levels},
       {"filter_seconds", seconds},
       {"estimate_seconds", estimateSeconds},
@@ -909,7 +909,7 @@ void mergePrefilterSummary(PrefilterSummary& into, const PrefilterSummary& part,
   }
   into.errorEstimated = into.errorEstimated || part.errorEstimated;
   into.exact = first ? part.exact : into.exact && part.exact;
-  into.metTarget = first ? part.metTarget : into.metTarget && part.metTarget;
+  into.metBound = first ? part.metBound : into.metBound && part.metBound;
   into.errorEstimate = std::max(into.errorEstimate, part.errorEstimate);
   into.errorEstimateMax = std::max(into.errorEstimateMax, part.errorEstimateMax);
   into.errorEstimateRms = std::max(into.errorEstimateRms, part.errorEstimateRms);

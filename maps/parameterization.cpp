@@ -1,4 +1,5 @@
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/named_values.hpp>
 #include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/maps/latlong_map.hpp>
 #include <brdfbake/maps/paraboloid_map.hpp>
@@ -24,12 +25,10 @@ std::string_view toString(ParameterizationKind kind) {
 }
 
 ParameterizationKind parseParameterizationKind(std::string_view name) {
-  for (auto kind : {ParameterizationKind::Sphere, ParameterizationKind::Paraboloid, ParameterizationKind::Cube,
-                    ParameterizationKind::LatLong}) {
-    if (name == toString(kind)) return kind;
-  }
-  throw Error(Error::Kind::InvalidArgument,
-              "unknown parameterization '" + std::string(name) + "' (expected sphere, paraboloid, cube or latlong)");
+  return parseByName(name,
+                     std::array{ParameterizationKind::Sphere, ParameterizationKind::Paraboloid,
+                                ParameterizationKind::Cube, ParameterizationKind::LatLong},
+                     "parameterization");
 }
 
 Parameterization::Parameterization(int resolution) : resolution_(resolution), inverseResolution_(1.0 / resolution) {

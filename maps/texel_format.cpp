@@ -1,5 +1,6 @@
 // Float texel encodings: binary16, RGB9E5, unsigned 11/10-bit floats (texel_format.hpp).
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/named_values.hpp>
 #include <brdfbake/maps/texel_format.hpp>
 
 #include <algorithm>
@@ -61,12 +62,9 @@ std::uint32_t loadU32(const unsigned char* in) {
 std::string_view toString(TexelFormat format) { return row(format).name; }
 
 TexelFormat parseTexelFormat(std::string_view name) {
-  std::string names;
-  for (const FormatRow& r : kFormats) {
-    if (name == r.name) return r.format;
-    names += names.empty() ? r.name : std::string(", ") + r.name;
-  }
-  throw Error(Error::Kind::InvalidArgument, "unknown texel format '" + std::string(name) + "' (use " + names + ")");
+  std::array<TexelFormat, std::size(kFormats)> formats{};
+  for (std::size_t i = 0; i < formats.size(); ++i) formats[i] = kFormats[i].format;
+  return parseByName(name, formats, "texel format");
 }
 
 int bytesPerTexel(TexelFormat format) { return row(format).bytes; }

@@ -1,3 +1,4 @@
+#include <brdfbake/core/named_values.hpp>
 #include <brdfbake/measured/measured_table.hpp>
 
 #include <brdfbake/brdf/spectrum.hpp>
@@ -36,20 +37,18 @@ std::vector<double> distinctSorted(std::vector<double> values, double tolerance)
 }
 }  // namespace
 
-std::string_view tableFormatName(TableFormat format) {
+std::string_view toString(TableFormat format) {
   for (const auto& [f, name] : kFormatNames)
     if (f == format) return name;
   return "unknown";
 }
 
 TableFormat parseTableFormat(std::string_view name) {
-  std::string accepted;
-  for (const auto& [f, known] : kFormatNames) {
-    if (equalsIgnoringCase(name, known)) return f;
-    accepted += (accepted.empty() ? "" : ", ") + std::string(known);
-  }
-  const std::string shown = name.size() > 40 ? std::string(name.substr(0, 40)) + "..." : std::string(name);
-  throw Error(Error::Kind::InvalidArgument, "format must be one of " + accepted + " (any case); got \"" + shown + "\"");
+  std::string lower(name);
+  for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return parseByName(
+      lower, std::array{TableFormat::Auto, TableFormat::Astm, TableFormat::Pbrt, TableFormat::Merl, TableFormat::Mat},
+      "table format (any case)");
 }
 
 Vec3 directionFromAngles(double theta, double phi) {

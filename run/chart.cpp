@@ -58,12 +58,12 @@ ChartResult chartSpec(const ChartOptions& options) {
   std::vector<std::string> panels;  // one chart per map, drawn into the chart as one picture
   for (std::size_t m = 0; m < spec.maps.size(); ++m) {
     MapSpec& map = spec.maps[m];
-    MapChart chart = std::visit(
-        Overloaded{[&](const EnvironmentMapSpec& e) {
-                     return chartEnvironmentMap(map, e, *environments[m], options, result.skipped);
-                   },
-                   [&](const MaterialMapSpec&) { return chartMaterialMap(map, options); }},
-        map.content);
+    MapChart chart =
+        std::visit(Overloaded{[&](const EnvironmentMapSpec& e) {
+                                return chartEnvironmentMap(map, e, *environments[m], options, result.skipped);
+                              },
+                              [&](const MaterialMapSpec&) { return chartMaterialMap(map, options); }},
+                   map.content);
     markPareto(chart.points, options.lookupError);
     if (!options.chart.empty() && !chart.points.empty()) panels.push_back(chartScript(chart, options.lookupError));
     result.points.insert(result.points.end(), chart.points.begin(), chart.points.end());
@@ -74,7 +74,8 @@ ChartResult chartSpec(const ChartOptions& options) {
     result.panels = static_cast<int>(panels.size());
     result.files.push_back(options.chart);
   }
-  if (!options.csv.empty()) writeFileAtomically(options.csv, chartCsv(result.points)), result.files.push_back(options.csv);
+  if (!options.csv.empty())
+    writeFileAtomically(options.csv, chartCsv(result.points)), result.files.push_back(options.csv);
   return result;
 }
 

@@ -140,8 +140,8 @@ std::string chartCsv(const std::vector<ChartPoint>& points) {
     std::string detail = p.detail;
     std::replace(detail.begin(), detail.end(), ',', ';');
     out << p.map << "," << p.parameterization << "," << p.resolution << "," << p.samples << "," << p.texels << ","
-        << p.seconds << "," << p.rms << "," << p.max << "," << p.visibleRms << "," << p.pareto << "," << p.method
-        << "," << detail << "," << optionalNumber(p.estimate) << "," << optionalNumber(p.lookupRms) << ","
+        << p.seconds << "," << p.rms << "," << p.max << "," << p.visibleRms << "," << p.pareto << "," << p.method << ","
+        << detail << "," << optionalNumber(p.estimate) << "," << optionalNumber(p.lookupRms) << ","
         << optionalNumber(p.lookupMax) << "," << optionalNumber(p.referenceSeconds) << ","
         << optionalNumber(p.highlightRms) << "," << optionalNumber(p.highlightMax) << "," << optionalNumber(p.bound)
         << "\n";
@@ -150,11 +150,16 @@ std::string chartCsv(const std::vector<ChartPoint>& points) {
 }
 
 nlohmann::json pointJson(const ChartPoint& p, const std::filesystem::path& chart) {
-  nlohmann::json entry = {{"map", p.map},         {"parameterization", p.parameterization},
-                          {"resolution", p.resolution}, {"samples_per_texel", p.samples},
-                          {"texels", p.texels},   {"seconds", p.seconds},
-                          {"rms", p.rms},         {"max", p.max},
-                          {"visible_rms", p.visibleRms}, {"pareto", p.pareto},
+  nlohmann::json entry = {{"map", p.map},
+                          {"parameterization", p.parameterization},
+                          {"resolution", p.resolution},
+                          {"samples_per_texel", p.samples},
+                          {"texels", p.texels},
+                          {"seconds", p.seconds},
+                          {"rms", p.rms},
+                          {"max", p.max},
+                          {"visible_rms", p.visibleRms},
+                          {"pareto", p.pareto},
                           {"method", p.method}};
   if (!chart.empty()) entry["chart"] = chart.string();
   if (!p.environment) {
@@ -184,7 +189,8 @@ nlohmann::json skipJson(const ChartSkip& k) {
 
 std::string skipLine(const ChartSkip& k) {
   std::string line = "note: " + k.map;
-  if (!k.method.empty()) line += " " + k.parameterization + " " + std::to_string(k.resolution) + " " + k.method + " skipped";
+  if (!k.method.empty())
+    line += " " + k.parameterization + " " + std::to_string(k.resolution) + " " + k.method + " skipped";
   return line + ": " + k.note;
 }
 

@@ -35,9 +35,9 @@ SweepReference sweepReference(const Environment& environment, const EnvironmentM
   std::vector<Vec3> axes = r.texels.axes;
   axes.insert(axes.end(), r.lookups.axes.begin(), r.lookups.axes.end());
   const auto start = Clock::now();
-  const std::vector<Rgb> reference = lobe ? prefilterReferenceAt(environment, *lobe, axes, options.threads)
-                                          : prefilterLobeModelReferenceAt(environment, *e.lobeModel(), axes,
-                                                                          options.threads);
+  const std::vector<Rgb> reference =
+      lobe ? prefilterReferenceAt(environment, *lobe, axes, options.threads)
+           : prefilterLobeModelReferenceAt(environment, *e.lobeModel(), axes, options.threads);
   const double seconds = secondsSince(start);
   const auto split = reference.begin() + static_cast<std::ptrdiff_t>(r.texels.size());
   r.texelValues.assign(reference.begin(), split);
@@ -78,7 +78,7 @@ ChartPoint environmentPoint(const MapSpec& map, const EnvironmentMapSpec& e, con
   p.lookupRms = lookupError.rms;
   p.lookupMax = lookupError.max;
   if (result.summary.errorEstimated) p.estimate = result.summary.errorEstimate;
-  p.metBound = result.summary.metTarget;
+  p.metBound = result.summary.metBound;
   p.referenceSeconds = reference.seconds;
   return p;
 }
@@ -133,8 +133,8 @@ MapChart chartEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e, co
   const double floor =
       lobe ? prefilterErrorFloor(environment, *lobe) : prefilterLobeModelErrorFloor(environment, *e.lobeModel());
   const auto progress = progressFor(options.progress, map.jsonPath);
-  const double total = double(options.parameterizations.size() * options.environmentResolutions.size() *
-                              options.methods.size());
+  const double total =
+      double(options.parameterizations.size() * options.environmentResolutions.size() * options.methods.size());
   int done = 0;
   MapChart chart;
   chart.environment = true;
@@ -146,8 +146,8 @@ MapChart chartEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e, co
       prefilterOptions.mips = false;
       if (options.maxError > 0.0) prefilterOptions.maxError = options.maxError;
       prefilterOptions.threads = options.threads;
-      const SweepReference reference = sweepReference(environment, e, *makeParameterization(kind, resolution),
-                                                      prefilterOptions, options.subset);
+      const SweepReference reference =
+          sweepReference(environment, e, *makeParameterization(kind, resolution), prefilterOptions, options.subset);
       for (const auto method : options.methods) {
         prefilterOptions.method = method;
         try {

@@ -59,7 +59,8 @@ ConvertResult convertOutput(const ConvertOptions& options) {
   info.conventionVersion = kConventionVersion;
   info.spec = source.metadata().value("spec", nlohmann::json::object());
   info.spec["converted_from"] = convertedFrom(options, described);
-  const auto written = writeMap(baked.image, info, options.output, options.layout, {{options.source.path}});
+  const auto written = writeMap(baked.image, info, options.output, options.layout,
+                                {.inputs = {options.source.path}, .texelFormat = std::nullopt});
   return {written.files, written.notes, baked.summary.seconds};
 }
 

@@ -32,7 +32,8 @@ nlohmann::json describeBrdfbakeOutput(const BakedOutput& output) {
       info["parameterization"] = "sh";
       info.erase("channels");
       break;
-    default: break;
+    default:
+      break;
   }
   info["convention_version"] = metadata.value("convention_version", 0);
   info["spec"] = output.kind() == OutputKind::ShIrradiance ? metadata.value("environment", nlohmann::json::object())
@@ -75,8 +76,8 @@ std::string OutputDescription::briefReport() const {
     out << "  " << info["slices"] << " slices over n.v from " << info["min_cos"] << " to " << info["max_cos"] << "\n";
   }
   if (info.contains("files") && info["files"].size() > 1) {
-    out << "  files: " << info["files"].front().get<std::string>() << " ... "
-        << info["files"].back().get<std::string>() << " (" << info["files"].size() << ")\n";
+    out << "  files: " << info["files"].front().get<std::string>() << " ... " << info["files"].back().get<std::string>()
+        << " (" << info["files"].size() << ")\n";
   }
   out << "  lookup: " << info["lookup"].get<std::string>() << "\n";
   if (info.contains("coefficients")) {

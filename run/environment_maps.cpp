@@ -54,12 +54,11 @@ nlohmann::json environmentSource(const EnvironmentMapSpec& e, const Environment&
 MapWriteReport writePrefiltered(const MapSpec& map, const EnvironmentMapSpec& e, const Prefiltered& made,
                                 const Environment& environment, const MapRunContext& context) {
   MapWriteReport written =
-      made.stack           ? writePrefilteredStack(*made.stack, map.output, map.raw, map.cubeLayout, context.write,
-                                                   e.mipLayout)
-      : made.decomposition ? writeFresnelDecomposition(*made.decomposition, map.output, map.raw, map.cubeLayout,
-                                                       context.write, e.mipLayout)
-                           : writePrefilteredMap(made.map, map.output, map.raw, map.cubeLayout, context.write,
-                                                 e.mipLayout);
+      made.stack ? writePrefilteredStack(*made.stack, map.output, map.raw, map.cubeLayout, context.write, e.mipLayout)
+      : made.decomposition
+          ? writeFresnelDecomposition(*made.decomposition, map.output, map.raw, map.cubeLayout, context.write,
+                                      e.mipLayout)
+          : writePrefilteredMap(made.map, map.output, map.raw, map.cubeLayout, context.write, e.mipLayout);
   if (const auto& sh = e.shOutput) {
     writeIrradianceSh(irradianceSh(environment), environmentSource(e, environment), *sh, context.write.inputs);
     written.files.push_back(*sh);
@@ -102,10 +101,9 @@ std::vector<std::string> boundNotes(const Prefiltered& made) {
   std::vector<std::string> notes;
   const PrefilterSummary* irradiance = made.decomposition ? &made.decomposition->irradiance.summary : nullptr;
   for (const PrefilterSummary* summary : {&made.map.summary, irradiance}) {
-    if (summary && summary->errorEstimated && !summary->metTarget) {
-      notes.push_back("the estimated error " + formatNumber(100.0 * summary->errorEstimate) + " % of " +
-                      summary->lobe + " exceeds the bound (max_error) " + formatNumber(100.0 * summary->maxError) +
-                      " %");
+    if (summary && summary->errorEstimated && !summary->metBound) {
+      notes.push_back("the estimated error " + formatNumber(100.0 * summary->errorEstimate) + " % of " + summary->lobe +
+                      " exceeds the bound (max_error) " + formatNumber(100.0 * summary->maxError) + " %");
     }
   }
   return notes;
@@ -138,12 +136,11 @@ MapResult runEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e, con
   const double writeSeconds = secondsSince(writeStart);
   for (auto& note : boundNotes(made)) written.notes.push_back(std::move(note));
   const PrefilterSummary& summary = made.map.summary;
-  MapResult result = makeMapResult(map,
-                                   {std::string(toString(map.parameterization)), map.resolution,
-                                    made.map.map->width(), made.map.map->height(),
-                                    "prefilter:" + std::string(toString(summary.method)), summary.seconds,
-                                    writeSeconds},
-                                   written.files, written.notes);
+  MapResult result = makeMapResult(
+      map,
+      {std::string(toString(map.parameterization)), map.resolution, made.map.map->width(), made.map.map->height(),
+       "prefilter:" + std::string(toString(summary.method)), summary.seconds, writeSeconds},
+      written.files, written.notes);
   addKindEntries(map, e, made, environment, result.entry);
   addLines(map, made, writeSeconds, result);
   return result;

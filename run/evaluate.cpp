@@ -39,9 +39,9 @@ std::optional<std::array<double, 4>> parsePairLine(const std::string& line, cons
   }
   std::string extra;
   if (read != 4 || (fields >> extra)) {
-    throw Error::atFile(Error::Kind::InvalidInput, file, number,
-                        "expected 4 numbers theta_i phi_i theta_s phi_s (radians), got '" +
-                            shortenForMessage(line, 80) + "'");
+    throw Error::atFile(
+        Error::Kind::InvalidInput, file, number,
+        "expected 4 numbers theta_i phi_i theta_s phi_s (radians), got '" + shortenForMessage(line, 80) + "'");
   }
   if (a[0] < 0.0 || a[0] > kPi || a[2] < 0.0 || a[2] > kPi) {
     throw Error::atFile(Error::Kind::InvalidInput, file, number, "theta must lie in [0, pi] radians");
@@ -73,8 +73,9 @@ void EvaluateOptions::validate() const {
   const bool single = wi || wo;
   require(single != !pairs.empty(), "give either wi and wo, or a pairs file");
   require(!single || (wi && wo), "wi and wo go together");
-  if (single) require(wi->allFinite() && wo->allFinite() && wi->norm() > 0.0 && wo->norm() > 0.0,
-                      "wi and wo must be finite and non-zero");
+  if (single)
+    require(wi->allFinite() && wo->allFinite() && wi->norm() > 0.0 && wo->norm() > 0.0,
+            "wi and wo must be finite and non-zero");
 }
 
 EvaluateResult evaluateBrdf(const EvaluateOptions& options) {

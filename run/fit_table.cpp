@@ -24,7 +24,7 @@ const char* lobeKindName(const LobeModel& model) {
 // The table as fitted: as measured (spectral) or converted to RGB, with where it came from.
 MeasuredTable fittedChannels(const FitTableOptions& options, const MeasuredTable& read, FitSource& source) {
   source.file = options.table.string();
-  source.format = std::string(tableFormatName(read.format));
+  source.format = std::string(toString(read.format));
   source.samples = read.size();
   const std::string count = std::to_string(read.channelCount());
   if (options.spectral) {
@@ -38,10 +38,12 @@ MeasuredTable fittedChannels(const FitTableOptions& options, const MeasuredTable
     return read;
   }
   MeasuredTable table = read.toRgb(options.rgb);
-  source.channels = read.kind != ChannelKind::Spectral ? "rgb: as stored in the file"
-                    : std::string("rgb: ") +
-                          (options.rgb == RgbMethod::Cie1931 ? "CIE 1931 / D65 to linear sRGB" : "single wavelengths") +
-                          " from " + count + " spectral channels";
+  source.channels =
+      read.kind != ChannelKind::Spectral
+          ? "rgb: as stored in the file"
+          : std::string("rgb: ") +
+                (options.rgb == RgbMethod::Cie1931 ? "CIE 1931 / D65 to linear sRGB" : "single wavelengths") +
+                " from " + count + " spectral channels";
   source.notes = table.notes;
   return table;
 }
@@ -102,7 +104,8 @@ std::string FitTableResult::briefReport() const {
   out << table.string() << ": " << samples << " samples, " << file.source.channels << "\n" << fit.briefReport();
   out << std::fixed << std::setprecision(4) << "  in-sample log error " << fit.inSampleError << "\n";
   if (const auto& h = fit.heldOut) {
-    out << std::setprecision(2) << "  held-out log error / Lambert: " << h->kfold.name << " " << h->kfold.ratio() << "x";
+    out << std::setprecision(2) << "  held-out log error / Lambert: " << h->kfold.name << " " << h->kfold.ratio()
+        << "x";
     for (const auto& e : h->elevations) out << ", " << e.name << " " << e.ratio() << "x";
     out << " (" << std::setprecision(1) << h->seconds << " s)\n";
   }

@@ -89,7 +89,8 @@ InterpolationResult chartInterpolation(const InterpolationOptions& options) {
     renderChart({lineScript(result.line, options.viewer, options.segment)}, options.lineChart);
     result.files.push_back(options.lineChart);
   }
-  if (!options.csv.empty()) writeFileAtomically(options.csv, sweepCsv(result.sweep)), result.files.push_back(options.csv);
+  if (!options.csv.empty())
+    writeFileAtomically(options.csv, sweepCsv(result.sweep)), result.files.push_back(options.csv);
   return result;
 }
 

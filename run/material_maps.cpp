@@ -113,8 +113,8 @@ MapResult writeProfile(const Baked& baked, const MapRunContext& context) {
   const WriteReport written = writeImage(image, map.output, context.write);
   const double writeSeconds = secondsSince(writeStart);
   const int n = profile.resolution();
-  MapResult result = makeMapResult(
-      map, {"profile", n, n, 1, baked.summary.path, baked.summary.seconds, writeSeconds}, {map.output}, written.notes);
+  MapResult result = makeMapResult(map, {"profile", n, n, 1, baked.summary.path, baked.summary.seconds, writeSeconds},
+                                   {map.output}, written.notes);
   const Vec3& axis = profile.axis();
   result.entry["axis"] = {axis.x(), axis.y(), axis.z()};
   result.entry["samples_per_texel"] = map.samplesPerTexel;

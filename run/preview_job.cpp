@@ -20,7 +20,8 @@ PreviewResult makePreview(const PreviewJobOptions& options) {
   image.metadata = {{"preview_of", options.source.path.string()},
                     {"object", std::string(toString(options.preview.object))},
                     {"per_vertex", options.preview.perVertex}};
-  const WriteReport written = writeImage(image, options.output, {{options.source.path}});
+  const WriteReport written =
+      writeImage(image, options.output, {.inputs = {options.source.path}, .texelFormat = std::nullopt});
   return {{options.output}, written.notes};
 }
 

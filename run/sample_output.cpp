@@ -43,7 +43,8 @@ std::vector<SampleResult::Lookup> readDirectionsFile(const fs::path& file) {
     directions.push_back({d, line, Rgba::Zero()});
   }
   if (directions.empty()) {
-    throw Error(Error::Kind::InvalidInput, shortenForMessage(file.string()) + ": no directions (one \"x y z\" per line)");
+    throw Error(Error::Kind::InvalidInput,
+                shortenForMessage(file.string()) + ": no directions (one \"x y z\" per line)");
   }
   return directions;
 }

@@ -32,8 +32,9 @@ BrdfFile fitBrdf(const nlohmann::json& document, const fs::path& path) {
 BrdfFile materialBrdf(const nlohmann::json& document, const fs::path& path) {
   const std::string name = shortenForMessage(path.string());
   if (document.is_object() && document.contains("maps")) {
-    throw Error(Error::Kind::InvalidInput,
-                name + ": a bake spec; a BRDF file holds one material object ({\"model\": ...}), a fit.json or a table");
+    throw Error(
+        Error::Kind::InvalidInput,
+        name + ": a bake spec; a BRDF file holds one material object ({\"model\": ...}), a fit.json or a table");
   }
   // A material names its model with a string; a fit.json has "channels" and a "model" object.
   const bool namesAModel = document.is_object() && document.contains("model") && document["model"].is_string();

@@ -283,8 +283,10 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
   } else {
     try {
       spec.parameterization = parseParameterizationKind(kind);
-    } catch (const Error& e) {
-      throw specError(map.child("parameterization"), std::string(e.what()) + ", profile or auto");
+    } catch (const Error&) {
+      throw specError(map.child("parameterization"),
+                      "parameterization must be one of sphere, paraboloid, cube, latlong, profile, auto; got \"" +
+                          shortenForMessage(kind, 40) + "\"");
     }
   }
   auto isAuto = [&](const char* key) {

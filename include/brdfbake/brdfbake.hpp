@@ -45,6 +45,8 @@
 #include <brdfbake/maps/radial_table.hpp>
 #include <brdfbake/maps/sh.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
+#include <brdfbake/maps/texel_format.hpp>
+#include <brdfbake/maps/texture.hpp>
 #endif
 
 // bake

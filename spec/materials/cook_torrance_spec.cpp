@@ -10,12 +10,7 @@ namespace {
 
 template <class Parse>
 auto parseName(JsonObjectReader& m, const std::string& key, Parse parse) {
-  const std::string name = m.string(key);
-  try {
-    return parse(name);
-  } catch (const Error& e) {
-    throw specError(m.child(key), e.what());
-  }
+  return m.parsed(key, parse);
 }
 
 // The pixel position of the reflected direction for normal n (clipped to n.v >= 0) seen from v.

@@ -107,14 +107,7 @@ FresnelTerm parseFresnelTerm(JsonObjectReader& owner, const std::string& key) {
 
 std::shared_ptr<const Material> parseFresnel(JsonObjectReader& m, const MaterialContext&) {
   FresnelTerm fresnel = parseFresnelTerm(m, "fresnel");
-  FresnelCombine combine = FresnelCombine::Add;
-  if (const auto name = m.optionalString("combine")) {
-    try {
-      combine = parseFresnelCombine(*name);
-    } catch (const Error& e) {
-      throw specError(m.child("combine"), e.what());
-    }
-  }
+  const FresnelCombine combine = m.parsed("combine", parseFresnelCombine, "add");
   return std::make_shared<FresnelMaterial>(std::move(fresnel), combine);
 }
 

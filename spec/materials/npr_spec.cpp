@@ -47,8 +47,7 @@ std::shared_ptr<const Material> parseColorgram(JsonObjectReader& m, const Materi
   }
   const double blur = m.number("blur", 0.0, 0.0, 90.0, false);
   const double twist = m.number("twist", 0.0, -90.0, 90.0, false);
-  const std::string blendName = m.string("blend");
-  const ColorgramBlend blend = atPath(m.child("blend"), [&] { return parseColorgramBlend(blendName); });
+  const ColorgramBlend blend = m.parsed("blend", parseColorgramBlend);
   // The centre must leave the surface unchanged so it shows through at normal view (Zimmons & Bastos 1999 section 6).
   if (const auto neutral = ColorgramMaterial::neutralColor(blend)) {
     const Rgb centre = stops.front().color;

@@ -24,14 +24,7 @@ std::shared_ptr<const Material> parseBlinnPhong(JsonObjectReader& m, const Mater
     return std::make_shared<BlinnPhongMaterial>(specular, m.number("exponent", 0.0, 1e7, true), diffuse);
   }
   const double phongExponent = m.number("phong_exponent", 0.0, 1e7, true);
-  BlinnConversion policy = BlinnConversion::Exact;
-  if (const auto name = m.optionalString("conversion")) {
-    try {
-      policy = parseBlinnConversion(*name);
-    } catch (const Error& e) {
-      throw specError(m.child("conversion"), e.what());
-    }
-  }
+  const BlinnConversion policy = m.parsed("conversion", parseBlinnConversion, "exact");
   return std::make_shared<BlinnPhongMaterial>(specular, phongExponent, policy, diffuse);
 }
 

@@ -763,7 +763,7 @@ TEST(Prefilter, FastMethodsReportTheErrorTheyHaveOnTheSky) {
         SCOPED_TRACE(lobe.name() + " " + std::string(toString(kind)) + " " + m.summary.briefReport() +
                      " measured rms " + std::to_string(m.error.rms));
         ASSERT_TRUE(m.summary.errorEstimated || m.summary.method == PrefilterMethod::Reference);
-        if (m.summary.metTarget) {
+        if (m.summary.metBound) {
           EXPECT_LT(m.error.rms, 0.02);
         }
         // The estimate is the error measured: within a factor of 2 (or both tiny).
@@ -950,7 +950,7 @@ TEST(Prefilter, EstimateSeesTheResamplingOfACubeOrParaboloidEnvironment) {
     EXPECT_LT(m.summary.errorEstimateRms, 1.5 * m.error.rms);
     EXPECT_GT(m.summary.errorEstimateRms, m.error.rms / 2.0);
     EXPECT_GE(m.summary.errorEstimate, m.summary.errorEstimateRms);
-    EXPECT_FALSE(m.summary.metTarget);
+    EXPECT_FALSE(m.summary.metBound);
   }
 }
 
@@ -1211,8 +1211,8 @@ TEST(Prefilter, SummaryClaimsExactOrMetOnlyWhatItKnows) {
   const PrefilterSummary& unknown = unknownMap.summary;
   EXPECT_FALSE(unknown.errorEstimated);
   EXPECT_FALSE(unknown.exact);
-  EXPECT_FALSE(unknown.metTarget);
-  EXPECT_TRUE(unknown.toJson()["met_target"].is_null());
+  EXPECT_FALSE(unknown.metBound);
+  EXPECT_TRUE(unknown.toJson()["met_bound"].is_null());
   EXPECT_FALSE(unknown.toJson()["exact"].get<bool>());
   EXPECT_TRUE(unknown.toJson()["error_estimate"].is_null());
   EXPECT_EQ(unknown.briefReport().find("exact"), std::string::npos) << unknown.briefReport();
@@ -1227,15 +1227,15 @@ TEST(Prefilter, SummaryClaimsExactOrMetOnlyWhatItKnows) {
   options.method = PrefilterMethod::Reference;
   const PrefilterSummary reference = prefilter(sky(), PrefilterLobe::phong(10), options).summary;
   EXPECT_TRUE(reference.exact);
-  EXPECT_TRUE(reference.metTarget);
-  EXPECT_TRUE(reference.toJson()["met_target"].get<bool>());
+  EXPECT_TRUE(reference.metBound);
+  EXPECT_TRUE(reference.toJson()["met_bound"].get<bool>());
   // A request made of an exact part and a part of unknown error is neither exact nor known to meet.
   PrefilterSummary merged;
   mergePrefilterSummary(merged, reference, "a", true);
   mergePrefilterSummary(merged, unknown, "b", false);
   EXPECT_FALSE(merged.exact);
-  EXPECT_FALSE(merged.metTarget);
-  EXPECT_TRUE(merged.toJson()["met_target"].is_null());
+  EXPECT_FALSE(merged.metBound);
+  EXPECT_TRUE(merged.toJson()["met_bound"].is_null());
 }
 
 }  // namespace

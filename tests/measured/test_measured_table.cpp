@@ -220,7 +220,7 @@ TEST(MeasuredTable, ValidateCatchesInconsistentTables) {
 
 TEST(MeasuredIo, FormatNames) {
   for (TableFormat f : {TableFormat::Auto, TableFormat::Astm, TableFormat::Pbrt, TableFormat::Merl, TableFormat::Mat})
-    EXPECT_EQ(parseTableFormat(tableFormatName(f)), f);
+    EXPECT_EQ(parseTableFormat(toString(f)), f);
   EXPECT_EQ(parseTableFormat("ASTM"), TableFormat::Astm);
   EXPECT_THROW(parseTableFormat("csv"), Error);
 }

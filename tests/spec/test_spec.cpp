@@ -66,7 +66,9 @@ TEST(Spec, NamesTheJsonPathOfEveryError) {
       {[](json& m) { m["material"]["shininess"] = 3; }, "maps[0].material.shininess: unknown key"},
       {[](json& m) { m["colour"] = 3; }, "maps[0].colour: unknown key"},
       {[](json& m) { m["material"]["model"] = "lambertian"; }, "maps[0].material.model: unknown model 'lambertian'"},
-      {[](json& m) { m["parameterization"] = "spherical"; }, "maps[0].parameterization: unknown parameterization"},
+      {[](json& m) { m["parameterization"] = "spherical"; },
+       "maps[0].parameterization: parameterization must be one of sphere, paraboloid, cube, latlong, profile, auto; "
+       "got \"spherical\""},
       {[](json& m) { m["resolution"] = 0; }, "maps[0].resolution: must be in [1, 65536], got 0"},
       {[](json& m) { m["resolution"] = 12.5; }, "maps[0].resolution: must be an integer"},
       {[](json& m) { m["samples_per_texel"] = 0; }, "maps[0].samples_per_texel: must be in [1, 4096]"},
@@ -101,7 +103,7 @@ TEST(Spec, NamesTheJsonPathOfEveryError) {
       {[](json& m) {
          m["material"] = {{"model", "blinn_phong"}, {"phong_exponent", 10}, {"conversion", "5n"}};
        },
-       "maps[0].material.conversion: unknown conversion '5n'"},
+       "maps[0].material.conversion: conversion must be one of exact, 4n, fit; got \"5n\""},
   };
   for (const auto& c : cases) {
     const std::string message = errorFor(withMap(c.edit));

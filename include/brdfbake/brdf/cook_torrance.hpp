@@ -164,6 +164,11 @@ class CookTorranceMaterial final : public Material {
   double grazingCos_ = 0.0;
 };
 
+/// "beckmann", "ggx"; "lighting", "reflectance"; "microfacet", "1981".
+std::string_view toString(MicrofacetDistribution distribution);
+std::string_view toString(CookTorranceMode mode);
+std::string_view toString(CookTorranceNormalization normalization);
+
 /// "beckmann" | "ggx"; throws Error(InvalidArgument) naming the accepted values.
 MicrofacetDistribution parseMicrofacetDistribution(std::string_view name);
 /// "lighting" | "reflectance".

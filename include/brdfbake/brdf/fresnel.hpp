@@ -182,9 +182,7 @@ class FresnelMaterial final : public Material {
  public:
   FresnelMaterial(FresnelTerm fresnel, FresnelCombine combine) : fresnel_(std::move(fresnel)), combine_(combine) {}
   std::string_view model() const override { return "fresnel"; }
-  Rgb shade(const ShadingGeometry&, const Vec3&) const override { return Rgb::Zero(); }
   Rgb unlit(const ShadingGeometry& g) const override { return fresnel_(g.normal.dot(g.view)); }
-  bool usesLights() const override { return false; }
   bool viewIndependent() const override { return false; }
   bool unlitSymmetricAboutView() const override { return true; }
   const FresnelTerm& fresnel() const { return fresnel_; }

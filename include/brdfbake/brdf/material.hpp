@@ -58,13 +58,15 @@ class Material {
   virtual ~Material() = default;
   /// The spec's model name, e.g. "phong".
   virtual std::string_view model() const = 0;
+  /// False if the model ignores lights (reflectance and hand-designed maps: then a spec omits them
+  /// and shade() is 0). Materials that use lights override shade().
+  virtual bool usesLights() const { return false; }
   /// Radiance towards the viewer from one directional light of unit colour arriving from unit
-  /// direction `light` (irradiance at normal incidence = 1, OpenGL-style lighting).
-  virtual Rgb shade(const ShadingGeometry& g, const Vec3& light) const = 0;
+  /// direction `light` (irradiance at normal incidence = 1, OpenGL-style lighting). 0 for a material
+  /// that ignores lights.
+  virtual Rgb shade(const ShadingGeometry&, const Vec3& /*light*/) const { return Rgb::Zero(); }
   /// The part of the map that does not depend on lights (reflectance and hand-designed maps).
   virtual Rgb unlit(const ShadingGeometry&) const { return Rgb::Zero(); }
-  /// False if the model ignores lights (then a spec may omit them).
-  virtual bool usesLights() const { return true; }
   /// True if the value depends on the geometry only through the reflected direction, so a map
   /// indexed by reflected direction is valid for every view.
   virtual bool viewIndependent() const = 0;

@@ -87,9 +87,7 @@ class ColorgramMaterial final : public Material {
   /// twist finite, in [-90, 90]. Throws Error(InvalidArgument).
   ColorgramMaterial(ColorGradient gradient, double twistDegrees, ColorgramBlend blend);
   std::string_view model() const override { return "colorgram"; }
-  Rgb shade(const ShadingGeometry&, const Vec3&) const override { return Rgb::Zero(); }
   Rgb unlit(const ShadingGeometry& g) const override;
-  bool usesLights() const override { return false; }
   bool viewIndependent() const override { return false; }
   bool unlitSymmetricAboutView() const override { return twist_ == 0.0; }
 
@@ -140,9 +138,7 @@ class GoochMaterial final : public Material {
   /// Colours finite >= 0, sizes finite in [0, 180], light non-zero. Throws Error(InvalidArgument).
   explicit GoochMaterial(GoochParams params);
   std::string_view model() const override { return "gooch"; }
-  Rgb shade(const ShadingGeometry&, const Vec3&) const override { return Rgb::Zero(); }
   Rgb unlit(const ShadingGeometry& g) const override;
-  bool usesLights() const override { return false; }
   bool viewIndependent() const override { return false; }
   const GoochParams& params() const { return params_; }
 
@@ -158,9 +154,7 @@ class SilhouetteMaterial final : public Material {
   /// width finite in (0, 90]; colours finite >= 0. Throws Error(InvalidArgument).
   SilhouetteMaterial(double widthDegrees, const Rgb& color = Rgb::Zero(), const Rgb& background = Rgb::Ones());
   std::string_view model() const override { return "silhouette"; }
-  Rgb shade(const ShadingGeometry&, const Vec3&) const override { return Rgb::Zero(); }
   Rgb unlit(const ShadingGeometry& g) const override;
-  bool usesLights() const override { return false; }
   bool viewIndependent() const override { return false; }
   bool unlitSymmetricAboutView() const override { return true; }
 
@@ -201,9 +195,7 @@ class HatchingMaterial final : public Material {
   /// Throws Error(InvalidArgument) for out-of-range parameters.
   explicit HatchingMaterial(HatchingParams params);
   std::string_view model() const override { return "hatching"; }
-  Rgb shade(const ShadingGeometry&, const Vec3&) const override { return Rgb::Zero(); }
   Rgb unlit(const ShadingGeometry& g) const override;
-  bool usesLights() const override { return false; }
   bool viewIndependent() const override { return false; }
   const HatchingParams& params() const { return params_; }
   /// Fraction q of the stroke period inked at angle theta (degrees).

@@ -32,6 +32,7 @@ class PhongMaterial final : public Material {
   /// Throws Error(InvalidArgument) for negative colours or exponent, or non-finite values.
   PhongMaterial(const Rgb& specular, double exponent, const Rgb& diffuse = Rgb::Zero());
   std::string_view model() const override { return "phong"; }
+  bool usesLights() const override { return true; }
   Rgb shade(const ShadingGeometry& g, const Vec3& light) const override;
   bool viewIndependent() const override { return (diffuse_ == 0.0).all(); }
   std::optional<std::vector<RadialLobe>> radialLobes(const Vec3& light, const Vec3& view) const override;
@@ -56,6 +57,7 @@ class BlinnPhongMaterial final : public Material {
   BlinnPhongMaterial(const Rgb& specular, double phongExponent, BlinnConversion policy,
                      const Rgb& diffuse = Rgb::Zero());
   std::string_view model() const override { return "blinn_phong"; }
+  bool usesLights() const override { return true; }
   Rgb shade(const ShadingGeometry& g, const Vec3& light) const override;
   bool viewIndependent() const override { return false; }
   std::optional<std::vector<RadialLobe>> radialLobes(const Vec3& light, const Vec3& view) const override;

@@ -117,7 +117,7 @@ struct UnderEnvironmentSummary {
   int probes = 0;
   bool errorEstimated = false;
   bool exact = false;      ///< the reference method (no estimate)
-  bool metTarget = false;  ///< exact, or estimated within maxError
+  bool metBound = false;  ///< exact, or estimated within maxError
   /// The split: bright texels (explicit lights), the luminance threshold, their share of ∫ Y dω.
   int brightTexels = 0;
   double brightThreshold = 0.0;

@@ -141,7 +141,7 @@ struct PrefilterSummary {
   bool exact = false;            ///< every part was made by the reference sum or mirror resampling
   /// Known to meet the bound: exact, or estimated within maxError. False when the error is unknown
   /// (a fast method with estimation off): neither exact nor errorEstimated.
-  bool metTarget = false;
+  bool metBound = false;
   int levels = 1;
   double seconds = 0.0;          ///< everything: setup, selection, probes, output, mips
   double estimateSeconds = 0.0;  ///< probes and their reference
@@ -157,7 +157,7 @@ struct PrefilterSummary {
 /// Folds the summary of one part of a request made of several prefilter() runs (a fitted model's
 /// Phong terms, an elevation stack's slices, a Fresnel decomposition's maps) into `into`, its
 /// candidates and notes labelled "label: ". `first`: `part` is the first part (into takes its
-/// error flags as they are; later parts can only lower exact and metTarget). The error estimate
+/// error flags as they are; later parts can only lower exact and metBound). The error estimate
 /// is the largest part's.
 void mergePrefilterSummary(PrefilterSummary& into, const PrefilterSummary& part, const std::string& label, bool first);
 

@@ -3,7 +3,7 @@
 /// The sample geometry of the Cornell gonioreflectometer tables, and tables made on it: synthetic
 /// tables from known lobes (tests, data_samples/) and MERL tables resampled for fitting.
 ///
-/// The geometry, checked sample for sample against ../shared/data/cornell/*.astm (tests/fit):
+/// The geometry, checked sample for sample against Cornell's published tables (tests/fit):
 /// - theta_i = 10, 20, ..., 80 degrees, phi_i = 0;
 /// - outgoing directions on 10 equal-area rings sqrt(2) sin(theta_s / 2) = k / 10, k = 0..9; ring
 ///   k > 0 has the 4k + 1 azimuths phi_s = -180 + j 45 / k degrees, j = 1..4k (j = 4k is 0, the

@@ -61,9 +61,7 @@ class MirrorDirectionMaterial final : public Material {
   /// Throws Error(InvalidArgument) unless the table validates and has 3 channels.
   explicit MirrorDirectionMaterial(MirrorDirectionTable table, std::string modelName = "measured");
   std::string_view model() const override { return modelName_; }
-  Rgb shade(const ShadingGeometry&, const Vec3&) const override { return Rgb::Zero(); }
   Rgb unlit(const ShadingGeometry& g) const override;
-  bool usesLights() const override { return false; }
   bool viewIndependent() const override { return false; }
   const MirrorDirectionTable& table() const { return table_; }
 

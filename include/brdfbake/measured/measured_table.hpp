@@ -31,8 +31,8 @@ namespace brdfbake {
 enum class TableFormat { Auto, Astm, Pbrt, Merl, Mat };
 
 /// "auto", "astm", "pbrt", "merl", "mat".
-std::string_view tableFormatName(TableFormat format);
-/// Inverse of tableFormatName (any case); throws Error(InvalidArgument) listing the names for others.
+std::string_view toString(TableFormat format);
+/// Inverse of toString (any case); throws Error(InvalidArgument) listing the names for others.
 TableFormat parseTableFormat(std::string_view name);
 
 /// What the channels of a table are.

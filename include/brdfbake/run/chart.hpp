@@ -18,17 +18,17 @@ namespace brdfbake {
 
 struct ChartOptions : JobOptions {
   std::filesystem::path spec;
-  std::vector<int> resolutions{32, 64, 128, 256, 512};        ///< material maps
-  std::vector<int> environmentResolutions{16, 32, 64};        ///< environment maps (they also pay the reference)
-  std::vector<int> samplesPerTexel{1, 4, 16};                 ///< material maps
+  std::vector<int> resolutions{32, 64, 128, 256, 512};  ///< material maps
+  std::vector<int> environmentResolutions{16, 32, 64};  ///< environment maps (they also pay the reference)
+  std::vector<int> samplesPerTexel{1, 4, 16};           ///< material maps
   std::vector<ParameterizationKind> parameterizations{ParameterizationKind::Sphere, ParameterizationKind::Paraboloid,
                                                       ParameterizationKind::Cube, ParameterizationKind::LatLong};
-  std::vector<PrefilterMethod> methods{PrefilterMethod::Auto, PrefilterMethod::SphericalHarmonics, PrefilterMethod::Direct,
-                                       PrefilterMethod::Importance};
-  double maxError = 0.0;   ///< environment maps: the bound methods are set for; 0 = each map's max_error
-  int subset = 256;        ///< environment maps: random texels (and lookups) compared with the reference
-  int lookups = 20000;     ///< material maps: random directions per error measurement
-  bool lookupError = false;  ///< environment maps: chart the error of bilinear lookups, not of texels
+  std::vector<PrefilterMethod> methods{PrefilterMethod::Auto, PrefilterMethod::SphericalHarmonics,
+                                       PrefilterMethod::Direct, PrefilterMethod::Importance};
+  double maxError = 0.0;        ///< environment maps: the bound methods are set for; 0 = each map's max_error
+  int subset = 256;             ///< environment maps: random texels (and lookups) compared with the reference
+  int lookups = 20000;          ///< material maps: random directions per error measurement
+  bool lookupError = false;     ///< environment maps: chart the error of bilinear lookups, not of texels
   std::filesystem::path chart;  ///< .png or .svg, one panel per map (empty: none)
   std::filesystem::path csv;    ///< the points as CSV (empty: none)
 

@@ -11,8 +11,8 @@ namespace brdfbake {
 struct ConvertOptions : JobOptions {
   OutputSource source;  ///< an elevation stack needs cos_view (the map at that n.v)
   ParameterizationKind to = ParameterizationKind::Sphere;
-  int resolution = 0;         ///< 0: the input's
-  int samplesPerTexel = 16;   ///< footprint samples per output texel, in [1, 4096]
+  int resolution = 0;        ///< 0: the input's
+  int samplesPerTexel = 16;  ///< footprint samples per output texel, in [1, 4096]
   CubeLayout layout = CubeLayout::Cross;
   std::filesystem::path output;
 
@@ -24,8 +24,8 @@ struct ConvertResult {
   std::vector<std::string> notes;
   double seconds = 0.0;  ///< resampling
 
-  std::string briefReport() const;                 ///< "wrote FILE" per file, notes
-  nlohmann::json toJson() const;                   ///< {"files", "seconds", "notes"}
+  std::string briefReport() const;  ///< "wrote FILE" per file, notes
+  nlohmann::json toJson() const;    ///< {"files", "seconds", "notes"}
 };
 
 /// Opens the input, checks the files, resamples and writes the map (its metadata records the

@@ -16,7 +16,7 @@
 namespace brdfbake {
 
 struct EvaluateOptions : JobOptions {
-  std::filesystem::path model;            ///< fit.json, measured table or material JSON
+  std::filesystem::path model;             ///< fit.json, measured table or material JSON
   TableFormat format = TableFormat::Auto;  ///< of a table
   /// One pair of directions (local frame, z the normal, both away from the surface; any length
   /// but 0): wi towards the light, wo towards the viewer...
@@ -32,7 +32,7 @@ struct EvaluateOptions : JobOptions {
 
 struct EvaluateResult {
   std::filesystem::path model, pairs;
-  std::string kind;                   ///< BrdfFile::kind
+  std::string kind;  ///< BrdfFile::kind
   std::vector<std::string> channels;
   /// One row per direction pair (with --pairs, one per line of the file: `value` empty for blank
   /// and comment lines, whose `text` is the line itself).

@@ -14,7 +14,7 @@
 namespace brdfbake {
 
 struct FitTableOptions : JobOptions {
-  std::filesystem::path table;         ///< .astm, .brdf, .binary (MERL), .mat
+  std::filesystem::path table;  ///< .astm, .brdf, .binary (MERL), .mat
   TableFormat format = TableFormat::Auto;
   /// How the fit goes (lobes, kind, method, held-out splits...). Its threads and progress are
   /// replaced by the job's.
@@ -30,10 +30,10 @@ struct FitTableOptions : JobOptions {
 };
 
 struct FitTableResult {
-  FitFile file;                        ///< the fit, as written to fit.json
-  std::size_t samples = 0;             ///< rows of the table as read
+  FitFile file;             ///< the fit, as written to fit.json
+  std::size_t samples = 0;  ///< rows of the table as read
   std::vector<std::filesystem::path> files;
-  std::vector<std::string> notes;      ///< the table's notes (clamped negatives, conversions)
+  std::vector<std::string> notes;  ///< the table's notes (clamped negatives, conversions)
   std::filesystem::path table;
 
   /// The fit's summary: model, in-sample and held-out errors, the candidates tried, files written.

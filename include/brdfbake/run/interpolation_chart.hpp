@@ -12,8 +12,8 @@ namespace brdfbake {
 struct InterpolationOptions : JobOptions {
   std::vector<double> sizesDegrees{1, 2, 5, 10, 20};  ///< in (0, 60]: degrees between vertex normals
   std::vector<double> placesDegrees{0, 10, 20, 30, 40, 50, 60, 70, 75, 80, 85, 88};  ///< in [0, 90)
-  Vec3 viewer{-8.3, 1.0, 0.0};  ///< line experiment: the eye, above the surface (y > 0), |p| <= 1e6
-  double segment = 20.0;        ///< line experiment: vertex spacing, in [0.01, 20]
+  Vec3 viewer{-8.3, 1.0, 0.0};                  ///< line experiment: the eye, above the surface (y > 0), |p| <= 1e6
+  double segment = 20.0;                        ///< line experiment: vertex spacing, in [0.01, 20]
   std::filesystem::path chart, lineChart, csv;  ///< outputs (each optional): .png/.svg, .png/.svg, CSV
 
   /// Throws Error(InvalidArgument) naming the value out of range.

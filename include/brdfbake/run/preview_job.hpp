@@ -9,8 +9,8 @@ namespace brdfbake {
 
 struct PreviewJobOptions : JobOptions {
   OutputSource source;
-  PreviewOptions preview;         ///< object, resolution (pixels), view, per-vertex, exposure
-  std::filesystem::path output;   ///< .png (8-bit sRGB) or .exr (HDR values)
+  PreviewOptions preview;        ///< object, resolution (pixels), view, per-vertex, exposure
+  std::filesystem::path output;  ///< .png (8-bit sRGB) or .exr (HDR values)
 
   void validate() const;
 };

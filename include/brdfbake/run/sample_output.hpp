@@ -15,7 +15,7 @@ namespace brdfbake {
 
 /// Which output to open and how (the flags every command that reads outputs shares).
 struct OutputSource {
-  std::filesystem::path path;  ///< a map, STEM.EXT of cube faces or a stack, a profile, an SH JSON
+  std::filesystem::path path;                ///< a map, STEM.EXT of cube faces or a stack, a profile, an SH JSON
   std::optional<ParameterizationKind> from;  ///< how to read a plain image (no brdfbake metadata)
   int mipLevel = 0;                          ///< mip level of a map, faces or stack
   /// n.v where the output needs it: an elevation stack's slices are interpolated at it, a Fresnel
@@ -49,7 +49,7 @@ struct SampleResult {
   std::vector<Lookup> lookups;
   bool usesDirection = true;
   std::optional<double> cosView;
-  bool fromFile = false;  ///< directions came from a file
+  bool fromFile = false;                     ///< directions came from a file
   std::vector<std::filesystem::path> files;  ///< none: sample writes nothing
   std::vector<std::string> notes;
 

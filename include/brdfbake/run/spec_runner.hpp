@@ -43,10 +43,10 @@ struct SpecRunOptions : JobOptions {
 
 /// One map of a spec as made: what was written and how.
 struct MapResult {
-  std::string jsonPath;            ///< "maps[0]"
-  std::filesystem::path output;    ///< the map's "output", placed
-  bool written = false;            ///< false: making it failed (`error` says why)
-  std::string error;               ///< the failure's message
+  std::string jsonPath;                      ///< "maps[0]"
+  std::filesystem::path output;              ///< the map's "output", placed
+  bool written = false;                      ///< false: making it failed (`error` says why)
+  std::string error;                         ///< the failure's message
   std::vector<std::filesystem::path> files;  ///< every file written (faces, mip levels, sidecars, ...)
   std::vector<std::string> notes;
   /// The JSON entry `bake --json` prints for the map: output, status, files, parameterization,

@@ -88,8 +88,9 @@ int main(int argc, char** argv) {
   chart.parameterizations = {ParameterizationKind::Sphere};
   chart.lookups = 500;
   ok &= same("chart", chartSpec(chart).toJson(),
-             runTool(tool, "chart " + q(spec) + " --resolution 16,32 --samples-per-texel 1 --parameterizations sphere "
-                           "--lookups 500"),
+             runTool(tool, "chart " + q(spec) +
+                               " --resolution 16,32 --samples-per-texel 1 --parameterizations sphere "
+                               "--lookups 500"),
              mine, theirs);
 
   PrefilterRequest prefilter;
