@@ -28,6 +28,61 @@ Vec3 aboutCentre(const Vec3& centre, double c, double phi) {
   return (s * (std::cos(phi) * t + std::sin(phi) * b) + c * centre).normalized();
 }
 
+// A uniformly random rotation (its columns an orthonormal frame about a random axis).
+Mat3 randomRotation(std::mt19937& rng) {
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const Vec3 a = randomUnit(rng);
+  const Vec3 t = anyPerpendicular(a);
+  const double angle = kTwoPi * uniform(rng);
+  const Vec3 b = std::cos(angle) * t + std::sin(angle) * a.cross(t);
+  Mat3 rotate;
+  rotate.col(0) = b, rotate.col(1) = a.cross(b), rotate.col(2) = a;
+  return rotate;
+}
+
+// The bright sources of `level` (a sun and its surroundings, where a user looks): the texels brighter
+// than 16 x the mean luminance, the brightest first, each joining the first source within 2 degrees
+// (its centre the luminance-weighted mean).
+std::vector<Vec3> brightSources(const LatLongLevel& level, double meanLuminance) {
+  std::vector<std::pair<double, Vec3>> texels;
+  for (int y = 0; y < level.height; ++y)
+    for (int x = 0; x < level.width; ++x) {
+      const Rgb v = level.at(x, y);
+      const double luminance = 0.2126 * v[0] + 0.7152 * v[1] + 0.0722 * v[2];
+      if (luminance > 16.0 * meanLuminance)
+        texels.emplace_back(luminance * level.rowSolidAngle[y], level.direction(x, y));
+    }
+  std::sort(texels.begin(), texels.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<Vec3> bright, sums;
+  for (const auto& [power, direction] : texels) {
+    auto source = std::find_if(bright.begin(), bright.end(),
+                               [&](const Vec3& c) { return c.dot(direction) >= std::cos(radians(2.0)); });
+    if (source == bright.end()) {
+      bright.push_back(direction), sums.push_back(power * direction);
+    } else {
+      Vec3& sum = sums[static_cast<std::size_t>(source - bright.begin())];
+      sum += power * direction;
+      *source = sum.normalized();
+    }
+  }
+  return bright;
+}
+
+// `count` probes stratified within the caps of cosine `capCos` about the `sources` (a Fibonacci spiral,
+// equal areas in the cosine, turned by `turn`): a thin ring of large errors, a sun's edge, gets its
+// share of probes every time. Probe i goes to source i mod B, as the (i / B)-th of that source's points.
+std::vector<Vec3> capProbes(const std::vector<Vec3>& sources, double capCos, int count, double turn) {
+  const double golden = kPi * (3.0 - std::sqrt(5.0));
+  const int sourceCount = static_cast<int>(sources.size()), perSource = (count + sourceCount - 1) / sourceCount;
+  std::vector<Vec3> axes;
+  for (int i = 0; i < count; ++i) {
+    const int k = i % sourceCount, j = i / sourceCount;
+    const double c = 1.0 - (j + 0.5) / perSource * (1.0 - capCos);
+    axes.push_back(aboutCentre(sources[static_cast<std::size_t>(k)], c, turn + golden * j));
+  }
+  return axes;
+}
+
 }  // namespace
 
 double relativeError(const Rgb& value, const Rgb& reference, double floor) {
@@ -42,14 +97,7 @@ ProbeSet::ProbeSet(const ProbeSources& sources, const PrefilterOptions& options,
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   const bool sphereIrradiance = options.parameterization == ParameterizationKind::Sphere && lobe.indexedByNormal();
   // A random rotation of a Fibonacci lattice: uniform directions, evenly spread.
-  Mat3 rotate;
-  {
-    const Vec3 a = randomUnit(rng);
-    const Vec3 t = anyPerpendicular(a);
-    const double angle = kTwoPi * uniform(rng);
-    const Vec3 b = std::cos(angle) * t + std::sin(angle) * a.cross(t);
-    rotate.col(0) = b, rotate.col(1) = a.cross(b), rotate.col(2) = a;
-  }
+  const Mat3 rotate = randomRotation(rng);
   // Guided probes: a texel drawn by its luminance x solid angle at a coarse level, then a lobe sample.
   const int guidedLevel = pyramid.levelFor(kPi / 64.0);
   const auto& G = pyramid.level(guidedLevel);
@@ -64,32 +112,9 @@ ProbeSet::ProbeSet(const ProbeSources& sources, const PrefilterOptions& options,
     }
   const double total = cdf.back();
   meanLuminance = total / kFourPi;
-  // Near-bright probes: uniform in the caps of 5 degrees about the bright sources (a sun and its
-  // surroundings, where a user looks: issue 22): the texels brighter than 16 x the mean, the brightest
-  // first, each joining the first source within 2 degrees (its centre the luminance-weighted mean).
+  // Near-bright probes: uniform in the caps of 5 degrees about the bright sources (issue 22).
   capCos_ = std::cos(radians(5.0));
-  if (!sphereIrradiance && total > 0.0) {
-    std::vector<std::pair<double, Vec3>> texels;
-    for (int y = 0; y < G.height; ++y)
-      for (int x = 0; x < G.width; ++x) {
-        const Rgb v = G.at(x, y);
-        const double luminance = 0.2126 * v[0] + 0.7152 * v[1] + 0.0722 * v[2];
-        if (luminance > 16.0 * meanLuminance) texels.emplace_back(luminance * G.rowSolidAngle[y], G.direction(x, y));
-      }
-    std::sort(texels.begin(), texels.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-    std::vector<Vec3> sums;
-    for (const auto& [power, direction] : texels) {
-      auto source = std::find_if(bright_.begin(), bright_.end(),
-                                 [&](const Vec3& c) { return c.dot(direction) >= std::cos(radians(2.0)); });
-      if (source == bright_.end()) {
-        bright_.push_back(direction), sums.push_back(power * direction);
-      } else {
-        Vec3& sum = sums[static_cast<std::size_t>(source - bright_.begin())];
-        sum += power * direction;
-        *source = sum.normalized();
-      }
-    }
-  }
+  if (!sphereIrradiance && total > 0.0) bright_ = brightSources(G, meanLuminance);
   count_ = options.probes;
   guided_ = sphereIrradiance || !(total > 0.0) ? 0 : count_ / 2;
   near_ = bright_.empty() ? 0 : guided_ / 2;
@@ -109,18 +134,7 @@ ProbeSet::ProbeSet(const ProbeSources& sources, const PrefilterOptions& options,
     const Vec3 centre = G.direction(static_cast<int>(k % G.width), static_cast<int>(k / G.width));
     guidedAxes.push_back(aboutCentre(centre, std::cos(lobe.sampleAngle(uniform(rng))), kTwoPi * uniform(rng)));
   }
-  // Stratified within each cap (a Fibonacci spiral, equal areas in the cosine, randomly turned): a thin
-  // ring of large errors, a sun's edge, gets its share of probes every time. Probe i goes to source
-  // i mod B, as the (i / B)-th of that source's points.
-  if (near_ > 0) {
-    const int sourceCount = static_cast<int>(bright_.size()), perSource = (near_ + sourceCount - 1) / sourceCount;
-    const double turn = kTwoPi * uniform(rng);
-    for (int i = 0; i < near_; ++i) {
-      const int k = i % sourceCount, j = i / sourceCount;
-      const double c = 1.0 - (j + 0.5) / perSource * (1.0 - capCos_);
-      nearAxes.push_back(aboutCentre(bright_[static_cast<std::size_t>(k)], c, turn + golden * j));
-    }
-  }
+  if (near_ > 0) nearAxes = capProbes(bright_, capCos_, near_, kTwoPi * uniform(rng));
   const int batchCount = count_ >= 64 ? 4 : 1;
   for (int b = 0; b < batchCount; ++b) {
     for (int i = b; i < uniformCount_; i += batchCount) axes_.push_back(lattice(i));

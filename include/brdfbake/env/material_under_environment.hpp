@@ -116,7 +116,7 @@ struct UnderEnvironmentSummary {
   double peak = 0.0;
   int probes = 0;
   bool errorEstimated = false;
-  bool exact = false;      ///< the reference method (no estimate)
+  bool exact = false;     ///< the reference method (no estimate)
   bool metBound = false;  ///< exact, or estimated within maxError
   /// The split: bright texels (explicit lights), the luminance threshold, their share of ∫ Y dω.
   int brightTexels = 0;
