@@ -2,6 +2,7 @@
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
+#include <brdfbake/core/run_options.hpp>
 #include <brdfbake/maps/cube_map.hpp>
 
 #include <tbb/parallel_for.h>
@@ -230,6 +231,7 @@ ErrorStats measureSparseLookups(const ErrorProbes& probes, long long texelCount,
     for (int k = 0; k < read[i].count; ++k) read[i].index[k] = idOf(read[i].index[k]);
   }
   std::vector<Rgb> texels(keys.size());
+  requireThreadCount(threads);
   tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
   arena.execute(
       [&] { tbb::parallel_for(std::size_t(0), keys.size(), [&](std::size_t i) { texels[i] = texel(keys[i]); }); });

@@ -64,8 +64,24 @@ std::vector<InterpolationPoint> interpolationSweep(const std::vector<double>& si
   return out;
 }
 
+void LineExperimentOptions::validate() const {
+  require(viewer.allFinite() && viewer.y() >= 1e-6 && viewer.cwiseAbs().maxCoeff() <= 1e6,
+          "the viewer must lie above the surface (y in [1e-6, 1e6], |x| and |z| <= 1e6), got (" +
+              std::to_string(viewer.x()) + ", " + std::to_string(viewer.y()) + ", " + std::to_string(viewer.z()) + ")");
+  require(std::isfinite(segment) && segment > 0.0 && segment <= 20.0,
+          "segment must be in (0, 20], got " + std::to_string(segment));
+  require(samples >= 2 && samples <= 10'000'000, "samples must be in [2, 1e7], got " + std::to_string(samples));
+}
+
 LineExperiment planarLineExperiment(const Vec3& viewer, double segment, int samples) {
-  require(segment > 0.0 && samples >= 2, "segment must be > 0 and samples >= 2");
+  return planarLineExperiment(LineExperimentOptions{viewer, segment, samples});
+}
+
+LineExperiment planarLineExperiment(const LineExperimentOptions& options) {
+  options.validate();
+  const Vec3& viewer = options.viewer;
+  const double segment = options.segment;
+  const int samples = options.samples;
   const Vec3 normal = Vec3::UnitY();
   auto reflectedAt = [&](double x) { return reflect(Vec3((viewer - Vec3(x, 0, 0)).normalized()), normal); };
   LineExperiment result;

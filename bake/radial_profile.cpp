@@ -1,5 +1,6 @@
 #include <brdfbake/bake/radial_profile.hpp>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/run_options.hpp>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -84,7 +85,7 @@ RadialProfile bakeRadialProfile(const MapFunction& function, const Vec3& axis, i
                                 const BakeOptions& options) {
   require(resolution >= 1, "profile resolution must be >= 1");
   require(samplesPerTexel >= 1, "samples per texel must be >= 1");
-  require(options.threads >= 0, "threads must be >= 0");
+  requireThreadCount(options.threads);
   const RadialProfile frame = profileFrame(axis);
   std::vector<Rgb> texels(static_cast<std::size_t>(resolution), Rgb::Zero());
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);

@@ -22,9 +22,9 @@
 // of its cases). --quick: one repetition, and no per-channel fit of the spectral tables (they take
 // more than half of a run).
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/gnuplot.hpp>
 #include <brdfbake/fit/cornell_grid.hpp>
 #include <brdfbake/fit/fit_file.hpp>
-#include <brdfbake/fit/gnuplot.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 #include <brdfbake/measured/measured_io.hpp>
 

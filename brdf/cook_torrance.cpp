@@ -6,8 +6,8 @@ namespace brdfbake {
 
 CookTorranceMaterial::CookTorranceMaterial(CookTorranceParams params) : params_(std::move(params)) {
   const auto& p = params_;
-  require(std::isfinite(p.roughness) && p.roughness > 0.0 && p.roughness <= 10.0,
-          "roughness must be in (0, 10], got " + std::to_string(p.roughness));
+  require(std::isfinite(p.roughness) && p.roughness >= kMinRoughness && p.roughness <= kMaxRoughness,
+          "roughness must be in [1e-06, 10], got " + std::to_string(p.roughness));
   require(std::isfinite(p.specularWeight) && p.specularWeight >= 0.0 && p.specularWeight <= 1.0,
           "specular_weight must be in [0, 1], got " + std::to_string(p.specularWeight));
   require(allFinite(p.diffuse) && (p.diffuse >= 0.0).all() && (p.diffuse <= 1.0).all(),

@@ -9,6 +9,12 @@
 namespace brdfbake {
 namespace {
 
+std::string describeNumber(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
+}
+
 std::string describeRgb(const Rgb& c) {
   std::ostringstream out;
   out << "[" << c[0] << ", " << c[1] << ", " << c[2] << "]";
@@ -42,7 +48,9 @@ double iorFromF0(double f0) {
 }
 
 FresnelTerm FresnelTerm::dielectric(const Rgb& eta) {
-  require(allFinite(eta) && (eta > 0.0).all(), "index of refraction must be finite and > 0, got " + describeRgb(eta));
+  require(allFinite(eta) && (eta >= kMinFresnelIndex).all() && (eta <= kMaxFresnelIndex).all(),
+          "index of refraction must be in [" + describeNumber(kMinFresnelIndex) + ", " +
+              describeNumber(kMaxFresnelIndex) + "], got " + describeRgb(eta));
   FresnelTerm f;
   f.kind_ = Kind::Dielectric;
   f.eta_ = eta;
@@ -58,8 +66,11 @@ FresnelTerm FresnelTerm::fromF0(const Rgb& f0) {
 }
 
 FresnelTerm FresnelTerm::conductor(const Rgb& n, const Rgb& k) {
-  require(allFinite(n) && (n > 0.0).all(), "n must be finite and > 0, got " + describeRgb(n));
-  require(allFinite(k) && (k >= 0.0).all(), "k must be finite and >= 0, got " + describeRgb(k));
+  require(allFinite(n) && (n >= kMinFresnelIndex).all() && (n <= kMaxFresnelIndex).all(),
+          "n must be in [" + describeNumber(kMinFresnelIndex) + ", " + describeNumber(kMaxFresnelIndex) + "], got " +
+              describeRgb(n));
+  require(allFinite(k) && (k >= 0.0).all() && (k <= kMaxFresnelIndex).all(),
+          "k must be in [0, " + describeNumber(kMaxFresnelIndex) + "], got " + describeRgb(k));
   FresnelTerm f;
   f.kind_ = Kind::Conductor;
   f.eta_ = n;
@@ -84,8 +95,11 @@ FresnelTerm FresnelTerm::spectralConductor(std::span<const double> wavelengthsNm
   require(n.size() == wavelengthsNm.size() && k.size() == wavelengthsNm.size(),
           "spectral n and k need one value per wavelength (" + std::to_string(wavelengthsNm.size()) + ")");
   for (std::size_t j = 0; j < n.size(); ++j) {
-    require(std::isfinite(n[j]) && n[j] > 0.0, "spectral n must be finite and > 0");
-    require(std::isfinite(k[j]) && k[j] >= 0.0, "spectral k must be finite and >= 0");
+    require(
+        std::isfinite(n[j]) && n[j] >= kMinFresnelIndex && n[j] <= kMaxFresnelIndex,
+        "spectral n must be in [" + describeNumber(kMinFresnelIndex) + ", " + describeNumber(kMaxFresnelIndex) + "]");
+    require(std::isfinite(k[j]) && k[j] >= 0.0 && k[j] <= kMaxFresnelIndex,
+            "spectral k must be in [0, " + describeNumber(kMaxFresnelIndex) + "]");
   }
   return spectralTable(wavelengthsNm, [&](std::size_t j, double c) { return fresnelConductor(c, n[j], k[j]); });
 }

@@ -24,5 +24,6 @@ Command addInfoCommand(CLI::App& app);
 Command addConvertCommand(CLI::App& app);
 Command addPreviewCommand(CLI::App& app);
 Command addInterpolationCommand(CLI::App& app);
+Command addIblCommand(CLI::App& app);
 
 }  // namespace brdfbake::cli

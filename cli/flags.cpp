@@ -2,6 +2,7 @@
 
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/files.hpp>
+#include <brdfbake/core/printable.hpp>
 
 #include <unistd.h>
 
@@ -19,22 +20,6 @@ namespace {
 double now() {
   using namespace std::chrono;
   return duration<double>(steady_clock::now().time_since_epoch()).count();
-}
-
-// Escapes control characters other than newline and tab (a name with ESC sequences, a NUL).
-std::string withoutControls(const std::string& text) {
-  std::string out;
-  out.reserve(text.size());
-  for (const unsigned char c : text) {
-    if ((c < 0x20 && c != '\n' && c != '\t') || c == 0x7f) {
-      char escaped[8];
-      std::snprintf(escaped, sizeof escaped, "\\x%02x", c);
-      out += escaped;
-    } else {
-      out += static_cast<char>(c);
-    }
-  }
-  return out;
 }
 
 void writeAll(int fd, const std::string& text, const char* name) {
@@ -90,7 +75,7 @@ void ProgressPrinter::report(const std::string& task, double fraction) {
     lastPercent_ = percent;
     constexpr int width = 30;
     const int filled = percent * width / 100;
-    std::fprintf(stderr, "\r\033[K%s [%.*s%*s] %3d%%", withoutControls(task).c_str(), filled,
+    std::fprintf(stderr, "\r\033[K%s [%.*s%*s] %3d%%", printable(task, 60).c_str(), filled,
                  "##############################", width - filled, "", percent);
     std::fflush(stderr);
     return;
@@ -111,7 +96,7 @@ void ProgressPrinter::report(const std::string& task, double fraction) {
   } else {
     line << percent << " %\n";
   }
-  std::fputs(withoutControls(line.str()).c_str(), stderr);
+  std::fputs(printableMessage(line.str()).c_str(), stderr);
   std::fflush(stderr);
 }
 
@@ -127,16 +112,11 @@ void printJsonOrText(const nlohmann::json& json, const std::string& text, const 
   if (!json.is_null()) {
     writeStdout(json.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   } else if (!flags.quiet) {
-    writeStdout(withoutControls(text));
+    writeStdout(printableMessage(text));
   }
 }
 
-void writeStdout(const std::string& text) {
-  std::fflush(stdout);
-  writeAll(STDOUT_FILENO, text, "stdout");
-}
-
-void writeStderr(const std::string& text) { writeAll(STDERR_FILENO, withoutControls(text), "stderr"); }
+void writeStderr(const std::string& text) { writeAll(STDERR_FILENO, printableMessage(text), "stderr"); }
 
 Vec3 parseVector(const std::string& text, const std::string& flag) {
   std::stringstream in(text);

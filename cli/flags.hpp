@@ -3,6 +3,7 @@
 // and printing a job's result. The commands only parse flags and call one library job each.
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
+#include <brdfbake/core/text_io.hpp>
 #include <brdfbake/run/job.hpp>
 
 #include <CLI/CLI.hpp>
@@ -67,8 +68,6 @@ int printResult(const R& result, const CommonFlags& flags, Printing printing = P
   return 0;
 }
 
-/// Writes to stdout and checks it went (a closed or full stdout is Error(Io)).
-void writeStdout(const std::string& text);
 /// Writes a message to stderr with control characters of untrusted text escaped.
 void writeStderr(const std::string& text);
 

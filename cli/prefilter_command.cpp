@@ -26,7 +26,10 @@ meets --max-error by its own estimate against the reference. --mips writes solid
 levels STEM_mipK.EXT (--tiled: inside OUT, one tiled MIP-mapped OpenEXR). --fresnel-ior ETA also
 writes STEM_irradiance.EXT and the Fresnel table STEM_fresnel.EXT (Heidrich 2000 section 3.1.1).
 --gloss-scale S with --lobe phong|blinn makes cmft's gloss chain: level k filtered with exponent
-2^(S g_k + B), g_k = 1 - k/(M - 1). --sh-output FILE.json with --lobe irradiance also writes 9 SH
+2^(S g_k + B), g_k = 1 - k/(M - 1). --chain ggx makes cmgen's GGX chain: level k of M (--mip-count,
+default down to 1 texel) holds ggx:R_k, R_k = k/(M - 1), level 0 the mirror; with --tiled and a .ktx2,
+.ktx or .dds output one texture whose levels an engine reads at lod = R (M - 1), the roughness of each
+level in the metadata's "level_values". --sh-output FILE.json with --lobe irradiance also writes 9 SH
 coefficients (E/pi, as cmgen). Every option is a key of a spec's "environment" map (docs/spec.md);
 details and figures: docs/prefilter.md.
 
@@ -35,14 +38,15 @@ Examples:
       --resolution 128 --mips -o out/sky_phong100.exr
   brdfbake prefilter data_samples/environments/sky_latlong.exr --lobe irradiance --to cube --resolution 32 \
       --sh-output out/sky_sh.json -o out/sky_irr_cube.exr
-  brdfbake prefilter sky.hdr --lobe ggx:0.4 --to cube --faces --json -o out/sky_ggx.exr)";
+  brdfbake prefilter sky.hdr --lobe ggx:0.4 --to cube --faces --json -o out/sky_ggx.exr
+  brdfbake prefilter sky.hdr --chain ggx --to cube --resolution 256 --tiled -o out/sky_ggx.ktx2)";
 
 // The spec keys a request sets, named by their flags in messages.
 const std::vector<std::pair<std::string, std::string>> kFlagNames = {
     {"prefilter: maps[0].environment.gloss_chain.scale", "--gloss-scale"},
     {"prefilter: maps[0].environment.gloss_chain.bias", "--gloss-bias"},
     {"prefilter: maps[0].environment.gloss_chain.levels", "--mip-count"},
-    {"prefilter: maps[0].environment.gloss_chain", "--gloss-scale"},
+    {"prefilter: maps[0].environment.gloss_chain", "--gloss-scale or --chain"},
     {"prefilter: maps[0].environment.file", "ENV"},
     {"prefilter: maps[0].environment.lobe", "--lobe"},
     {"prefilter: maps[0].environment.method", "--method"},
@@ -53,6 +57,7 @@ const std::vector<std::pair<std::string, std::string>> kFlagNames = {
     {"prefilter: maps[0].environment.fresnel", "--fresnel-ior"},
     {"prefilter: maps[0].environment.combine", "--combine"},
     {"prefilter: maps[0].environment.sh_output", "--sh-output"},
+    {"prefilter: maps[0].environment.sh_format", "--sh-format"},
     {"prefilter: maps[0].environment.mip_layout", "--tiled"},
     {"prefilter: maps[0].environment.mips", "--mips"},
     {"prefilter: maps[0].environment", "prefilter"},
@@ -73,8 +78,9 @@ struct PrefilterArgs {
 
 void addFilterFlags(CLI::App* command, PrefilterArgs& a) {
   PrefilterRequest& r = a.request;
-  command->add_option("--lobe", r.lobe, "mirror | irradiance | phong:N | blinn:N | ggx:ROUGHNESS | lobes:FIT.json")
-      ->required();
+  command->add_option("--lobe", r.lobe, "mirror | irradiance | phong:N | blinn:N | ggx:ROUGHNESS | lobes:FIT.json");
+  command->add_option("--chain", r.chain, "ggx: cmgen's GGX chain, level k of L holding roughness k/(L-1)")
+      ->check(CLI::IsMember({"ggx"}));
   command->add_option("--to", r.to, "Output parameterization")
       ->required()
       ->check(CLI::IsMember({"sphere", "paraboloid", "cube", "latlong"}));
@@ -102,6 +108,8 @@ void addOutputFileFlags(CLI::App* command, PrefilterArgs& a) {
   command->add_flag("--tiled", r.tiled, "With --mips: the chain inside OUT, one tiled MIP-mapped OpenEXR");
   command->add_flag("--faces", r.faces, "Write a cube map as six files STEM_posx.EXT ... instead of a cross");
   command->add_option("--sh-output", a.shOutput, "With --lobe irradiance: also 9 SH coefficients per channel (JSON)");
+  command->add_option("--sh-format", r.shFormat, "brdfbake (JSON, default) | cmgen (the lines cmgen prints, .txt)")
+      ->check(CLI::IsMember({"brdfbake", "cmgen"}));
   command->add_option("--fresnel-ior", r.fresnelIor, "Fresnel decomposition of a dielectric of this index");
   command->add_option("--combine", r.combine, "Fresnel decomposition: add (F L_m + k_d E/pi) | mix");
   command->add_option("--gloss-scale", r.glossScale, "A gloss chain (--lobe phong|blinn): exponent 2^(S g + B)");
@@ -112,6 +120,9 @@ void addOutputFileFlags(CLI::App* command, PrefilterArgs& a) {
 
 int runPrefilter(PrefilterArgs args) {
   PrefilterRequest& request = args.request;
+  if (request.lobe.empty() && !request.chain) {
+    throw Error(Error::Kind::InvalidArgument, "prefilter needs --lobe (or --chain ggx)");
+  }
   request.environment = args.environment;
   request.output = args.output;
   if (!args.view.empty()) request.view = parseVector(args.view, "--view");

@@ -1,34 +1,49 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/files.hpp>
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <climits>
+
+#include <algorithm>
 #include <array>
 #include <atomic>
+#include <cctype>
+#include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <sstream>
+#include <map>
+#include <system_error>
 
 namespace brdfbake {
 namespace fs = std::filesystem;
 
-std::string shortenForMessage(std::string_view text, std::size_t limit) {
-  if (text.size() <= limit) return std::string(text);
-  const std::size_t half = limit / 2;
-  return std::string(text.substr(0, half)) + "..." + std::string(text.substr(text.size() - half)) + " (" +
-         std::to_string(text.size()) + " characters)";
-}
-
 namespace {
-std::string named(const fs::path& path) { return shortenForMessage(path.string()); }
+std::string named(const fs::path& path) { return printable(path.string()); }
+
+// Closes a file descriptor at scope exit (reads only: a failed close loses nothing).
+struct FileDescriptor {
+  explicit FileDescriptor(int descriptor) : fd(descriptor) {}
+  ~FileDescriptor() { ::close(fd); }
+  FileDescriptor(const FileDescriptor&) = delete;
+  FileDescriptor& operator=(const FileDescriptor&) = delete;
+  int fd;
+};
 }  // namespace
+
+std::string errnoText(int error) { return std::error_code(error, std::generic_category()).message(); }
 
 std::uintmax_t requireInputFile(const fs::path& path, const std::string& what) {
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
   if (!fs::exists(status)) throw Error(Error::Kind::Io, named(path) + ": no such file (" + what + ")");
   if (fs::is_directory(status)) throw Error(Error::Kind::Io, named(path) + ": is a folder, not a file (" + what + ")");
-  if (!fs::is_regular_file(status)) throw Error(Error::Kind::Io, named(path) + ": not a regular file (" + what + ")");
+  if (!fs::is_regular_file(status)) {
+    throw Error(Error::Kind::Io,
+                named(path) + ": is " + describeFileType(status.type()) + ", not a regular file (" + what + ")");
+  }
   const std::uintmax_t size = fs::file_size(path, ec);
   if (ec) throw Error(Error::Kind::Io, named(path) + ": cannot read: " + ec.message());
   return size;
@@ -36,19 +51,39 @@ std::uintmax_t requireInputFile(const fs::path& path, const std::string& what) {
 
 std::string readTextFile(const fs::path& path, const std::string& what, std::uintmax_t maxBytes) {
   const std::uintmax_t size = requireInputFile(path, what);
-  if (size > maxBytes) {
-    throw Error(Error::Kind::Resource, named(path) + ": " + std::to_string(size) + " bytes, more than the " +
-                                           std::to_string(maxBytes) + " bytes accepted for a " + what);
+  auto tooLarge = [&](std::uintmax_t bytes) {
+    return Error(Error::Kind::Resource, named(path) + ": " + std::to_string(bytes) + " bytes or more, more than the " +
+                                            std::to_string(maxBytes) + " bytes accepted for a " + what);
+  };
+  if (size > maxBytes) throw tooLarge(size);
+  // O_NONBLOCK: should a FIFO take the file's place after the check, opening it does not wait for a writer.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd < 0) throw Error(Error::Kind::Io, named(path) + ": cannot open (" + what + "): " + errnoText(errno));
+  const FileDescriptor guard(fd);
+  struct stat opened {};
+  if (::fstat(fd, &opened) != 0 || !S_ISREG(opened.st_mode)) {
+    throw Error(Error::Kind::Io, named(path) + ": not a regular file (" + what + ")");
   }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(Error::Kind::Io, named(path) + ": cannot open (" + what + ")");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) throw Error(Error::Kind::Io, named(path) + ": read failed (" + what + ")");
-  return std::move(buffer).str();
+  // Read with a bound, whatever the size said: a file may grow while it is read.
+  std::string bytes;
+  bytes.resize(static_cast<std::size_t>(size));
+  std::size_t used = 0;
+  for (;;) {
+    if (used == bytes.size()) {
+      if (bytes.size() > maxBytes) throw tooLarge(bytes.size());
+      bytes.resize(std::min<std::uintmax_t>(std::max<std::size_t>(bytes.size() * 2, 4096), maxBytes + 1));
+    }
+    const ssize_t got = ::read(fd, bytes.data() + used, bytes.size() - used);
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) throw Error(Error::Kind::Io, named(path) + ": read failed (" + what + "): " + errnoText(errno));
+    if (got == 0) break;
+    used += static_cast<std::size_t>(got);
+  }
+  bytes.resize(used);
+  return bytes;
 }
 
-// ---- temporaries, removable from a signal handler ------------------------------------------------
+// ---- temporaries and child processes, removable from a signal handler ----------------------------
 namespace {
 
 struct TemporarySlot {
@@ -56,6 +91,7 @@ struct TemporarySlot {
   char path[4096] = {};
 };
 std::array<TemporarySlot, 128> temporarySlots;
+std::array<std::atomic<pid_t>, 16> childSlots{};
 
 int registerTemporary(const fs::path& path) {
   const std::string text = fs::absolute(path).string();
@@ -76,25 +112,78 @@ void unregisterTemporary(int slot) {
 
 fs::path temporarySibling(const fs::path& target) {
   static std::atomic<int> counter{0};
-  // Short enough for any file system's name limit, with the extension kept for format detection.
-  std::string stem = target.stem().string().substr(0, 64);
-  return target.parent_path() / ("." + stem + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) +
-                                 target.extension().string());
+  // Short enough for any file system's name limit, with the extension kept for format detection;
+  // only plain characters, so the name passes unchanged through a program's quoting (gnuplot's).
+  auto plain = [](std::string text) {
+    for (char& c : text)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '_' && c != '-') c = '_';
+    return text;
+  };
+  const std::string stem = plain(target.stem().string().substr(0, 64));
+  const std::string extension = plain(target.extension().string().substr(0, 16));
+  return target.parent_path() /
+         ("." + stem + ".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + extension);
 }
 
 }  // namespace
 
+int registerChildProcess(pid_t pid) noexcept {
+  for (std::size_t i = 0; i < childSlots.size(); ++i) {
+    pid_t expected = 0;
+    if (childSlots[i].compare_exchange_strong(expected, pid)) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+void unregisterChildProcess(int slot) noexcept {
+  if (slot >= 0) childSlots[static_cast<std::size_t>(slot)].store(0);
+}
+
 void removeTemporaryFilesNow() noexcept {
+  // Children first, so none writes a temporary again after it is removed.
+  for (auto& child : childSlots) {
+    const pid_t pid = child.load();
+    if (pid > 0) ::kill(pid, SIGKILL);
+  }
   for (auto& slot : temporarySlots) {
     if (slot.used.load()) ::unlink(slot.path);
   }
 }
 
-AtomicOutput::AtomicOutput(fs::path target) : target_(std::move(target)) {
-  std::error_code ec;
-  if (fs::is_directory(target_, ec)) {
-    throw Error(Error::Kind::Io, named(target_) + ": is a folder; give an output file name");
+std::string describeFileType(fs::file_type type) {
+  switch (type) {
+    case fs::file_type::regular:
+      return "a regular file";
+    case fs::file_type::directory:
+      return "a folder";
+    case fs::file_type::symlink:
+      return "a symbolic link";
+    case fs::file_type::block:
+      return "a block device";
+    case fs::file_type::character:
+      return "a character device";
+    case fs::file_type::fifo:
+      return "a FIFO (named pipe)";
+    case fs::file_type::socket:
+      return "a socket";
+    default:
+      return "not a regular file";
   }
+}
+
+void requireReplaceableOutput(const fs::path& path, Error::Kind kind, const std::string& role) {
+  std::error_code ec;
+  const fs::file_status status = fs::symlink_status(path, ec);  // never follows a link at the target
+  if (!fs::exists(status) || fs::is_regular_file(status)) return;
+  const std::string prefix = role.empty() ? "" : role + ": ";
+  if (fs::is_directory(status)) throw Error(kind, prefix + named(path) + " is a folder; give an output file name");
+  throw Error(kind, prefix + named(path) + " is " + describeFileType(status.type()) +
+                        "; brdfbake replaces only regular files (remove it or choose another output)");
+}
+
+AtomicOutput::AtomicOutput(fs::path target) : target_(std::move(target)) {
+  requireReplaceableOutput(target_, Error::Kind::Io);
+  std::error_code ec;
   const fs::path folder = target_.parent_path();
   if (!folder.empty()) {
     fs::create_directories(folder, ec);
@@ -105,6 +194,7 @@ AtomicOutput::AtomicOutput(fs::path target) : target_(std::move(target)) {
 }
 
 AtomicOutput::~AtomicOutput() {
+  if (fd_ >= 0) ::close(fd_);
   if (!committed_) {
     std::error_code ec;
     fs::remove(temporary_, ec);
@@ -112,11 +202,48 @@ AtomicOutput::~AtomicOutput() {
   unregisterTemporary(slot_);
 }
 
+int AtomicOutput::open() {
+  if (fd_ >= 0) return fd_;
+  require(!committed_, "AtomicOutput::open: already committed");
+  fd_ = ::open(temporary_.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC | O_NOFOLLOW, 0666);
+  if (fd_ < 0) {
+    throw Error(Error::Kind::Io, named(target_) + ": cannot create " + named(temporary_) + ": " + errnoText(errno));
+  }
+  return fd_;
+}
+
+void AtomicOutput::write(std::string_view bytes) {
+  const int fd = open();
+  while (!bytes.empty()) {
+    const ssize_t written = ::write(fd, bytes.data(), bytes.size());
+    if (written < 0 && errno == EINTR) continue;
+    if (written <= 0) throw writeFailed(written < 0 ? errno : ENOSPC);
+    bytes.remove_prefix(static_cast<std::size_t>(written));
+  }
+}
+
+void AtomicOutput::close() {
+  if (fd_ < 0) return;
+  const int fd = fd_;
+  fd_ = -1;
+  if (::close(fd) != 0 && errno != EINTR) throw writeFailed(errno);
+}
+
+Error AtomicOutput::writeFailed(int error) const {
+  return Error(Error::Kind::Io, named(target_) + ": write failed: " + errnoText(error) +
+                                    (error == ENOSPC || error == EDQUOT ? " (disk full)" : ""));
+}
+
 void AtomicOutput::commit() {
+  close();
   std::error_code ec;
-  if (!fs::exists(temporary_, ec)) throw Error(Error::Kind::Io, named(target_) + ": nothing was written");
-  if (fs::is_directory(target_, ec))
-    throw Error(Error::Kind::Io, named(target_) + ": is a folder; give an output file name");
+  const fs::file_status written = fs::symlink_status(temporary_, ec);
+  if (!fs::exists(written)) throw Error(Error::Kind::Io, named(target_) + ": nothing was written");
+  if (!fs::is_regular_file(written)) {
+    throw Error(Error::Kind::Io, named(target_) + ": the temporary " + named(temporary_) + " is " +
+                                     describeFileType(written.type()) + ", not the file written");
+  }
+  requireReplaceableOutput(target_, Error::Kind::Io);  // again: something may have appeared meanwhile
   fs::rename(temporary_, target_, ec);
   if (ec) throw Error(Error::Kind::Io, named(target_) + ": cannot move the finished file into place: " + ec.message());
   committed_ = true;
@@ -141,13 +268,7 @@ ScratchFile::~ScratchFile() {
 
 void writeFileAtomically(const fs::path& target, std::string_view bytes) {
   AtomicOutput output(target);
-  {
-    std::ofstream out(output.temporaryPath(), std::ios::binary);
-    if (!out) throw Error(Error::Kind::Io, named(target) + ": cannot write (is the folder writable?)");
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.close();
-    if (!out) throw Error(Error::Kind::Io, named(target) + ": write failed (disk full?)");
-  }
+  output.write(bytes);
   output.commit();
 }
 
@@ -181,11 +302,30 @@ bool isInside(const fs::path& file, const fs::path& folder) {
 }
 
 // The nearest existing ancestor must be a writable folder.
+// Each name in `path` within the file system's limit (NAME_MAX of the folder that will hold it,
+// usually 255 bytes), the whole path within PATH_MAX (4096 bytes).
+void requireNameLengths(const fs::path& output, const fs::path& existingFolder, const std::string& role) {
+  const std::string whole = fs::absolute(output).string();
+  if (whole.size() >= PATH_MAX) {
+    throw Error(Error::Kind::InvalidArgument, role + ": " + named(output) + ": a path of " +
+                                                  std::to_string(whole.size()) + " bytes; the system's limit is " +
+                                                  std::to_string(PATH_MAX - 1) + " (PATH_MAX)");
+  }
+  const long limit = ::pathconf(existingFolder.c_str(), _PC_NAME_MAX);
+  const std::size_t nameMax = limit > 0 ? static_cast<std::size_t>(limit) : NAME_MAX;
+  for (const fs::path& part : output) {
+    if (part.string().size() > nameMax) {
+      throw Error(Error::Kind::InvalidArgument,
+                  role + ": " + named(output) + ": the name " + printable(part.string(), 60) + " has " +
+                      std::to_string(part.string().size()) + " bytes; the file system's limit is " +
+                      std::to_string(nameMax) + " (NAME_MAX)");
+    }
+  }
+}
+
 void requireWritableLocation(const fs::path& output, const std::string& role) {
   std::error_code ec;
-  if (fs::is_directory(output, ec)) {
-    throw Error(Error::Kind::InvalidArgument, role + ": " + named(output) + " is a folder; give an output file name");
-  }
+  requireReplaceableOutput(output, Error::Kind::InvalidArgument, role);
   fs::path ancestor = resolvedPath(output).parent_path();
   while (!ancestor.empty() && !fs::exists(ancestor, ec)) {
     if (ancestor == ancestor.parent_path()) break;
@@ -195,6 +335,7 @@ void requireWritableLocation(const fs::path& output, const std::string& role) {
     throw Error(Error::Kind::InvalidArgument,
                 role + ": cannot write " + named(output) + ": " + named(ancestor) + " is not a folder");
   }
+  requireNameLengths(output, ancestor, role);
   if (::access(ancestor.c_str(), W_OK) != 0) {
     throw Error(Error::Kind::Io,
                 role + ": cannot write " + named(output) + ": folder " + named(ancestor) + " is not writable");
@@ -209,43 +350,51 @@ void FilePlan::addInput(const fs::path& file, std::string role) { inputs_.push_b
 void FilePlan::addOutput(const fs::path& file, std::string role) { outputs_.push_back({file, std::move(role)}); }
 
 void FilePlan::check() const {
-  // Each path is resolved once; hard links (the same file under two resolved names) are caught by
-  // comparing inodes where both files exist.
+  // Each path is resolved and stat'ed once, then looked up: linear in the number of files (a spec
+  // of 1024 maps with their mip levels plans thousands). Hard links (the same file under two
+  // resolved names) are caught by their inode where the file exists.
   struct Resolved {
-    const Entry* entry;
     fs::path path;
-    bool exists;
+    std::pair<dev_t, ino_t> inode{0, 0};  // 0, 0: the file does not exist yet
   };
-  auto resolveAll = [](const std::vector<Entry>& entries) {
-    std::vector<Resolved> out;
-    std::error_code ec;
-    for (const Entry& e : entries) out.push_back({&e, resolvedPath(e.file), fs::exists(e.file, ec)});
-    return out;
+  auto resolve = [](const Entry& e) {
+    Resolved r{resolvedPath(e.file)};
+    struct stat info {};
+    if (::stat(e.file.c_str(), &info) == 0) r.inode = {info.st_dev, info.st_ino};
+    return r;
   };
-  auto same = [](const Resolved& a, const Resolved& b) {
-    std::error_code ec;
-    return a.path == b.path || (a.exists && b.exists && fs::equivalent(a.entry->file, b.entry->file, ec));
+  std::map<fs::path, const Entry*> inputPaths, outputPaths;
+  std::map<std::pair<dev_t, ino_t>, const Entry*> inputInodes, outputInodes;
+  for (const Entry& e : inputs_) {
+    const Resolved r = resolve(e);
+    inputPaths.emplace(r.path, &e);
+    if (r.inode.second != 0) inputInodes.emplace(r.inode, &e);
+  }
+  auto find = [](const auto& table, const auto& key) -> const Entry* {
+    const auto it = table.find(key);
+    return it == table.end() ? nullptr : it->second;
   };
-  const std::vector<Resolved> inputs = resolveAll(inputs_), outputs = resolveAll(outputs_);
   const std::optional<fs::path> folder = outputFolder_ ? std::optional(resolvedPath(*outputFolder_)) : std::nullopt;
-  for (std::size_t i = 0; i < outputs.size(); ++i) {
-    const Entry& out = *outputs[i].entry;
-    if (folder && !isInside(outputs[i].path, *folder)) {
+  for (const Entry& out : outputs_) {
+    const Resolved r = resolve(out);
+    if (folder && !isInside(r.path, *folder)) {
       throw Error(Error::Kind::InvalidArgument, out.role + ": " + named(out.file) + " lies outside the output folder " +
                                                     named(*outputFolder_) + "; outputs stay inside it");
     }
-    for (const Resolved& in : inputs) {
-      if (same(outputs[i], in)) {
-        throw Error(Error::Kind::InvalidArgument, out.role + ": " + named(out.file) + " is the " + in.entry->role +
-                                                      " (an input); choose another output so no input is overwritten");
-      }
+    const Entry* in = find(inputPaths, r.path);
+    if (!in && r.inode.second != 0) in = find(inputInodes, r.inode);
+    if (in) {
+      throw Error(Error::Kind::InvalidArgument, out.role + ": " + named(out.file) + " is the " + in->role +
+                                                    " (an input); choose another output so no input is overwritten");
     }
-    for (std::size_t j = 0; j < i; ++j) {
-      if (same(outputs[i], outputs[j])) {
-        throw Error(Error::Kind::InvalidArgument, out.role + ": " + named(out.file) + " is also written as " +
-                                                      outputs[j].entry->role + "; give each output its own file");
-      }
+    const Entry* earlier = find(outputPaths, r.path);
+    if (!earlier && r.inode.second != 0) earlier = find(outputInodes, r.inode);
+    if (earlier) {
+      throw Error(Error::Kind::InvalidArgument, out.role + ": " + named(out.file) + " is also written as " +
+                                                    earlier->role + "; give each output its own file");
     }
+    outputPaths.emplace(r.path, &out);
+    if (r.inode.second != 0) outputInodes.emplace(r.inode, &out);
     requireWritableLocation(out.file, out.role);
   }
 }

@@ -1,11 +1,14 @@
 #include <brdfbake/core/json_reader.hpp>
+#include <brdfbake/core/printable.hpp>
 
 #include <sstream>
 
 namespace brdfbake {
 
 Error specError(const std::string& path, const std::string& message) {
-  return Error(Error::Kind::InvalidInput, path + ": " + message);
+  // Messages quote values of the input: made printable whole, as a last guard (each quoted value is
+  // shortened where it is quoted).
+  return Error(Error::Kind::InvalidInput, path + ": " + printableMessage(message, 2000));
 }
 
 std::string describe(const nlohmann::json& value) {
@@ -14,9 +17,7 @@ std::string describe(const nlohmann::json& value) {
     return "an array of " + std::to_string(value.size()) + " values";
   }
   if (value.is_object() && !value.empty()) return "an object with " + std::to_string(value.size()) + " keys";
-  std::string text = value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  if (text.size() > 60) text = text.substr(0, 57) + "...";
-  return text;
+  return printable(value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), 60);
 }
 
 namespace {
@@ -33,7 +34,10 @@ JsonObjectReader::JsonObjectReader(const nlohmann::json& value, std::string path
     throw specError(path_.empty() ? "(root)" : path_, "must be an object, got " + describe(value));
 }
 
-std::string JsonObjectReader::child(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+std::string JsonObjectReader::child(const std::string& key) const {
+  const std::string shown = printable(key, 60);
+  return path_.empty() ? shown : path_ + "." + shown;
+}
 
 const nlohmann::json* JsonObjectReader::find(const std::string& key) {
   known_.insert(key);
@@ -85,12 +89,20 @@ double JsonObjectReader::number(const std::string& key, double fallback, double 
 int JsonObjectReader::integer(const std::string& key, int minimum, int maximum) {
   const auto& value = require(key);
   if (!value.is_number_integer()) throw specError(child(key), "must be an integer, got " + describe(value));
-  const long long v = value.get<long long>();
-  if (v < minimum || v > maximum) {
-    throw specError(child(key), "must be in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "], got " +
-                                    std::to_string(v));
+  // Unsigned values beyond long long (18446744073709551615) are out of range, never wrapped to -1.
+  bool inRange = false;
+  if (value.is_number_unsigned()) {
+    const unsigned long long u = value.get<unsigned long long>();
+    inRange = maximum >= 0 && u <= static_cast<unsigned long long>(maximum) && static_cast<long long>(u) >= minimum;
+  } else {
+    const long long v = value.get<long long>();
+    inRange = v >= minimum && v <= maximum;
   }
-  return static_cast<int>(v);
+  if (!inRange) {
+    throw specError(child(key), "must be in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "], got " +
+                                    value.dump());
+  }
+  return value.get<int>();
 }
 
 int JsonObjectReader::integer(const std::string& key, int fallback, int minimum, int maximum) {
@@ -108,6 +120,10 @@ Rgb JsonObjectReader::asColor(const nlohmann::json& value, const std::string& pa
   }
   for (int i = 0; i < 3; ++i) {
     if (c[i] < 0) throw specError(path, "must be >= 0, got " + describe(value));
+    if (c[i] > kMaxColor) {
+      throw specError(
+          path, "must be <= " + formatNumber(kMaxColor) + " per channel (docs/limits.md), got " + describe(value));
+    }
   }
   return c;
 }
@@ -129,9 +145,13 @@ Vec3 JsonObjectReader::direction(const std::string& key) { return asDirection(re
 
 JsonObjectReader JsonObjectReader::object(const std::string& key) { return JsonObjectReader(require(key), child(key)); }
 
-const nlohmann::json& JsonObjectReader::array(const std::string& key) {
+const nlohmann::json& JsonObjectReader::array(const std::string& key, std::size_t maxEntries) {
   const auto& value = require(key);
   if (!value.is_array()) throw specError(child(key), "must be an array, got " + describe(value));
+  if (value.size() > maxEntries) {
+    throw specError(child(key), "at most " + std::to_string(maxEntries) + " entries (docs/limits.md), got " +
+                                    std::to_string(value.size()));
+  }
   return value;
 }
 

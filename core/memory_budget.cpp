@@ -1,5 +1,6 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/memory_budget.hpp>
+#include <brdfbake/core/printable.hpp>
 
 #include <unistd.h>
 
@@ -52,7 +53,7 @@ std::uint64_t memoryBudgetBytes() {
     if (const auto parsed = parseLimit(limit)) return *parsed;
     throw Error(Error::Kind::InvalidArgument,
                 std::string("BRDFBAKE_MEMORY_LIMIT: expected bytes or a number with K, M or G (e.g. 8G), got \"") +
-                    limit + "\"");
+                    printable(limit, 40) + "\"");
   }
   return physicalMemoryBytes() / 2;
 }

@@ -6,8 +6,13 @@
 
 namespace brdfbake {
 
+void requireThreadCount(int threads, const std::string& what) {
+  require(threads >= 0 && threads <= kMaxThreads, what + " must be in [0, " + std::to_string(kMaxThreads) +
+                                                      "] (0 = every core), got " + std::to_string(threads));
+}
+
 void RunOptions::validateRun() const {
-  require(threads >= 0, "threads must be >= 0 (0 = all cores), got " + std::to_string(threads));
+  requireThreadCount(threads);
   require(maxTexels > 0, "maxTexels must be > 0");
 }
 

@@ -4,6 +4,7 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/named_values.hpp>
 #include <brdfbake/core/progress.hpp>
+#include <brdfbake/core/run_options.hpp>
 #include <brdfbake/core/version.hpp>
 #include <brdfbake/env/env_accuracy.hpp>
 #include <brdfbake/env/prefilter.hpp>
@@ -856,6 +857,7 @@ PrefilterError prefilterError(const Image& result, const Image& reference, const
 std::vector<Rgb> prefilterReferenceAt(const Environment& environment, const PrefilterLobe& lobe,
                                       const std::vector<Vec3>& axes, int threads) {
   require(!lobe.isMirror(), "the mirror lobe has no integral; look the environment up instead");
+  requireThreadCount(threads);
   tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
   std::vector<Rgb> values(axes.size());
   arena.execute([&] {
@@ -1004,13 +1006,18 @@ MapWriteReport writePrefilteredMap(const PrefilteredMap& map, const std::filesys
                        {"exact", s.exact},
                        {"mip_level", level},
                        {"mip_levels", count}});
+    if (s.lobe == "irradiance") prefilterInfo["irradiance_quantity"] = kIrradianceQuantity;
+    if (!map.levelValues.empty()) info.spec["level_values"] = map.levelValues;
     return info;
   };
   if (mipLayout == MipLayout::Tiled) {
-    require(count > 1, "a tiled MIP-mapped output needs the mip levels (PrefilterOptions::mips)");
+    // A 1 x 1 map has one level: its tiled file holds just that level.
+    require(count == mipLevelCount(map.map->resolution()),
+            "a tiled MIP-mapped output holds every mip level; prefilter with mips on (\"mips\": true, --mips)");
     MapInfo info = levelInfo(0);
     info.spec["prefilter"]["mip_layout"] = "tiled";
-    return writeTiledMap(map.levels, info, path, layout, options);
+    info.spec.erase("level_values");  // writeTiledMap stores them beside "mip_levels"
+    return writeTiledMap(map.levels, info, path, layout, options, map.levelValues);
   }
   MapWriteReport report;
   for (int level = 0; level < count; ++level) {

@@ -18,6 +18,7 @@ struct PrefilterLobe::Data {
   std::string name, description;
   double exponent = 0.0;                  // Phong
   double alpha = 0.0;                     // GGX
+  double roughness = 0.0;                 // GGX perceptual roughness, as given
   double scale = 1.0;                     // normalisation factor applied to the raw weight
   double mass = 0.0;                      // analytic where known, else the grid's integral
   std::vector<double> theta, cumulative;  // cumulative mass over theta (scaled to `mass` at pi)
@@ -92,7 +93,7 @@ double parseNumber(std::string_view text, std::string_view lobe) {
   const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) {
     throw Error(Error::Kind::InvalidArgument,
-                "lobe '" + std::string(lobe) + "': '" + std::string(text) + "' is not a number");
+                "lobe '" + printable(lobe, 60) + "': '" + printable(text, 40) + "' is not a number");
   }
   return value;
 }
@@ -118,8 +119,10 @@ PrefilterLobe PrefilterLobe::irradiance() {
   auto d = std::make_shared<Data>();
   d->kind = LobeKind::Irradiance;
   d->name = "irradiance";
-  d->description = "diffuse irradiance ∫ L max(0, n.l) dω, indexed by the normal";
-  return PrefilterLobe(finish(d, kPi, false));
+  d->description = "radiance-equivalent irradiance E(n)/pi = (1/pi) ∫ L max(0, n.l) dω, indexed by the normal";
+  auto lobe = finish(d, 1.0, false);
+  lobe->scale = 1.0 / kPi;
+  return PrefilterLobe(lobe);
 }
 
 PrefilterLobe PrefilterLobe::phong(double exponent) {
@@ -153,6 +156,7 @@ PrefilterLobe PrefilterLobe::ggx(double roughness) {
   auto d = std::make_shared<Data>();
   d->kind = LobeKind::Ggx;
   d->alpha = roughness * roughness;
+  d->roughness = roughness;
   d->name = "ggx:" + formatNumber(roughness);
   d->description = "GGX split-sum lobe D(h) max(0, n.l) with n = v = r, perceptual roughness " +
                    formatNumber(roughness) + " (alpha " + formatNumber(d->alpha) + "), normalised";
@@ -167,11 +171,11 @@ PrefilterLobe PrefilterLobe::parse(std::string_view text, const std::filesystem:
   auto needsArgument = [&](bool needs) {
     if (needs && tail.empty()) {
       throw Error(Error::Kind::InvalidArgument,
-                  "lobe '" + std::string(text) + "' needs a parameter after ':' (" + accepted + ")");
+                  "lobe '" + printable(text, 60) + "' needs a parameter after ':' (" + accepted + ")");
     }
     if (!needs && colon != std::string_view::npos) {
       throw Error(Error::Kind::InvalidArgument,
-                  "lobe '" + std::string(head) + "' takes no parameter (" + accepted + ")");
+                  "lobe '" + printable(head, 60) + "' takes no parameter (" + accepted + ")");
     }
   };
   if (head == "mirror") return needsArgument(false), mirror();
@@ -186,11 +190,11 @@ PrefilterLobe PrefilterLobe::parse(std::string_view text, const std::filesystem:
                                            : baseDirectory / std::filesystem::path(tail);
     // Fitted lobes are RGB-weighted sums of Phong lobes, not one scalar lobe: the CLI and specs read
     // the fit.json (readFitFile) and call prefilterLobeModel.
-    throw Error(Error::Kind::InvalidArgument, "lobe 'lobes:" + file.string() +
+    throw Error(Error::Kind::InvalidArgument, "lobe 'lobes:" + printable(file.string()) +
                                                   "' is a fitted lobe model: read it with readFitFile and prefilter it "
                                                   "with prefilterLobeModel");
   }
-  throw Error(Error::Kind::InvalidArgument, "unknown lobe '" + std::string(text) + "' (" + accepted + ")");
+  throw Error(Error::Kind::InvalidArgument, "unknown lobe '" + printable(text, 60) + "' (" + accepted + ")");
 }
 
 LobeKind PrefilterLobe::kind() const { return data_->kind; }
@@ -198,6 +202,7 @@ const std::string& PrefilterLobe::name() const { return data_->name; }
 std::string PrefilterLobe::description() const { return data_->description; }
 double PrefilterLobe::phongExponent() const { return data_->kind == LobeKind::Phong ? data_->exponent : 0.0; }
 double PrefilterLobe::ggxAlpha() const { return data_->alpha; }
+double PrefilterLobe::ggxRoughness() const { return data_->roughness; }
 double PrefilterLobe::mass() const { return data_->mass; }
 
 double PrefilterLobe::weight(double c) const { return data_->scale * data_->rawWeight(c); }

@@ -43,6 +43,37 @@ std::vector<double> glossLevelExponents(int count, double scale, double bias) {
   return exponents;
 }
 
+std::vector<double> ggxChainRoughness(int count) {
+  require(count >= 1 && count <= 16, "a GGX chain has 1 to 16 levels, got " + std::to_string(count));
+  std::vector<double> roughness;
+  for (int k = 0; k < count; ++k) roughness.push_back(count == 1 ? 0.0 : static_cast<double>(k) / (count - 1));
+  return roughness;
+}
+
+std::vector<PrefilterLobe> ggxChainLobes(int count) {
+  std::vector<PrefilterLobe> lobes;
+  for (double r : ggxChainRoughness(count))
+    lobes.push_back(r == 0.0 ? PrefilterLobe::mirror() : PrefilterLobe::ggx(std::max(r, 0.01)));
+  return lobes;
+}
+
+namespace {
+// What "level_values" records about one level of a chain.
+nlohmann::json chainLevelValue(const PrefilterLobe& lobe, const PrefilterSummary& s) {
+  nlohmann::json value = {{"lobe", lobe.name()},
+                          {"method", std::string(toString(s.method))},
+                          {"error_estimate", s.errorEstimated ? nlohmann::json(s.errorEstimate) : nlohmann::json()},
+                          {"exact", s.exact}};
+  if (lobe.kind() == LobeKind::Ggx || lobe.isMirror()) {
+    value["roughness"] = lobe.ggxRoughness();
+    value["alpha"] = lobe.ggxAlpha();
+  } else if (lobe.kind() == LobeKind::Phong) {
+    value["exponent"] = lobe.phongExponent();
+  }
+  return value;
+}
+}  // namespace
+
 PrefilteredMap prefilterGlossChain(const Environment& environment, const std::vector<PrefilterLobe>& lobes,
                                    const PrefilterOptions& options) {
   options.validate();
@@ -60,8 +91,13 @@ PrefilteredMap prefilterGlossChain(const Environment& environment, const std::ve
   detail::PrefilterInput input(environment);  // the working pyramid, made once for every level
   for (int k = 0; k < count; ++k) {
     const PrefilterLobe& lobe = lobes[static_cast<std::size_t>(k)];
-    require(!lobe.isMirror(), "gloss chain level " + std::to_string(k) + ": the mirror lobe is not a filter");
+    require(!lobe.indexedByNormal(), "gloss chain level " + std::to_string(k) + ": irradiance is not a gloss level");
     PrefilterOptions level = options;
+    if (lobe.isMirror()) {  // resampling, whatever method the others use
+      level.method = PrefilterMethod::Auto;
+      level.shOrder = level.importanceSamples = 0;
+      level.directTexelsPerWidth = 0.0;
+    }
     level.resolution = options.resolution >> k;
     level.progress = progressPart(options.progress, static_cast<double>(k) / count, static_cast<double>(k + 1) / count);
     const std::string label = "level " + std::to_string(k) + " (" + lobe.name() + ")";
@@ -73,6 +109,7 @@ PrefilteredMap prefilterGlossChain(const Environment& environment, const std::ve
     }
     if (k == 0) result.map = part.map;
     result.levels.push_back(std::move(part.levels.front()));
+    result.levelValues.push_back(chainLevelValue(lobe, part.summary));
     mergePrefilterSummary(summary, part.summary, label, k == 0);
     names << (k ? ", " : "") << lobe.name();
   }
@@ -208,7 +245,7 @@ FresnelDecomposition prefilterFresnelDecomposition(const Environment& environmen
 
 Rgb combineFresnelDecomposition(FresnelCombine combine, const Rgb& fresnel, const Rgb& specular, const Rgb& irradiance,
                                 const Rgb& diffuseAlbedo) {
-  const Rgb diffuse = diffuseAlbedo * irradiance / kPi;
+  const Rgb diffuse = diffuseAlbedo * irradiance;  // the irradiance map holds E/pi
   return fresnel * specular + (combine == FresnelCombine::Mix ? (1.0 - fresnel) * diffuse : diffuse);
 }
 
@@ -262,16 +299,17 @@ MapWriteReport writeFresnelDecomposition(const FresnelDecomposition& decompositi
   const std::filesystem::path irradiancePath = fresnelIrradiancePath(output), tablePath = fresnelTablePath(output);
   const Rgb f0 = decomposition.fresnel.f0();
   const bool mix = decomposition.combine == FresnelCombine::Mix;
-  nlohmann::json fresnel = {{"combine", std::string(toString(decomposition.combine))},
-                            {"formula", mix ? "L = F(n.v) specular(r) + (1 - F(n.v)) k_d irradiance(n) / pi"
-                                            : "L = F(n.v) specular(r) + k_d irradiance(n) / pi"},
-                            {"specular", output.filename().string()},
-                            {"irradiance", irradiancePath.filename().string()},
-                            {"table", tablePath.filename().string()},
-                            {"table_size", size},
-                            {"table_texels", "texel i holds F at cos theta = n.v = (i + 0.5) / " +
-                                                 std::to_string(size) + ": a linear lookup at s = n.v returns F"},
-                            {"f0", {f0[0], f0[1], f0[2]}}};
+  nlohmann::json fresnel = {
+      {"combine", std::string(toString(decomposition.combine))},
+      {"formula", mix ? "L = F(n.v) specular(r) + (1 - F(n.v)) k_d irradiance(n), irradiance holding E/pi"
+                      : "L = F(n.v) specular(r) + k_d irradiance(n), irradiance holding E/pi"},
+      {"specular", output.filename().string()},
+      {"irradiance", irradiancePath.filename().string()},
+      {"table", tablePath.filename().string()},
+      {"table_size", size},
+      {"table_texels", "texel i holds F at cos theta = n.v = (i + 0.5) / " + std::to_string(size) +
+                           ": a linear lookup at s = n.v returns F"},
+      {"f0", {f0[0], f0[1], f0[2]}}};
 
   // The table first (cheapest to fail), then the two maps.
   Image image = fresnelTableImage(decomposition.table);

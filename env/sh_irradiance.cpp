@@ -4,7 +4,12 @@
 #include <brdfbake/core/json_reader.hpp>
 #include <brdfbake/env/sh_irradiance.hpp>
 
+#include <brdfbake/env/prefilter_lobe.hpp>
+
 #include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <cstdio>
 
 namespace brdfbake {
 namespace {
@@ -39,6 +44,30 @@ ShExpansion irradianceSh(const Environment& environment) {
   return sh;
 }
 
+std::vector<double> irradianceShBasisConstants() {
+  const double y0 = 0.5 * std::sqrt(1.0 / kPi), y1 = std::sqrt(3.0 / (4.0 * kPi)), y2 = 0.5 * std::sqrt(15.0 / kPi);
+  const double y20 = 0.25 * std::sqrt(5.0 / kPi), y22 = 0.25 * std::sqrt(15.0 / kPi);
+  return {y0, -y1, y1, -y1, y2, -y2, y20, -y2, y22};
+}
+
+std::string irradianceShCmgenText(const ShExpansion& sh) {
+  require(sh.order == kOrder && static_cast<int>(sh.coefficients.size()) == shCount(kOrder),
+          "cmgen's SH lines hold 3 bands (9 coefficients)");
+  const std::vector<double> k = irradianceShBasisConstants();
+  std::string text;
+  char line[160];
+  for (int l = 0; l <= kOrder; ++l) {
+    for (int m = -l; m <= l; ++m) {
+      const int i = l * (l + 1) + m;
+      const Rgb c = sh.coefficients[static_cast<std::size_t>(i)] * k[static_cast<std::size_t>(i)];
+      std::snprintf(line, sizeof line, "(%18.15f, %18.15f, %18.15f); // L%d%d, irradiance, pre-scaled base\n", c[0],
+                    c[1], c[2], l, m);
+      text += line;
+    }
+  }
+  return text;
+}
+
 bool isIrradianceShDocument(const nlohmann::json& document) {
   return document.is_object() && document.value("format", "") == kFormat;
 }
@@ -52,6 +81,7 @@ nlohmann::json irradianceShToJson(const ShExpansion& sh, const nlohmann::json& s
       {"format", kFormat},
       {"version", 1},
       {"bands", kOrder + 1},
+      {"quantity", kIrradianceQuantity},
       {"convention",
        "E(n)/pi = sum_i c_i Y_i(n), i = l(l+1)+m: radiance-equivalent irradiance (a constant environment of radiance L "
        "gives L; a Lambertian surface of albedo k_d reflects k_d times it). The coefficients include the cosine-lobe "
@@ -75,6 +105,11 @@ ShExpansion irradianceShFromJson(const nlohmann::json& document, const std::stri
   const auto version = document.find("version");
   if (version == document.end() || !version->is_number_integer() || version->get<int>() != 1) {
     throw Error(Error::Kind::InvalidInput, label + ": version: this brdfbake reads version 1");
+  }
+  if (const auto quantity = document.find("quantity");
+      quantity != document.end() && (!quantity->is_string() || quantity->get<std::string>() != kIrradianceQuantity)) {
+    throw Error(Error::Kind::InvalidInput,
+                label + ": quantity: this brdfbake reads SH irradiance holding \"" + kIrradianceQuantity + "\"");
   }
   const auto coefficients = document.find("coefficients");
   if (coefficients == document.end() || !coefficients->is_array() || coefficients->size() != 9) {

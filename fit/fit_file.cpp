@@ -239,7 +239,8 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
     FitFile file;
     const std::string format = root.string("format");
     if (format != kFitFileFormat) {
-      throw specError("format", "must be \"" + std::string(kFitFileFormat) + "\", got \"" + format + "\"");
+      throw specError("format",
+                      "must be \"" + std::string(kFitFileFormat) + "\", got \"" + printable(format, 60) + "\"");
     }
     const int version = root.integer("version", 1, 1 << 20);
     if (version != kFitFileVersion) {
@@ -314,7 +315,7 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
           if (used != lobes.size() || o.lobes < 1) throw std::invalid_argument(lobes);
         } catch (const std::exception&) {
           throw specError(fit.child("requested_lobes"),
-                          "must be \"auto\" or a positive whole number, got \"" + lobes + "\"");
+                          "must be \"auto\" or a positive whole number, got \"" + printable(lobes, 40) + "\"");
         }
       }
       o.elevation = fit.parsed("requested_elevation", parseElevationChoice);
@@ -332,8 +333,8 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
         } else {
           const std::string kind = c.string("kind");
           if (kind != "mirror" && kind != "lafortune" && kind != "half_vector") {
-            throw specError(c.child("kind"),
-                            "must be \"mirror\", \"lafortune\" or \"half_vector\", got \"" + kind + "\"");
+            throw specError(c.child("kind"), "must be \"mirror\", \"lafortune\" or \"half_vector\", got \"" +
+                                                 printable(kind, 40) + "\"");
           }
           candidate.kind = parseLobeKindChoice(kind);
           candidate.parameters = c.integer("parameters", 0, 1 << 30);
@@ -381,8 +382,8 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
         } else if (axis == "lafortune") {
           l.cxy = lobe.number("cxy", -1.0, -kMaxLobeCxy, kMaxLobeCxy, false);
         } else {
-          throw specError(lobe.child("axis"),
-                          "must be \"lafortune\" (the default) or \"half_vector\", got \"" + axis + "\"");
+          throw specError(lobe.child("axis"), "must be \"lafortune\" (the default) or \"half_vector\", got \"" +
+                                                  printable(axis, 40) + "\"");
         }
         lobe.finish();
         channel.lobes.push_back(std::move(l));
@@ -411,7 +412,7 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
     return file;
   } catch (const Error& e) {
     throw Error(e.kind() == Error::Kind::InvalidArgument ? Error::Kind::InvalidInput : e.kind(),
-                label + ": " + e.what());
+                printable(label) + ": " + e.what());
   }
 }
 

@@ -1,6 +1,6 @@
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/gnuplot.hpp>
 #include <brdfbake/fit/fit_report.hpp>
-#include <brdfbake/fit/gnuplot.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -100,7 +100,8 @@ std::string fitReportScript(const std::filesystem::path& png, const MeasuredTabl
 
 void writeFitReport(const std::filesystem::path& png, const MeasuredTable& table, const LobeModel& model,
                     const std::string& title) {
-  runGnuplot(fitReportScript(png, table, model, title));
+  renderGnuplotOutput(
+      png, [&](const std::filesystem::path& temporary) { return fitReportScript(temporary, table, model, title); });
 }
 
 }  // namespace brdfbake

@@ -1,4 +1,5 @@
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/run_options.hpp>
 #include <brdfbake/fit/held_out.hpp>
 
 #include <tbb/parallel_for.h>
@@ -20,7 +21,7 @@ void HeldOutOptions::validate() const {
   for (double e : elevationsDegrees) {
     require(std::isfinite(e) && e >= 0.0 && e <= 90.0, "held-out: elevations must be in [0, 90] degrees");
   }
-  require(threads >= 0, "held-out: threads must be >= 0");
+  requireThreadCount(threads, "held-out: threads");
 }
 
 HeldOutSplit HeldOutReport::pooledElevations() const {

@@ -1,6 +1,7 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/named_values.hpp>
 #include <brdfbake/core/progress.hpp>
+#include <brdfbake/core/run_options.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 
 #include "shared_lobe_fit.hpp"
@@ -69,7 +70,7 @@ void FitOptions::validate() const {
   require(maxIterations >= 1, "fit: maxIterations must be >= 1");
   require(std::isfinite(functionTolerance) && functionTolerance > 0.0 && functionTolerance < 1.0,
           "fit: functionTolerance must be in (0, 1)");
-  require(threads >= 0, "fit: threads must be >= 0");
+  requireThreadCount(threads, "fit: threads");
   require(std::isfinite(maxExponent) && maxExponent >= kMinLobeExponent && maxExponent <= kMaxLobeExponent,
           "fit: maxExponent must be in [1, 1e5]");
   heldOut.validate();

@@ -102,11 +102,14 @@ inline void readContainer(const std::filesystem::path& f) {
 }
 inline std::string imageName(const std::uint8_t* data, std::size_t size) {
   // Real files keep their own format (so seeds work as they are); anything else by the first
-  // byte's parity.
+  // byte, modulo 4. readImage itself goes by the bytes (image_header.cpp checks every header first).
   static const char kExrMagic[] = {'\x76', '\x2f', '\x31', '\x01'};
   if (size >= 2 && data[0] == '#' && data[1] == '?') return "input.hdr";
   if (size >= 4 && std::memcmp(data, kExrMagic, 4) == 0) return "input.exr";
-  return size > 0 && (data[0] & 1) ? "input.exr" : "input.hdr";
+  if (size >= 4 && std::memcmp(data, "\x89PNG", 4) == 0) return "input.png";
+  if (size >= 2 && (std::memcmp(data, "II", 2) == 0 || std::memcmp(data, "MM", 2) == 0)) return "input.tif";
+  static const char* const kNames[] = {"input.exr", "input.hdr", "input.png", "input.tif"};
+  return size > 0 ? kNames[data[0] % 4] : "input.exr";
 }
 }  // namespace detail
 

@@ -61,5 +61,31 @@ int main(int argc, char** argv) {
   put(mat, "dir_out", 3, 2, out2, 0);
   put(mat, "fr", 3, 3, fr3, 0);
   Mat_Close(mat);
+
+  /* Nested cells and a struct before the table, so the fuzzer starts from the structures the
+   * checks of measured/mat_structure.cpp walk. */
+  compression = MAT_COMPRESSION_NONE;
+  snprintf(path, sizeof path, "%s/cells_struct.mat", dir);
+  mat = Mat_CreateVer(path, NULL, MAT_FT_MAT5);
+  {
+    size_t one[2] = {1, 1}, two[2] = {2, 1};
+    double value = 1.5;
+    const char* fields[2] = {"a", "b"};
+    matvar_t* inner[2] = {Mat_VarCreate(NULL, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, one, &value, 0),
+                          Mat_VarCreate(NULL, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, one, &value, 0)};
+    matvar_t* nested[2] = {Mat_VarCreate(NULL, MAT_C_CELL, MAT_T_CELL, 2, two, inner, 0),
+                           Mat_VarCreate(NULL, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, one, &value, 0)};
+    matvar_t* cells = Mat_VarCreate("notes", MAT_C_CELL, MAT_T_CELL, 2, two, nested, 0);
+    matvar_t* info = Mat_VarCreateStruct("info", 2, one, fields, 2);
+    Mat_VarSetStructFieldByName(info, "a", 0, Mat_VarCreate(NULL, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, one, &value, 0));
+    Mat_VarWrite(mat, cells, MAT_COMPRESSION_NONE);
+    Mat_VarWrite(mat, info, MAT_COMPRESSION_ZLIB);
+    Mat_VarFree(cells);
+    Mat_VarFree(info);
+  }
+  put(mat, "dir_in", 3, 2, in2, 0);
+  put(mat, "dir_out", 3, 2, out2, 0);
+  put(mat, "fr", 3, 3, fr3, 0);
+  Mat_Close(mat);
   return 0;
 }

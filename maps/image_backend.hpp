@@ -19,7 +19,7 @@
 namespace brdfbake::image_backend {
 
 /// Raised whenever a struct or a function of the table changes.
-inline constexpr int kInterfaceVersion = 1;
+inline constexpr int kInterfaceVersion = 2;
 
 /// Float samples, row-major from the top row, channels interleaved.
 struct Pixels {
@@ -34,9 +34,19 @@ struct WriteSettings {
   std::string metadata;       ///< the "brdfbake:metadata" attribute; empty for none
 };
 
+/// What a write did: `ok`, else `error` (and `systemError`, the errno of a failed write, 0 for
+/// other failures). `bytes`: the file's length as written.
+struct WriteResult {
+  bool ok = false;
+  int systemError = 0;
+  std::string error;
+  unsigned long long bytes = 0;
+};
+
 /// What openImage found, for the requested MIP level of the first subimage.
 struct Header {
   int width = 0, height = 0, channels = 0;
+  int tileHeight = 0;      ///< rows per tile of a tiled file; 0 for scanlines
   int alphaChannel = -1;   ///< as the file says; -1 when it names none
   bool srgb = false;       ///< integer samples tagged sRGB
   std::string metadata;    ///< level 0's "brdfbake:metadata" attribute, empty if absent
@@ -49,19 +59,22 @@ struct Reader;  ///< an open image file
 struct Functions {
   int interfaceVersion;         ///< kInterfaceVersion of the module
   const char* brdfbakeVersion;  ///< the brdfbake version the module was built with
-  /// Writes one image; false and `error` on failure.
-  bool (*writeImage)(const char* path, const Pixels& pixels, const WriteSettings& settings, std::string& error);
-  /// Writes `count` RGBA levels as one tiled (64 x 64), MIP-mapped, zip-compressed OpenEXR.
-  bool (*writeTiledMipChain)(const char* path, const Pixels* levels, int count, const std::string& metadata,
-                             const std::string& wrapModes, std::string& error);
-  /// The file's "brdfbake:metadata" attribute; empty if absent or unreadable.
-  std::string (*readMetadata)(const char* path);
-  /// The number of MIP levels of the first subimage (up to 64); -1 and `error` on failure.
-  int (*mipLevelCount)(const char* path, std::string& error);
-  /// Opens the file at `mipLevel` and fills `header`; nullptr and `error` on failure.
-  Reader* (*openImage)(const char* path, int mipLevel, Header& header, std::string& error);
-  /// Reads the open level's width x height x channels samples as float into `data`.
-  bool (*readPixels)(Reader* reader, float* data, std::string& error);
+  /// Writes one image in the format of `path`'s extension into the open, empty file `fd` (which the
+  /// caller closes), every write checked (an OpenImageIO writer that ignores a failed write still
+  /// fails here).
+  WriteResult (*writeImage)(int fd, const char* path, const Pixels& pixels, const WriteSettings& settings);
+  /// Writes `count` RGBA levels as one tiled (64 x 64), MIP-mapped, zip-compressed OpenEXR into `fd`.
+  WriteResult (*writeTiledMipChain)(int fd, const char* path, const Pixels* levels, int count,
+                                    const std::string& metadata, const std::string& wrapModes);
+  /// The number of MIP levels of the first subimage (up to 64), read with the reader `format`;
+  /// -1 and `error` on failure.
+  int (*mipLevelCount)(const char* path, const char* format, std::string& error);
+  /// Opens the file with OpenImageIO's reader `format` only ("openexr", "hdr", "png", "tiff") at
+  /// `mipLevel` and fills `header`; nullptr and `error` on failure.
+  Reader* (*openImage)(const char* path, const char* format, int mipLevel, Header& header, std::string& error);
+  /// Reads rows [yBegin, yEnd) of the open level (for a tiled file yBegin a multiple of the tile
+  /// height, yEnd too or the height) as float, width x rows x channels, into `data`.
+  bool (*readRows)(Reader* reader, int yBegin, int yEnd, float* data, std::string& error);
   void (*closeImage)(Reader* reader);
 };
 

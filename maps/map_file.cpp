@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 namespace {
 void checkSize(const Image& image, const Parameterization& map, const std::string& label) {
   if (image.width() != map.width() || image.height() != map.height()) {
-    throw Error(Error::Kind::InvalidInput, label + ": image is " + std::to_string(image.width()) + " x " +
+    throw Error(Error::Kind::InvalidInput, printable(label) + ": image is " + std::to_string(image.width()) + " x " +
                                                std::to_string(image.height()) + " but a " +
                                                std::string(toString(map.kind())) + " map of resolution " +
                                                std::to_string(map.resolution()) + " is " + std::to_string(map.width()) +
@@ -31,7 +31,7 @@ bool hasMapMetadata(const Image& image) {
 MapFile mapFromImage(Image image, const std::string& label) {
   if (!hasMapMetadata(image)) {
     throw Error(Error::Kind::InvalidInput,
-                label +
+                printable(label) +
                     ": not a brdfbake map (no brdfbake metadata); for a plain environment image, say "
                     "which parameterization it uses");
   }
@@ -40,7 +40,7 @@ MapFile mapFromImage(Image image, const std::string& label) {
   try {
     file.info = MapInfo::fromJson(file.image.metadata);
   } catch (const Error& e) {
-    throw Error(e.kind(), label + ": " + e.what());
+    throw Error(e.kind(), printable(label) + ": " + e.what());
   }
   file.parameterization = makeParameterization(file.info.parameterization, file.info.resolution);
   checkSize(file.image, *file.parameterization, label);
@@ -318,7 +318,8 @@ MapFile adoptImage(Image image, ParameterizationKind kind, const std::string& la
       break;
   }
   if (resolution < 1)
-    throw Error(Error::Kind::InvalidInput, label + ": image too small for a " + std::string(toString(kind)) + " map");
+    throw Error(Error::Kind::InvalidInput,
+                printable(label) + ": image too small for a " + std::string(toString(kind)) + " map");
   MapFile file;
   file.parameterization = makeParameterization(kind, resolution);
   checkSize(image, *file.parameterization, label);

@@ -3,7 +3,9 @@
 
 #include <brdfbake/core/files.hpp>
 #include <brdfbake/core/memory_budget.hpp>
+#include <brdfbake/core/printable.hpp>
 
+#include "mat_structure.hpp"
 #include "measured_common.hpp"
 
 #include <matio.h>
@@ -113,42 +115,17 @@ std::pair<double, double> directionAngles(const Eigen::MatrixXd& m, Eigen::Index
 // - without a v5/v7.3 header libmatio falls back to MATLAB v4 and allocates whatever the first
 //   bytes claim (a 21-byte file asked for 1.1 GB), so the 128-byte header (text from "MATLAB ",
 //   endian indicator "IM" or "MI" in bytes 126-127) is required;
-// - libmatio reads a cut-off variable as if the missing bytes were zeros, so a level-5 file's
-//   top-level data elements (each an 8-byte tag, type and byte count, then its bytes) are walked
-//   and a file that ends inside one is refused (v7.3 files are HDF5, which checks itself).
+// - libmatio reads a cut-off variable as if the missing bytes were zeros, and allocates what nested
+//   tags and dimensions claim before it notices the file cannot hold them, so a level-5 file's
+//   data elements are all walked and checked (requireSaneMatStructure); v7.3 files are HDF5, which
+//   checks itself.
 std::uintmax_t requireCompleteMatFile(const std::filesystem::path& path) {
   const std::string bytes = readTextFile(path, "MATLAB table");
   if (bytes.size() < 128 || bytes.compare(0, 7, "MATLAB ") != 0 ||
       (bytes.compare(126, 2, "IM") != 0 && bytes.compare(126, 2, "MI") != 0))
     throw malformed(path.string(), 0,
                     "not a MATLAB .mat file (v5 or v7.3 need a 128-byte header starting with \"MATLAB \")");
-  if (bytes.compare(0, 10, "MATLAB 5.0") != 0) return bytes.size();
-  const bool swapped = bytes[126] == 'M' && bytes[127] == 'I';  // the file's byte order differs from ours
-  auto word = [&](std::size_t at) {
-    std::uint32_t v = 0;
-    std::memcpy(&v, bytes.data() + at, 4);
-    return swapped ? __builtin_bswap32(v) : v;
-  };
-  std::size_t at = 128;
-  int element = 0;
-  while (at < bytes.size()) {
-    if (bytes.size() - at < 8) {
-      throw malformed(path.string(), 0,
-                      "truncated: the file ends inside the tag of data element " + std::to_string(element) + " (byte " +
-                          std::to_string(at) + " of " + std::to_string(bytes.size()) + ")");
-    }
-    const std::uint32_t type = word(at), count = word(at + 4);
-    std::uint64_t end = at + 8 + std::uint64_t{count};
-    if (type == 14 /* miMATRIX */) end = (end + 7) / 8 * 8;  // padded to 8 bytes; miCOMPRESSED is not
-    if (end > bytes.size() && !(type == 14 && at + 8 + std::uint64_t{count} <= bytes.size())) {
-      throw malformed(path.string(), 0,
-                      "truncated: data element " + std::to_string(element) + " at byte " + std::to_string(at) +
-                          " needs " + std::to_string(count) + " bytes, but the file ends after " +
-                          std::to_string(bytes.size() - at - 8));
-    }
-    at = static_cast<std::size_t>(std::min<std::uint64_t>(end, bytes.size()));
-    ++element;
-  }
+  if (bytes.compare(0, 10, "MATLAB 5.0") == 0) measured::requireSaneMatStructure(bytes, path.string());
   return bytes.size();
 }
 

@@ -1,8 +1,10 @@
 #include "measured_common.hpp"
 #include <brdfbake/core/files.hpp>
+#include <brdfbake/core/memory_budget.hpp>
 
 #include <brdfbake/core/math.hpp>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -12,7 +14,9 @@
 namespace brdfbake::measured {
 
 Error malformed(const std::string& file, int line, const std::string& message) {
-  return Error::atFile(Error::Kind::InvalidInput, file, line, message);
+  // Messages quote fields of the file: made printable whole, as a last guard (each quoted field is
+  // shortened where it is quoted).
+  return Error::atFile(Error::Kind::InvalidInput, file, line, printableMessage(message, 2000));
 }
 
 namespace {
@@ -25,11 +29,12 @@ std::ifstream openForReading(const std::filesystem::path& path) {
 }  // namespace
 
 std::string readFileBytes(const std::filesystem::path& path) {
-  std::ifstream in = openForReading(path);
-  std::ostringstream content;
-  content << in.rdbuf();
-  if (in.bad()) throw Error::atFile(Error::Kind::Io, path.string(), 0, "read error");
-  return std::move(content).str();
+  std::string content = readTextFile(path, "measured table", kMaxTableBytes);
+  // Each line becomes a TextLine and, for data rows, a row of values: budget them before splitting.
+  const auto lines = static_cast<double>(std::count(content.begin(), content.end(), '\n'));
+  requireWithinMemoryBudget(64.0 * lines,
+                            printable(path.string()) + ": " + std::to_string(static_cast<long long>(lines)) + " lines");
+  return content;
 }
 
 std::string readFilePrefix(const std::filesystem::path& path, std::size_t maxBytes) {
@@ -107,8 +112,8 @@ std::optional<long long> parseCount(std::string_view field) {
 
 double finiteField(std::string_view field, const std::string& file, int line, const std::string& what) {
   const std::optional<double> value = parseNumber(field);
-  if (!value) throw malformed(file, line, what + " '" + std::string(field) + "' is not a number");
-  if (!std::isfinite(*value)) throw malformed(file, line, what + " '" + std::string(field) + "' is not finite");
+  if (!value) throw malformed(file, line, what + " '" + printable(field, 60) + "' is not a number");
+  if (!std::isfinite(*value)) throw malformed(file, line, what + " '" + printable(field, 60) + "' is not finite");
   return *value;
 }
 

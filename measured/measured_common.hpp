@@ -3,6 +3,7 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/measured/measured_table.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -14,7 +15,11 @@ namespace brdfbake::measured {
 /// Error(InvalidInput) "<file>:<line>: <message>" (line 0: no line).
 Error malformed(const std::string& file, int line, const std::string& message);
 
-/// The whole file; Error(Io) if it cannot be read.
+/// Largest text table read (ASTM, pbrt-v2): 256 MiB, far above the Cornell tables' 0.5 MB.
+inline constexpr std::uintmax_t kMaxTableBytes = std::uintmax_t{256} << 20;
+
+/// The whole file; Error(Io) if it cannot be read, Error(Resource) beyond kMaxTableBytes or when
+/// its lines would not fit the memory budget.
 std::string readFileBytes(const std::filesystem::path& path);
 /// Up to `maxBytes` from the start of the file; Error(Io) if it cannot be read.
 std::string readFilePrefix(const std::filesystem::path& path, std::size_t maxBytes);

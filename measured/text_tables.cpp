@@ -69,7 +69,9 @@ void classifyChannels(MeasuredTable& table, const std::string& file, int line) {
   if (wavelengths.size() == names.size()) {
     for (std::size_t c = 1; c < wavelengths.size(); ++c)
       if (!(wavelengths[c] > wavelengths[c - 1]))
-        throw malformed(file, line, "wavelengths must increase: '" + names[c - 1] + "' then '" + names[c] + "'");
+        throw malformed(
+            file, line,
+            "wavelengths must increase: '" + printable(names[c - 1], 60) + "' then '" + printable(names[c], 60) + "'");
     table.kind = ChannelKind::Spectral;
     table.wavelengthsNm = std::move(wavelengths);
     return;
@@ -90,7 +92,7 @@ void classifyChannels(MeasuredTable& table, const std::string& file, int line) {
   for (const std::string& name : names) list += (list.empty() ? "" : ",") + name;
   throw malformed(
       file, line,
-      "channels must be wavelengths ('400nm,410nm,...'), 'R,G,B' or one single channel; got '" + list + "'");
+      "channels must be wavelengths ('400nm,410nm,...'), 'R,G,B' or one single channel; got '" + printable(list) + "'");
 }
 
 }  // namespace
@@ -122,12 +124,12 @@ MeasuredTable readAstm(const std::filesystem::path& path) {
       const std::string_view value =
           space == std::string_view::npos ? std::string_view() : measured::trim(text.substr(space));
       if (!isHeaderKey(key))
-        throw malformed(file, line.number, "expected a header line 'KEY value', got '" + std::string(text) + "'");
+        throw malformed(file, line.number, "expected a header line 'KEY value', got '" + printable(text, 80) + "'");
       table.header.emplace_back(std::string(key), std::string(value));
       if (key == "NUM_POINTS") {
         numPoints = measured::parseCount(value);
         if (!numPoints)
-          throw malformed(file, line.number, "NUM_POINTS '" + std::string(value) + "' is not a whole number");
+          throw malformed(file, line.number, "NUM_POINTS '" + printable(value, 40) + "' is not a whole number");
         numPointsLine = line.number;
       } else if (key == "VARS") {
         const std::vector<std::string_view> names = measured::splitOn(value, ',');
@@ -135,7 +137,7 @@ MeasuredTable readAstm(const std::filesystem::path& path) {
         for (std::size_t k = 0; k < 4; ++k)
           if (names.size() <= k || names[k] != kAngles[k])
             throw malformed(file, line.number,
-                            "VARS must start with theta_i,phi_i,theta_s,phi_s; got '" + std::string(value) + "'");
+                            "VARS must start with theta_i,phi_i,theta_s,phi_s; got '" + printable(value, 80) + "'");
         if (names.size() < 5) throw malformed(file, line.number, "VARS names no channel after the four angles");
         for (std::size_t c = 4; c < names.size(); ++c) {
           if (names[c].empty())
@@ -205,7 +207,7 @@ MeasuredTable readPbrt(const std::filesystem::path& path) {
       if (!count || *count < 1 || *count > 100000)
         throw malformed(
             file, line.number,
-            "expected the number of wavelengths (a positive whole number), got '" + std::string(tokens[0]) + "'");
+            "expected the number of wavelengths (a positive whole number), got '" + printable(tokens[0], 40) + "'");
       wavelengthCount = static_cast<std::size_t>(*count);
       next = 1;
     }

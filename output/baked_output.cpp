@@ -46,6 +46,23 @@ bool irradianceByNormal(const MapFile& map) {
          spec["prefilter"].value("lobe", "") == "irradiance";
 }
 
+// A prefiltered irradiance map (alone, or a Fresnel decomposition's): its "prefilter" object, else null.
+const nlohmann::json* irradiancePrefilter(const MapFile& map) {
+  const auto& spec = map.info.spec;
+  if (!spec.is_object() || !spec.contains("prefilter") || !spec["prefilter"].is_object()) return nullptr;
+  const nlohmann::json& p = spec["prefilter"];
+  const bool fresnelIrradiance =
+      p.contains("fresnel") && p["fresnel"].is_object() && p["fresnel"].value("role", "") == "irradiance";
+  return p.value("lobe", "") == "irradiance" || fresnelIrradiance ? &p : nullptr;
+}
+
+// What lookups multiply a map's texels by so that irradiance comes out as E/pi: maps written before
+// brdfbake stated the quantity ("irradiance_quantity" absent) hold E.
+double irradianceScale(const MapFile& map) {
+  const nlohmann::json* p = irradiancePrefilter(map);
+  return p && !p->contains("irradiance_quantity") ? 1.0 / kPi : 1.0;
+}
+
 std::vector<Rgb> rowTexels(const Image& image) {
   std::vector<Rgb> texels;
   for (int x = 0; x < image.width(); ++x) texels.push_back(image.at(x, 0).head<3>());
@@ -171,6 +188,7 @@ BakedOutput BakedOutput::open(const fs::path& path, const OpenOutputOptions& opt
     for (int j = 0; j < count; ++j) out.files_.push_back(elevationSlicePath(path, j));
     out.metadata_ = out.maps_[0].image.metadata;
     out.indexedByNormal_ = irradianceByNormal(out.maps_[0]);
+    out.valueScale_ = irradianceScale(out.maps_[0]);
     out.eyeSpace_ = out.maps_[0].info.parameterization == ParameterizationKind::Sphere;
     return out;
   }
@@ -218,6 +236,7 @@ BakedOutput BakedOutput::open(const fs::path& path, const OpenOutputOptions& opt
   out.maps_.push_back(readMap(path, options.mipLevel));
   out.metadata_ = out.maps_[0].image.metadata;
   out.indexedByNormal_ = irradianceByNormal(out.maps_[0]);
+  out.valueScale_ = irradianceScale(out.maps_[0]);
   out.eyeSpace_ = out.maps_[0].info.parameterization == ParameterizationKind::Sphere;
   return out;
 }
@@ -227,8 +246,11 @@ Rgba BakedOutput::lookup(const Vec3& direction, std::optional<double> cosView) c
     throw Error(Error::Kind::InvalidArgument, "the lookup direction must be finite and non-zero");
   }
   switch (kind_) {
-    case OutputKind::Map:
-      return sampleBilinear(maps_[0].image, *maps_[0].parameterization, direction);
+    case OutputKind::Map: {
+      Rgba v = sampleBilinear(maps_[0].image, *maps_[0].parameterization, direction);
+      v.head<3>() *= valueScale_;
+      return v;
+    }
     case OutputKind::RadialProfile: {
       const Rgb v = radial_->lookup(direction);
       return {v[0], v[1], v[2], 1.0};
@@ -243,8 +265,10 @@ Rgba BakedOutput::lookup(const Vec3& direction, std::optional<double> cosView) c
       const int j = std::min(static_cast<int>(x), count - 2);
       const double f = x - j;
       const MapFile &a = maps_[static_cast<std::size_t>(j)], &b = maps_[static_cast<std::size_t>(j + 1)];
-      return (1.0 - f) * sampleBilinear(a.image, *a.parameterization, direction) +
-             f * sampleBilinear(b.image, *b.parameterization, direction);
+      Rgba v = (1.0 - f) * sampleBilinear(a.image, *a.parameterization, direction) +
+               f * sampleBilinear(b.image, *b.parameterization, direction);
+      v.head<3>() *= valueScale_;
+      return v;
     }
     case OutputKind::FresnelTable: {
       const Rgb v = sampleLinear1d(fresnel_, checkedCosView(cosView, kind_));
@@ -279,6 +303,12 @@ nlohmann::json BakedOutput::describe() const {
       d["width"] = m.image.width();
       d["height"] = m.image.height();
       d["indexed_by"] = indexedByNormal_ ? "normal" : "reflected direction";
+      if (irradiancePrefilter(m)) {
+        d["quantity"] = kIrradianceQuantity;
+        if (valueScale_ != 1.0) {
+          d["quantity_note"] = "written before brdfbake stated the quantity: the file holds E; lookups divide by pi";
+        }
+      }
       if (kind_ == OutputKind::Map) {
         d["lookup"] = std::string("bilinear at the ") + (indexedByNormal_ ? "normal n" : "reflected direction r") +
                       " in the map's frame" + (eyeSpace_ ? " (eye space: the view is +z)" : "");
@@ -307,6 +337,7 @@ nlohmann::json BakedOutput::describe() const {
       break;
     case OutputKind::ShIrradiance:
       d["bands"] = sh_->order + 1;
+      d["quantity"] = kIrradianceQuantity;
       d["indexed_by"] = "normal";
       d["lookup"] =
           "E(n)/pi = sum_i c_i Y_i(n) at the normal n (radiance-equivalent irradiance; see the file's convention)";

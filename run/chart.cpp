@@ -1,6 +1,6 @@
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/core/files.hpp>
-#include <brdfbake/fit/gnuplot.hpp>
+#include <brdfbake/core/gnuplot.hpp>
 
 #include "chart_internal.hpp"
 

@@ -1,5 +1,6 @@
 // A map prefiltered from an environment (docs/prefilter.md): one map, a stack over view elevation
 // (varying lobe models), a Fresnel decomposition (three files) or a gloss chain; SH irradiance beside.
+#include <brdfbake/core/files.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/env/prefilter_stack.hpp>
 #include <brdfbake/env/sh_irradiance.hpp>
@@ -60,11 +61,23 @@ MapWriteReport writePrefiltered(const MapSpec& map, const EnvironmentMapSpec& e,
                                       e.mipLayout)
           : writePrefilteredMap(made.map, map.output, map.raw, map.cubeLayout, context.write, e.mipLayout);
   if (const auto& sh = e.shOutput) {
-    writeIrradianceSh(irradianceSh(environment), environmentSource(e, environment), *sh, context.write.inputs);
+    const ShExpansion coefficients = irradianceSh(environment);
+    if (e.shCmgen) {
+      for (const auto& input : context.write.inputs)
+        if (sameFile(input, *sh))
+          throw Error(Error::Kind::InvalidArgument, sh->string() + ": would overwrite an input");
+      writeFileAtomically(*sh, irradianceShCmgenText(coefficients));
+    } else {
+      writeIrradianceSh(coefficients, environmentSource(e, environment), *sh, context.write.inputs);
+    }
     written.files.push_back(*sh);
     written.notes.push_back(sh->string() +
-                            ": irradiance as 9 SH coefficients per channel (3 bands), E(n)/pi = sum c_i Y_i(n): "
-                            "cosine convolution and 1/pi included, orthonormal basis (the file states it)");
+                            (e.shCmgen ? ": irradiance as cmgen prints it (--sh-shader): 9 RGB coefficients, E(n)/pi "
+                                         "= sh[0] + sh[1] y + sh[2] z + sh[3] x + sh[4] yx + sh[5] yz + sh[6] (3z^2 "
+                                         "- 1) + sh[7] zx + sh[8] (x^2 - y^2)"
+                                       : ": irradiance as 9 SH coefficients per channel (3 bands), E(n)/pi = sum c_i "
+                                         "Y_i(n): cosine convolution and 1/pi included, orthonormal basis (the file "
+                                         "states it)"));
   }
   return written;
 }
@@ -87,11 +100,23 @@ void addKindEntries(const MapSpec& map, const EnvironmentMapSpec& e, const Prefi
   if (e.glossChain) {
     nlohmann::json levels = nlohmann::json::array();
     for (std::size_t k = 0; k < e.chainLobes.size(); ++k) {
-      levels.push_back({{"level", k},
-                        {"lobe", e.chainLobes[k].name()},
-                        {"resolution", std::max(1, map.resolution >> static_cast<int>(k))}});
+      nlohmann::json level = k < made.map.levelValues.size() ? made.map.levelValues[k] : nlohmann::json::object();
+      level["level"] = k;
+      level["resolution"] = std::max(1, map.resolution >> static_cast<int>(k));
+      levels.push_back(level);
     }
-    entry["gloss_chain"] = {{"scale", e.glossChain->scale}, {"bias", e.glossChain->bias}, {"levels", levels}};
+    if (e.glossChain->ggx) {
+      entry["gloss_chain"] = {{"kind", "ggx"},
+                              {"roughness_mapping",
+                               "level k of L holds perceptual roughness R = k / (L - 1) "
+                               "(alpha = R^2); a renderer reads R at lod = R (L - 1)"},
+                              {"levels", levels}};
+    } else {
+      entry["gloss_chain"] = {{"kind", e.lobeName.substr(0, 5) == "blinn" ? "blinn" : "phong"},
+                              {"scale", e.glossChain->scale},
+                              {"bias", e.glossChain->bias},
+                              {"levels", levels}};
+    }
   }
   if (const auto& sh = e.shOutput) entry["sh"] = sh->string();
 }

@@ -1,7 +1,7 @@
 #include <brdfbake/core/files.hpp>
+#include <brdfbake/core/gnuplot.hpp>
 #include <brdfbake/fit/cornell_grid.hpp>
 #include <brdfbake/fit/fit_report.hpp>
-#include <brdfbake/fit/gnuplot.hpp>
 #include <brdfbake/run/fit_table.hpp>
 
 #include <cmath>

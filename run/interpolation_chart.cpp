@@ -1,5 +1,5 @@
 #include <brdfbake/core/files.hpp>
-#include <brdfbake/fit/gnuplot.hpp>
+#include <brdfbake/core/gnuplot.hpp>
 #include <brdfbake/run/interpolation_chart.hpp>
 
 #include <sstream>

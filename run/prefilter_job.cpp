@@ -15,8 +15,18 @@ nlohmann::json glossChainJson(const PrefilterRequest& request) {
   return chain;
 }
 
+std::string lobeOf(const PrefilterRequest& request) {
+  if (!request.chain) return request.lobe;
+  if (!request.lobe.empty() && request.lobe != *request.chain) {
+    throw Error(Error::Kind::InvalidArgument, "prefilter: maps[0].environment.lobe: a " + *request.chain +
+                                                  " chain sets every level's lobe; leave the lobe out, got \"" +
+                                                  request.lobe + "\"");
+  }
+  return *request.chain;
+}
+
 nlohmann::json environmentJson(const PrefilterRequest& request) {
-  nlohmann::json e = {{"file", request.environment.string()}, {"lobe", request.lobe}};
+  nlohmann::json e = {{"file", request.environment.string()}, {"lobe", lobeOf(request)}};
   if (request.method != "auto") e["method"] = request.method;
   if (request.maxError != 0.01) e["max_error"] = request.maxError;
   if (request.from) e["from"] = *request.from;
@@ -27,8 +37,9 @@ nlohmann::json environmentJson(const PrefilterRequest& request) {
   if (request.elevations) e["elevations"] = *request.elevations;
   if (request.fresnelIor) e["fresnel"] = {{"ior", *request.fresnelIor}};
   if (request.combine) e["combine"] = *request.combine;
-  if (const nlohmann::json chain = glossChainJson(request); !chain.empty()) e["gloss_chain"] = chain;
+  if (const nlohmann::json chain = glossChainJson(request); !chain.empty() || request.chain) e["gloss_chain"] = chain;
   if (request.shOutput) e["sh_output"] = request.shOutput->string();
+  if (request.shFormat) e["sh_format"] = *request.shFormat;
   return e;
 }
 

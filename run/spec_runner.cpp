@@ -44,20 +44,27 @@ void checkMapSizes(const BakeSpec& spec, const JobOptions& options, const std::s
 }
 
 // The environments of prefiltered maps and of materials lit by one, read and checked before any work
-// (null for other material maps).
-std::vector<std::optional<Environment>> loadEnvironments(const BakeSpec& spec) {
-  std::vector<std::optional<Environment>> environments(spec.maps.size());
+// (null for other material maps); maps reading one file the same way share one copy.
+std::vector<std::shared_ptr<const Environment>> loadEnvironments(const BakeSpec& spec) {
+  std::vector<std::shared_ptr<const Environment>> environments(spec.maps.size());
   for (std::size_t i = 0; i < spec.maps.size(); ++i) {
-    if (const EnvironmentMapSpec* e = spec.maps[i].environmentMap()) {
-      environments[i] = loadEnvironment(e->file, EnvironmentLoadOptions{e->from});
-    } else if (spec.maps[i].environmentLighting()) {
-      environments[i] = loadMapEnvironment(spec.maps[i]);  // errors name maps[i].environment.file
+    if (spec.maps[i].environmentLighting()) {
+      environments[i] = std::make_shared<const Environment>(loadMapEnvironment(spec.maps[i]));  // names the key
+      continue;
     }
+    const EnvironmentMapSpec* e = spec.maps[i].environmentMap();
+    if (!e) continue;
+    for (std::size_t j = 0; j < i && !environments[i]; ++j) {
+      const EnvironmentMapSpec* other = spec.maps[j].environmentMap();
+      if (other && sameFile(other->file, e->file) && other->from == e->from) environments[i] = environments[j];
+    }
+    if (!environments[i])
+      environments[i] = std::make_shared<const Environment>(loadEnvironment(e->file, EnvironmentLoadOptions{e->from}));
   }
   return environments;
 }
 
-MapResult runOneMap(const MapSpec& map, const std::optional<Environment>& environment, const SpecPlan& plan,
+MapResult runOneMap(const MapSpec& map, const std::shared_ptr<const Environment>& environment, const SpecPlan& plan,
                     const JobOptions& options) {
   MapRunContext context{options, {}};
   if (!plan.specFile.empty()) context.write.inputs.push_back(plan.specFile);
@@ -143,7 +150,7 @@ SpecPlan planSpec(const SpecRunOptions& options) {
 
 SpecRunResult runSpec(const SpecRunOptions& options) {
   const SpecPlan plan = planSpec(options);
-  const std::vector<std::optional<Environment>> environments = loadEnvironments(plan.spec);
+  const std::vector<std::shared_ptr<const Environment>> environments = loadEnvironments(plan.spec);
   SpecRunResult result;
   result.spec = plan.specFile.empty() ? fs::path(options.label) : plan.specFile;
   for (std::size_t i = 0; i < plan.spec.maps.size(); ++i) {

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # brdfbake quick start on Debian 12: installs what is missing, builds, then
-#   demo  bakes the sample maps of data_samples/specs/phong_eye.json into out/
+#   demo  bakes the sample maps of data_samples/specs/phong_eye.json into out/, then does it again from
+#         Python (the brdfbake module, docs/python.md)
 #   test  checks the sources' formatting (scripts/check_format.sh), installs the test-only npm packages
 #         of tests/js when npm is there, then runs the whole test suite
 #         twice (what CI runs): a Release build, then a build with
@@ -13,7 +14,8 @@ case "$mode" in demo|test) ;; *) echo "usage: $0 demo|test" >&2; exit 2 ;; esac
 cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake libeigen3-dev libceres-dev libopenimageio-dev nlohmann-json3-dev
-          libgtest-dev libtbb-dev libcli11-dev libbenchmark-dev librapidcheck-dev libmatio-dev gnuplot-nox)
+          libgtest-dev libtbb-dev libcli11-dev libbenchmark-dev librapidcheck-dev libmatio-dev zlib1g-dev gnuplot-nox
+          python3-dev pybind11-dev python3-numpy python3-pytest)  # the last four: the Python module and its tests
 # The test run also checks the formatting of the sources.
 [ "$mode" = test ] && packages+=(clang-format git)
 missing=()
@@ -35,6 +37,15 @@ if [ "$mode" = demo ]; then
   build/cli/brdfbake bake data_samples/specs/phong_eye.json --out-dir out
   build/cli/brdfbake info out/phong_eye.exr
   echo "Baked maps are in out/ (OpenEXR, float RGBA). Try: build/cli/brdfbake sample out/phong_eye.exr --dir 0,0.3,1"
+  # The Python module, built for the interpreter CMake chose (one that imports numpy: Debian's /usr/bin/python3
+  # when the python3 first on PATH has no numpy).
+  python="$(sed -n 's/^Python3_EXECUTABLE:FILEPATH=//p' build/CMakeCache.txt)"
+  if [ -d build/python/brdfbake ] && [ -n "$python" ]; then
+    PYTHONPATH=build/python "$python" -c 'import brdfbake; m = brdfbake.bake("data_samples/specs/phong_eye.json", out_dir="out").maps[0]; print("from Python:", m.output, brdfbake.read_map(m.output).sample([0, 0.3, 1]))'
+    echo "Python: PYTHONPATH=$PWD/build/python $python (docs/python.md)"
+  else
+    echo "The Python module was not built (see the configure output above)"
+  fi
 else
   scripts/check_format.sh
   # Test-only readers for the texture containers (tests/js: ktx-parse, parse-dds). The tests that use

@@ -1,10 +1,13 @@
 #include <brdfbake/bake/baked_mips.hpp>
 #include <brdfbake/core/files.hpp>
+#include <brdfbake/core/printable.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/maps/map_mips.hpp>
 #include <brdfbake/spec/material_spec.hpp>
 #include <brdfbake/spec/spec.hpp>
+
+#include <sys/stat.h>
 
 #include <fstream>
 #include <sstream>
@@ -16,6 +19,9 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr std::size_t kMaxPathLength = 4096;  // PATH_MAX on Linux
+constexpr std::size_t kMaxNameLength = 255;   // NAME_MAX of Linux file systems
+constexpr std::size_t kMaxLights = 256;       // per map (docs/limits.md)
+constexpr std::size_t kMaxMaps = 1024;        // per spec
 
 DirectionalLight parseLight(const nlohmann::json& value, const std::string& path, const Vec3& view, bool& atEye) {
   JsonObjectReader light(value, path);
@@ -52,19 +58,32 @@ void parseEnvironmentLobe(JsonObjectReader& env, EnvironmentMapSpec& e, MapSpec&
   }
 }
 
-// "gloss_chain" with "lobe": "phong" | "blinn": each level's lobe from cmft's gloss mapping.
+// "gloss_chain" with "lobe": "phong" | "blinn" (each level's lobe from cmft's gloss mapping) or
+// "ggx" (level k of L: perceptual roughness k / (L - 1), cmgen's mapping).
 void parseGlossChain(JsonObjectReader& env, EnvironmentMapSpec& e, const MapSpec& spec) {
   e.lobeName = env.string("lobe");
-  if (e.lobeName != "phong" && e.lobeName != "blinn") {
+  if (e.lobeName != "phong" && e.lobeName != "blinn" && e.lobeName != "ggx") {
     throw specError(env.child("lobe"),
-                    "a gloss chain is made of Phong or Blinn-Phong levels: \"phong\" or \"blinn\" (no exponent; each "
-                    "level gets its own), got \"" +
+                    "a gloss chain is made of Phong, Blinn-Phong or GGX levels: \"phong\", \"blinn\" or \"ggx\" (no "
+                    "exponent or roughness; each level gets its own), got \"" +
                         shortenForMessage(e.lobeName, 40) + "\"");
   }
   JsonObjectReader chain = env.object("gloss_chain");
   EnvironmentMapSpec::GlossChain g;
-  g.scale = chain.number("scale");
-  g.bias = chain.number("bias", 1.0, -HUGE_VAL, HUGE_VAL, false);
+  g.ggx = e.lobeName == "ggx";
+  if (g.ggx) {
+    for (const char* key : {"scale", "bias"}) {
+      if (chain.has(key)) {
+        throw specError(
+            chain.child(key),
+            "a GGX chain's level k of L holds perceptual roughness k / (L - 1) (cmgen's mapping); scale and "
+            "bias set Phong exponents");
+      }
+    }
+  } else {
+    g.scale = chain.number("scale");
+    g.bias = chain.number("bias", 1.0, -HUGE_VAL, HUGE_VAL, false);
+  }
   const int available = std::min(16, mipLevelCount(spec.resolution));
   g.levels = chain.integer("levels", available, 1, available);
   if (const auto* fixup = chain.find("edge_fixup")) {
@@ -73,8 +92,12 @@ void parseGlossChain(JsonObjectReader& env, EnvironmentMapSpec& e, const MapSpec
   }
   chain.finish();
   try {
-    for (double exponent : glossLevelExponents(g.levels, g.scale, g.bias)) {
-      e.chainLobes.push_back(e.lobeName == "phong" ? PrefilterLobe::phong(exponent) : PrefilterLobe::blinn(exponent));
+    if (g.ggx) {
+      e.chainLobes = ggxChainLobes(g.levels);
+    } else {
+      for (double exponent : glossLevelExponents(g.levels, g.scale, g.bias)) {
+        e.chainLobes.push_back(e.lobeName == "phong" ? PrefilterLobe::phong(exponent) : PrefilterLobe::blinn(exponent));
+      }
     }
   } catch (const Error& error) {
     throw specError(chain.path(), error.what());
@@ -97,7 +120,15 @@ void parseEnvironmentOutputs(JsonObjectReader& env, EnvironmentMapSpec& e, const
                              const fs::path& baseDirectory) {
   const bool normalLobe = e.analyticLobe() && e.analyticLobe()->indexedByNormal();  // irradiance
   e.mips = parseFlag(env, "mips", false);
-  e.mipLayout = materials::parseMipLayout(env, e.mips, spec.output, spec.resolution);
+  // A gloss chain is its own mip chain: "mip_layout": "tiled" puts every level in one file.
+  e.mipLayout = materials::parseMipLayout(env, e.mips || e.glossChain.has_value(), spec.output, spec.resolution);
+  if (e.glossChain && e.mipLayout == MipLayout::Tiled &&
+      static_cast<int>(e.chainLobes.size()) != mipLevelCount(spec.resolution)) {
+    throw specError(env.child("mip_layout"),
+                    "a chain in one file holds every level down to 1 texel: give \"levels\": " +
+                        std::to_string(mipLevelCount(spec.resolution)) + " (or leave it out) for resolution " +
+                        std::to_string(spec.resolution) + ", got " + std::to_string(e.chainLobes.size()));
+  }
   const bool varying = e.lobeModel() && e.lobeModel()->elevation == LobeElevation::Varying;
   if (env.has("elevations")) {
     if (!varying) {
@@ -125,9 +156,18 @@ void parseEnvironmentOutputs(JsonObjectReader& env, EnvironmentMapSpec& e, const
       throw specError(env.child("sh_output"),
                       "spherical-harmonic coefficients hold irradiance: use it with \"lobe\": \"irradiance\"");
     }
-    if (fs::path(*sh).extension() != ".json")
-      throw specError(env.child("sh_output"), "the SH coefficients are written as JSON (.json)");
+    if (const auto format = env.optionalString("sh_format")) {
+      if (*format != "brdfbake" && *format != "cmgen")
+        throw specError(env.child("sh_format"), "must be \"brdfbake\" (JSON) or \"cmgen\" (text)");
+      e.shCmgen = *format == "cmgen";
+    }
+    if (fs::path(*sh).extension() != (e.shCmgen ? ".txt" : ".json")) {
+      throw specError(env.child("sh_output"), e.shCmgen ? "cmgen's SH coefficients are text: give a .txt file"
+                                                        : "the SH coefficients are written as JSON (.json)");
+    }
     e.shOutput = fs::path(*sh).is_absolute() ? fs::path(*sh) : baseDirectory / *sh;
+  } else if (env.has("sh_format")) {
+    throw specError(env.child("sh_format"), "needs \"sh_output\" (the file the coefficients go to)");
   }
   if (e.glossChain && (e.mips || e.fresnel)) {
     throw specError(env.child("gloss_chain"),
@@ -234,7 +274,7 @@ void parseMaterialMap(JsonObjectReader& map, MapSpec& spec, const fs::path& base
   }
 
   if (map.has("lights")) {
-    const auto& lights = map.array("lights");
+    const auto& lights = map.array("lights", kMaxLights);
     for (std::size_t i = 0; i < lights.size(); ++i) {
       bool atEye = false;
       m.lights.push_back(parseLight(lights[i], map.child("lights") + "[" + std::to_string(i) + "]", spec.view, atEye));
@@ -268,6 +308,13 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     throw specError(map.child("output"), "a name of " + std::to_string(output.size()) +
                                              " characters; paths are limited to " + std::to_string(kMaxPathLength));
   }
+  for (const auto& part : fs::path(output)) {
+    if (part.string().size() > kMaxNameLength) {
+      throw specError(map.child("output"), "a name of " + std::to_string(part.string().size()) +
+                                               " bytes in the path; file names are limited to " +
+                                               std::to_string(kMaxNameLength) + " (NAME_MAX)");
+    }
+  }
   try {
     imageFormatFor(output);
   } catch (const Error& e) {
@@ -286,7 +333,7 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     } catch (const Error&) {
       throw specError(map.child("parameterization"),
                       "parameterization must be one of sphere, paraboloid, cube, latlong, profile, auto; got \"" +
-                          shortenForMessage(kind, 40) + "\"");
+                          printable(kind, 40) + "\"");
     }
   }
   auto isAuto = [&](const char* key) {
@@ -484,23 +531,33 @@ BakeSpec parseBakeSpec(const nlohmann::json& document, const fs::path& baseDirec
   try {
     JsonObjectReader root(document, "");
     BakeSpec spec;
-    const auto& maps = root.array("maps");
+    const auto& maps = root.array("maps", kMaxMaps);
     if (maps.empty()) throw specError("maps", "must hold at least one map");
     for (std::size_t i = 0; i < maps.size(); ++i) {
       spec.maps.push_back(parseMap(maps[i], "maps[" + std::to_string(i) + "]", baseDirectory));
       spec.maps.back().specLabel = label;
     }
     root.finish();
+    // Each output resolved once (up to kMaxMaps of them), then compared pairwise: the same resolved
+    // path, or the same existing file (a hard link).
+    std::vector<fs::path> resolved;
+    std::vector<std::pair<dev_t, ino_t>> inodes;
+    for (const MapSpec& map : spec.maps) {
+      resolved.push_back(resolvedPath(map.output));
+      struct stat info {};
+      inodes.emplace_back(::stat(map.output.c_str(), &info) == 0 ? std::pair(info.st_dev, info.st_ino)
+                                                                 : std::pair<dev_t, ino_t>(0, 0));
+    }
     for (std::size_t i = 0; i < spec.maps.size(); ++i) {
       for (std::size_t j = 0; j < i; ++j) {
-        if (sameFile(spec.maps[i].output, spec.maps[j].output)) {
+        if (resolved[i] == resolved[j] || (inodes[i].second != 0 && inodes[i] == inodes[j])) {
           throw specError(spec.maps[i].jsonPath + ".output", "same file as " + spec.maps[j].jsonPath + ".output");
         }
       }
     }
     return spec;
   } catch (const Error& e) {
-    throw Error(e.kind(), label + ": " + e.what());
+    throw Error(e.kind(), printable(label) + ": " + e.what());
   }
 }
 

@@ -8,13 +8,16 @@
 #include <brdfbake/core/color.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/files.hpp>
+#include <brdfbake/core/gnuplot.hpp>
 #include <brdfbake/core/json_reader.hpp>
 #include <brdfbake/core/json_text.hpp>
 #include <brdfbake/core/math.hpp>
 #include <brdfbake/core/memory_budget.hpp>
 #include <brdfbake/core/named_values.hpp>
+#include <brdfbake/core/printable.hpp>
 #include <brdfbake/core/progress.hpp>
 #include <brdfbake/core/run_options.hpp>
+#include <brdfbake/core/text_io.hpp>
 #include <brdfbake/core/version.hpp>
 #endif
 
@@ -30,6 +33,7 @@
 #include <brdfbake/brdf/reflection_lobe.hpp>
 #include <brdfbake/brdf/smith.hpp>
 #include <brdfbake/brdf/spectrum.hpp>
+#include <brdfbake/brdf/split_sum.hpp>
 #endif
 
 // maps
@@ -63,6 +67,7 @@
 // env
 #if __has_include(<brdfbake/env/env_accuracy.hpp>)
 #include <brdfbake/env/camera.hpp>
+#include <brdfbake/env/dfg_table.hpp>
 #include <brdfbake/env/env_accuracy.hpp>
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/env/material_under_environment.hpp>
@@ -89,7 +94,6 @@
 #include <brdfbake/fit/cornell_grid.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/fit/fit_report.hpp>
-#include <brdfbake/fit/gnuplot.hpp>
 #include <brdfbake/fit/held_out.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 #include <brdfbake/fit/mirror_direction.hpp>
@@ -110,6 +114,7 @@
 #include <brdfbake/run/describe_output.hpp>
 #include <brdfbake/run/evaluate.hpp>
 #include <brdfbake/run/fit_table.hpp>
+#include <brdfbake/run/ibl_job.hpp>
 #include <brdfbake/run/interpolation_chart.hpp>
 #include <brdfbake/run/job.hpp>
 #include <brdfbake/run/matcap_job.hpp>

@@ -70,7 +70,7 @@ std::shared_ptr<const Material> parseCookTorrance(JsonObjectReader& m, const Mat
                     "direction), not light gathered from an environment");
   }
   if (m.has("distribution")) p.distribution = parseName(m, "distribution", parseMicrofacetDistribution);
-  p.roughness = m.number("roughness", 0.0, 10.0, /*exclusiveMinimum=*/true);
+  p.roughness = m.number("roughness", kMinRoughness, kMaxRoughness);
   p.fresnel = parseFresnelTerm(m, "fresnel");
   p.specularWeight = m.number("specular_weight", 1.0, 0.0, 1.0, false);
   p.diffuse = m.color("diffuse", Rgb::Zero());

@@ -9,17 +9,31 @@ namespace brdfbake::materials {
 namespace {
 
 // A colour whose channels must also satisfy `valid` (named in `expectation`).
+// (Read as numbers, not colours: an index is no colour, and its own range applies.)
 template <class Valid>
 Rgb checkedColor(JsonObjectReader& r, const std::string& key, Valid valid, const std::string& expectation) {
-  const Rgb c = r.color(key);
+  const nlohmann::json& value = r.require(key);
+  Rgb c;
+  if (value.is_array() && value.size() == 3) {
+    for (int i = 0; i < 3; ++i)
+      c[i] = JsonObjectReader::asNumber(value[i], r.child(key) + "[" + std::to_string(i) + "]");
+  } else if (value.is_number()) {
+    c.setConstant(JsonObjectReader::asNumber(value, r.child(key)));
+  } else {
+    throw specError(r.child(key), "must be [r, g, b] or one number, got " + describe(value));
+  }
   for (int i = 0; i < 3; ++i) {
-    if (!valid(c[i])) throw specError(r.child(key), "must be " + expectation + ", got " + describe(*r.find(key)));
+    if (!(valid(c[i]) && c[i] >= 0.0))
+      throw specError(r.child(key), "must be " + expectation + ", got " + describe(value));
   }
   return c;
 }
 
+// Spectral samples: more than any measured spectrum has (1 nm steps over 380-780 nm are 401).
+constexpr std::size_t kMaxWavelengths = 1024;
+
 std::vector<double> numbers(JsonObjectReader& r, const std::string& key) {
-  const auto& array = r.array(key);
+  const auto& array = r.array(key, kMaxWavelengths);
   std::vector<double> values;
   for (std::size_t i = 0; i < array.size(); ++i) {
     values.push_back(JsonObjectReader::asNumber(array[i], r.child(key) + "[" + std::to_string(i) + "]"));
@@ -30,9 +44,10 @@ std::vector<double> numbers(JsonObjectReader& r, const std::string& key) {
 
 FresnelTerm parseSpectral(JsonObjectReader& s) {
   const std::vector<double> wavelengths = numbers(s, "wavelengths_nm");
-  for (std::size_t i = 1; i < wavelengths.size(); ++i) {
-    if (!(wavelengths[i] > wavelengths[i - 1])) {
-      throw specError(s.child("wavelengths_nm") + "[" + std::to_string(i) + "]", "wavelengths must increase strictly");
+  for (std::size_t i = 0; i < wavelengths.size(); ++i) {
+    if (!(wavelengths[i] > 0.0 && wavelengths[i] <= 1e5) || (i > 0 && !(wavelengths[i] > wavelengths[i - 1]))) {
+      throw specError(s.child("wavelengths_nm") + "[" + std::to_string(i) + "]",
+                      "wavelengths must increase strictly, each in (0, 1e5] nm");
     }
   }
   const bool conductor = s.has("n") || s.has("k");
@@ -49,8 +64,10 @@ FresnelTerm parseSpectral(JsonObjectReader& s) {
     sameSize("n", n);
     sameSize("k", k);
     for (std::size_t i = 0; i < n.size(); ++i) {
-      if (!(n[i] > 0.0)) throw specError(s.child("n") + "[" + std::to_string(i) + "]", "must be > 0");
-      if (!(k[i] >= 0.0)) throw specError(s.child("k") + "[" + std::to_string(i) + "]", "must be >= 0");
+      if (!(n[i] >= kMinFresnelIndex && n[i] <= kMaxFresnelIndex))
+        throw specError(s.child("n") + "[" + std::to_string(i) + "]", "must be in [0.001, 1000] (docs/limits.md)");
+      if (!(k[i] >= 0.0 && k[i] <= kMaxFresnelIndex))
+        throw specError(s.child("k") + "[" + std::to_string(i) + "]", "must be in [0, 1000] (docs/limits.md)");
     }
     s.finish();
     return FresnelTerm::spectralConductor(wavelengths, n, k);
@@ -81,7 +98,8 @@ FresnelTerm parseFresnelTerm(JsonObjectReader& owner, const std::string& key) {
   try {
     if (ior) {
       term = FresnelTerm::dielectric(checkedColor(
-          f, "ior", [](double v) { return v > 0.0; }, "> 0"));
+          f, "ior", [](double v) { return v >= kMinFresnelIndex && v <= kMaxFresnelIndex; },
+          "in [0.001, 1000] (docs/limits.md)"));
     } else if (schlick) {
       term = FresnelTerm::schlick(checkedColor(
           f, "schlick", [](double v) { return v <= 1.0; }, "in [0, 1]"));
@@ -91,8 +109,11 @@ FresnelTerm parseFresnelTerm(JsonObjectReader& owner, const std::string& key) {
     } else if (nk) {
       if (!f.has("n") || !f.has("k")) throw specError(f.path(), "\"n\" and \"k\" go together (complex index n + i k)");
       const Rgb n = checkedColor(
-          f, "n", [](double v) { return v > 0.0; }, "> 0");
-      term = FresnelTerm::conductor(n, f.color("k"));
+          f, "n", [](double v) { return v >= kMinFresnelIndex && v <= kMaxFresnelIndex; },
+          "in [0.001, 1000] (docs/limits.md)");
+      const Rgb k = checkedColor(
+          f, "k", [](double v) { return v <= kMaxFresnelIndex; }, "in [0, 1000] (docs/limits.md)");
+      term = FresnelTerm::conductor(n, k);
     } else {
       JsonObjectReader s = f.object("spectral");
       term = parseSpectral(s);

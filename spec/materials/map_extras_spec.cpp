@@ -39,7 +39,8 @@ MipLayout parseMipLayout(JsonObjectReader& object, bool mips, const fs::path& ou
   const auto layout = object.optionalString("mip_layout");
   if (!layout || *layout == "files") return MipLayout::Files;
   if (*layout != "tiled")
-    throw specError(object.child("mip_layout"), "must be \"files\" or \"tiled\", got \"" + *layout + "\"");
+    throw specError(object.child("mip_layout"),
+                    "must be \"files\" or \"tiled\", got \"" + printable(*layout, 40) + "\"");
   if (!mips) throw specError(object.child("mip_layout"), "\"tiled\" lays out mip levels: needs \"mips\": true");
   if (const std::string problem = tiledMipProblem(output, resolution); !problem.empty()) {
     throw specError(object.child("mip_layout"), problem);

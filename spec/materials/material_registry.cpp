@@ -45,7 +45,7 @@ std::shared_ptr<const Material> parseMaterial(const nlohmann::json& value, const
   }
   std::string known;
   for (const auto& entry : materialRegistry()) known += (known.empty() ? "" : ", ") + entry.model;
-  throw specError(reader.child("model"), "unknown model '" + model + "' (known: " + known + ")");
+  throw specError(reader.child("model"), "unknown model '" + printable(model, 40) + "' (known: " + known + ")");
 }
 
 }  // namespace brdfbake

@@ -17,13 +17,14 @@ std::shared_ptr<const Material> parseMeasured(JsonObjectReader& m, const Materia
   const TableFormat format = m.parsed("format", parseTableFormat, "auto");
   const std::string method = m.string("method");
   if (method != "mirror" && method != "fit")
-    throw specError(m.child("method"), "must be \"mirror\" or \"fit\", got \"" + method + "\"");
+    throw specError(m.child("method"), "must be \"mirror\" or \"fit\", got \"" + printable(method, 40) + "\"");
   const std::string rgbName = m.optionalString("rgb").value_or("cie1931");
   RgbMethod rgb = RgbMethod::Cie1931;
   if (rgbName == "single_wavelengths")
     rgb = RgbMethod::SingleWavelengths;
   else if (rgbName != "cie1931")
-    throw specError(m.child("rgb"), "must be \"cie1931\" or \"single_wavelengths\", got \"" + rgbName + "\"");
+    throw specError(m.child("rgb"),
+                    "must be \"cie1931\" or \"single_wavelengths\", got \"" + printable(rgbName, 40) + "\"");
 
   if (context.underEnvironment && method == "mirror") {
     throw specError(m.child("method"),

@@ -28,7 +28,7 @@ auto atPath(const std::string& path, Make make) {
 }  // namespace
 
 std::shared_ptr<const Material> parseColorgram(JsonObjectReader& m, const MaterialContext&) {
-  const auto& stopsJson = m.array("stops");
+  const auto& stopsJson = m.array("stops", 1024);
   if (stopsJson.empty())
     throw specError(m.child("stops"), "must hold at least one {\"angle\": degrees, \"color\": [r, g, b]}");
   std::vector<ColorStop> stops;

@@ -201,6 +201,17 @@ TEST(Baker, ValidatesOptions) {
   options.samplesPerTexel = 4;
   options.threads = -1;
   EXPECT_THROW(bake(map, phong(5, Vec3::UnitZ()), options), Error);
+  // 2147483647 threads crashed TBB (SIGSEGV); 70,000 already did. At most 1024.
+  options.threads = 2147483647;
+  try {
+    bake(map, phong(5, Vec3::UnitZ()), options);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), Error::Kind::InvalidArgument);
+    EXPECT_STREQ(e.what(), "threads must be in [0, 1024] (0 = every core), got 2147483647");
+  }
+  options.threads = 1024;
+  EXPECT_NO_THROW(bake(map, phong(5, Vec3::UnitZ()), options));
 }
 
 TEST(Baker, ResolutionOneHoldsTheMeanOverTheDisc) {

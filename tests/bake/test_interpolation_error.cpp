@@ -1,6 +1,9 @@
 // Per-vertex interpolation error: limits, scaling, where it is worst, and Zimmons 1999's line.
 #include <gtest/gtest.h>
 #include <brdfbake/bake/interpolation_error.hpp>
+#include <brdfbake/core/error.hpp>
+
+#include <cmath>
 
 namespace brdfbake {
 namespace {
@@ -43,6 +46,30 @@ TEST(SeedLineExperiment, MatchesAHandComputationAtTheMidpoint) {
   ASSERT_NEAR(line.x[2000], 0.0, 1e-12);
   EXPECT_NEAR(line.errorDegrees[2000], expected, 1e-9);
   EXPECT_EQ(line.errorDegrees.front(), 0.0);
+}
+
+TEST(SeedLineExperiment, AViewerOnOrBelowTheSurfaceOrFarAwayIsRefused) {
+  // (0, 0, 0) sits on the surface (it reported max_error_degrees 180); 1e308 overflows the view vectors.
+  for (const Vec3& viewer : {Vec3(0, 0, 0), Vec3(1e308, 1e308, 0), Vec3(-8.3, -1, 0), Vec3(2e6, 1, 0)}) {
+    try {
+      planarLineExperiment(viewer);
+      ADD_FAILURE() << "no error for " << viewer.transpose();
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), Error::Kind::InvalidArgument);
+      EXPECT_EQ(std::string(e.what()).rfind("the viewer must lie above the surface (y in [1e-6, 1e6]", 0), 0u)
+          << e.what();
+    }
+  }
+  LineExperimentOptions options;
+  options.segment = 0;
+  EXPECT_THROW(options.validate(), Error);
+  options.segment = 20;
+  options.samples = 1;
+  EXPECT_THROW(options.validate(), Error);
+  options.samples = 3;
+  EXPECT_NO_THROW(options.validate());
+  // A viewer high above still gives finite errors.
+  for (double e : planarLineExperiment(Vec3(0, 1e6, 0), 20.0, 5).errorDegrees) EXPECT_TRUE(std::isfinite(e));
 }
 
 TEST(SeedLineExperiment, IsSymmetricAndShrinksQuadraticallyWithTheSegment) {

@@ -278,15 +278,83 @@ TEST(MaterialsBake, StressCasesAreFiniteAtEveryTexel) {
   }
 }
 
-TEST(MaterialsBake, ColorgramLeftAndRightDiffer) {
-  const auto m = std::make_shared<ColorgramMaterial>(
-      ColorGradient({{0, Rgb::Ones()}, {40, Rgb::Ones()}, {60, Rgb(1, 0, 0)}, {80, Rgb(0, 0, 1)}}, 2.0), 15.0,
-      ColorgramBlend::Modulate);
-  const Image image = bakeMaterial(m, {}, ParameterizationKind::Sphere, 64, 16);
-  const Rgba right = image.at(60, 32), left = image.at(3, 32), up = image.at(32, 3), down = image.at(32, 60);
-  EXPECT_GT((right - left).head<3>().abs().maxCoeff(), 0.1);
-  EXPECT_LT((up - down).head<3>().abs().maxCoeff(), 1e-5);
-  EXPECT_LT((image.at(32, 32).head<3>() - Rgb::Ones()).abs().maxCoeff(), 1e-6);  // white centre
+// Every texel of a 64 sphere map (view +z) whose footprint lies inside the disc averages the
+// formula over its footprint, so each channel lies within the formula's range over the texel's
+// square (sampled at 33 x 33 points, widened by the formula's change between two neighbouring
+// points). `formula` takes the normal the disc point stands for. Returns the texels checked.
+int expectTexelsWithinTheFormulaOverTheirFootprint(const Image& image, const std::function<Rgb(const Vec3&)>& formula,
+                                                   const std::string& what) {
+  const int n = image.width();
+  int checked = 0, bad = 0;
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      bool inside = true;
+      for (int corner = 0; corner < 4; ++corner) {
+        const double cx = 2.0 * (x + corner % 2) / n - 1.0, cy = 1.0 - 2.0 * (y + corner / 2) / n;
+        inside = inside && cx * cx + cy * cy < 1.0;
+      }
+      if (!inside) continue;
+      Rgb lo = Rgb::Constant(1e300), hi = Rgb::Constant(-1e300), step = Rgb::Zero(), previous = Rgb::Zero();
+      for (int i = 0; i <= 32; ++i) {
+        for (int j = 0; j <= 32; ++j) {
+          const double sx = 2.0 * (x + i / 32.0) / n - 1.0, sy = 1.0 - 2.0 * (y + j / 32.0) / n;
+          const Rgb value = formula(Vec3(sx, sy, std::sqrt(1.0 - sx * sx - sy * sy)));
+          lo = lo.min(value), hi = hi.max(value);
+          if (j > 0) step = step.max((value - previous).abs());
+          previous = value;
+        }
+      }
+      const Rgb texel = image.at(x, y).head<3>();
+      ++checked;
+      if ((texel < lo - step - 1e-6).any() || (texel > hi + step + 1e-6).any()) {
+        if (++bad <= 3)
+          ADD_FAILURE() << what << ": texel (" << x << ", " << y << ") = " << texel.transpose() << " outside ["
+                        << lo.transpose() << "] .. [" << hi.transpose() << "]";
+      }
+    }
+  }
+  EXPECT_EQ(bad, 0) << what;
+  return checked;
+}
+
+TEST(MaterialsBake, ColorgramAndGoochTexelsHoldTheirFormulas) {
+  // The twisted colorgram of Zimmons & Bastos 1999 section 6 (docs/materials.md): gradient(theta -
+  // twist n.x), the gradient linear between its stops (white to 40 degrees, red at 60, blue from
+  // 80), mirrored about 0 and held beyond the last stop.
+  const std::vector<ColorStop> stops{{0, Rgb::Ones()}, {40, Rgb::Ones()}, {60, Rgb(1, 0, 0)}, {80, Rgb(0, 0, 1)}};
+  auto gradient = [&](double theta) -> Rgb {
+    theta = std::abs(theta);
+    if (theta >= 80.0) return Rgb(0, 0, 1);
+    if (theta <= 40.0) return Rgb::Ones();
+    if (theta <= 60.0) return Rgb::Ones() + (Rgb(1, 0, 0) - Rgb::Ones()) * ((theta - 40.0) / 20.0);
+    return Rgb(1, 0, 0) + (Rgb(0, 0, 1) - Rgb(1, 0, 0)) * ((theta - 60.0) / 20.0);
+  };
+  const double twist = 15.0;
+  const auto colorgram =
+      std::make_shared<ColorgramMaterial>(ColorGradient(stops, 0.0), twist, ColorgramBlend::Modulate);
+  const Image image = bakeMaterial(colorgram, {}, ParameterizationKind::Sphere, 64, 16);
+  auto colorgramAt = [&](const Vec3& n) { return gradient(degrees(std::acos(n.z())) - twist * n.x()); };
+  EXPECT_GT(expectTexelsWithinTheFormulaOverTheirFootprint(image, colorgramAt, "colorgram"), 2500);
+  // The twist by the formula: on the row below the centre, 40 degrees from it (x = -+0.641 at
+  // texels 11 and 52), the right side reads gradient(40 - 9.6) = white, the left gradient(40 +
+  // 9.6), green 0.53; above and below the centre, no shift.
+  const Rgb right = image.at(52, 32).head<3>(), left = image.at(11, 32).head<3>();
+  EXPECT_LT((right - Rgb::Ones()).abs().maxCoeff(), 1e-6);
+  const double sx = 2.0 * 11.5 / 64 - 1.0, sy = 1.0 - 2.0 * 32.5 / 64;
+  EXPECT_NEAR(left[1], colorgramAt(Vec3(sx, sy, std::sqrt(1.0 - sx * sx - sy * sy)))[1], 0.03);
+  EXPECT_LT(left[1], 0.6);
+  EXPECT_LT((image.at(32, 11).head<3>() - image.at(32, 52).head<3>()).abs().maxCoeff(), 1e-6);
+
+  // Gooch's default map (blur 20 degrees, highlight 10 degrees about h): Heidrich 2000 section 4.
+  const GoochParams p;
+  const Vec3 l = p.lightDirection.normalized(), h = (l + Vec3::UnitZ()).normalized();
+  auto phi = [&](double x) { return 0.5 * std::erfc(-x / p.blur / std::sqrt(2.0)); };
+  auto goochAt = [&](const Vec3& n) -> Rgb {
+    const double t = phi(degrees(std::asin(n.dot(l)))), w = phi(p.highlightSize - degrees(std::acos(n.dot(h))));
+    return (1 - w) * ((1 - t) * p.cool + t * p.warm) + w * p.highlight;
+  };
+  const Image gooch = bakeMaterial(std::make_shared<GoochMaterial>(p), {}, ParameterizationKind::Sphere, 64, 16);
+  EXPECT_GT(expectTexelsWithinTheFormulaOverTheirFootprint(gooch, goochAt, "gooch"), 2500);
 }
 
 // Ink of the ring along the row just below the centre, right half: sum of (1 - value) x coverage,
@@ -299,8 +367,11 @@ double ringWidthTexels(const Image& image) {
 }
 
 TEST(MaterialsBake, SilhouetteMipChainKeepsTheRingWidthInTexels) {
+  // The ring is where theta > 75 degrees: disc radius sin(theta) > cos(15 degrees), out to 1, so
+  // (1 - cos 15 deg) x 128 = 4.36 texels of the 256 map's radius; every level keeps that width.
   const SilhouetteMaterial s(15.0);
-  const double t0 = s.ringTexels(256);  // (1 - cos 15) 128 = 4.36
+  const double t0 = (1.0 - std::cos(15.0 * kPi / 180.0)) * 128.0;
+  EXPECT_NEAR(s.ringTexels(256), t0, 1e-12);
   const auto chain = silhouetteMipChain(s, 256, options(16));
   ASSERT_EQ(chain.size(), 9u);
   for (std::size_t level = 0; level < chain.size(); ++level) {
@@ -337,6 +408,11 @@ TEST(MaterialsBake, MipsAreWrittenBesideTheMap) {
     EXPECT_EQ(file.info.resolution, 32 >> level);
     EXPECT_EQ(file.image.width(), 32 >> level);
     EXPECT_EQ(file.info.spec["mips"], true);
+    // Each level written keeps level 0's ring width in texels, measured on the file:
+    // (1 - cos 20 deg) x 16 = 0.965 texels, until the ring fills a level's radius (levels of 2, 1).
+    if (32 >> level >= 8) {
+      EXPECT_NEAR(ringWidthTexels(file.image), (1.0 - std::cos(20.0 * kPi / 180.0)) * 16.0, 0.3) << path;
+    }
   }
 }
 

@@ -99,6 +99,20 @@ TEST(Fleck, OffsetsAreSeededAndUniformInTheDisc) {
   EXPECT_THROW(fleckOffsets(1, 0.6, 1), Error);
 }
 
+// Heidrich 2000 section 4's Gooch map as brdf/npr.hpp writes it, typed out: t = Phi(psi / blur),
+// psi = asin(n.l) in degrees; w = Phi((size - angle(n, h)) / blur), h = normalize(l + v);
+// value = (1 - w) ((1 - t) cool + t warm) + w highlight; Phi a step for blur 0.
+Rgb goochFormula(const GoochParams& p, const Vec3& n, const Vec3& v) {
+  auto phi = [&](double x) {
+    if (p.blur == 0.0) return x > 0 ? 1.0 : (x < 0 ? 0.0 : 0.5);
+    return 0.5 * std::erfc(-x / p.blur / std::sqrt(2.0));
+  };
+  const Vec3 l = p.lightDirection.normalized(), h = (l + v).normalized();
+  const double t = phi(std::asin(n.dot(l)) * 180.0 / kPi);
+  const double w = p.highlightSize > 0 ? phi(p.highlightSize - std::acos(std::min(1.0, n.dot(h))) * 180.0 / kPi) : 0.0;
+  return (1 - w) * ((1 - t) * p.cool + t * p.warm) + w * p.highlight;
+}
+
 TEST(Gooch, CoolToWarmWithHighlight) {
   GoochParams p;
   p.blur = 0.0;
@@ -118,6 +132,44 @@ TEST(Gooch, CoolToWarmWithHighlight) {
   const Vec3 n30 = std::cos(radians(60)) * l + std::sin(radians(60)) * v;  // psi = 30 degrees
   const double t = 0.5 * std::erfc(-(30.0 / 20.0) / std::sqrt(2.0));
   EXPECT_LT((soft.unlit(at(n30)) - ((1 - t) * p.cool + t * p.warm)).abs().maxCoeff(), 1e-12);
+}
+
+TEST(Gooch, EveryParameterActsAsTheFormulaSays) {
+  // Each parameter changed from the defaults in turn, at 400 normals over the visible hemisphere,
+  // against goochFormula (above); a hard map away from its two edges (0.01 degrees).
+  std::vector<GoochParams> cases(7);
+  cases[1].cool = Rgb(0.3, 0.0, 0.9);
+  cases[2].warm = Rgb(1.0, 0.4, 0.0);
+  cases[3].highlight = Rgb(0.5, 2.0, 0.25);
+  cases[4].highlightSize = 35.0;
+  cases[5].blur = 5.0;
+  cases[6].lightDirection = Vec3(-2.0, 0.3, 0.4);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    const GoochMaterial material(cases[c]);
+    for (int i = 0; i < 400; ++i) {
+      Vec3 n(u(rng), u(rng), 0.0);
+      if (n.squaredNorm() >= 1.0) continue;
+      n.z() = std::sqrt(1.0 - n.squaredNorm());
+      const Vec3 v = Vec3::UnitZ();
+      const Rgb expected = goochFormula(cases[c], n, v);
+      EXPECT_LT((material.unlit({n, v, reflect(v, n)}) - expected).abs().maxCoeff(), 1e-12) << "case " << c;
+    }
+  }
+  GoochParams hard;
+  hard.blur = 0.0;
+  const GoochMaterial hardMaterial(hard);
+  const Vec3 l = hard.lightDirection.normalized(), h = (l + Vec3::UnitZ()).normalized();
+  for (int i = 0; i < 400; ++i) {
+    Vec3 n(u(rng), u(rng), 0.0);
+    if (n.squaredNorm() >= 1.0) continue;
+    n.z() = std::sqrt(1.0 - n.squaredNorm());
+    const double psi = degrees(std::asin(n.dot(l))), angle = degrees(std::acos(std::min(1.0, n.dot(h))));
+    if (std::abs(psi) < 0.01 || std::abs(angle - hard.highlightSize) < 0.01) continue;
+    const Rgb expected = angle < hard.highlightSize ? hard.highlight : (psi > 0 ? hard.warm : hard.cool);
+    EXPECT_EQ(hardMaterial.unlit({n, Vec3::UnitZ(), reflect(Vec3(Vec3::UnitZ()), n)}).matrix(), expected.matrix());
+  }
 }
 
 TEST(Silhouette, RingNearTheRimAndMipWidths) {
@@ -172,6 +224,64 @@ TEST(Hatching, StrokesOnlyNearTheSilhouette) {
       ++count;
     }
     EXPECT_NEAR(ink / count, expected / count, 0.01) << edges[band];
+  }
+}
+
+TEST(Hatching, EveryParameterActsAsTheFormulaSays) {
+  // brdf/npr.hpp's strokes typed out: q = clamp((theta - (90 - width)) / width, 0, 1), (x, y) the
+  // normal's disc coordinates, stroke 1 where |frac((x cos a + y sin a) / spacing) - 1/2| < q / 2,
+  // stroke 2 where |frac((-x sin a + y cos a) / spacing) - 1/2| < (2 q - 1) / 2; points within
+  // 1e-9 of a stroke's edge are skipped. Each parameter changed from the defaults in turn.
+  std::vector<HatchingParams> cases(6);
+  cases[1].width = 70.0;
+  cases[2].spacing = 0.13;
+  cases[3].angle = -20.0;
+  cases[4].ink = Rgb(0.2, 0.1, 0.5);
+  cases[5].paper = Rgb(0.9, 0.85, 0.7);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (std::size_t c = 0; c < cases.size(); ++c) {
+    const HatchingParams& p = cases[c];
+    const HatchingMaterial material(p);
+    int inked = 0, checked = 0;
+    while (checked < 3000) {
+      const double x = u(rng), y = u(rng), rho2 = x * x + y * y;
+      if (rho2 >= 1.0) continue;
+      const Vec3 n(x, y, std::sqrt(1.0 - rho2));
+      const double theta = degrees(std::acos(n.z()));
+      const double q = std::clamp((theta - (90.0 - p.width)) / p.width, 0.0, 1.0);
+      const double a = radians(p.angle);
+      const double u1 = (x * std::cos(a) + y * std::sin(a)) / p.spacing,
+                   u2 = (-x * std::sin(a) + y * std::cos(a)) / p.spacing;
+      const double d1 = std::abs(u1 - std::floor(u1) - 0.5) - q / 2,
+                   d2 = std::abs(u2 - std::floor(u2) - 0.5) - (2 * q - 1) / 2;
+      if (std::abs(d1) < 1e-9 || std::abs(d2) < 1e-9) continue;
+      const bool ink = q > 0 && (d1 < 0 || d2 < 0);
+      inked += ink;
+      ++checked;
+      EXPECT_EQ(material.unlit({n, Vec3::UnitZ(), reflect(Vec3(Vec3::UnitZ()), n)}).matrix(),
+                (ink ? p.ink : p.paper).matrix())
+          << "case " << c << " at (" << x << ", " << y << ")";
+    }
+    EXPECT_GT(inked, 100) << "case " << c;  // the comparison saw both colours
+  }
+}
+
+TEST(Silhouette, ColoursAndWidthActAsTheFormulaSays) {
+  // `color` where n.v < sin(width), `background` elsewhere; any view, not only +z.
+  const Rgb ring(0.1, 0.6, 0.3), background(0.9, 0.2, 0.7);
+  for (double width : {3.0, 20.0, 65.0}) {
+    const SilhouetteMaterial s(width, ring, background);
+    for (const Vec3& view : {Vec3(Vec3::UnitZ()), Vec3(Vec3(1, 2, 0.5).normalized())}) {
+      const ViewFrame f = viewFrame(view);
+      for (double theta = 0.0; theta < 90.0; theta += 0.37) {
+        const double t = radians(theta);
+        const Vec3 n = std::cos(t) * view + std::sin(t) * (0.6 * f.right + 0.8 * f.up);
+        if (std::abs(n.dot(view) - std::sin(radians(width))) < 1e-9) continue;
+        const Rgb expected = n.dot(view) < std::sin(radians(width)) ? ring : background;
+        EXPECT_EQ(s.unlit({n, view, reflect(view, n)}).matrix(), expected.matrix()) << width << " " << theta;
+      }
+    }
   }
 }
 

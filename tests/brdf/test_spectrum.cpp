@@ -105,18 +105,81 @@ TEST(SpectrumToLinearSrgb, ConstantSpectrumIsGreyOfTheSameValue) {
   EXPECT_NEAR(spectrumToLinearSrgb(one, value)[1], 2.0, 1e-3);
 }
 
-TEST(SpectrumToLinearSrgb, MonochromaticSpectraHaveTheExpectedHue) {
-  const std::vector<double> grid = cornellGrid();
-  const Rgb red = spectrumToLinearSrgb(grid, monochromatic(700));
+// Chromaticity (x, y) of monochromatic light on the CIE 1931 2-degree spectral locus, as published
+// (CIE 015:2004 Table T.3, rounded to 4 decimals), and D65 and ybar there (Tables T.1 and T.4).
+struct LocusPoint {
+  double nm, x, y, d65, yBar;
+};
+constexpr LocusPoint kLocus[] = {{450, 0.1566, 0.0177, 117.008, 0.038},   {480, 0.0913, 0.1327, 115.923, 0.13902},
+                                 {500, 0.0082, 0.5384, 109.354, 0.323},   {520, 0.0743, 0.8338, 104.79, 0.71},
+                                 {550, 0.3016, 0.6923, 104.046, 0.99495}, {580, 0.5125, 0.4866, 95.788, 0.87},
+                                 {600, 0.6270, 0.3725, 90.0062, 0.631},   {650, 0.7260, 0.2740, 80.0268, 0.107},
+                                 {700, 0.7347, 0.2653, 71.6091, 0.004102}};
+
+// Light at `nm` alone: 1 at nm, 0 at nm -+ 5 (and beyond), so of the 5 nm grid only nm is lit.
+Vec3 monochromaticXyz(double nm) {
+  const std::vector<double> grid{nm - 5.0, nm, nm + 5.0}, values{0.0, 1.0, 0.0};
+  return spectrumToXyz(grid, values);
+}
+
+TEST(SpectrumToLinearSrgb, MonochromaticLightHasThePublishedChromaticity) {
+  // sRGB back to XYZ by the standard's own 4-decimal matrix (IEC 61966-2-1), so the RGB is checked
+  // against the published figures too; the two matrices are each other's inverse to 4e-4 per
+  // entry, which moves a chromaticity by at most 2e-3 here.
+  Mat3 srgbToXyz;
+  srgbToXyz << 0.4124, 0.3576, 0.1805,  //
+      0.2126, 0.7152, 0.0722,           //
+      0.0193, 0.1192, 0.9505;
+  for (const LocusPoint& p : kLocus) {
+    const Vec3 xyz = monochromaticXyz(p.nm);
+    EXPECT_NEAR(xyz.x() / xyz.sum(), p.x, 1e-4) << p.nm << " nm";  // the table's rounding: 5e-5
+    EXPECT_NEAR(xyz.y() / xyz.sum(), p.y, 1e-4) << p.nm << " nm";
+    const std::vector<double> grid{p.nm - 5.0, p.nm, p.nm + 5.0}, values{0.0, 1.0, 0.0};
+    const Rgb rgb = spectrumToLinearSrgb(grid, values);
+    const Vec3 back = srgbToXyz * rgb.matrix();
+    EXPECT_NEAR(back.x() / back.sum(), p.x, 2e-3) << p.nm << " nm";
+    EXPECT_NEAR(back.y() / back.sum(), p.y, 2e-3) << p.nm << " nm";
+  }
+  // Luminance in proportion to D65 x ybar at the wavelength: Y(550) / Y(600) and Y(480) / Y(650).
+  EXPECT_NEAR(monochromaticXyz(550).y() / monochromaticXyz(600).y(), (104.046 * 0.99495) / (90.0062 * 0.631),
+              1e-4 * 1.82);
+  EXPECT_NEAR(monochromaticXyz(480).y() / monochromaticXyz(650).y(), (115.923 * 0.13902) / (80.0268 * 0.107),
+              1e-4 * 1.88);
+  // Green light (520 nm) lies outside the sRGB gamut: red goes negative; 700 nm is nearly the red
+  // primary (0.64, 0.33) seen from the white: green and blue small and negative.
+  const std::vector<double> g520{515, 520, 525}, g700{695, 700, 705}, one{0.0, 1.0, 0.0};
+  EXPECT_LT(spectrumToLinearSrgb(g520, one)[0], 0.0);
+  const Rgb red = spectrumToLinearSrgb(g700, one);
   EXPECT_GT(red[0], 0.0);
-  EXPECT_GT(red[0], 5.0 * std::abs(red[1]));
-  EXPECT_GT(red[0], 5.0 * std::abs(red[2]));
-  const Rgb green = spectrumToLinearSrgb(grid, monochromatic(530));
-  EXPECT_GT(green[1], green[0]);
-  EXPECT_GT(green[1], green[2]);
-  const Rgb blue = spectrumToLinearSrgb(grid, monochromatic(450));
-  EXPECT_GT(blue[2], blue[0]);
-  EXPECT_GT(blue[2], blue[1]);
+  EXPECT_LT(std::abs(red[1]), 0.15 * red[0]);
+  EXPECT_LT(std::abs(red[2]), 0.05 * red[0]);
+}
+
+TEST(SpectrumToXyz, AnIrregularGridIsReadLinearlyBetweenItsSamplesAndHeldBeyond) {
+  // s = 1 below 450 nm, linear from 1 at 450 to 3 at 520, to 2 at 690, 2 above: the sums of
+  // brdf/spectrum.hpp's formula over the CIE 5 nm tables (checked against the published tables by
+  // Cie1931Cmf.KnownValuesAndPeaks and CieD65.WhitePointChromaticity).
+  const std::vector<double> grid{450, 520, 690}, values{1.0, 3.0, 2.0};
+  auto s = [](double nm) {
+    if (nm <= 450) return 1.0;
+    if (nm >= 690) return 2.0;
+    return nm <= 520 ? 1.0 + 2.0 * (nm - 450) / 70.0 : 3.0 - (nm - 520) / 170.0;
+  };
+  const auto cmf = cie1931Cmf2Deg();
+  const auto d65 = cieD65Spd();
+  Vec3 expected = Vec3::Zero();
+  double white = 0.0;
+  for (std::size_t k = 0; k < cmf.size(); ++k) {
+    expected += d65[k] * s(cmf[k].wavelengthNm) * Vec3(cmf[k].xBar, cmf[k].yBar, cmf[k].zBar);
+    white += d65[k] * cmf[k].yBar;
+  }
+  expected /= white;
+  EXPECT_TRUE(spectrumToXyz(grid, values).isApprox(expected, 1e-12)) << spectrumToXyz(grid, values).transpose();
+  // Scaling the spectrum scales XYZ; a grid of one sample is a constant spectrum (Y = its value).
+  const std::vector<double> doubled{2.0, 6.0, 4.0};
+  EXPECT_TRUE(spectrumToXyz(grid, doubled).isApprox(2.0 * expected, 1e-12));
+  const std::vector<double> single{600.0}, value{0.7};
+  EXPECT_NEAR(spectrumToXyz(single, value).y(), 0.7, 1e-12);
 }
 
 TEST(SpectrumToRgb, IsLinearWithRowsSummingToOne) {

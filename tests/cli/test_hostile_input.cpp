@@ -246,11 +246,17 @@ TEST(HostileInput, MessagesSayWhatIsWrong) {
   EXPECT_EQ(r.exitCode, 2) << r.output;
   EXPECT_NE(r.output.find("looks like a fit.json but has no \"format\""), std::string::npos) << r.output;
 
-  putJson(dir / "spec.json", {{"maps", {phongMap(std::string(50'000'000, 'n') + ".exr")}}});
+  putJson(dir / "spec.json", {{"maps", {phongMap(std::string(5'000'000, 'n') + ".exr")}}});
   r = runCli("bake " + q(dir / "spec.json"));
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_LT(r.output.size(), 1000u);
   EXPECT_NE(r.output.find("paths are limited to 4096"), std::string::npos) << r.output.substr(0, 500);
+  // Beyond 16 MiB a JSON file is refused before it is parsed (docs/limits.md).
+  putJson(dir / "spec.json", {{"maps", {phongMap(std::string(50'000'000, 'n') + ".exr")}}});
+  r = runCli("bake " + q(dir / "spec.json"));
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_NE(r.output.find("bytes of JSON, more than the 16 MiB accepted"), std::string::npos)
+      << r.output.substr(0, 500);
 }
 
 TEST(HostileInput, NegativeMeasuredValuesAreClampedWithANote) {

@@ -53,7 +53,7 @@ double sphereIntegral(const std::function<double(double)>& f, int intervals = 20
 
 // ---- lobes -----------------------------------------------------------------------------------
 
-TEST(PrefilterLobe, NormalisedLobesIntegrateToOneAndIrradianceToPi) {
+TEST(PrefilterLobe, NormalisedLobesAndIrradianceIntegrateToOne) {
   for (const auto& lobe :
        {PrefilterLobe::phong(0), PrefilterLobe::phong(1), PrefilterLobe::phong(10), PrefilterLobe::phong(1000),
         PrefilterLobe::blinn(40), PrefilterLobe::ggx(0.1), PrefilterLobe::ggx(0.5), PrefilterLobe::ggx(1.0)}) {
@@ -63,8 +63,9 @@ TEST(PrefilterLobe, NormalisedLobesIntegrateToOneAndIrradianceToPi) {
         << lobe.name();
   }
   const auto irradiance = PrefilterLobe::irradiance();
-  EXPECT_DOUBLE_EQ(irradiance.mass(), kPi);
-  EXPECT_NEAR(sphereIntegral([&](double t) { return irradiance.weight(std::cos(t)); }), kPi, 1e-6);
+  // Irradiance holds E/pi: max(0, c)/pi integrates to 1.
+  EXPECT_DOUBLE_EQ(irradiance.mass(), 1.0);
+  EXPECT_NEAR(sphereIntegral([&](double t) { return irradiance.weight(std::cos(t)); }), 1.0, 1e-6);
   // Phong's factor is (N + 1)/(2 pi); blinn:N is phong:N/4.
   EXPECT_NEAR(PrefilterLobe::phong(100).weight(1.0), 101.0 / kTwoPi, 1e-12);
   EXPECT_NEAR(PrefilterLobe::blinn(400).weight(0.99), PrefilterLobe::phong(100).weight(0.99), 1e-12);
@@ -95,9 +96,9 @@ TEST(PrefilterLobe, ZonalCoefficientsMatchClosedForms) {
     for (int l = 2; l <= 40; ++l) integral[l] = (n - l + 2.0) / (n + l + 1.0) * integral[l - 2];
     for (int l = 0; l <= 40; ++l) EXPECT_NEAR(lambda[l], (n + 1.0) * integral[l], 2e-6) << "n " << n << " l " << l;
   }
-  // Clamped cosine (Ramamoorthi & Hanrahan): pi, 2 pi/3, pi/4, 0, -pi/24, 0, pi/64.
+  // Clamped cosine (Ramamoorthi & Hanrahan): pi, 2 pi/3, pi/4, 0, -pi/24, 0, pi/64, divided by pi (E/pi).
   const auto lambda = PrefilterLobe::irradiance().zonalCoefficients(6);
-  const double expected[7] = {kPi, kTwoPi / 3.0, kPi / 4.0, 0.0, -kPi / 24.0, 0.0, kPi / 64.0};
+  const double expected[7] = {1.0, 2.0 / 3.0, 1.0 / 4.0, 0.0, -1.0 / 24.0, 0.0, 1.0 / 64.0};
   for (int l = 0; l <= 6; ++l) EXPECT_NEAR(lambda[l], expected[l], 1e-6) << l;
 }
 
@@ -168,7 +169,8 @@ TEST(SphericalHarmonics, BasisIsOrthonormal) {
 
 // ---- environments used below -----------------------------------------------------------------
 
-// L(l) = a + b (l . e): its irradiance is pi a + (2 pi / 3) b (n . e) and its normalised Phong
+// L(l) = a + b (l . e): its irradiance E is pi a + (2 pi / 3) b (n . e), so the map's E/pi is
+// a + (2 / 3) b (n . e), and its normalised Phong
 // filtering a + b (N + 1)/(N + 2) (r . e) (both from ∫ c^N c dω = 2 pi / (N + 2)).
 class LinearEnvironment final : public MapFunction {
  public:
@@ -176,7 +178,7 @@ class LinearEnvironment final : public MapFunction {
   static Vec3 axis() { return Vec3(0.3, 0.8, -0.52).normalized(); }
   static Rgb filtered(const PrefilterLobe& lobe, const Vec3& a) {
     const double c = a.dot(axis());
-    if (lobe.kind() == LobeKind::Irradiance) return kPi * Rgb(2, 2, 2) + kTwoPi / 3.0 * Rgb(1.0, 0.5, -0.5) * c;
+    if (lobe.kind() == LobeKind::Irradiance) return Rgb(2, 2, 2) + 2.0 / 3.0 * Rgb(1.0, 0.5, -0.5) * c;
     const double n = lobe.phongExponent();
     return Rgb(2, 2, 2) + Rgb(1.0, 0.5, -0.5) * c * (n + 1.0) / (n + 2.0);
   }
@@ -915,7 +917,8 @@ TEST(GlossChain, BadChainsAreRefused) {
   const std::vector<PrefilterLobe> four(4, PrefilterLobe::phong(10));
   EXPECT_NE(errorOf([&] { prefilterGlossChain(sky(), four, options); }).find("resolution of at least 8"),
             std::string::npos);
-  EXPECT_NE(errorOf([&] { prefilterGlossChain(sky(), {PrefilterLobe::mirror()}, options); }).find("mirror"),
+  // The mirror is a GGX chain's level 0; irradiance is no gloss level.
+  EXPECT_NE(errorOf([&] { prefilterGlossChain(sky(), {PrefilterLobe::irradiance()}, options); }).find("irradiance"),
             std::string::npos);
   options.mips = true;
   EXPECT_NE(errorOf([&] { prefilterGlossChain(sky(), {PrefilterLobe::phong(10)}, options); }).find("its own mip chain"),
@@ -1060,30 +1063,7 @@ TEST(Prefilter, ParaboloidEquatorJumpIsSecondOrder) {
   }
 }
 
-// ---- mips ------------------------------------------------------------------------------------
-
-TEST(EnvironmentMips, LevelsKeepTheSolidAngleIntegral) {
-  // Solid-angle weighting keeps ∫ L dω from level to level (exactly where texels nest).
-  for (auto kind : {ParameterizationKind::LatLong, ParameterizationKind::Cube, ParameterizationKind::Sphere}) {
-    const Environment environment = bakeEnvironment(SkyEnvironment(), kind, 32, "sky", 4);
-    const auto chain = environmentMipChain(environment.image, *environment.map);
-    ASSERT_EQ(chain.size(), 6u);
-    auto integral = [&](const Image& image, int resolution) {
-      const auto map = makeParameterization(kind, resolution);
-      Rgb sum = Rgb::Zero();
-      for (int y = 0; y < map->height(); ++y)
-        for (int x = 0; x < map->width(); ++x) sum += mipTexelWeight(*map, x, y) * image.at(x, y).head<3>();
-      return sum;
-    };
-    const Rgb base = integral(chain[0], 32);
-    for (int level = 1; level < 6; ++level) {
-      const Rgb value = integral(chain[level], 32 >> level);
-      // Cube edge fixup moves a little energy between edge texels of unequal solid angle.
-      const double tolerance = kind == ParameterizationKind::Cube ? 2e-3 : 1e-5;
-      EXPECT_LT(((value - base) / base).abs().maxCoeff(), tolerance) << toString(kind) << " level " << level;
-    }
-  }
-}
+// The mip chain's weights and integrals: tests/maps/test_map_mips.cpp.
 
 // ---- bad environments ------------------------------------------------------------------------
 

@@ -140,16 +140,70 @@ TEST(ImageIo, ClearErrorsForBadPaths) {
   EXPECT_THROW(readMap(dir / "plain.exr"), Error);  // no brdfbake metadata
 }
 
-TEST(ImageIo, CubeFacesAreWrittenAsSixFiles) {
+// The OpenGL cube-map table (OpenGL 4.6 core, Table 8.19): the direction of face f's texture
+// coordinate (s, t) in [0, 1]^2, with sc = 2 s - 1, tc = 2 t - 1 and |ma| = 1.
+Vec3 openGlFaceDirection(int face, double s, double t) {
+  const double sc = 2 * s - 1, tc = 2 * t - 1;
+  switch (face) {
+    case 0:
+      return {1, -tc, -sc};  // +X: sc = -rz, tc = -ry
+    case 1:
+      return {-1, -tc, sc};  // -X: sc = +rz, tc = -ry
+    case 2:
+      return {sc, 1, tc};  // +Y: sc = +rx, tc = +rz
+    case 3:
+      return {sc, -1, -tc};  // -Y: sc = +rx, tc = -rz
+    case 4:
+      return {sc, -tc, 1};  // +Z: sc = +rx, tc = -ry
+    default:
+      return {-sc, -tc, -1};  // -Z: sc = -rx, tc = -ry
+  }
+}
+
+TEST(ImageIo, CubeFacesAreWrittenAsSixFilesHoldingTheirFacesTexels) {
+  // An environment whose colour says its direction, 0.5 + 0.5 d / |d|, laid out as the cross of
+  // maps/cube_map.hpp (+Y above +Z; -X, +Z, +X, -Z in the middle row; -Y below) with each face's
+  // texel (i, j) at (s, t) = ((i + 0.5) / N, (j + 0.5) / N) of the OpenGL table, typed out above.
+  // Each face file (OpenGL order) must hold that face's texels, and the cube read back from the
+  // six files must look up, at each face's centre, the mean of the four texels around it.
   test::TempDir dir;
-  Image cross(4 * 4, 3 * 4);
+  const int n = 4;
+  const int cell[6][2] = {{2, 1}, {0, 1}, {1, 0}, {1, 2}, {1, 1}, {3, 1}};
+  auto colour = [](const Vec3& d) {
+    const Vec3 u = d.normalized();
+    return Rgba(0.5 + 0.5 * u.x(), 0.5 + 0.5 * u.y(), 0.5 + 0.5 * u.z(), 1.0);
+  };
+  Image cross(4 * n, 3 * n, Rgba::Zero());
+  for (int f = 0; f < 6; ++f)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        cross.set(cell[f][0] * n + i, cell[f][1] * n + j, colour(openGlFaceDirection(f, (i + 0.5) / n, (j + 0.5) / n)));
   const auto report =
-      writeMap(cross, {ParameterizationKind::Cube, 4, kConventionVersion, {}}, dir / "cube.exr", CubeLayout::Faces);
+      writeMap(cross, {ParameterizationKind::Cube, n, kConventionVersion, {}}, dir / "cube.exr", CubeLayout::Faces);
   ASSERT_EQ(report.files.size(), 6u);
-  for (const auto& path : cubeFacePaths(dir / "cube.exr")) {
-    const Image face = readImage(path);
-    EXPECT_EQ(face.width(), 4);
+  const auto paths = cubeFacePaths(dir / "cube.exr");
+  const char* names[6] = {"posx", "negx", "posy", "negy", "posz", "negz"};
+  for (int f = 0; f < 6; ++f) {
+    EXPECT_EQ(paths[f], dir / ("cube_" + std::string(names[f]) + ".exr"));
+    const Image face = readImage(paths[f]);
+    ASSERT_EQ(face.width(), n);
+    ASSERT_EQ(face.height(), n);
     EXPECT_TRUE(face.metadata.contains("face"));
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const Rgba expected = colour(openGlFaceDirection(f, (i + 0.5) / n, (j + 0.5) / n));
+        EXPECT_LT((face.at(i, j) - expected).head<3>().abs().maxCoeff(), 1e-6)
+            << names[f] << " (" << i << ", " << j << ")";
+      }
+  }
+  const MapFile back = readMap(dir / "cube.exr");
+  for (int f = 0; f < 6; ++f) {
+    // Between the four centre texels: their mean, which bilinear lookup returns there.
+    Rgba mean = Rgba::Zero();
+    for (double s : {0.375, 0.625})
+      for (double t : {0.375, 0.625}) mean += colour(openGlFaceDirection(f, s, t)) / 4.0;
+    const Rgba looked = sampleBilinear(back.image, *back.parameterization, openGlFaceDirection(f, 0.5, 0.5));
+    EXPECT_LT((looked - mean).head<3>().abs().maxCoeff(), 1e-6) << names[f];
   }
 }
 

@@ -150,8 +150,9 @@ TEST(TextureReaders, Ktx2CubeAsKtxParseReadsItAndAVulkanSamplerLooksItUp) {
     EXPECT_EQ(level["byteLength"], 6 * n * n * 8) << k;
     EXPECT_EQ(level["uncompressedByteLength"], level["byteLength"]) << k;
     EXPECT_EQ(level["byteOffset"].get<std::uint64_t>() % 8, 0u) << k;
-    if (k > 0)
+    if (k > 0) {
       EXPECT_LT(level["byteOffset"].get<std::uint64_t>(), ktx["levels"][k - 1]["byteOffset"].get<std::uint64_t>());
+    }
   }
   expectKnownColours(ktx["lookups"], 32, 0.01);
 }

@@ -130,6 +130,24 @@ class MalformedAstm : public ::testing::Test {
   test::TempDir dir_;
 };
 
+TEST_F(MalformedAstm, HeaderFieldsAreQuotedPrintableAndShort) {
+  // A 1 MB NUM_POINTS was echoed whole (a 1,000,077-byte error), escape sequences raw.
+  const std::string huge = "\x1b]0;pwned\x07" + std::string(1'000'000, '9') + "x";
+  for (const std::string& line : {"NUM_POINTS " + huge, huge + " 1", "VARS " + huge}) {
+    const auto path = write(line + "\nVARS theta_i,phi_i,theta_s,phi_s,BRDF\n");
+    try {
+      readAstm(path);
+      ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(message.rfind(at(1), 0), 0u) << message.substr(0, 200);
+      EXPECT_LT(message.size(), 400u) << message.substr(0, 400);
+      EXPECT_EQ(message.find('\x1b'), std::string::npos);
+      EXPECT_NE(message.find("\\x1b]0;pwned\\x07"), std::string::npos) << message;
+    }
+  }
+}
+
 TEST_F(MalformedAstm, TruncatedInTheMiddleOfARow) {
   std::string content = kSmallRgb;
   content.resize(content.size() - 12);  // line 6 loses its last fields and its newline

@@ -5,8 +5,10 @@
 #include "test_support.hpp"
 
 #include <matio.h>
+#include <zlib.h>
 
 #include <cmath>
+#include <cstdint>
 
 namespace brdfbake {
 namespace {
@@ -172,6 +174,102 @@ TEST_F(MalformedMat, TruncatedFilesAreRefusedEvenWhenLibmatioReadsThem) {
     std::filesystem::remove(path);
     write({{"dir_in", in}, {"dir_out", out}, {"fr", Eigen::MatrixXd::Constant(100, 3, 0.5)}});
   }
+}
+
+// ---- the structure of a level-5 file, built byte by byte (MAT-File Format, 2021, chapter 1) ---------
+
+std::string le32(std::uint32_t v) {
+  return {static_cast<char>(v), static_cast<char>(v >> 8), static_cast<char>(v >> 16), static_cast<char>(v >> 24)};
+}
+std::string matHeader() {
+  std::string header = "MATLAB 5.0 MAT-file, written by hand";
+  header.resize(116, ' ');
+  return header + std::string(8, '\0') + std::string("\x00\x01IM", 4);
+}
+std::string padded(std::string bytes) {
+  bytes.resize((bytes.size() + 7) / 8 * 8, '\0');
+  return bytes;
+}
+std::string element(std::uint32_t type, const std::string& data) {
+  return le32(type) + le32(static_cast<std::uint32_t>(data.size())) + padded(data);
+}
+// A miMATRIX of class `arrayClass` and dimensions rows x cols named "junk", then `rest`.
+std::string array(std::uint32_t arrayClass, std::uint32_t rows, std::uint32_t cols, const std::string& rest) {
+  const std::string flags = element(6, le32(arrayClass) + le32(0));
+  const std::string dims = element(5, le32(rows) + le32(cols));
+  const std::string name = le32((4u << 16) | 1u) + "junk";  // a small data element
+  return element(14, flags + dims + name + rest);
+}
+const std::string kEmptyCell = le32(14) + le32(0);
+
+std::string compressed(const std::string& bytes) {
+  uLongf size = compressBound(bytes.size());
+  std::string out(size, '\0');
+  EXPECT_EQ(
+      compress(reinterpret_cast<Bytef*>(out.data()), &size, reinterpret_cast<const Bytef*>(bytes.data()), bytes.size()),
+      Z_OK);
+  out.resize(size);
+  return le32(15) + le32(static_cast<std::uint32_t>(out.size())) + out;
+}
+
+TEST_F(MalformedMat, CellsTheFileCannotHoldAreRefusedBeforeLibmatioAllocatesThem) {
+  // 672 bytes that claim 50000 x 50000 cells took libmatio 129 s (20 GB of cell pointers per lookup).
+  const std::string junk = array(1, 50000, 50000, kEmptyCell);
+  for (const std::string& variable : {junk, compressed(junk)}) {
+    test::writeFile(dir_ / "bad.mat", matHeader() + variable);
+    EXPECT_TRUE(rejects([&] { readMat(dir_ / "bad.mat"); }, {name(), "claims 2500000000 cells, more than its"}));
+  }
+  // Structs: elements times fields (a field name length of 8, two names "a" and "b").
+  const std::string fieldNames =
+      le32((4u << 16) | 5u) + le32(8) + element(1, std::string("a\0\0\0\0\0\0\0b\0\0\0\0\0\0\0", 16));
+  test::writeFile(dir_ / "bad.mat", matHeader() + array(2, 40000, 40000, fieldNames));
+  EXPECT_TRUE(rejects([&] { readMat(dir_ / "bad.mat"); }, {name(), "claims 3200000000 struct fields"}));
+}
+
+TEST_F(MalformedMat, NumbersTheirDataCannotHoldAreRefused) {
+  // 50331648 x 4 doubles claimed over 48 bytes of data (libmatio allocated and zero-filled 800 MB).
+  test::writeFile(dir_ / "bad.mat", matHeader() + array(6, 50331648, 4, element(9, std::string(48, '\0'))));
+  EXPECT_TRUE(
+      rejects([&] { readMat(dir_ / "bad.mat"); }, {name(), "claims 201326592 values, but its real part holds 6"}));
+}
+
+TEST_F(MalformedMat, NestedTagsMustLieWithinTheirArray) {
+  // The array is 56 bytes long, its dimensions tag claims 0x702d3408.
+  const std::string variable =
+      le32(14) + le32(48) + element(6, le32(6) + le32(0)) + le32(5) + le32(0x702d3408) + std::string(24, '\0');
+  test::writeFile(dir_ / "bad.mat", matHeader() + variable);
+  EXPECT_TRUE(rejects([&] { readMat(dir_ / "bad.mat"); },
+                      {name(), "an array's dimensions at byte", "only 24 follow within its parent"}));
+}
+
+TEST_F(MalformedMat, CellsNestAtMost32Deep) {
+  std::string cell = kEmptyCell;
+  for (int depth = 0; depth < 40; ++depth) cell = array(1, 1, 1, cell);
+  test::writeFile(dir_ / "bad.mat", matHeader() + cell);
+  EXPECT_TRUE(rejects([&] { readMat(dir_ / "bad.mat"); }, {name(), "nested more than 32 deep"}));
+}
+
+TEST_F(MalformedMat, CellsAndStructsLibmatioWroteStillRead) {
+  // A valid table with a cell array and a struct beside it: both walked, neither refused.
+  const auto path = dir_ / "ok.mat";
+  ASSERT_TRUE(writeMat(path, {{"dir_in", dirIn2()}, {"dir_out", dirOut2()}, {"fr", frValues(3)}}));
+  mat_t* mat = Mat_Open(path.c_str(), MAT_ACC_RDWR);
+  ASSERT_NE(mat, nullptr);
+  size_t dims[2] = {2, 1};
+  double value = 1.5;
+  size_t one[2] = {1, 1};
+  matvar_t* cells[2] = {Mat_VarCreate(nullptr, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, one, &value, 0),
+                        Mat_VarCreate(nullptr, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, one, &value, 0)};
+  matvar_t* cell = Mat_VarCreate("notes", MAT_C_CELL, MAT_T_CELL, 2, dims, cells, 0);
+  const char* fieldNames[2] = {"a", "b"};
+  matvar_t* structure = Mat_VarCreateStruct("info", 2, one, fieldNames, 2);
+  Mat_VarSetStructFieldByName(structure, "a", 0, Mat_VarCreate(nullptr, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, one, &value, 0));
+  EXPECT_EQ(Mat_VarWrite(mat, cell, MAT_COMPRESSION_ZLIB), 0);
+  EXPECT_EQ(Mat_VarWrite(mat, structure, MAT_COMPRESSION_NONE), 0);
+  Mat_VarFree(cell);
+  Mat_VarFree(structure);
+  Mat_Close(mat);
+  EXPECT_EQ(readMat(path).values, frValues(3));
 }
 
 TEST_F(MalformedMat, NotAMatFile) {

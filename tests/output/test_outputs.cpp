@@ -4,9 +4,11 @@
 // constant and a hemispherical sky, and the documented basis polynomials).
 #include <gtest/gtest.h>
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/version.hpp>
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/env/sh_irradiance.hpp>
+#include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/maps/map_mips.hpp>
@@ -135,6 +137,34 @@ INSTANTIATE_TEST_SUITE_P(Kinds, TiledMips,
                                            ParameterizationKind::Cube, ParameterizationKind::LatLong),
                          [](const auto& param) { return std::string(toString(param.param)); });
 
+TEST(IrradianceQuantity, MapsWrittenBeforeTheConventionHoldEAndReadAsEOverPi) {
+  // An irradiance cube as brdfbake wrote it before "irradiance_quantity": texels hold E (pi for a
+  // furnace). Lookups return E/pi, and describe() says so; a map that states E/pi is read as is.
+  test::TempDir dir;
+  const CubeMap cube(4);
+  const Image furnaceE(cube.width(), cube.height(), Rgba(kPi, kPi, kPi, 1));
+  MapInfo info{ParameterizationKind::Cube, 4, kConventionVersion, {{"prefilter", {{"lobe", "irradiance"}}}}};
+  writeMap(furnaceE, info, dir / "old.exr");
+  const BakedOutput old = BakedOutput::open(dir / "old.exr");
+  EXPECT_NEAR(old.lookup(Vec3(0.3, 0.2, -1))[0], 1.0, 1e-6);
+  EXPECT_EQ(old.describe()["quantity"], "E/pi");
+  EXPECT_TRUE(old.describe().contains("quantity_note"));
+  info.spec["prefilter"]["irradiance_quantity"] = "E/pi";
+  writeMap(Image(cube.width(), cube.height(), Rgba(1, 1, 1, 1)), info, dir / "new.exr");
+  const BakedOutput stated = BakedOutput::open(dir / "new.exr");
+  EXPECT_NEAR(stated.lookup(Vec3(0.3, 0.2, -1))[0], 1.0, 1e-6);
+  EXPECT_FALSE(stated.describe().contains("quantity_note"));
+  // An SH file stating another quantity is refused, naming the key.
+  nlohmann::json sh = irradianceShToJson(ShExpansion{2, std::vector<Rgb>(9, Rgb::Zero())}, nlohmann::json::object());
+  sh["quantity"] = "E";
+  try {
+    irradianceShFromJson(sh, "sh.json");
+    ADD_FAILURE() << "quantity E accepted";
+  } catch (const Error& error) {
+    EXPECT_NE(std::string(error.what()).find("sh.json: quantity"), std::string::npos) << error.what();
+  }
+}
+
 TEST(TiledMips, CubeFacesAreSixTiledFilesAndBadRequestsAreRefused) {
   test::TempDir dir;
   const Environment furnace = loadEnvironment(test::sourcePath("data_samples/environments/furnace_latlong.exr"));
@@ -150,7 +180,7 @@ TEST(TiledMips, CubeFacesAreSixTiledFilesAndBadRequestsAreRefused) {
     OpenOutputOptions open;
     open.mipLevel = level;
     const BakedOutput out = BakedOutput::open(dir / "c.exr", open);
-    EXPECT_NEAR(out.lookup(Vec3(0.2, -1, 0.3))[0], kPi, 1e-4 * kPi) << level;
+    EXPECT_NEAR(out.lookup(Vec3(0.2, -1, 0.3))[0], 1.0, 1e-4) << level;  // irradiance maps hold E/pi
   }
   EXPECT_NE(tiledMipProblem(dir / "c.png", 8), "");
   EXPECT_NE(tiledMipProblem(dir / "c.exr", 12), "");
@@ -161,6 +191,30 @@ TEST(TiledMips, CubeFacesAreSixTiledFilesAndBadRequestsAreRefused) {
                                    CubeLayout::Cross, {}, MipLayout::Tiled),
                Error);
   EXPECT_FALSE(fs::exists(dir / "odd.exr"));
+}
+
+// --mips --tiled of a 1 x 1 map: one level, so one tiled file of one level (it said "needs the mip
+// levels (PrefilterOptions::mips)", naming an option the user had set). Without mips: refused in words.
+TEST(TiledMips, AOneTexelMapIsAOneLevelFileAndNoMipsIsRefusedInWords) {
+  test::TempDir dir;
+  const Environment furnace = loadEnvironment(test::sourcePath("data_samples/environments/furnace_latlong.exr"));
+  PrefilterOptions options;
+  options.parameterization = ParameterizationKind::Sphere;
+  options.resolution = 1;
+  options.mips = true;
+  writePrefilteredMap(prefilter(furnace, PrefilterLobe::irradiance(), options), dir / "dot.exr", {}, CubeLayout::Cross,
+                      {}, MipLayout::Tiled);
+  EXPECT_EQ(imageMipLevelCount(dir / "dot.exr"), 1);
+  options.resolution = 8;
+  options.mips = false;
+  try {
+    writePrefilteredMap(prefilter(furnace, PrefilterLobe::irradiance(), options), dir / "flat.exr", {},
+                        CubeLayout::Cross, {}, MipLayout::Tiled);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "a tiled MIP-mapped output holds every mip level; prefilter with mips on (\"mips\": true, --mips)");
+  }
 }
 
 // A Fresnel table written before the rename says "parameterization": "fresnel_profile"; it still

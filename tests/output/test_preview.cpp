@@ -10,20 +10,7 @@
 namespace brdfbake {
 namespace {
 
-TEST(PreviewMeshes, HaveUnitNormalsAndFitTheUnitSphere) {
-  for (auto object : {PreviewObject::Sphere, PreviewObject::Torus, PreviewObject::Teapot}) {
-    const Mesh mesh = makePreviewMesh(object, 16);
-    ASSERT_GT(mesh.triangles.size(), 100u);
-    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-      EXPECT_NEAR(mesh.normals[i].norm(), 1.0, 1e-9);
-      EXPECT_LE(mesh.positions[i].norm(), 1.0 + 1e-9);
-    }
-  }
-  // The sphere's normals are its positions.
-  const Mesh sphere = makeSphereMesh(8);
-  for (std::size_t i = 0; i < sphere.positions.size(); ++i)
-    EXPECT_NEAR((sphere.normals[i] - sphere.positions[i]).norm(), 0.0, 1e-12);
-}
+// The meshes' normals against the analytic surfaces: tests/output/test_preview_meshes.cpp.
 
 TEST(Preview, ConstantMapShadesTheObjectUniformly) {
   const SphereMap map(16);

@@ -160,7 +160,7 @@ TEST(MaterialSpecs, NamesTheJsonPathOfEveryError) {
        "maps[0].material.mode: mode must be one of lighting, reflectance; got \"mirror\""},
       {ct([](json& m) { m["distribution"] = "phong"; }),
        "maps[0].material.distribution: distribution must be one of beckmann, ggx"},
-      {ct([](json& m) { m["roughness"] = 0; }), "maps[0].material.roughness: must be > 0, got 0"},
+      {ct([](json& m) { m["roughness"] = 0; }), "maps[0].material.roughness: must be >= 1e-06, got 0"},
       {ct([](json& m) { m["roughness"] = 20; }), "maps[0].material.roughness: must be <= 10, got 20"},
       {ct([](json& m) { m["specular_weight"] = 1.5; }), "maps[0].material.specular_weight: must be <= 1"},
       {ct([](json& m) {
@@ -183,7 +183,7 @@ TEST(MaterialSpecs, NamesTheJsonPathOfEveryError) {
       {ct([](json& m) {
          m["fresnel"] = {{"ior", 0}};
        }),
-       "maps[0].material.fresnel.ior: must be > 0"},
+       "maps[0].material.fresnel.ior: must be in [0.001, 1000]"},
       {ct([](json& m) {
          m["fresnel"] = {{"f0", {0.5, 1.2, 0.5}}};
        }),
@@ -199,7 +199,7 @@ TEST(MaterialSpecs, NamesTheJsonPathOfEveryError) {
       {ct([](json& m) {
          m["fresnel"] = {{"n", {0, 1, 1}}, {"k", {1, 1, 1}}};
        }),
-       "maps[0].material.fresnel.n: must be > 0"},
+       "maps[0].material.fresnel.n: must be in [0.001, 1000]"},
       {ct([](json& m) {
          m["fresnel"] = {{"ior", 1.5}, {"eta", 2}};
        }),

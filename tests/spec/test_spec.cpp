@@ -55,6 +55,88 @@ TEST(Spec, ParsesAValidSpec) {
   EXPECT_EQ(material->material->model(), "phong");
 }
 
+// Values whose formulas would overflow or divide by zero are refused at validation, with their
+// JSON path (docs/limits.md), before anything is baked.
+TEST(Spec, ParametersOutsideTheirStableRangeAreRefusedWithTheirPath) {
+  auto material = [](json m) {
+    return [m](json& map) {
+      map["material"] = m;
+      map.erase("lights");
+    };
+  };
+  const json reflectance = {{"model", "cook_torrance"}, {"mode", "reflectance"}, {"roughness", 0.3}};
+  auto withFresnel = [&](const json& fresnel, double roughness = 0.3) {
+    json m = reflectance;
+    m["fresnel"] = fresnel;
+    m["roughness"] = roughness;
+    return material(m);
+  };
+  struct Case {
+    std::function<void(json&)> edit;
+    std::string expected;
+  };
+  const std::vector<Case> cases{
+      {[](json& m) {
+         m["lights"][0]["color"] = {1e308, 1, 1};
+       },
+       "maps[0].lights[0].color: must be <= 1e+06 per channel (docs/limits.md)"},
+      {[](json& m) { m["material"]["specular"] = 2e6; }, "maps[0].material.specular: must be <= 1e+06 per channel"},
+      {withFresnel({{"ior", 1e308}}), "maps[0].material.fresnel.ior: must be in [0.001, 1000] (docs/limits.md)"},
+      {withFresnel({{"ior", 1.5}}, 5e-324), "maps[0].material.roughness: must be >= 1e-06, got 4.94066e-324"},
+      {withFresnel({{"n", 1e155}, {"k", 1e155}}), "maps[0].material.fresnel.n: must be in [0.001, 1000]"},
+      {withFresnel({{"n", 1.5}, {"k", 1e155}}), "maps[0].material.fresnel.k: must be in [0, 1000]"},
+      {withFresnel({{"spectral", {{"wavelengths_nm", {400, 500}}, {"n", {1, 1e10}}, {"k", {1, 1}}}}}),
+       "maps[0].material.fresnel.spectral.n[1]: must be in [0.001, 1000]"},
+      {withFresnel({{"spectral", {{"wavelengths_nm", {-400, 500}}, {"f0", {0.5, 0.5}}}}}),
+       "maps[0].material.fresnel.spectral.wavelengths_nm[0]: wavelengths must increase strictly, each in (0, 1e5] nm"},
+      {[](json& m) { m["resolution"] = 18446744073709551615ull; },
+       "maps[0].resolution: must be in [1, 65536], got 18446744073709551615"},
+      {[](json& m) { m["output"] = std::string(300, 'o') + ".exr"; },
+       "maps[0].output: a name of 304 bytes in the path; file names are limited to 255 (NAME_MAX)"},
+      {[](json& m) { m["output"] = std::string("a\x1b[2J.jpg"); },
+       "maps[0].output: a\\x1b[2J.jpg: unsupported image extension"},
+      {[](json& m) {
+         m["lights"] = json::array();
+         for (int i = 0; i < 257; ++i) m["lights"].push_back({{"direction", "eye"}});
+       },
+       "maps[0].lights: at most 256 entries (docs/limits.md), got 257"},
+      {[](json& m) {
+         json w = json::array(), f0 = json::array();
+         for (int i = 0; i < 1025; ++i) w.push_back(300 + i), f0.push_back(0.5);
+         m["material"] = {{"model", "fresnel"}, {"fresnel", {{"spectral", {{"wavelengths_nm", w}, {"f0", f0}}}}}};
+         m.erase("lights");
+       },
+       "maps[0].material.fresnel.spectral.wavelengths_nm: at most 1024 entries (docs/limits.md), got 1025"},
+  };
+  for (const auto& c : cases) {
+    const std::string message = errorFor(withMap(c.edit));
+    EXPECT_NE(message.find(c.expected), std::string::npos) << "got: " << message << "\nexpected: " << c.expected;
+  }
+  json many = {{"maps", json::array()}};
+  for (int i = 0; i < 1025; ++i) many["maps"].push_back(validMap());
+  EXPECT_NE(errorFor(many).find("spec.json: maps: at most 1024 entries (docs/limits.md), got 1025"), std::string::npos);
+}
+
+// Keys and values reach messages escaped: "\x1b]0;pwned\x07" as written here, never the bytes.
+TEST(Spec, KeysAndValuesInMessagesArePrintable) {
+  const std::string hostile = "\x1b]0;pwned\x07\x1b[2J";
+  const std::vector<std::pair<std::function<void(json&)>, std::string>> cases{
+      {[&](json& m) { m[hostile] = 1; }, "maps[0].\\x1b]0;pwned\\x07\\x1b[2J: unknown key"},
+      {[&](json& m) { m["parameterization"] = hostile; },
+       "parameterization must be one of sphere, paraboloid, cube, latlong, profile, auto; got "
+       "\"\\x1b]0;pwned\\x07\\x1b[2J\""},
+      {[&](json& m) { m["material"]["model"] = hostile; }, "unknown model '\\x1b]0;pwned\\x07\\x1b[2J'"},
+      {[&](json& m) { m["material"]["exponent"] = hostile + std::string(100000, 'e'); },
+       "must be a number, got \"\\u001b]0;pwned"},
+  };
+  for (const auto& [edit, expected] : cases) {
+    const std::string message = errorFor(withMap(edit));
+    EXPECT_NE(message.find(expected), std::string::npos) << message.substr(0, 300);
+    EXPECT_EQ(message.find('\x1b'), std::string::npos);
+    EXPECT_LT(message.size(), 600u);
+  }
+}
+
 TEST(Spec, NamesTheJsonPathOfEveryError) {
   struct Case {
     std::function<void(json&)> edit;

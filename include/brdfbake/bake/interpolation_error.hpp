@@ -40,6 +40,16 @@ struct LineExperiment {
   std::vector<double> x, errorDegrees;
   double maxError = 0.0, maxAt = 0.0;
 };
+struct LineExperimentOptions {
+  Vec3 viewer = Vec3(-8.3, 1, 0);  ///< the eye, above the surface: y in [1e-6, 1e6], |x|, |z| <= 1e6
+  double segment = 20.0;           ///< vertex spacing, in (0, 20] (20: one segment, the whole surface)
+  int samples = 4001;              ///< points along the surface, in [2, 1e7]
+  /// Throws Error(InvalidArgument) naming the value outside its range: a viewer on or below the
+  /// surface sees it edge-on or from behind (no reflection to interpolate), and beyond 1e6 the
+  /// view directions lose the precision the error is measured in.
+  void validate() const;
+};
+LineExperiment planarLineExperiment(const LineExperimentOptions& options);
 LineExperiment planarLineExperiment(const Vec3& viewer = Vec3(-8.3, 1, 0), double segment = 20.0, int samples = 4001);
 
 }  // namespace brdfbake

@@ -88,10 +88,15 @@ enum class CookTorranceNormalization { Microfacet, CookTorrance1981 };
 /// N.L = N.V), independent of lights.
 enum class CookTorranceMode { Lighting, Reflectance };
 
+/// The roughness range CookTorranceMaterial accepts: down to 1e-6 (D(1) = 1 / (pi m^2) stays far
+/// below the float range of a map), up to 10 (D is flat long before).
+inline constexpr double kMinRoughness = 1e-6;
+inline constexpr double kMaxRoughness = 10.0;
+
 struct CookTorranceParams {
   CookTorranceMode mode = CookTorranceMode::Reflectance;
   MicrofacetDistribution distribution = MicrofacetDistribution::Beckmann;
-  double roughness = 0.3;  ///< Beckmann rms slope m, or GGX alpha; in (0, 10]
+  double roughness = 0.3;  ///< Beckmann rms slope m, or GGX alpha; in [kMinRoughness, kMaxRoughness]
   FresnelTerm fresnel = FresnelTerm::dielectric(Rgb::Constant(1.5));
   double specularWeight = 1.0;  ///< s in R = s R_s + d R_d, d = 1 - s (Zimmons & Bastos 1999 Eq. 5); in [0, 1]
   Rgb diffuse = Rgb::Zero();    ///< Lambertian albedo rho_d in [0, 1]; R_d = rho_d / pi (lighting only)

@@ -103,6 +103,12 @@ T f0FromConductor(const T& n, const T& k) {
   return ((n - T(1)) * (n - T(1)) + k * k) / ((n + T(1)) * (n + T(1)) + k * k);
 }
 
+/// The range of indices (eta, n and k; k from 0) FresnelTerm accepts, in which the formulas above
+/// stay finite and accurate (their squares and products of squares stay far from overflow): every
+/// real material lies well inside it (docs/limits.md).
+inline constexpr double kMinFresnelIndex = 1e-3;
+inline constexpr double kMaxFresnelIndex = 1e3;
+
 /// A Fresnel term per RGB channel: F(c) for c = cos of the angle of incidence (see file comment).
 /// Immutable and thread-safe.
 class FresnelTerm {
@@ -115,7 +121,7 @@ class FresnelTerm {
   };
 
   /// Dielectric of relative index eta per channel. Throws Error(InvalidArgument) unless each
-  /// eta is finite and > 0.
+  /// eta is in [kMinFresnelIndex, kMaxFresnelIndex].
   static FresnelTerm dielectric(const Rgb& eta);
   /// From the normal-incidence reflectance f0 in [0, 1] per channel, through
   /// eta = (1 + sqrt f0) / (1 - sqrt f0) and Eq. 13 (the usual way to give a metal's colour without
@@ -125,8 +131,8 @@ class FresnelTerm {
   /// Schlick's approximation from f0 in [0, 1] per channel: matches engines that use it (Filament),
   /// where fromF0 converts f0 to a real index instead. Throws Error(InvalidArgument) outside [0, 1].
   static FresnelTerm schlick(const Rgb& f0);
-  /// Conductor of complex index n + i k per channel. Throws Error(InvalidArgument) unless n is
-  /// finite and > 0 and k finite and >= 0.
+  /// Conductor of complex index n + i k per channel. Throws Error(InvalidArgument) unless n is in
+  /// [kMinFresnelIndex, kMaxFresnelIndex] and k in [0, kMaxFresnelIndex].
   static FresnelTerm conductor(const Rgb& n, const Rgb& k);
   /// A table of F over c: entry i holds F at c = i / (size - 1). size >= 2, values finite in [0, 1].
   static FresnelTerm table(std::vector<Rgb> valuesOverCos);

@@ -3,6 +3,8 @@
 /// The one exception type the library throws. The library never exits or prints; the CLI maps
 /// `Error::Kind` to exit codes.
 
+#include <brdfbake/core/printable.hpp>
+
 #include <stdexcept>
 #include <string>
 
@@ -22,9 +24,9 @@ class Error : public std::runtime_error {
 
   Kind kind() const noexcept { return kind_; }
 
-  /// "<file>:<line>: <message>" (line omitted when 0).
+  /// "<file>:<line>: <message>" (line omitted when 0); the file name goes through printable().
   static Error atFile(Kind kind, const std::string& file, int line, const std::string& message) {
-    std::string where = file;
+    std::string where = printable(file);
     if (line > 0) {
       where += ':';
       where += std::to_string(line);

@@ -5,6 +5,11 @@
 /// interrupt), and a command's planned files are checked against each other before any work.
 /// The guarantees are listed in README.md ("Guarantees"); tests/core/test_files.cpp pins them.
 
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/core/printable.hpp>
+
+#include <sys/types.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -14,26 +19,44 @@
 
 namespace brdfbake {
 
-/// `text` for an error message: at most `limit` characters, the middle elided and the full length
-/// given ("aaaa...zzzz (52428800 characters)"), so a hostile 50 MB name is never echoed whole.
-std::string shortenForMessage(std::string_view text, std::size_t limit = 200);
+/// The former name of printable() (core/printable.hpp), kept while cli/ still calls it.
+inline std::string shortenForMessage(std::string_view text, std::size_t limit = kPrintableLimit) {
+  return printable(text, limit);
+}
 
 /// Checks that `path` is an existing regular file (following symlinks) and returns its size.
-/// Throws Error(Io) "<path>: no such file" or "<path>: is a folder, not a file" (`what` names the
-/// role, e.g. "measured table").
+/// Throws Error(Io) "<path>: no such file", "<path>: is a folder, not a file" or "<path>: is a FIFO
+/// (named pipe), not a regular file" (`what` names the role, e.g. "measured table"): devices, FIFOs
+/// and sockets never end or block, so no reader takes them.
 std::uintmax_t requireInputFile(const std::filesystem::path& path, const std::string& what = "input file");
 
-/// Reads a whole file (requireInputFile first). Files over `maxBytes` are refused with Error(Resource).
+/// Reads a whole file (requireInputFile first), never more than `maxBytes` (a file that grows while
+/// read included): Error(Resource) beyond.
 std::string readTextFile(const std::filesystem::path& path, const std::string& what = "input file",
                          std::uintmax_t maxBytes = std::uintmax_t{1} << 30);
 
-/// A file that appears whole or not at all. Write to temporaryPath() (a hidden sibling of the
-/// target with the same extension), then commit() renames it over the target. Until committed the
-/// temporary is registered for removeTemporaryFilesNow() and the destructor removes it.
+/// Throws Error(`kind`) naming `path` (and `role`, when given) unless it is absent or a regular file.
+/// A symbolic link is refused, not followed: outputs replace only regular files, never a device
+/// node, FIFO, socket, folder or the file a link points to.
+void requireReplaceableOutput(const std::filesystem::path& path, Error::Kind kind, const std::string& role = {});
+
+/// "a regular file", "a folder", "a symbolic link", "a character device", "a FIFO (named pipe)", ...
+std::string describeFileType(std::filesystem::file_type type);
+
+/// The system's text for an errno value ("No space left on device").
+std::string errnoText(int error);
+
+/// A file that appears whole or not at all: every output of brdfbake (images of every format,
+/// sidecars, fit.json, reports, charts, CSV) is committed through one. Write the temporary (a hidden
+/// sibling of the target with the same extension) with write(), or through the descriptor open()
+/// gives, or by its path (temporaryPath(), for a program that writes it); then commit() checks the
+/// close and renames it over the target. Until committed the temporary is registered for
+/// removeTemporaryFilesNow() and the destructor removes it. Every failure is Error(Io) naming the
+/// target, never the temporary: "out.png: write failed: No space left on device (disk full)".
 class AtomicOutput {
  public:
-  /// Creates the target's folder if needed. Throws Error(Io) if the target is a folder or its
-  /// folder cannot be created.
+  /// Creates the target's folder if needed. Throws Error(Io) if the target exists and is not a
+  /// regular file (requireReplaceableOutput), or its folder cannot be created.
   explicit AtomicOutput(std::filesystem::path target);
   ~AtomicOutput();
   AtomicOutput(const AtomicOutput&) = delete;
@@ -41,12 +64,23 @@ class AtomicOutput {
 
   const std::filesystem::path& target() const { return target_; }
   const std::filesystem::path& temporaryPath() const { return temporary_; }
-  /// Moves the finished temporary into place. Throws Error(Io) naming the target.
+  /// Creates the temporary (exclusively; read-write) and returns its descriptor, which stays owned
+  /// by this object; later calls return the same descriptor.
+  int open();
+  /// Appends `bytes` to the temporary (open() first), checking every write.
+  void write(std::string_view bytes);
+  /// Closes the temporary's descriptor, checking the close (a deferred write error shows here).
+  void close();
+  /// The Error(Io) for a failed write with errno value `error`, naming the target.
+  Error writeFailed(int error) const;
+  /// close(), then moves the finished temporary into place, after checking again that the target is
+  /// absent or a regular file. Throws Error(Io) naming the target.
   void commit();
 
  private:
   std::filesystem::path target_, temporary_;
   int slot_ = -1;
+  int fd_ = -1;
   bool committed_ = false;
 };
 
@@ -69,15 +103,22 @@ class ScratchFile {
 /// Writes `bytes` to `target` through an AtomicOutput.
 void writeFileAtomically(const std::filesystem::path& target, std::string_view bytes);
 
-/// Removes every registered temporary file. Async-signal-safe (unlink only): the CLI calls it from
-/// its SIGINT/SIGTERM/SIGHUP handler.
+/// Registers a child process (gnuplot) for removeTemporaryFilesNow() to stop; returns the slot for
+/// unregisterChildProcess (-1 when all 16 slots are busy).
+int registerChildProcess(pid_t pid) noexcept;
+void unregisterChildProcess(int slot) noexcept;
+
+/// Stops every registered child process (SIGKILL), then removes every registered temporary file.
+/// Async-signal-safe (kill and unlink only): the CLI calls it from its SIGINT/SIGTERM/SIGHUP handler.
 void removeTemporaryFilesNow() noexcept;
 
 /// The files a command reads and writes, checked before any work starts (check()):
 ///   - no output is an input, and no two outputs are the same file; paths are compared after
 ///     resolving "..", symlinks and hard links;
 ///   - with an output folder, every output lies inside it;
-///   - every output can be written: it is not a folder, and its folder exists or can be created
+///   - every output can be written: it is absent or a regular file (not a folder, symbolic link,
+///     device node, FIFO or socket), each name in its path fits the file system (NAME_MAX, usually
+///     255 bytes) and the whole path PATH_MAX (4096 bytes), and its folder exists or can be created
 ///     in a writable place.
 /// Each file carries a role ("spec", "maps[1].output", "--report") that the messages name.
 class FilePlan {

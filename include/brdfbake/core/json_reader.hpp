@@ -17,6 +17,15 @@
 
 namespace brdfbake {
 
+/// Largest colour component a JSON input may give (an irradiance, albedo or map colour): far above
+/// any real light (the sun gives about 1e5 lux), far below where sums of lights and lobes overflow
+/// the float samples of a map (3.4e38).
+inline constexpr double kMaxColor = 1e6;
+
+/// Most entries of a JSON array read with JsonObjectReader::array unless the caller gives its own
+/// limit (docs/limits.md).
+inline constexpr std::size_t kMaxJsonArrayEntries = 4096;
+
 /// Error(InvalidInput) with message "<path>: <message>".
 Error specError(const std::string& path, const std::string& message);
 
@@ -47,15 +56,16 @@ class JsonObjectReader {
   double number(const std::string& key, double fallback, double minimum, double maximum, bool exclusiveMinimum);
   int integer(const std::string& key, int minimum, int maximum);
   int integer(const std::string& key, int fallback, int minimum, int maximum);
-  /// [r, g, b] of finite numbers >= 0, or one number for grey.
+  /// [r, g, b] of numbers in [0, kMaxColor], or one number for grey.
   Rgb color(const std::string& key);
   Rgb color(const std::string& key, const Rgb& fallback);
   /// [x, y, z], finite and non-zero; returned normalized.
   Vec3 direction(const std::string& key);
   /// An object member, for nested reading.
   JsonObjectReader object(const std::string& key);
-  /// An array member; throws unless it is an array.
-  const nlohmann::json& array(const std::string& key);
+  /// An array member of at most `maxEntries` entries; throws unless it is one ("<path>: at most N
+  /// entries (docs/limits.md), got M").
+  const nlohmann::json& array(const std::string& key, std::size_t maxEntries = kMaxJsonArrayEntries);
 
   /// The string at `key` (or `fallback` when absent and a fallback is given) turned into a value
   /// by `parse`, a parse* function that throws Error naming the accepted names; its error is

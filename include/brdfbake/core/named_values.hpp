@@ -4,6 +4,7 @@
 /// way (Error(InvalidArgument) listing the accepted names) instead of returning std::optional.
 
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/printable.hpp>
 
 #include <array>
 #include <string>
@@ -20,9 +21,8 @@ Enum parseByName(std::string_view name, const std::array<Enum, N>& values, std::
     if (name == toString(value)) return value;
     accepted += (accepted.empty() ? "" : ", ") + std::string(toString(value));
   }
-  const std::string shown = name.size() > 40 ? std::string(name.substr(0, 40)) + "..." : std::string(name);
   throw Error(Error::Kind::InvalidArgument,
-              std::string(what) + " must be one of " + accepted + "; got \"" + shown + "\"");
+              std::string(what) + " must be one of " + accepted + "; got \"" + printable(name, 40) + "\"");
 }
 
 }  // namespace brdfbake

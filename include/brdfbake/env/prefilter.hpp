@@ -166,6 +166,10 @@ struct PrefilteredMap {
   std::vector<Image> levels;
   std::shared_ptr<const Parameterization> map;  ///< level 0
   PrefilterSummary summary;
+  /// A chain whose levels hold different lobes (prefilterGlossChain): one JSON object per level
+  /// ({"lobe", "roughness" or "exponent", "method", "error_estimate"}), written as the
+  /// metadata's "level_values" (levelValues, map_file.hpp); empty for a plain mip chain.
+  std::vector<nlohmann::json> levelValues;
 };
 
 /// Prefilters `environment` with `lobe`. Throws Error(InvalidArgument) for bad options,
@@ -209,7 +213,8 @@ PrefilterError prefilterError(const Image& result, const Image& reference, const
 
 /// Writes every level: level 0 at `path`, level k at mipLevelPath(path, k), each a map
 /// (writeMap) whose MapInfo::spec is `spec` plus "prefilter": {lobe, method, detail, max_error,
-/// error_estimate, error_metric, mip_level, mip_levels}; with MipLayout::Tiled the whole chain in
+/// error_estimate, error_metric, mip_level, mip_levels} (irradiance adds "irradiance_quantity": "E/pi"),
+/// and map.levelValues as "level_values"; with MipLayout::Tiled the whole chain in
 /// one tiled MIP-mapped OpenEXR at `path` (writeTiledMap; needs mip levels, a .exr path and a
 /// power-of-two resolution, else Error(InvalidArgument)). Keys of an object `spec["prefilter"]`
 /// are kept (prefilter_stack.hpp adds "elevation" and "fresnel" there).

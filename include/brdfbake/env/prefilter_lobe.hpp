@@ -6,8 +6,10 @@
 ///
 /// Normalisation (docs/prefilter.md):
 /// - mirror: the delta lobe; the map is the environment resampled (no integral).
-/// - irradiance: w = max(0, c), so ∫ w dω = pi and a constant environment L = 1 gives pi (Eq. 15
-///   without k_d).
+/// - irradiance: w = max(0, c) / pi, so ∫ w dω = 1 and the map holds the radiance-equivalent
+///   irradiance E(n)/pi (Eq. 15 without k_d, divided by pi): a constant environment L = 1 gives 1, and a
+///   Lambertian surface of albedo k_d reflects k_d times the map. The one irradiance quantity of every
+///   output (docs/conventions.md, "Irradiance").
 /// - phong:N: w = (N + 1) / (2 pi) max(0, c)^N (Eq. 17 normalised: ∫ w dω = 1; note the factor is
 ///   N + 1, not the N + 2 of phongNormalization, which also weights by the cosine to the normal).
 /// - blinn:N: the Blinn-Phong exponent N' = N converted by the classic policy N' = 4 n
@@ -30,11 +32,16 @@ namespace brdfbake {
 
 enum class LobeKind { Mirror, Irradiance, Phong, Ggx };
 
+/// The irradiance quantity every output holds (irradiance maps, their mip levels, SH files, the
+/// `ibl` job's files): the radiance-equivalent irradiance E/pi, stated as "irradiance_quantity" in
+/// each map's "prefilter" metadata and as "quantity" in SH files (docs/conventions.md, "Irradiance").
+inline constexpr const char* kIrradianceQuantity = "E/pi";
+
 class PrefilterLobe {
  public:
   /// The delta lobe: plain resampling.
   static PrefilterLobe mirror();
-  /// Diffuse irradiance max(0, n.l), indexed by the normal; integrates to pi.
+  /// Radiance-equivalent irradiance max(0, n.l) / pi (E/pi), indexed by the normal; integrates to 1.
   static PrefilterLobe irradiance();
   /// Normalised Phong (N + 1)/(2 pi) max(0, c)^N. Throws Error(InvalidArgument) unless
   /// 0 <= exponent <= 1e6 and finite.
@@ -61,10 +68,12 @@ class PrefilterLobe {
   double phongExponent() const;
   /// GGX alpha (= roughness^2), or 0.
   double ggxAlpha() const;
+  /// GGX perceptual roughness as given to ggx(), or 0.
+  double ggxRoughness() const;
 
   /// w(c) per steradian for the cosine c of the angle to the axis (exact formula; 0 for mirror).
   double weight(double cosAngle) const;
-  /// ∫ w dω over the sphere: 1 for normalised lobes, pi for irradiance.
+  /// ∫ w dω over the sphere: 1 for every filtering lobe (irradiance included: E/pi).
   double mass() const;
   /// Angle (radians) about the axis holding half of the mass.
   double halfMassAngle() const;

@@ -14,8 +14,9 @@
 ///   linearly in t between slices floor(t (K - 1)) and the next.
 /// - **Fresnel decomposition** (Heidrich 2000 section 3.1.1): the specular map L_m (mirror or a glossy
 ///   lobe), the irradiance map E and the 1-D Fresnel texture F(cos theta) from one request; a
-///   renderer combines them as L = F L_m + k_d E / pi ("add") or F L_m + (1 - F) k_d E / pi ("mix"),
-///   with F = F(n.v) and k_d its diffuse albedo (combineFresnelDecomposition).
+///   renderer combines them as L = F L_m + k_d E' ("add") or F L_m + (1 - F) k_d E' ("mix"),
+///   with F = F(n.v), E' = E/pi the irradiance map's value and k_d its diffuse albedo
+///   (combineFresnelDecomposition).
 
 #include <brdfbake/brdf/fresnel.hpp>
 #include <brdfbake/env/prefilter.hpp>
@@ -59,7 +60,7 @@ MapWriteReport writePrefilteredStack(const PrefilteredStack& stack, const std::f
 /// The three outputs of a Fresnel decomposition (see @file).
 struct FresnelDecomposition {
   PrefilteredMap specular;    ///< L_m: the environment filtered with the specular lobe
-  PrefilteredMap irradiance;  ///< E(n) = ∫ L max(0, n.l) dω (pi for L = 1), same map and options
+  PrefilteredMap irradiance;  ///< E(n)/pi = (1/pi) ∫ L max(0, n.l) dω (1 for L = 1), same map and options
   std::vector<Rgb> table;     ///< fresnelTable: entry i holds F at cos theta = (i + 0.5) / size
   FresnelTerm fresnel = FresnelTerm::dielectric(Rgb::Constant(1.5));
   FresnelCombine combine = FresnelCombine::Add;
@@ -75,7 +76,7 @@ FresnelDecomposition prefilterFresnelDecomposition(const Environment& environmen
 /// What a renderer computes at a surface point from the three outputs: F = F(n.v) (the table),
 /// L_m = the specular map at the reflected direction r, E = the irradiance map at the normal n
 /// (a sphere map holds both at r), and its own diffuse albedo k_d:
-///   add: F L_m + k_d E / pi,   mix: F L_m + (1 - F) k_d E / pi.
+///   add: F L_m + k_d E',   mix: F L_m + (1 - F) k_d E',   E' = E/pi, what the irradiance map holds.
 Rgb combineFresnelDecomposition(FresnelCombine combine, const Rgb& fresnel, const Rgb& specular, const Rgb& irradiance,
                                 const Rgb& diffuseAlbedo);
 
@@ -86,12 +87,26 @@ Rgb combineFresnelDecomposition(FresnelCombine combine, const Rgb& fresnel, cons
 /// with every exponent in [0, 1e6].
 std::vector<double> glossLevelExponents(int count, double scale, double bias);
 
-/// A glossy mip chain (as cmft and CubeMapGen make them): level k is the environment filtered
-/// with lobes[k] at resolution max(1, options.resolution >> k), each level a prefilter() run to
-/// options' method and bound (options.mips must be off: the levels are the chain), cube edges
-/// fixed and paraboloid borders aligned at every level. The summary's error estimate is the
-/// largest level's, its seconds the total; `levels` is lobes.size(). Throws Error(InvalidArgument)
-/// for no lobes, more levels than the resolution halves into, a mirror lobe, or options.mips, and
+/// The perceptual roughness of level k of a GGX chain of `count` levels: R_k = k / (count - 1)
+/// (0 for a single level), the mapping of Filament's cmgen (its level k of log2(N) + 1 holds
+/// linear roughness (k / (count - 1))^2, i.e. perceptual roughness k / (count - 1)) and of Khronos'
+/// glTF-IBL-Sampler (roughness = level / (levels - 1)): a renderer reads roughness R at
+/// lod = R (count - 1). Throws Error(InvalidArgument) unless count is in [1, 16].
+std::vector<double> ggxChainRoughness(int count);
+
+/// The lobes of a GGX chain: the mirror lobe at R = 0 (level 0: the environment resampled, which
+/// is GGX's limit), ggx:R_k above.
+std::vector<PrefilterLobe> ggxChainLobes(int count);
+
+/// A glossy mip chain (as cmft and CubeMapGen make them, or cmgen's GGX chain): level k is the
+/// environment filtered with lobes[k] at resolution max(1, options.resolution >> k), each level a
+/// prefilter() run to options' method and bound (options.mips must be off: the levels are the
+/// chain), cube edges fixed and paraboloid borders aligned at every level. A mirror lobe (a GGX
+/// chain's level 0) resamples the environment (method auto). The summary's error estimate is the
+/// largest level's, its seconds the total; `levels` is lobes.size(); `levelValues` holds, per level,
+/// {"lobe", "roughness" and "alpha" (GGX, mirror 0) or "exponent" (Phong), "method",
+/// "error_estimate" (null if exact or not estimated), "exact"}. Throws Error(InvalidArgument) for
+/// no lobes, more levels than the resolution halves into, an irradiance lobe, or options.mips, and
 /// everything prefilter() throws.
 PrefilteredMap prefilterGlossChain(const Environment& environment, const std::vector<PrefilterLobe>& lobes,
                                    const PrefilterOptions& options = {});

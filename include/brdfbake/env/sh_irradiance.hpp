@@ -42,6 +42,19 @@ nlohmann::json irradianceShToJson(const ShExpansion& sh, const nlohmann::json& s
 /// JSON path of what is missing or wrong.
 ShExpansion irradianceShFromJson(const nlohmann::json& document, const std::string& label);
 
+/// The coefficients as Filament's cmgen prints them with --sh-shader (cmgen.cpp outputSh,
+/// CubemapSH::computeIrradianceSH3Bands): 9 lines "(r, g, b); // Llm, irradiance, pre-scaled base",
+/// l = 0..2, m = -l..l, each number fixed with 15 decimals in 18 columns. cmgen's coefficient i is
+/// c_i k_i, k_i the constant and sign of Y_i above, so that E(n)/pi = sh[0] + sh[1] y + sh[2] z +
+/// sh[3] x + sh[4] y x + sh[5] y z + sh[6] (3 z^2 - 1) + sh[7] z x + sh[8] (x^2 - y^2), which is the
+/// sum Filament's shader (Irradiance_SphericalHarmonics) evaluates. (x, y, z) is the normal in the
+/// environment's frame; cmgen's own run on a lat-long image works in the frame (x, y, -z), where
+/// sh[2], sh[5] and sh[7] change sign.
+std::string irradianceShCmgenText(const ShExpansion& sh);
+
+/// The constants k_i of the basis above (Y_i = k_i b_i, b_i the polynomials of cmgen's lines).
+std::vector<double> irradianceShBasisConstants();
+
 /// True if `document` says it is an SH irradiance file ("format").
 bool isIrradianceShDocument(const nlohmann::json& document);
 

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// `brdfbake fit --report`: a PNG chart of measured against fitted values in the plane of
-/// incidence, one panel per incident angle, drawn by gnuplot (fit/gnuplot.hpp).
+/// incidence, one panel per incident angle, drawn by gnuplot (core/gnuplot.hpp).
 ///
 /// Each panel plots the BRDF (1/sr, log scale) against the signed outgoing angle theta_s in
 /// degrees: positive on the mirror side (phi_s = 180 degrees), negative on the retro side
@@ -22,8 +22,9 @@ namespace brdfbake {
 std::string fitReportScript(const std::filesystem::path& png, const MeasuredTable& table, const LobeModel& model,
                             const std::string& title);
 
-/// Draws the chart. Throws Error(InvalidArgument) when the table and model channel counts differ
-/// or gnuplot is missing, Error(Io) when gnuplot fails.
+/// Draws the chart into `png` atomically (renderGnuplotOutput). Throws Error(InvalidArgument) when
+/// the table and model channel counts differ or gnuplot is missing, Error(Io) naming `png` when
+/// gnuplot fails or the picture is incomplete.
 void writeFitReport(const std::filesystem::path& png, const MeasuredTable& table, const LobeModel& model,
                     const std::string& title = {});
 

@@ -100,6 +100,7 @@ class BakedOutput {
   std::optional<RadialProfile> radial_;
   std::vector<Rgb> fresnel_;
   std::optional<ShExpansion> sh_;
+  double valueScale_ = 1.0;             // 1/pi for irradiance maps written before "irradiance_quantity" (they hold E)
   double minCos_ = 1.0, maxCos_ = 1.0;  // ElevationStack
   bool indexedByNormal_ = false, eyeSpace_ = false;
 };

@@ -34,11 +34,15 @@ struct PrefilterRequest {
   std::optional<int> elevations;       ///< ["elevations"] (varying lobe models)
   std::optional<double> fresnelIor;    ///< ["fresnel"]["ior"]: a Fresnel decomposition
   std::optional<std::string> combine;  ///< ["combine"]: add | mix
-  std::optional<double> glossScale;    ///< ["gloss_chain"]["scale"]: a gloss chain (lobe phong or blinn)
-  std::optional<double> glossBias;     ///< ["gloss_chain"]["bias"]
-  std::optional<int> mipCount;         ///< ["gloss_chain"]["levels"]
-  bool edgeFixup = true;               ///< ["gloss_chain"]["edge_fixup"]
+  /// ["lobe"] with ["gloss_chain"]: "ggx" makes a GGX chain (level k of L: roughness k / (L - 1))
+  /// in place of `lobe` (which must then be empty or "ggx").
+  std::optional<std::string> chain;
+  std::optional<double> glossScale;               ///< ["gloss_chain"]["scale"]: a gloss chain (lobe phong or blinn)
+  std::optional<double> glossBias;                ///< ["gloss_chain"]["bias"]
+  std::optional<int> mipCount;                    ///< ["gloss_chain"]["levels"]
+  bool edgeFixup = true;                          ///< ["gloss_chain"]["edge_fixup"]
   std::optional<std::filesystem::path> shOutput;  ///< ["sh_output"] (irradiance)
+  std::optional<std::string> shFormat;            ///< ["sh_format"]: brdfbake (JSON) | cmgen (text)
 };
 
 /// The request as a one-map spec document {"maps": [{...}]}; its relative paths resolve against the

@@ -53,18 +53,25 @@ struct EnvironmentMapSpec {
   /// "gloss_chain": {"scale": S, "bias": B (default 1), "levels": M (default: down to 1 texel, at most 16),
   /// "edge_fixup": true} with "lobe": "phong" or "blinn" (no exponent): a gloss mip chain as cmft makes
   /// it, level k at resolution N >> k filtered with the exponent 2^(S g_k + B), g_k = 1 - k/(M - 1)
-  /// (glossLevelExponents), written as the map's mip levels STEM_mipK.EXT. `chainLobes` holds level
-  /// k's lobe; "edge_fixup": false keeps cube texels unaveraged (cmft's --edgeFixup none).
+  /// (glossLevelExponents); with "lobe": "ggx" ({"levels", "edge_fixup"} only): cmgen's GGX chain, level k
+  /// holding ggx:R_k, R_k = k / (M - 1) (ggxChainRoughness; level 0 the mirror). Written as the map's mip
+  /// levels STEM_mipK.EXT, or with "mip_layout": "tiled" (M must then reach 1 texel) as one file's levels,
+  /// each level's roughness or exponent in the metadata's "level_values". `chainLobes` holds level k's lobe;
+  /// "edge_fixup": false keeps cube texels unaveraged (cmft's --edgeFixup none).
   struct GlossChain {
     double scale = 10.0, bias = 1.0;
     int levels = 0;
     bool edgeFixup = true;
+    bool ggx = false;  ///< "lobe": "ggx"
   };
   std::optional<GlossChain> glossChain;
   std::vector<PrefilterLobe> chainLobes;
   /// "sh_output": FILE.json, with "lobe": "irradiance": also the irradiance as 3 bands of spherical
   /// harmonics (env/sh_irradiance.hpp), resolved (and placed under an output folder) like "output".
   std::optional<std::filesystem::path> shOutput;
+  /// "sh_format": "brdfbake" (default: the JSON of irradianceShToJson, FILE.json) or "cmgen" (the 9 RGB
+  /// lines cmgen --sh-shader prints, irradianceShCmgenText, FILE.txt).
+  bool shCmgen = false;
 
   /// The analytic lobe, or null for a fitted model.
   const PrefilterLobe* analyticLobe() const { return std::get_if<PrefilterLobe>(&lobe); }

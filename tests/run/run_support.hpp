@@ -1,0 +1,54 @@
+#pragma once
+// What the run-layer tests share: each command's computation called through its library job, the
+// way a renderer or a script calls it (brdfbake::run), with the same JSON the tool prints.
+#include <brdfbake/run/describe_output.hpp>
+#include <brdfbake/run/sample_output.hpp>
+#include <brdfbake/run/spec_runner.hpp>
+
+#include <fstream>
+#include <string>
+
+#include "test_support.hpp"
+
+namespace brdfbake::test {
+
+/// `brdfbake sample PATH --dir D`: the value a renderer looks up (RGB).
+inline Rgb sampleAt(const std::filesystem::path& path, const Vec3& direction, std::optional<double> cosView = {}) {
+  SampleOptions options;
+  options.source.path = path;
+  options.source.cosView = cosView;
+  options.directions = {direction};
+  return sampleOutput(options).lookups.at(0).value.head<3>();
+}
+
+/// `brdfbake info PATH --json`.
+inline nlohmann::json infoOf(const std::filesystem::path& path) { return describeOutput(path).description; }
+
+/// `brdfbake bake SPEC --out-dir DIR --json` (DIR empty: the spec's folder). Expects no map to fail.
+inline nlohmann::json bakeSpec(const std::filesystem::path& spec, const std::filesystem::path& outDir = {}) {
+  SpecRunOptions options;
+  options.spec = spec;
+  options.outDir = outDir;
+  const SpecRunResult result = runSpec(options);
+  EXPECT_EQ(result.failed(), 0) << result.briefReport();
+  return result.toJson();
+}
+
+/// The message of the Error `f` throws ("" and a failure when it throws none).
+template <class F>
+std::string errorOf(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no error thrown";
+  return "";
+}
+
+inline nlohmann::json readJsonFile(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+}  // namespace brdfbake::test
