@@ -42,7 +42,16 @@ Rgb CookTorranceMaterial::brdf(const Vec3& n, const Vec3& v, const Vec3& l) cons
   // nl > 0 and nv >= 0 exclude l = -v, so l + v is not zero.
   const Vec3 h = (l + v).normalized();
   const double nh = n.dot(h), vh = v.dot(h);
-  const double specular = cookTorranceSpecular(distribution(nh), nh, nv, nl, vh, denominator());
+  double specular = 0.0;
+  if (params_.shadowing == MicrofacetShadowing::VCavity) {
+    specular = cookTorranceSpecular(distribution(nh), nh, nv, nl, vh, denominator());
+  } else if (nh > 0.0) {  // l.h = v.h for h = normalize(l + v)
+    const bool ggx = params_.distribution == MicrofacetDistribution::Ggx;
+    specular = distribution(nh) *
+               smithGOverNlNv(nv, nl, vh, vh, params_.roughness, ggx,
+                              params_.shadowing == MicrofacetShadowing::SmithCorrelated) /
+               denominator();
+  }
   Rgb value = params_.specularWeight * specular * params_.fresnel(vh);
   if (params_.specularWeight < 1.0) value += (1.0 - params_.specularWeight) * params_.diffuse / kPi;
   return value;
@@ -81,7 +90,9 @@ std::optional<std::vector<RadialLobe>> CookTorranceMaterial::unlitRadialLobes(co
 }
 
 std::optional<MicrofacetLobe> CookTorranceMaterial::microfacetLobe(const Vec3& light, const Vec3& view) const {
-  if (params_.mode != CookTorranceMode::Lighting) return std::nullopt;
+  if (params_.mode != CookTorranceMode::Lighting || params_.shadowing != MicrofacetShadowing::VCavity) {
+    return std::nullopt;
+  }
   const Vec3 sum = light + view;
   if (!(sum.squaredNorm() > 1e-24)) return std::nullopt;
   MicrofacetLobe lobe;
@@ -100,6 +111,22 @@ std::optional<MicrofacetLobe> CookTorranceMaterial::microfacetLobe(const Vec3& l
     lobe.distribution = [m](double nh) { return ggxD(std::max(std::abs(nh), 1e-300), m); };
   }
   return lobe;
+}
+
+std::optional<std::vector<ReflectionLobe>> CookTorranceMaterial::reflectionLobes(const ShadingGeometry& g) const {
+  if (params_.mode != CookTorranceMode::Lighting) return std::nullopt;
+  // Weights: the specular part's share is about s F(n.v) (times the albedo of D G, about 1), the
+  // diffuse part's (1 - s) rho_d.
+  const auto shape = params_.distribution == MicrofacetDistribution::Beckmann ? ReflectionLobeShape::Beckmann
+                                                                              : ReflectionLobeShape::Ggx;
+  const double s = params_.specularWeight;
+  std::vector<ReflectionLobe> lobes;
+  const double specular = s * luminance(params_.fresnel(std::max(0.0, g.normal.dot(g.view))));
+  if (specular > 0.0) lobes.push_back({shape, g.normal, params_.roughness, specular});
+  if (const double d = (1.0 - s) * luminance(params_.diffuse); d > 0.0 || lobes.empty()) {
+    lobes.push_back({ReflectionLobeShape::Cosine, g.normal, 0.0, std::max(d, 1e-3)});
+  }
+  return lobes;
 }
 
 std::string_view toString(MicrofacetDistribution distribution) {

@@ -255,3 +255,64 @@ std::optional<std::vector<RadialLobe>> LobeMaterial::radialLobes(const Vec3& lig
 }
 
 }  // namespace brdfbake
+
+namespace brdfbake {
+namespace {
+
+// Adds `lobe` to `lobes`, merged into one of the same shape and axis whose exponent is within a
+// factor 1.5 (weights added, the exponent their weighted geometric mean): a spectral fit has a lobe
+// per channel, and sampling needs only a density close to their sum.
+void addMerged(std::vector<ReflectionLobe>& lobes, const ReflectionLobe& lobe) {
+  if (!(lobe.weight > 0.0)) return;
+  for (auto& other : lobes) {
+    if (other.shape != lobe.shape || (other.axis - lobe.axis).squaredNorm() > 1e-18) continue;
+    if (lobe.shape != ReflectionLobeShape::Cosine &&
+        std::abs(std::log((lobe.parameter + 1.0) / (other.parameter + 1.0))) > std::log(1.5))
+      continue;
+    const double total = other.weight + lobe.weight;
+    if (lobe.shape != ReflectionLobeShape::Cosine) {
+      other.parameter =
+          std::exp((other.weight * std::log(other.parameter + 1.0) + lobe.weight * std::log(lobe.parameter + 1.0)) /
+                   total) -
+          1.0;
+    }
+    other.weight = total;
+    return;
+  }
+  lobes.push_back(lobe);
+}
+
+}  // namespace
+
+std::optional<std::vector<ReflectionLobe>> LobeMaterial::reflectionLobes(const ShadingGeometry& g) const {
+  if (mode_ != LobeMaterialMode::Lighting) return std::nullopt;
+  const double u = clampFinite(g.normal.dot(g.view), 0.0, 1.0);
+  const Vec3 tangential = g.view - u * g.normal;  // v's component along the surface
+  std::vector<ReflectionLobe> lobes;
+  double diffuse = 0.0;
+  for (std::size_t c = 0; c < model_.channelCount(); ++c) {
+    const double channelLuminance = std::abs(luminance(rgbWeights_.col(static_cast<Eigen::Index>(c)).array()));
+    const LobeChannel& channel = model_.channels[c];
+    diffuse += channel.diffuse * channelLuminance;
+    for (std::size_t k = 0; k < channel.lobes.size(); ++k) {
+      const Lobe& lobe = channel.lobes[k];
+      const double weight = model_.weight(c, k, u) * channelLuminance, exponent = model_.exponent(c, k, u);
+      if (lobe.halfVector) {
+        addMerged(lobes,
+                  {ReflectionLobeShape::BlinnPhong, g.normal, exponent, (weight + lobe.fresnel * channelLuminance)});
+        continue;
+      }
+      // Lafortune's axis a = c_xy (v - (n.v) n) + (n.v) n; c_xy = -1 is the mirrored view.
+      const Vec3 a = lobe.cxy * tangential + u * g.normal;
+      const double length = a.norm();
+      if (!(length > 1e-12)) continue;
+      const double growth = std::exp(std::min(exponent * std::log(length), 50.0));
+      addMerged(lobes, {ReflectionLobeShape::PowerCosine, a / length, exponent, weight * growth});
+    }
+  }
+  if (diffuse > 0.0 || lobes.empty())
+    lobes.push_back({ReflectionLobeShape::Cosine, g.normal, 0.0, std::max(diffuse, 1e-3)});
+  return lobes;
+}
+
+}  // namespace brdfbake

@@ -38,6 +38,20 @@ std::optional<std::vector<RadialLobe>> PhongMaterial::radialLobes(const Vec3& li
   return lobes;
 }
 
+std::optional<std::vector<ReflectionLobe>> PhongMaterial::reflectionLobes(const ShadingGeometry& g) const {
+  // Weights: each part's reflected share under a white furnace, with the 1/pi of the light colour:
+  // ∫ max(0, r.l)^n dω / pi = 2 / (n + 1) and ∫ max(0, n.l) dω / pi = 1.
+  std::vector<ReflectionLobe> lobes;
+  if (const double s = luminance(specular_); s > 0.0) {
+    lobes.push_back(
+        {ReflectionLobeShape::PowerCosine, g.reflected.normalized(), exponent_, s * 2.0 / (exponent_ + 1.0)});
+  }
+  if (const double d = luminance(diffuse_); d > 0.0 || lobes.empty()) {
+    lobes.push_back({ReflectionLobeShape::Cosine, g.normal, 0.0, std::max(d, 1e-3)});
+  }
+  return lobes;
+}
+
 BlinnPhongMaterial::BlinnPhongMaterial(const Rgb& specular, double exponent, const Rgb& diffuse)
     : specular_(specular), diffuse_(diffuse), exponent_(exponent) {
   checkColor(specular, "specular");
@@ -74,6 +88,20 @@ Rgb BlinnPhongMaterial::shade(const ShadingGeometry& g, const Vec3& light) const
   const double norm = sum.norm();
   const double nh = norm > 0.0 ? g.normal.dot(sum) / norm : 0.0;
   return specular_ * lobe(nh) + diffuse_ * nl;
+}
+
+std::optional<std::vector<ReflectionLobe>> BlinnPhongMaterial::reflectionLobes(const ShadingGeometry& g) const {
+  // (n.h)^N' about r is about cos^(N'/4) of the angle to r (the classic 4n conversion), so its share
+  // of a white furnace is about 2 / (N'/4 + 1) with the 1/pi of the light colour.
+  const double exponent = exact_ ? 4.0 * exponent_ : exponent_;
+  std::vector<ReflectionLobe> lobes;
+  if (const double s = luminance(specular_); s > 0.0) {
+    lobes.push_back({ReflectionLobeShape::BlinnPhong, g.normal, exponent, s * 8.0 / (exponent + 4.0)});
+  }
+  if (const double d = luminance(diffuse_); d > 0.0 || lobes.empty()) {
+    lobes.push_back({ReflectionLobeShape::Cosine, g.normal, 0.0, std::max(d, 1e-3)});
+  }
+  return lobes;
 }
 
 std::optional<std::vector<RadialLobe>> BlinnPhongMaterial::radialLobes(const Vec3& light, const Vec3& view) const {

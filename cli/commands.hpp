@@ -15,6 +15,7 @@ std::map<CLI::App*, Command> addCommands(CLI::App& app);
 
 Command addBakeCommand(CLI::App& app);
 Command addPrefilterCommand(CLI::App& app);
+Command addMatcapCommand(CLI::App& app);
 Command addChartCommand(CLI::App& app);
 Command addFitCommand(CLI::App& app);
 Command addEvalCommand(CLI::App& app);

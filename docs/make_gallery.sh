@@ -45,4 +45,6 @@ JSON
 "$cli" interpolation -o "$out/interpolation.png" --csv "$out/interpolation.csv" \
   --line-chart "$out/interpolation_line_one_polygon.png" > /dev/null
 "$cli" interpolation --line-chart "$out/interpolation_line_unit_segments.png" --segment 1 > /dev/null
+# Matcaps (docs/matcap.md): four materials under the sample environments.
+docs/make_matcaps.sh "$cli" > /dev/null
 echo "gallery and charts written to $out"

@@ -1,3 +1,4 @@
+#include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/brdf/material.hpp>
 #include <brdfbake/core/error.hpp>
@@ -26,6 +27,7 @@
 namespace brdfbake {
 namespace {
 using detail::LatLongPyramid;
+using detail::relativeError;
 using Clock = std::chrono::steady_clock;
 
 std::string formatG(double value) {
@@ -376,217 +378,6 @@ std::vector<CandidateSpec> candidatesFor(const PrefilterOptions& options, Contex
   return all;
 }
 
-// ---- probes ----------------------------------------------------------------------------------
-
-Vec3 randomUnit(std::mt19937& rng) {
-  std::normal_distribution<double> g;
-  Vec3 v;
-  do v = Vec3(g(rng), g(rng), g(rng));
-  while (v.norm() < 1e-6);
-  return v.normalized();
-}
-
-double relativeError(const Rgb& value, const Rgb& reference, double floor) {
-  return (value - reference).matrix().norm() / std::max(reference.matrix().norm(), floor);
-}
-
-// The probe directions of the error estimate and, batch by batch on first use, their reference
-// values and weights. Half the probes are a randomly rotated Fibonacci lattice (uniform), half are
-// drawn towards the bright parts of the environment; each is weighted by (1/4pi)/q(d), q the
-// mixture's density. Batch b holds the lattice points i = b mod B and the guided strata j = b mod B
-// (B = 4 batches from 64 probes up), so batches 0 ... b together are a sample of the same mixture
-// as all of them, and an estimate decided on the first batches pays only their reference sums.
-class ProbeSet {
- public:
-  ProbeSet(Context& context, const PrefilterOptions& options, double floor);
-  ProbeSet(const ProbeSet&) = delete;
-  ProbeSet& operator=(const ProbeSet&) = delete;
-  int batches() const { return static_cast<int>(batchEnd_.size()); }
-  // Probes [0, batchEnd(b)) are batches 0 ... b.
-  int batchEnd(int batch) const { return batchEnd_[static_cast<std::size_t>(batch)]; }
-  // Computes the reference and weight of every probe of batches 0 ... `batch` not yet computed.
-  void extend(int batch);
-  const Vec3& axis(int p) const { return axes_[static_cast<std::size_t>(p)]; }
-  const Rgb& reference(int p) const { return reference_[static_cast<std::size_t>(p)]; }
-  double weight(int p) const { return weights_[static_cast<std::size_t>(p)]; }
-  double floor() const { return floor_; }
-
- private:
-  // The mixture's density at d relative to the uniform density's, over the guided texels within
-  // the lobe's support of d (the tabulated lobe is exactly zero beyond it).
-  double guidedDensity(const Vec3& d) const;
-  PrefilterLobe lobe_;
-  double floor_ = 0.0;
-  std::vector<Vec3> axes_;
-  std::vector<double> weights_;
-  std::vector<Rgb> reference_;
-  std::vector<int> batchEnd_;
-  int ready_ = 0, count_ = 0, uniformCount_ = 0, guided_ = 0;
-  // Guided draws: the bright texels' centres and their probabilities (luminance x solid angle, summing to 1).
-  std::vector<Vec3> centres_;
-  std::vector<double> probability_;
-  std::shared_ptr<const RadialTable> table_;
-  std::optional<detail::DirectSummer> pyramidSum_;
-  std::optional<detail::ReferenceSummer> ownTexels_;
-};
-
-ProbeSet::ProbeSet(Context& context, const PrefilterOptions& options, double floor)
-    : lobe_(context.lobe()), floor_(floor) {
-  const PrefilterLobe& lobe = lobe_;
-  const LatLongPyramid& pyramid = context.pyramid();
-  std::mt19937 rng(options.seed);
-  std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  const bool sphereIrradiance = options.parameterization == ParameterizationKind::Sphere && lobe.indexedByNormal();
-  // A random rotation of a Fibonacci lattice: uniform directions, evenly spread.
-  Mat3 rotate;
-  {
-    const Vec3 a = randomUnit(rng);
-    const Vec3 t = anyPerpendicular(a);
-    const double angle = kTwoPi * uniform(rng);
-    const Vec3 b = std::cos(angle) * t + std::sin(angle) * a.cross(t);
-    rotate.col(0) = b, rotate.col(1) = a.cross(b), rotate.col(2) = a;
-  }
-  // Guided probes: a texel drawn by its luminance x solid angle at a coarse level, then a lobe sample.
-  const int guidedLevel = pyramid.levelFor(kPi / 64.0);
-  const auto& G = pyramid.level(guidedLevel);
-  std::vector<double> cdf(static_cast<std::size_t>(G.width) * G.height + 1, 0.0);
-  for (int y = 0; y < G.height; ++y)
-    for (int x = 0; x < G.width; ++x) {
-      const Rgb v = G.at(x, y);
-      const double luminance = std::max(0.0, 0.2126 * v[0] + 0.7152 * v[1] + 0.0722 * v[2]);
-      const std::size_t i = static_cast<std::size_t>(y) * G.width + x;
-      cdf[i + 1] = cdf[i] + luminance * G.rowSolidAngle[y];
-    }
-  const double total = cdf.back();
-  count_ = options.probes;
-  guided_ = sphereIrradiance || !(total > 0.0) ? 0 : count_ / 2;
-  uniformCount_ = count_ - guided_;
-  const double golden = kPi * (3.0 - std::sqrt(5.0));
-  auto lattice = [&](int i) {
-    const double z = 1.0 - 2.0 * (i + 0.5) / uniformCount_, r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    const Vec3 d = rotate * Vec3(r * std::cos(golden * i), r * std::sin(golden * i), z);
-    return sphereIrradiance ? prefilterAxis(d, lobe, options) : d;
-  };
-  std::vector<Vec3> guidedAxes;
-  for (int i = 0; i < guided_; ++i) {
-    const double u = (i + uniform(rng)) / guided_ * total;
-    const std::size_t k =
-        std::min<std::size_t>(cdf.size() - 2, std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin() - 1);
-    const Vec3 centre = G.direction(static_cast<int>(k % G.width), static_cast<int>(k / G.width));
-    const double theta = lobe.sampleAngle(uniform(rng)), phi = kTwoPi * uniform(rng);
-    const Vec3 t = anyPerpendicular(centre), b = centre.cross(t);
-    guidedAxes.push_back(
-        (std::sin(theta) * (std::cos(phi) * t + std::sin(phi) * b) + std::cos(theta) * centre).normalized());
-  }
-  const int batchCount = count_ >= 64 ? 4 : 1;
-  for (int b = 0; b < batchCount; ++b) {
-    for (int i = b; i < uniformCount_; i += batchCount) axes_.push_back(lattice(i));
-    for (int i = b; i < guided_; i += batchCount) axes_.push_back(guidedAxes[static_cast<std::size_t>(i)]);
-    batchEnd_.push_back(static_cast<int>(axes_.size()));
-  }
-  if (guided_ > 0) {
-    for (std::size_t i = 0; i + 1 < cdf.size(); ++i)
-      if (const double p = cdf[i + 1] - cdf[i]; p > 0.0) {
-        centres_.push_back(G.direction(static_cast<int>(i % G.width), static_cast<int>(i / G.width)));
-        probability_.push_back(p / total);
-      }
-  }
-  weights_.assign(axes_.size(), 1.0);
-  reference_.resize(axes_.size());
-  // The reference on the probes, over all but 1e-7 of the lobe's mass with the lobe tabulated to
-  // 1e-6 of its peak. A resampled input (not a power-of-two lat-long) under a lobe narrower than 16
-  // texels of the working lat-long is summed over its own texels (ReferenceSummer), not over the
-  // pyramid the candidates read, so the resampling error is part of the estimate. Otherwise the
-  // finest pyramid level needed is summed (texels <= width / 8 with the lobe corrected for their box,
-  // Context::correctedTable, or level 0 split into sub-samples <= width / 8): a power-of-two lat-long input is its
-  // pyramid's level 0 (coarser levels are exact solid-angle means of its texels), and a lobe wider than 16 texels
-  // averages the resampling's local error away (its 2 x 2 bilinear means keep each neighbourhood's mean), while summing
-  // a hemisphere of input texels per probe would cost seconds.
-  table_ = context.table();
-  const double cosCap = std::cos(lobe.tailAngle(1e-7));
-  if (pyramid.resampled() && lobe.width() < 16.0 * pyramid.texelAngle(0)) {
-    ownTexels_.emplace(context.environment(), lobe, cosCap, table_);
-  } else {
-    const int level = pyramid.levelFor(lobe.width() / 8.0);
-    const int sub =
-        std::clamp(static_cast<int>(std::ceil(8.0 * pyramid.texelAngle(level) / std::max(lobe.width(), 1e-12))), 1, 8);
-    pyramidSum_.emplace(pyramid, lobe, level, cosCap, sub,
-                        sub == 1 ? context.correctedTable(pyramid.texelAngle(level)) : table_);
-  }
-}
-
-double ProbeSet::guidedDensity(const Vec3& d) const {
-  const RadialTable::View weight = table_->view();
-  // u = sin(theta / 2) = sqrt((1 - c) / 2) beyond maxU is outside the table's support: c < 1 - 2 maxU^2.
-  const double cosSupport = 1.0 - 2.0 * table_->maxU() * table_->maxU();
-  double density = 0.0;
-  for (std::size_t i = 0; i < centres_.size(); ++i) {
-    const double c = d.dot(centres_[i]);
-    if (c >= cosSupport) density += probability_[i] * weight(std::sqrt(std::max(0.0, 0.5 - 0.5 * c)));
-  }
-  return density / lobe_.mass();
-}
-
-void ProbeSet::extend(int batch) {
-  const int end = batchEnd(batch);
-  if (end <= ready_) return;
-  tbb::parallel_for(ready_, end, [&](int p) {
-    const Vec3& d = axes_[static_cast<std::size_t>(p)];
-    reference_[static_cast<std::size_t>(p)] = pyramidSum_ ? pyramidSum_->value(d) : ownTexels_->value(d);
-    if (guided_ > 0) {
-      const double q = (static_cast<double>(uniformCount_) / count_) / kFourPi +
-                       (static_cast<double>(guided_) / count_) * guidedDensity(d);
-      weights_[static_cast<std::size_t>(p)] = 1.0 / (kFourPi * q);
-    }
-  });
-  ready_ = end;
-}
-
-struct ErrorEstimate {
-  double rms = 0.0, worst = 0.0;
-  int probes = 0;
-};
-
-// The evaluator's weighted RMS relative error on the probes, batch by batch: it stops at the first
-// batch after which the mean square m lies more than twice its standard error above target^2, or
-// below it once at least half the probes are read, and otherwise reads every probe. The standard
-// error is the self-normalised estimator's, sqrt(Σ w^2 (e^2 - m)^2) / Σ w. On the 1024 x 512 sky's
-// gloss chain the first 128 probes put one level's error at 0.35 % where all 512 put it at 0.50 %
-// (2 standard errors: the sun's rare large errors are easily missed), while 256 probes were within
-// 6 % of all 512 at every candidate tried, so a candidate is accepted only from half the probes on.
-ErrorEstimate estimate(const Evaluator& evaluator, ProbeSet& probes, double target) {
-  ErrorEstimate out;
-  std::vector<double> errors;
-  for (int b = 0; b < probes.batches(); ++b) {
-    probes.extend(b);
-    const int begin = out.probes, end = probes.batchEnd(b);
-    errors.resize(static_cast<std::size_t>(end));
-    tbb::parallel_for(begin, end, [&](int p) {
-      errors[static_cast<std::size_t>(p)] =
-          relativeError(evaluator.value(probes.axis(p)), probes.reference(p), probes.floor());
-    });
-    double sum = 0.0, weights = 0.0;
-    for (int p = 0; p < end; ++p) {
-      const double e = errors[static_cast<std::size_t>(p)];
-      sum += probes.weight(p) * e * e, weights += probes.weight(p);
-      out.worst = std::max(out.worst, e);
-    }
-    const double meanSquare = weights > 0.0 ? sum / weights : 0.0;
-    double variance = 0.0;
-    for (int p = 0; p < end; ++p) {
-      const double e = errors[static_cast<std::size_t>(p)], w = probes.weight(p);
-      variance += w * w * (e * e - meanSquare) * (e * e - meanSquare);
-    }
-    variance = weights > 0.0 ? variance / (weights * weights) : 0.0;
-    out.rms = std::sqrt(meanSquare);
-    out.probes = end;
-    const double spread = 2.0 * std::sqrt(variance), targetSquare = target * target;
-    const bool half = 2 * end >= probes.batchEnd(probes.batches() - 1);
-    if ((half && meanSquare + spread <= targetSquare) || meanSquare - spread > targetSquare) break;
-  }
-  return out;
-}
-
 // Evaluates `evaluator` at every output texel centre.
 Image evaluateOutput(const Parameterization& map, const Evaluator& evaluator, const PrefilterLobe& lobe,
                      const PrefilterOptions& options) {
@@ -690,6 +481,8 @@ void recordChoice(PrefilterSummary& summary, PrefilterCandidate& candidate, bool
   summary.errorEstimated = estimated;
   summary.errorEstimate = estimated ? std::max(0.0, candidate.errorEstimate) : 0.0;
   summary.errorEstimateMax = estimated ? std::max(0.0, candidate.errorEstimateMax) : 0.0;
+  summary.errorEstimateRms = estimated ? std::max(0.0, candidate.errorEstimateRms) : 0.0;
+  summary.errorEstimateHighlight = estimated ? std::max(0.0, candidate.errorEstimateHighlight) : 0.0;
   summary.metBound = estimated && candidate.errorEstimate <= summary.maxError;
 }
 
@@ -733,14 +526,15 @@ class FailureMemory {
 // first. A named method that met no bound keeps its most accurate setting, with a note. Null when
 // auto found nothing (the caller falls back to the reference).
 std::unique_ptr<Evaluator> chooseFastMethod(Context& context, const Workload& work, const PrefilterOptions& options,
-                                            PrefilterSummary& summary) {
+                                            PrefilterSummary& summary, std::optional<detail::ProbeSet>& probes) {
   const auto specs = candidatesFor(options, context, work);
   const bool automatic = options.method == PrefilterMethod::Auto;
   const bool estimating = options.estimateError || automatic;
-  std::optional<ProbeSet> probes;
   if (estimating) {
     const auto probeStart = Clock::now();
-    probes.emplace(context, options, context.errorFloor());
+    const detail::ProbeSources sources{context.environment(), context.pyramid(), context.lobe(), context.table(),
+                                       [&context](double box) { return context.correctedTable(box); }};
+    probes.emplace(sources, options, context.errorFloor());
     summary.estimateSeconds += secondsSince(probeStart);
   }
   const double target = 0.8 * options.maxError;
@@ -761,8 +555,10 @@ std::unique_ptr<Evaluator> chooseFastMethod(Context& context, const Workload& wo
     PrefilterCandidate candidate{spec.method, spec.detail, spec.predicted, secondsSince(setupStart)};
     if (estimating) {
       const auto estimateStart = Clock::now();
-      const ErrorEstimate e = estimate(*evaluator, *probes, target);
-      candidate.errorEstimate = e.rms, candidate.errorEstimateMax = e.worst, candidate.probes = e.probes;
+      const detail::ErrorEstimate e =
+          detail::estimate([&](const Vec3& axis) { return evaluator->value(axis); }, *probes, target);
+      candidate.errorEstimate = e.bound(), candidate.errorEstimateMax = e.worst, candidate.probes = e.probes;
+      candidate.errorEstimateRms = e.rms, candidate.errorEstimateHighlight = e.highlight;
       summary.estimateSeconds += secondsSince(estimateStart);
     }
     summary.candidates.push_back(candidate);
@@ -783,27 +579,96 @@ std::unique_ptr<Evaluator> chooseFastMethod(Context& context, const Workload& wo
   return best;
 }
 
+// The probes whose reference was computed, kept to measure the finished map's lookups.
+struct ProbeCheck {
+  std::vector<Vec3> axes;
+  std::vector<Rgb> references;
+  std::vector<double> weights;
+  std::vector<bool> nearBright;
+  double floor = 0.0;
+};
+
 // A filtered lobe: chooses the method (reference, or the fast candidates with auto's fallback)
-// and evaluates it at every output texel.
+// and evaluates it at every output texel. `check` gets the estimate's probes.
 Image filterWithLobe(detail::PrefilterInput& input, const PrefilterLobe& lobe, const Parameterization& map,
-                     const PrefilterOptions& options, int threads, PrefilterSummary& summary) {
+                     const PrefilterOptions& options, int threads, PrefilterSummary& summary,
+                     std::optional<ProbeCheck>& check) {
   Context context(input, lobe);
   Workload work;
   work.outputPoints = static_cast<double>(map.width()) * map.height();
   work.threads = threads;
   std::unique_ptr<Evaluator> chosen;
+  std::optional<detail::ProbeSet> probes;
   if (options.method == PrefilterMethod::Reference) {
     chosen = useReference(context, work, summary, "");
   } else {
-    chosen = chooseFastMethod(context, work, options, summary);
+    chosen = chooseFastMethod(context, work, options, summary, probes);
     if (!chosen)
       chosen =
           useReference(context, work, summary, "no fast method met the error bound; fell back to the reference sum");
+  }
+  if (probes && !summary.exact && probes->ready() > 0) {
+    ProbeCheck c;
+    c.floor = probes->floor();
+    for (int p = 0; p < probes->ready(); ++p) {
+      c.axes.push_back(probes->axis(p)), c.references.push_back(probes->reference(p));
+      c.weights.push_back(probes->weight(p)), c.nearBright.push_back(probes->nearBright(p));
+    }
+    check = std::move(c);
   }
   const auto outputStart = Clock::now();
   Image image = evaluateOutput(map, *chosen, lobe, options);
   summary.outputSeconds = secondsSince(outputStart);
   return image;
+}
+
+// The map direction whose texel holds the value at `axis` (prefilterAxis inverted), or nullopt where
+// a sphere map cannot look it up: a normal facing away from the view (irradiance), or the rim band.
+std::optional<Vec3> mapDirectionFor(const Vec3& axis, const PrefilterLobe& lobe, const PrefilterOptions& options) {
+  if (options.parameterization != ParameterizationKind::Sphere) return axis;
+  const Vec3 eye = eyeToEnvironment(options).transpose() * axis;
+  Vec3 r = eye;
+  if (lobe.indexedByNormal()) {
+    if (!(eye.z() > 1e-6)) return std::nullopt;
+    r = reflect(Vec3(Vec3::UnitZ()), eye);
+  }
+  if (-r.z() > mapRimCos(ParameterizationKind::Sphere, options.resolution)) return std::nullopt;
+  return r.normalized();
+}
+
+// The finished map as a renderer reads it: bilinear lookups at the probes against their reference, as
+// the solid-angle RMS, the value-weighted RMS and the RMS over the bright sources' caps of the relative
+// error, each with two standard errors to spare: lookupErrorEstimate. The probes saw the method at the
+// texel centres' axes; the lookups add the texels' interpolation, which only the resolution changes
+// (a sun's highlight a few texels wide, issue 22), so it is reported beside the estimate, not in it.
+void measureLookups(const Image& level0, const Parameterization& map, const PrefilterLobe& lobe,
+                    const PrefilterOptions& options, const ProbeCheck& check, PrefilterSummary& summary) {
+  std::vector<double> squares(check.axes.size(), -1.0);
+  double worst = 0.0;
+  for (std::size_t p = 0; p < check.axes.size(); ++p) {
+    const auto direction = mapDirectionFor(check.axes[p], lobe, options);
+    if (!direction) continue;
+    const double e = relativeError(sampleBilinear(level0, map, *direction).head<3>(), check.references[p], check.floor);
+    squares[p] = e * e, worst = std::max(worst, e);
+  }
+  // Each RMS with two standard errors of its mean square to spare (self-normalised estimators), so
+  // that another sample of the same directions measures less with high probability.
+  auto rmsOf = [&](const std::function<double(std::size_t)>& weight) {
+    double sum = 0.0, total = 0.0, spread = 0.0;
+    for (std::size_t p = 0; p < squares.size(); ++p)
+      if (squares[p] >= 0.0) sum += weight(p) * squares[p], total += weight(p);
+    if (!(total > 0.0)) return 0.0;
+    const double mean = sum / total;
+    for (std::size_t p = 0; p < squares.size(); ++p)
+      if (squares[p] >= 0.0) spread += weight(p) * weight(p) * (squares[p] - mean) * (squares[p] - mean);
+    return std::sqrt(mean + 2.0 * std::sqrt(spread) / total);
+  };
+  const double rms = rmsOf([&](std::size_t p) { return check.weights[p]; });
+  const double valued = rmsOf([&](std::size_t p) { return check.weights[p] * check.references[p].matrix().norm(); });
+  const double near = rmsOf([&](std::size_t p) { return check.nearBright[p] ? check.weights[p] : 0.0; });
+  if (!(rms > 0.0) && !(valued > 0.0)) return;
+  summary.lookupErrorEstimate = std::max({rms, valued, near});
+  summary.lookupErrorMax = worst;
 }
 
 // Level 0 and, if asked, its solid-angle mip chain; cube edges fixed and paraboloid borders aligned
@@ -879,8 +744,11 @@ std::string PrefilterSummary::briefReport() const {
   if (exact) {
     out << ": exact";
   } else if (errorEstimated) {
-    out << ": estimated RMS relative error " << formatG(100.0 * errorEstimate) << " % (bound "
-        << formatG(100.0 * maxError) << " %" << (metBound ? "" : ", NOT met") << ")";
+    out << ": estimated relative error " << formatG(100.0 * errorEstimate) << " % (RMS "
+        << formatG(100.0 * errorEstimateRms) << " %, near the highlight " << formatG(100.0 * errorEstimateHighlight)
+        << " %";
+    if (lookupErrorEstimate >= 0.0) out << ", lookups " << formatG(100.0 * lookupErrorEstimate) << " %";
+    out << "; bound " << formatG(100.0 * maxError) << " %" << (metBound ? "" : ", NOT met") << ")";
   } else {
     out << ": error not estimated (estimation off)";
   }
@@ -898,6 +766,7 @@ nlohmann::json PrefilterSummary::toJson() const {
                             {"seconds", c.seconds},
                             {"chosen", c.chosen}};
     if (c.errorEstimate >= 0.0) {
+      entry["error_estimate_rms"] = c.errorEstimateRms, entry["error_estimate_highlight"] = c.errorEstimateHighlight;
       entry["error_estimate"] = c.errorEstimate, entry["error_estimate_max"] = c.errorEstimateMax,
       entry["probes"] = c.probes;
     }
@@ -922,6 +791,11 @@ nlohmann::json PrefilterSummary::toJson() const {
       {"notes", notes}};
   out["error_estimate"] = errorEstimated ? nlohmann::json(errorEstimate) : nlohmann::json(nullptr);
   out["error_estimate_max"] = errorEstimated ? nlohmann::json(errorEstimateMax) : nlohmann::json(nullptr);
+  out["error_estimate_rms"] = errorEstimated ? nlohmann::json(errorEstimateRms) : nlohmann::json(nullptr);
+  out["error_estimate_highlight"] = errorEstimated ? nlohmann::json(errorEstimateHighlight) : nlohmann::json(nullptr);
+  out["lookup_error_estimate"] =
+      lookupErrorEstimate >= 0.0 ? nlohmann::json(lookupErrorEstimate) : nlohmann::json(nullptr);
+  out["lookup_error_max"] = lookupErrorEstimate >= 0.0 ? nlohmann::json(lookupErrorMax) : nlohmann::json(nullptr);
   return out;
 }
 
@@ -1011,13 +885,19 @@ PrefilteredMap prefilter(detail::PrefilterInput& input, const PrefilterLobe& lob
   summary.maxError = options.maxError;
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   arena.execute([&] {
+    std::optional<ProbeCheck> check;
     Image level0 = lobe.isMirror()
                        ? resampleMirror(environment, *result.map, options, summary)
-                       : filterWithLobe(input, lobe, *result.map, options, arena.max_concurrency(), summary);
+                       : filterWithLobe(input, lobe, *result.map, options, arena.max_concurrency(), summary, check);
     requireFiniteOutput(level0);
     const auto mipStart = Clock::now();
     result.levels = outputLevels(std::move(level0), *result.map, options.mips, options.cubeEdgeFixup);
     summary.mipSeconds = secondsSince(mipStart);
+    if (check) {
+      const auto lookupStart = Clock::now();
+      measureLookups(result.levels[0], *result.map, lobe, options, *check, summary);
+      summary.estimateSeconds += secondsSince(lookupStart);
+    }
   });
   summary.levels = static_cast<int>(result.levels.size());
   summary.seconds = secondsSince(start);
@@ -1034,6 +914,10 @@ void mergePrefilterSummary(PrefilterSummary& into, const PrefilterSummary& part,
   into.metBound = first ? part.metBound : into.metBound && part.metBound;
   into.errorEstimate = std::max(into.errorEstimate, part.errorEstimate);
   into.errorEstimateMax = std::max(into.errorEstimateMax, part.errorEstimateMax);
+  into.errorEstimateRms = std::max(into.errorEstimateRms, part.errorEstimateRms);
+  into.errorEstimateHighlight = std::max(into.errorEstimateHighlight, part.errorEstimateHighlight);
+  into.lookupErrorEstimate = std::max(into.lookupErrorEstimate, part.lookupErrorEstimate);
+  into.lookupErrorMax = std::max(into.lookupErrorMax, part.lookupErrorMax);
   into.estimateSeconds += part.estimateSeconds;
   into.outputSeconds += part.outputSeconds;
   into.mipSeconds += part.mipSeconds;

@@ -30,6 +30,10 @@ MapResult makeMapResult(const MapSpec& map, const EntryFacts& facts, std::vector
 /// A map baked from a material (and lights), `auto` choosing its configuration when asked.
 MapResult runMaterialMap(const MapSpec& map, const MapRunContext& context);
 
+/// A map of a material lit by an environment (MaterialMapSpec::environment; a matcap when a sphere
+/// map), its measured material's fit run first.
+MapResult runUnderEnvironmentMap(const MapSpec& map, const Environment& environment, const MapRunContext& context);
+
 /// A map prefiltered from an environment: one map, a stack over elevation, a Fresnel
 /// decomposition or a gloss chain, and the SH irradiance file when asked.
 MapResult runEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e, const Environment& environment,

@@ -43,11 +43,15 @@ void checkMapSizes(const BakeSpec& spec, const JobOptions& options, const std::s
   }
 }
 
-// The environments of prefiltered maps, read and checked before any work (null for material maps);
-// maps reading one file the same way share one copy.
+// The environments of prefiltered maps and of materials lit by one, read and checked before any work
+// (null for other material maps); maps reading one file the same way share one copy.
 std::vector<std::shared_ptr<const Environment>> loadEnvironments(const BakeSpec& spec) {
   std::vector<std::shared_ptr<const Environment>> environments(spec.maps.size());
   for (std::size_t i = 0; i < spec.maps.size(); ++i) {
+    if (spec.maps[i].environmentLighting()) {
+      environments[i] = std::make_shared<const Environment>(loadMapEnvironment(spec.maps[i]));  // names the key
+      continue;
+    }
     const EnvironmentMapSpec* e = spec.maps[i].environmentMap();
     if (!e) continue;
     for (std::size_t j = 0; j < i && !environments[i]; ++j) {
@@ -68,7 +72,11 @@ MapResult runOneMap(const MapSpec& map, const std::shared_ptr<const Environment>
                                  context.write.inputs.push_back(e.file);
                                  return runEnvironmentMap(map, e, *environment, context);
                                },
-                               [&](const MaterialMapSpec&) { return runMaterialMap(map, context); }},
+                               [&](const MaterialMapSpec& m) {
+                                 if (!m.environment) return runMaterialMap(map, context);
+                                 context.write.inputs.push_back(m.environment->file);
+                                 return runUnderEnvironmentMap(map, *environment, context);
+                               }},
                     map.content);
 }
 

@@ -220,6 +220,14 @@ void parseEnvironmentMap(JsonObjectReader& map, MapSpec& spec, const fs::path& b
 // a deferred fit has made the material.
 void checkMaterialMap(const MapSpec& spec) {
   const MaterialMapSpec& m = *spec.materialMap();
+  if (m.environment) {  // lit by an environment: only the BRDF matters
+    try {
+      requireBrdf(*m.material);
+    } catch (const Error& e) {
+      throw specError(spec.jsonPath + ".material", e.what());
+    }
+    return;
+  }
   if (m.material->usesLights() && m.lights.empty()) {
     throw specError(spec.jsonPath + ".lights", std::string(m.material->model()) + " needs at least one light");
   }
@@ -255,9 +263,15 @@ void checkMaterialMap(const MapSpec& spec) {
 void parseMaterialMap(JsonObjectReader& map, MapSpec& spec, const fs::path& baseDirectory) {
   MaterialMapSpec& m = spec.content.emplace<MaterialMapSpec>();
   std::optional<DeferredFit> deferred;
+  const bool underEnvironment = map.has("environment");  // lit by an environment (docs/matcap.md)
   m.material = parseMaterial(map.require("material"), map.child("material"),
-                             {baseDirectory, &spec.inputs, &spec.notes, &deferred});
+                             {baseDirectory, &spec.inputs, &spec.notes, &deferred, underEnvironment});
   m.deferredFit = std::move(deferred);
+  if (underEnvironment) {
+    materials::parseEnvironmentLighting(map, spec, baseDirectory);
+    if (!m.deferredFit) checkMaterialMap(spec);
+    return;
+  }
 
   if (map.has("lights")) {
     const auto& lights = map.array("lights", kMaxLights);
@@ -379,7 +393,7 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     spec.viewGiven = true;
   }
 
-  if (map.has("environment")) {  // a prefiltered environment map instead of a material (docs/prefilter.md)
+  if (map.has("environment") && !map.has("material")) {  // a prefiltered environment map (docs/prefilter.md)
     if (spec.radialProfile) throw specError(map.child("parameterization"), "environment maps cannot be profiles");
     parseEnvironmentMap(map, spec, baseDirectory);
     map.finish();
@@ -499,6 +513,12 @@ std::shared_ptr<const MapFunction> MapSpec::makeFunction() const {
     throw Error(Error::Kind::InvalidArgument, jsonPath +
                                                   ": an environment map is prefiltered from its environment "
                                                   "(brdfbake bake or prefilter), not baked from a material");
+  }
+  if (m->environment) {
+    throw Error(Error::Kind::InvalidArgument, jsonPath +
+                                                  ": a material lit by an environment is made by "
+                                                  "bakeUnderEnvironment (spec.hpp), not baked from a function of "
+                                                  "directions");
   }
   if (!m->material) {
     throw Error(Error::Kind::InvalidArgument,

@@ -30,6 +30,8 @@
 #include <brdfbake/brdf/material.hpp>
 #include <brdfbake/brdf/npr.hpp>
 #include <brdfbake/brdf/phong.hpp>
+#include <brdfbake/brdf/reflection_lobe.hpp>
+#include <brdfbake/brdf/smith.hpp>
 #include <brdfbake/brdf/spectrum.hpp>
 #include <brdfbake/brdf/split_sum.hpp>
 #endif
@@ -64,9 +66,11 @@
 
 // env
 #if __has_include(<brdfbake/env/env_accuracy.hpp>)
+#include <brdfbake/env/camera.hpp>
 #include <brdfbake/env/dfg_table.hpp>
 #include <brdfbake/env/env_accuracy.hpp>
 #include <brdfbake/env/environment.hpp>
+#include <brdfbake/env/material_under_environment.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/env/prefilter_lobe.hpp>
 #include <brdfbake/env/prefilter_stack.hpp>
@@ -113,6 +117,7 @@
 #include <brdfbake/run/ibl_job.hpp>
 #include <brdfbake/run/interpolation_chart.hpp>
 #include <brdfbake/run/job.hpp>
+#include <brdfbake/run/matcap_job.hpp>
 #include <brdfbake/run/prefilter_job.hpp>
 #include <brdfbake/run/preview_job.hpp>
 #include <brdfbake/run/sample_output.hpp>

@@ -58,9 +58,17 @@ double highlightExtentPixels(const Parameterization& map, const Vec3& h, const V
 
 }  // namespace
 
-std::shared_ptr<const Material> parseCookTorrance(JsonObjectReader& m, const MaterialContext&) {
+std::shared_ptr<const Material> parseCookTorrance(JsonObjectReader& m, const MaterialContext& context) {
   CookTorranceParams p;
-  p.mode = parseName(m, "mode", parseCookTorranceMode);
+  // Under an environment the material is lit through its BRDF: "mode" is optional and must be lighting.
+  p.mode = context.underEnvironment && !m.has("mode") ? CookTorranceMode::Lighting
+                                                      : parseName(m, "mode", parseCookTorranceMode);
+  if (context.underEnvironment && p.mode != CookTorranceMode::Lighting) {
+    throw specError(m.child("mode"),
+                    "a material lit by an environment is lit through its BRDF: use \"lighting\" (or leave "
+                    "\"mode\" out); the reflectance model holds one fixed configuration (light on the mirror "
+                    "direction), not light gathered from an environment");
+  }
   if (m.has("distribution")) p.distribution = parseName(m, "distribution", parseMicrofacetDistribution);
   p.roughness = m.number("roughness", kMinRoughness, kMaxRoughness);
   p.fresnel = parseFresnelTerm(m, "fresnel");
@@ -80,6 +88,14 @@ std::shared_ptr<const Material> parseCookTorrance(JsonObjectReader& m, const Mat
     }
   }
   if (m.has("normalization")) p.normalization = parseName(m, "normalization", parseCookTorranceNormalization);
+  if (m.has("shadowing")) {
+    p.shadowing = parseName(m, "shadowing", parseMicrofacetShadowing);
+    if (p.mode != CookTorranceMode::Lighting && p.shadowing != MicrofacetShadowing::VCavity) {
+      throw specError(m.child("shadowing"),
+                      "only applies to \"mode\": \"lighting\" (the reflectance model has G = 1: light on the "
+                      "mirror direction is neither masked nor shadowed)");
+    }
+  }
   if (m.has("grazing_angle")) {
     if (p.mode != CookTorranceMode::Reflectance) {
       throw specError(m.child("grazing_angle"),

@@ -1,5 +1,6 @@
 // "lobes" materials: a fitted lobe model read from a fit.json (docs/fitting.md).
 //   {"model": "lobes", "file": "fit.json", "mode": "reflectance" | "lighting" | "prefiltered"}
+// ("mode" defaults to "reflectance", and to "lighting" (the only one accepted) under an environment).
 #include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 
@@ -7,7 +8,17 @@
 
 namespace brdfbake::materials {
 
-LobeMaterialMode parseLobeMode(JsonObjectReader& m) { return m.parsed("mode", parseLobeMaterialMode, "reflectance"); }
+LobeMaterialMode parseLobeMode(JsonObjectReader& m, bool underEnvironment) {
+  const LobeMaterialMode mode = m.parsed("mode", parseLobeMaterialMode, underEnvironment ? "lighting" : "reflectance");
+  if (underEnvironment && mode != LobeMaterialMode::Lighting) {
+    throw specError(m.child("mode"),
+                    "a material lit by an environment is lit through its BRDF: use \"lighting\" (or leave "
+                    "\"mode\" out); " +
+                        std::string(toString(mode)) +
+                        " mode holds one fixed configuration, not light gathered from an environment");
+  }
+  return mode;
+}
 
 std::filesystem::path resolveMaterialFile(JsonObjectReader& m, const MaterialContext& context) {
   const std::string file = m.string("file");
@@ -20,7 +31,7 @@ std::filesystem::path resolveMaterialFile(JsonObjectReader& m, const MaterialCon
 
 std::shared_ptr<const Material> parseLobes(JsonObjectReader& m, const MaterialContext& context) {
   const std::filesystem::path file = resolveMaterialFile(m, context);
-  const LobeMaterialMode mode = parseLobeMode(m);
+  const LobeMaterialMode mode = parseLobeMode(m, context.underEnvironment);
   FitFile fit;
   try {
     fit = readFitFile(file);

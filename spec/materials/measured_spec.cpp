@@ -26,6 +26,14 @@ std::shared_ptr<const Material> parseMeasured(JsonObjectReader& m, const Materia
     throw specError(m.child("rgb"),
                     "must be \"cie1931\" or \"single_wavelengths\", got \"" + printable(rgbName, 40) + "\"");
 
+  if (context.underEnvironment && method == "mirror") {
+    throw specError(m.child("method"),
+                    "a material lit by an environment needs a BRDF over every light direction; the mirror-direction "
+                    "table holds the mirror direction only. Use \"fit\" (lobes fitted to the whole table; brdfbake "
+                    "fit reports their held-out error). The table itself is not used directly: its incident angles "
+                    "are 10 degrees apart and it has no sample on the mirror direction, so a nearest-angle lookup "
+                    "would band the map and miss sharp highlights");
+  }
   // Options of the other method are mistakes, not silently ignored.
   const std::vector<std::string> mirrorOnly{"window_degrees"}, fitOnly{"lobes", "elevation", "mode"};
   for (const auto& key : method == "mirror" ? fitOnly : mirrorOnly) {
@@ -50,7 +58,7 @@ std::shared_ptr<const Material> parseMeasured(JsonObjectReader& m, const Materia
     // Varying lobes are the per-channel method's (the shared one fits constant Lafortune lobes).
     if (options.elevation == ElevationChoice::Varying) options.method = FitMethod::PerChannel;
     options.estimateHeldOut = false;  // a bake needs the model only (auto choices still estimate it)
-    mode = parseLobeMode(m);
+    mode = parseLobeMode(m, context.underEnvironment);
   }
 
   MeasuredTable table;

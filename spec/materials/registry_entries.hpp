@@ -39,5 +39,9 @@ namespace brdfbake::materials {
 std::shared_ptr<const Material> parseMeasured(JsonObjectReader&, const MaterialContext&);
 std::shared_ptr<const Material> parseLobes(JsonObjectReader&, const MaterialContext&);
 std::filesystem::path resolveMaterialFile(JsonObjectReader& material, const MaterialContext& context);
-LobeMaterialMode parseLobeMode(JsonObjectReader& material);
+// "mode" of a lobe material; under an environment it defaults to, and must be, "lighting".
+LobeMaterialMode parseLobeMode(JsonObjectReader& material, bool underEnvironment);
+// A material lit by an environment ("material" with "environment"; docs/matcap.md): the environment
+// object and the map's "camera" (under_environment_spec.cpp).
+void parseEnvironmentLighting(JsonObjectReader& map, MapSpec& spec, const std::filesystem::path& baseDirectory);
 }  // namespace brdfbake::materials

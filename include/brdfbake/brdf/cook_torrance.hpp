@@ -11,6 +11,7 @@
 
 #include <brdfbake/brdf/fresnel.hpp>
 #include <brdfbake/brdf/material.hpp>
+#include <brdfbake/brdf/smith.hpp>
 
 namespace brdfbake {
 
@@ -100,12 +101,17 @@ struct CookTorranceParams {
   double specularWeight = 1.0;  ///< s in R = s R_s + d R_d, d = 1 - s (Zimmons & Bastos 1999 Eq. 5); in [0, 1]
   Rgb diffuse = Rgb::Zero();    ///< Lambertian albedo rho_d in [0, 1]; R_d = rho_d / pi (lighting only)
   CookTorranceNormalization normalization = CookTorranceNormalization::Microfacet;
+  /// G: the V-cavity term (default, cookTorranceG) or Smith's for the distribution (smith.hpp),
+  /// height-correlated (Filament, Unreal) or separable (Blender Cycles). Lighting mode only (the
+  /// reflectance model has G = 1).
+  MicrofacetShadowing shadowing = MicrofacetShadowing::VCavity;
   /// Reflectance mode only: beyond this angle between N and V (degrees, in (0, 90)) the 1/(N.V)^2
   /// scale is held at its value there, while F keeps following the true angle. See reflectance().
   double grazingAngleDegrees = 80.0;
 };
 
-/// Cook-Torrance: R = s R_s + d R_d, R_s = D G F / (denominator (N.L)(N.V)), F = F(V.H).
+/// Cook-Torrance: R = s R_s + d R_d, R_s = D G F / (denominator (N.L)(N.V)), F = F(V.H), G the
+/// V-cavity term or Smith's (CookTorranceParams::shadowing).
 ///
 /// `Lighting` mode: shade(g, l) = (s R_s + (1 - s) rho_d / pi) max(0, N.L), the radiance for a
 /// directional light of unit irradiance at normal incidence; lights below the horizon (N.L <= 0)
@@ -127,9 +133,13 @@ class CookTorranceMaterial final : public Material {
   /// n.v = sqrt((1 + r.v) / 2). Lighting mode: nullopt.
   std::optional<std::vector<RadialLobe>> unlitRadialLobes(const Vec3& view) const override;
   /// Lighting mode: shade() as a MicrofacetLobe (F(v.h) folded into its weight; D continued to
-  /// n.h <= 0 as D(|n.h|), GGX's finite limit at 0 included). nullopt in reflectance mode and
-  /// for a light opposite the view (then shade() is 0 everywhere).
+  /// n.h <= 0 as D(|n.h|), GGX's finite limit at 0 included). nullopt in reflectance mode, with
+  /// Smith shadowing (the lobe's G is the V-cavity term) and for a light opposite the view (then
+  /// shade() is 0 everywhere).
   std::optional<MicrofacetLobe> microfacetLobe(const Vec3& light, const Vec3& view) const override;
+  /// Lighting mode: the distribution's half-vector lobe and, with s < 1, the diffuse max(0, n.l).
+  /// nullopt in reflectance mode (its shade() is 0; it has no light to integrate).
+  std::optional<std::vector<ReflectionLobe>> reflectionLobes(const ShadingGeometry& g) const override;
 
   /// The BRDF s R_s + d R_d (1/sr) for unit vectors n, v, l. 0 if N.L <= 0 or N.V < 0; finite at
   /// N.V = 0 (see cookTorranceGOverNlNv).

@@ -326,6 +326,11 @@ class LobeMaterial final : public Material {
   bool viewIndependent() const override;
   bool unlitSymmetricAboutView() const override { return true; }  // mirrorRgb(N.V); 0 unless reflectance mode
   std::optional<std::vector<RadialLobe>> radialLobes(const Vec3& light, const Vec3& view) const override;
+  /// Lighting mode: every lobe at the view's elevation (Phong lobes about the mirrored view as
+  /// power cosines, Lafortune lobes about their axes, half-vector lobes as Blinn-Phong shapes) and
+  /// the diffuse term, weighted by C (|a|^n for Lafortune) times the channel's luminance, lobes of one
+  /// shape and axis with exponents within a factor 1.5 merged. nullopt in the other modes.
+  std::optional<std::vector<ReflectionLobe>> reflectionLobes(const ShadingGeometry& g) const override;
 
   /// The BRDF in linear sRGB (1/sr) for unit normal, view and light: 0 when n.l <= 0 or n.v <= 0.
   Rgb brdf(const Vec3& normal, const Vec3& view, const Vec3& light) const;

@@ -3,6 +3,7 @@
 /// The material interface the baker evaluates. All vectors are unit vectors pointing away from
 /// the surface, in whatever frame the map uses.
 
+#include <brdfbake/brdf/reflection_lobe.hpp>
 #include <brdfbake/core/color.hpp>
 #include <brdfbake/core/math.hpp>
 
@@ -85,6 +86,23 @@ class Material {
   virtual std::optional<MicrofacetLobe> microfacetLobe(const Vec3& light, const Vec3& view) const {
     return std::nullopt;
   }
+  /// The light colour that stands for unit irradiance at normal incidence (docs/conventions.md,
+  /// "Radiometric units"): 1 where a light's colour is its irradiance (Cook-Torrance, fitted and
+  /// measured models), 1/pi for Phong and Blinn-Phong, whose light colour is the radiance a white
+  /// Lambertian surface facing the light reflects. Under an environment a texel of radiance L and
+  /// solid angle dω acts as a light of colour L dω times this.
+  virtual double lightColorPerIrradiance() const { return 1.0; }
+  /// If lightColorPerIrradiance() shade(g, l) is the model's BRDF times the cosine, f_r(l, v)
+  /// max(0, n.l), for every light direction l (Phong's specular lobe is not clipped at the horizon,
+  /// as in its lighting), the BRDF's parts as functions of l for this geometry
+  /// (reflection_lobe.hpp), for integrators over incident directions; nullopt when the model has
+  /// no BRDF (hand-designed maps, reflectance and prefiltered modes).
+  virtual std::optional<std::vector<ReflectionLobe>> reflectionLobes(const ShadingGeometry&) const {
+    return std::nullopt;
+  }
 };
+
+/// Rec. 709 luminance of a linear RGB colour (weights of reflection lobes).
+inline double luminance(const Rgb& c) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
 
 }  // namespace brdfbake

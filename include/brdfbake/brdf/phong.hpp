@@ -36,6 +36,10 @@ class PhongMaterial final : public Material {
   Rgb shade(const ShadingGeometry& g, const Vec3& light) const override;
   bool viewIndependent() const override { return (diffuse_ == 0.0).all(); }
   std::optional<std::vector<RadialLobe>> radialLobes(const Vec3& light, const Vec3& view) const override;
+  /// 1/pi: a light's colour is the radiance a white Lambertian facing it reflects.
+  double lightColorPerIrradiance() const override { return 1.0 / kPi; }
+  /// The specular lobe max(0, r.l)^n about r and the diffuse max(0, n.l).
+  std::optional<std::vector<ReflectionLobe>> reflectionLobes(const ShadingGeometry& g) const override;
 
  private:
   Rgb specular_, diffuse_;
@@ -57,6 +61,10 @@ class BlinnPhongMaterial final : public Material {
   Rgb shade(const ShadingGeometry& g, const Vec3& light) const override;
   bool viewIndependent() const override { return false; }
   std::optional<std::vector<RadialLobe>> radialLobes(const Vec3& light, const Vec3& view) const override;
+  /// 1/pi, as Phong's.
+  double lightColorPerIrradiance() const override { return 1.0 / kPi; }
+  /// The N.H lobe (Blinn-Phong shape; the exact conversion as about 4 n) and the diffuse max(0, n.l).
+  std::optional<std::vector<ReflectionLobe>> reflectionLobes(const ShadingGeometry& g) const override;
 
   /// The lobe as a function of n.h: x^n' for a constant exponent, or the exact conversion.
   double lobe(double nDotH) const;

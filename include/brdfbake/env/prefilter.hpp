@@ -107,24 +107,38 @@ struct PrefilterOptions : RunOptions {
 /// One configuration tried (auto) or used.
 struct PrefilterCandidate {
   PrefilterMethod method = PrefilterMethod::Auto;
-  std::string detail;              ///< e.g. "order 24", "256 samples", "level 2 (q = 4), tail 1e-05, grid 64"
-  double predictedSeconds = 0.0;   ///< from the cost model, for ordering
-  double seconds = 0.0;            ///< setup (and grid) time actually spent
-  double errorEstimate = -1.0;     ///< RMS relative error on the probes (-1: not estimated)
-  double errorEstimateMax = -1.0;  ///< largest probe error
-  int probes = 0;                  ///< probes the estimate read (it stops once clearly above or below the bound)
+  std::string detail;             ///< e.g. "order 24", "256 samples", "level 2 (q = 4), tail 1e-05, grid 64"
+  double predictedSeconds = 0.0;  ///< from the cost model, for ordering
+  double seconds = 0.0;           ///< setup (and grid) time actually spent
+  /// The error on the probes (-1: not estimated): the larger of errorEstimateRms and
+  /// errorEstimateHighlight.
+  double errorEstimate = -1.0;
+  double errorEstimateMax = -1.0;        ///< largest probe error
+  double errorEstimateRms = -1.0;        ///< solid-angle RMS of the relative error
+  double errorEstimateHighlight = -1.0;  ///< value-weighted RMS of the relative error (near the highlights)
+  int probes = 0;                        ///< probes the estimate read (it stops once clearly above or below the bound)
   bool chosen = false;
 };
 
 struct PrefilterSummary {
   PrefilterMethod method = PrefilterMethod::Auto;  ///< the method that made the map
   std::string detail;
-  std::string lobe;               ///< canonical lobe name
-  double maxError = 0.0;          ///< the bound it was built to
-  double errorEstimate = 0.0;     ///< RMS relative error estimate (0 when not estimated)
-  double errorEstimateMax = 0.0;  ///< largest probe error
-  bool errorEstimated = false;    ///< an estimate was made (never for reference and mirror, nor with estimation off)
-  bool exact = false;             ///< every part was made by the reference sum or mirror resampling
+  std::string lobe;       ///< canonical lobe name
+  double maxError = 0.0;  ///< the bound it was built to
+  /// The estimated error of the texels (0 when not estimated): the larger of the chosen method's
+  /// solid-angle RMS of the relative error on the probes and its RMS where the signal is (the larger
+  /// of the value-weighted RMS and the RMS within 5 degrees of the bright sources: a sun).
+  double errorEstimate = 0.0;
+  double errorEstimateMax = 0.0;        ///< largest probe error
+  double errorEstimateRms = 0.0;        ///< the solid-angle RMS
+  double errorEstimateHighlight = 0.0;  ///< the RMS where the signal is
+  /// The finished map's bilinear lookups at the probes, as a renderer reads it (the same three RMS,
+  /// each with two standard errors to spare, the largest): the texels' error plus their interpolation,
+  /// which only the resolution lowers. -1: not measured (exact methods, estimation off).
+  double lookupErrorEstimate = -1.0;
+  double lookupErrorMax = -1.0;  ///< the largest lookup error at the probes
+  bool errorEstimated = false;   ///< an estimate was made (never for reference and mirror, nor with estimation off)
+  bool exact = false;            ///< every part was made by the reference sum or mirror resampling
   /// Known to meet the bound: exact, or estimated within maxError. False when the error is unknown
   /// (a fast method with estimation off): neither exact nor errorEstimated.
   bool metBound = false;

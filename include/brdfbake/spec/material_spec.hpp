@@ -43,6 +43,10 @@ struct MaterialContext {
   /// If set, a material whose making takes long (a "measured" fit) is not made: the parser stores
   /// what it needs here and returns null. If null, it is made at once.
   std::optional<DeferredFit>* deferredFit = nullptr;
+  /// The material is lit by an environment (docs/matcap.md): models with a "mode" default to
+  /// "lighting" (cook_torrance's becomes optional) and refuse the others, which have no light to
+  /// integrate.
+  bool underEnvironment = false;
 };
 
 using MaterialParser =

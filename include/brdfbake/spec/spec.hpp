@@ -6,6 +6,8 @@
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/bake/map_function.hpp>
 #include <brdfbake/core/files.hpp>
+#include <brdfbake/env/camera.hpp>
+#include <brdfbake/env/material_under_environment.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/env/prefilter_stack.hpp>
 #include <brdfbake/maps/map_file.hpp>
@@ -80,8 +82,21 @@ struct EnvironmentMapSpec {
   }
 };
 
-/// "material" and "lights": a map baked from a material model (docs/materials.md), with the extra
-/// files some models write beside it.
+/// "environment": {"file", "from", "method", "max_error"} beside "material" (in place of "lights"), and
+/// the map's "camera": the material lit by an environment (docs/matcap.md), made by
+/// bakeUnderEnvironment.
+struct EnvironmentLighting {
+  std::filesystem::path file;                                    ///< "file", resolved against the spec's folder
+  std::optional<ParameterizationKind> from;                      ///< "from": parameterization of a plain image
+  UnderEnvironmentMethod method = UnderEnvironmentMethod::Auto;  ///< "method": "auto" | "sampled" | "reference"
+  double maxError = 0.01;                                        ///< "max_error", in (0, 0.5]
+  /// The map's "camera": {"forward": [x, y, z], "up": [x, y, z]} (orthonormal) or {"yaw": degrees,
+  /// "pitch": degrees}; default the environment's axes (viewer on +z, up +y).
+  CameraFrame camera;
+};
+
+/// "material" and "lights" (or "environment"): a map baked from a material model (docs/materials.md),
+/// with the extra files some models write beside it.
 struct MaterialMapSpec {
   /// The material; null while `deferredFit` is pending (MapSpec::prepare() makes it).
   std::shared_ptr<const Material> material;
@@ -89,6 +104,9 @@ struct MaterialMapSpec {
   std::optional<DeferredFit> deferredFit;
   std::vector<DirectionalLight> lights;
   bool lightAtEye = false;  ///< a light was given as "direction": "eye"
+  /// Set when the material is lit by an environment instead of lights (no "lights", "mips" or
+  /// "fresnel_table_output" then): bakeUnderEnvironment makes the map, makeFunction() refuses it.
+  std::optional<EnvironmentLighting> environment;
   /// "mips": true (silhouette sphere maps only): also write the hand-made mip levels 1.. as
   /// STEM_mip1.EXT, STEM_mip2.EXT, ... beside the output (docs/materials.md).
   bool mips = false;
@@ -179,9 +197,17 @@ struct MapSpec {
   /// left at their defaults for the caller. Throws Error(InvalidArgument) for material maps.
   PrefilterOptions prefilterOptions() const;
 
-  /// The function the baker integrates. Throws Error(InvalidArgument) for environment maps and
-  /// while a fit is pending (call prepare() first).
+  /// The function the baker integrates. Throws Error(InvalidArgument) for environment maps, for
+  /// materials lit by an environment (bakeUnderEnvironment makes those) and while a fit is pending
+  /// (call prepare() first).
   std::shared_ptr<const MapFunction> makeFunction() const;
+
+  /// The environment lighting of a material map lit by one, else null.
+  const EnvironmentLighting* environmentLighting() const;
+  /// The options a material lit by an environment asks for (parameterization, resolution, view,
+  /// camera, samples_per_texel, method, max_error); threads, limits and progress are left at their
+  /// defaults for the caller. Throws Error(InvalidArgument) for other maps.
+  UnderEnvironmentOptions underEnvironmentOptions() const;
 };
 
 struct BakeSpec {
@@ -193,6 +219,19 @@ struct BakeSpec {
 /// whose message starts with `label` (usually the file name) and names the JSON path.
 BakeSpec parseBakeSpec(const nlohmann::json& document, const std::filesystem::path& baseDirectory,
                        const std::string& label = "spec");
+
+/// The environment a map reads ("environment": {"file", "from"}: prefiltered, or lighting a material),
+/// read and checked by loadEnvironment; its errors name the spec and the JSON path of
+/// "environment.file" (missing, unreadable, not an image, a size no parameterization has). Throws
+/// Error(InvalidArgument) for a map without an environment. For checks before any work.
+Environment loadMapEnvironment(const MapSpec& map);
+
+/// Makes a material map lit by an environment (MapSpec::environmentLighting; prepare() first):
+/// shadeUnderEnvironment with the map's options, `run`'s threads, limits and progress. Write it with
+/// writeUnderEnvironmentMap(result, map.output, map.raw, map.cubeLayout, ...). Throws
+/// Error(InvalidArgument) for other maps or a pending fit, and shadeUnderEnvironment's errors.
+MaterialUnderEnvironment bakeUnderEnvironment(const MapSpec& map, const Environment& environment,
+                                              const RunOptions& run = {});
 
 /// Writes the extra files a map asks for besides its image ("mips", "fresnel_table_output"; see MapSpec),
 /// each written with writeImage/writeMap semantics. `bakeOptions` is used for baking mip levels.

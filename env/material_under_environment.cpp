@@ -1,0 +1,682 @@
+// A material under an environment (material_under_environment.hpp): the candidates, the probes and
+// their reference, the choice, the bake and the honest measure of the finished map.
+#include <brdfbake/bake/accuracy.hpp>
+#include <brdfbake/bake/baker.hpp>
+#include <brdfbake/core/error.hpp>
+#include <brdfbake/core/named_values.hpp>
+#include <brdfbake/core/progress.hpp>
+#include <brdfbake/core/version.hpp>
+#include <brdfbake/env/material_under_environment.hpp>
+
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <random>
+#include <sstream>
+
+#include "under_environment_internal.hpp"
+
+namespace brdfbake {
+namespace {
+using Clock = std::chrono::steady_clock;
+using detail::NormalGrid;
+
+std::string formatG(double value) {
+  std::ostringstream out;
+  out.precision(3);
+  out << value;
+  return out.str();
+}
+
+// Cost model (seconds on one core, measured on the development machine; only the order of the
+// candidates depends on it): one importance sample (draw, mixture density, shade, trilinear lookup),
+// one light, one bicubic grid lookup of a footprint sample.
+constexpr double kPerSample = 250e-9;
+constexpr double kPerLight = 80e-9;
+constexpr double kPerGridLookup = 120e-9;
+
+// What every candidate shares.
+struct Setup {
+  Setup(const Environment& environment, const Material& m, const UnderEnvironmentOptions& o)
+      : input(environment), material(m), options(o) {}
+  const Environment& input;
+  const Material& material;
+  const UnderEnvironmentOptions& options;
+  double scale = 1.0;  // Material::lightColorPerIrradiance
+  Vec3 view;
+  Mat3 eyeToEnvironment, environmentToEye;
+  detail::EnvironmentSplit split;
+  std::unique_ptr<detail::LatLongPyramid> rest;
+  double narrowest = 1.0;  // the narrowest lobe width (l) over the views' normals, radians
+
+  ShadingGeometry geometry(const Vec3& normal) const { return {normal, view, reflect(view, normal)}; }
+};
+
+// The narrowest reflection lobe (not the cosine) at normals from the view to the rim.
+double narrowestLobe(const Setup& setup) {
+  const Vec3 t = anyPerpendicular(setup.view);
+  double narrowest = 1.0;
+  for (double degrees : {0.0, 20.0, 40.0, 60.0, 75.0, 85.0, 89.0}) {
+    const Vec3 n = std::cos(radians(degrees)) * setup.view + std::sin(radians(degrees)) * t;
+    const auto lobes = setup.material.reflectionLobes(setup.geometry(n));
+    for (const auto& lobe : *lobes) {
+      if (lobe.shape != ReflectionLobeShape::Cosine) narrowest = std::min(narrowest, reflectionLobeWidth(lobe));
+    }
+  }
+  return narrowest;
+}
+
+// A configuration: importance samples and grid points per lobe width (-1: every footprint sample).
+struct Candidate {
+  int samples = 0;
+  int perWidth = 0;
+  int rows = 0, columns = 0;
+  double predicted = 0.0;
+  std::string detail;
+};
+
+int lightSubdivision(const Setup& setup) {
+  double largest = 0.0;
+  for (const auto& t : setup.split.texels) largest = std::max(largest, t.angle);
+  return detail::subdivisionFor(largest, setup.narrowest, 2.0, 8);
+}
+
+Candidate makeCandidate(const Setup& setup, int samples, int perWidth, double footprintSamples, int threads) {
+  Candidate c;
+  c.samples = samples, c.perWidth = perWidth;
+  const int sub = lightSubdivision(setup);
+  const double lights = static_cast<double>(setup.split.texels.size()) * sub * sub;
+  const double perEvaluation = samples * kPerSample + lights * kPerLight;
+  std::ostringstream detail;
+  detail << samples << " samples, " << setup.split.texels.size() << " bright texels";
+  if (sub > 1) detail << " (" << sub << "x" << sub << " each)";
+  if (perWidth > 0) {
+    // Rows from the view to the rim, perWidth per lobe width in normals (half the width in l).
+    const double spacing = 0.5 * setup.narrowest / perWidth;
+    c.rows = std::clamp(static_cast<int>(std::ceil(0.5 * kPi / spacing)), 8, 2048) + 1;
+    c.columns = 2 * std::max(4, static_cast<int>(std::ceil(kPi / (0.5 * kPi / (c.rows - 1)))));
+    const double nodes = static_cast<double>(c.rows) * c.columns;
+    c.predicted = (nodes * perEvaluation + footprintSamples * kPerGridLookup) / threads;
+    detail << ", grid " << c.rows << " x " << c.columns << " (" << perWidth << " per lobe width)";
+  } else {
+    c.predicted = footprintSamples * perEvaluation / threads;
+    detail << ", at every footprint sample";
+  }
+  c.detail = detail.str();
+  return c;
+}
+
+std::vector<Candidate> candidatesFor(const Setup& setup, double footprintSamples, int threads) {
+  const UnderEnvironmentOptions& o = setup.options;
+  std::vector<int> samples =
+      o.importanceSamples > 0 ? std::vector<int>{o.importanceSamples} : std::vector<int>{16, 64, 256, 1024};
+  std::vector<int> grids = o.gridPerWidth != 0 ? std::vector<int>{o.gridPerWidth} : std::vector<int>{4, 8, -1};
+  std::vector<Candidate> out;
+  for (int k : samples)
+    for (int g : grids) {
+      Candidate c = makeCandidate(setup, k, g, footprintSamples, threads);
+      // A grid finer than the footprint samples does not pay; it stays only when asked for, and
+      // never above 2^24 nodes (400 MB).
+      const double nodes = static_cast<double>(c.rows) * c.columns;
+      if (g > 0 && ((o.gridPerWidth == 0 && nodes > footprintSamples) || nodes > 16777216.0)) continue;
+      out.push_back(c);
+    }
+  if (out.empty()) out.push_back(makeCandidate(setup, samples.front(), -1, footprintSamples, threads));
+  std::stable_sort(out.begin(), out.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.predicted < b.predicted; });
+  return out;
+}
+
+// L_o at an eye-space normal, for one way of computing it.
+class Evaluation {
+ public:
+  virtual ~Evaluation() = default;
+  virtual Rgb at(const Vec3& normal) const = 0;
+};
+
+// Bright lights plus filtered importance sampling of the rest, at the normal itself.
+class SampledEvaluation final : public Evaluation {
+ public:
+  SampledEvaluation(const Setup& setup, int samples)
+      : setup_(setup),
+        lights_(setup.input, setup.split.texels, setup.environmentToEye, lightSubdivision(setup)),
+        sampler_(*setup.rest, setup.eyeToEnvironment, samples) {}
+  Rgb at(const Vec3& normal) const override {
+    const ShadingGeometry g = setup_.geometry(normal);
+    const auto lobes = setup_.material.reflectionLobes(g);
+    return setup_.scale * (lights_.sum(setup_.material, g) + sampler_.integrate(setup_.material, g, *lobes));
+  }
+
+ private:
+  const Setup& setup_;
+  detail::LightSet lights_;
+  detail::LobeSampler sampler_;
+};
+
+// The sampled evaluation on a polar grid of normals, interpolated.
+class GridEvaluation final : public Evaluation {
+ public:
+  GridEvaluation(const Setup& setup, const Candidate& c, const std::function<void(double)>& progress)
+      : grid_(setup.view, c.rows, c.columns) {
+    const SampledEvaluation sampled(setup, c.samples);
+    ProgressCounter counter(progress, static_cast<std::size_t>(c.rows));
+    tbb::parallel_for(0, c.rows, [&](int row) {
+      // The pole is one normal: evaluated once.
+      const int columns = row == 0 ? 1 : c.columns;
+      for (int column = 0; column < columns; ++column) grid_.set(row, column, sampled.at(grid_.normal(row, column)));
+      if (row == 0)
+        for (int column = 1; column < c.columns; ++column) grid_.set(0, column, grid_.at(0, 0));
+      counter.step();
+    });
+    grid_.finish();
+  }
+  Rgb at(const Vec3& normal) const override { return grid_.value(normal); }
+  const NormalGrid& grid() const { return grid_; }
+
+ private:
+  NormalGrid grid_;
+};
+
+class ReferenceEvaluation final : public Evaluation {
+ public:
+  explicit ReferenceEvaluation(const Setup& setup)
+      : setup_(setup), sum_(setup.input, setup.split, *setup.rest, setup.eyeToEnvironment) {}
+  Rgb at(const Vec3& normal) const override {
+    return setup_.scale * sum_.value(setup_.material, setup_.geometry(normal));
+  }
+
+ private:
+  const Setup& setup_;
+  detail::ReferenceSum sum_;
+};
+
+std::unique_ptr<Evaluation> build(const Setup& setup, const Candidate& c, const std::function<void(double)>& progress) {
+  if (c.perWidth > 0) return std::make_unique<GridEvaluation>(setup, c, progress);
+  return std::make_unique<SampledEvaluation>(setup, c.samples);
+}
+
+// The map's value at a map direction: L_o at the normal the direction stands for.
+class EvaluationFunction final : public MapFunction {
+ public:
+  EvaluationFunction(const Evaluation& evaluation, const Vec3& view) : evaluation_(evaluation), view_(view) {}
+  Rgb evaluate(const Vec3& direction) const override {
+    return evaluation_.at(geometryForReflection(direction.normalized(), view_).normal);
+  }
+
+ private:
+  const Evaluation& evaluation_;
+  Vec3 view_;
+};
+
+// The map: each texel the function at its centre when the normals of its footprint (corners) lie
+// within `smoothAngle` / 2 of the centre's, where L_o is smooth enough that the centre is the
+// footprint mean to second order (within (w / s)^2 / 24 for footprint w and scale s); else the mean
+// over its stratified footprint samples, as the baker takes it (bakeTexel). Alpha is coverage.
+Image renderOutput(const Parameterization& map, const MapFunction& function, const Vec3& view, double smoothAngle,
+                   int samplesPerTexel, const std::function<void(double)>& progress) {
+  Image image(map.width(), map.height(), Rgba::Zero());
+  ProgressCounter counter(progress, static_cast<std::size_t>(map.height()));
+  auto normalOf = [&](const Vec3& direction) { return geometryForReflection(direction.normalized(), view).normal; };
+  tbb::parallel_for(0, map.height(), [&](int y) {
+    for (int x = 0; x < map.width(); ++x) {
+      const auto centre = map.getDirectionFor(Vec2(x + 0.5, y + 0.5));
+      if (!centre) continue;  // no direction (a cube cross's empty cells): 0, alpha 0
+      const Vec3 n = normalOf(*centre);
+      double spread = 0.0;
+      for (int corner = 0; corner < 4; ++corner) {
+        const auto d = map.getDirectionFor(Vec2(x + (corner & 1), y + (corner >> 1)));
+        if (d) spread = std::max(spread, 2.0 * std::asin(std::min(1.0, 0.5 * (normalOf(*d) - n).norm())));
+      }
+      const Rgb value =
+          spread <= 0.5 * smoothAngle ? function.evaluate(*centre) : bakeTexel(map, function, x, y, samplesPerTexel);
+      image.set(x, y, Rgba(value[0], value[1], value[2], map.texelCoverage(x, y)));
+    }
+    counter.step();
+  });
+  return image;
+}
+
+// ---- probes ----------------------------------------------------------------------------------
+
+struct Probe {
+  Vec3 direction;  // map direction r (eye space)
+  Vec3 normal;
+  Rgb reference = Rgb::Zero();
+  double weight = 1.0;  // value-weighted set: v / q (self-normalised); lookup set: 1
+  bool highlight = false;
+};
+
+Vec3 uniformDirection(std::mt19937& rng) {
+  std::normal_distribution<double> g;
+  for (;;) {
+    const Vec3 d(g(rng), g(rng), g(rng));
+    if (d.norm() > 1e-9) return d.normalized();
+  }
+}
+
+// Probes: half uniform map directions, half drawn from a density proportional to the guide's value
+// over the grid's cells (times the cells' measure in map directions, dω_r = 4 (n.v) dω_n), mixed
+// with 10 % uniform; each value-weighted probe carries v / q once its reference v is known. Sphere
+// maps leave out the rim band (mapRimCos).
+std::vector<Probe> drawProbes(const Setup& setup, const NormalGrid& guide, int count, double rimCos) {
+  std::mt19937 rng(setup.options.seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  std::vector<Probe> probes;
+  auto keep = [&](const Vec3& r) {
+    return !(-r.z() > rimCos && setup.options.parameterization == ParameterizationKind::Sphere);
+  };
+  while (static_cast<int>(probes.size()) < count / 2) {
+    const Vec3 r = uniformDirection(rng);
+    if (keep(r)) probes.push_back({r, geometryForReflection(r, setup.view).normal});
+  }
+  const int rows = guide.rows() - 1, columns = guide.columns();
+  const double dt = guide.rowSpacing(), dp = guide.columnSpacing();
+  std::vector<double> cdf(static_cast<std::size_t>(rows) * columns + 1, 0.0);
+  for (int i = 0; i < rows; ++i)
+    for (int j = 0; j < columns; ++j) {
+      double v = 0.0;
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b) v = std::max(v, guide.at(i + a, (j + b) % columns).abs().maxCoeff());
+      const double t0 = i * dt, t1 = t0 + dt;  // ∫ 4 cos sin dθ dφ over the cell
+      const double measure = dp * (std::sin(t1) * std::sin(t1) - std::sin(t0) * std::sin(t0)) * 2.0;
+      const std::size_t k = static_cast<std::size_t>(i) * columns + j;
+      cdf[k + 1] = cdf[k] + v * measure;
+    }
+  const double total = cdf.back();
+  const double guided = total > 0.0 ? 0.9 : 0.0;
+  auto density = [&](const Vec3& n) {  // per steradian of r
+    double q = (1.0 - guided) / kFourPi;
+    if (guided > 0.0) {
+      double theta = 0.0, phi = 0.0;
+      guide.angles(n, theta, phi);
+      const int i = std::min(rows - 1, static_cast<int>(theta / dt)),
+                j = std::min(columns - 1, static_cast<int>(phi / dp));
+      const std::size_t k = static_cast<std::size_t>(i) * columns + j;
+      // Uniform in (theta, phi) within the cell: per unit dθ dφ, then per dω_r = 4 cos sin dθ dφ.
+      const double perAngle = (cdf[k + 1] - cdf[k]) / total / (dt * dp);
+      q += guided * perAngle / std::max(4.0 * std::cos(theta) * std::sin(theta), 1e-12);
+    }
+    return q;
+  };
+  while (static_cast<int>(probes.size()) < count) {
+    Vec3 n, r;
+    if (unit(rng) < guided) {
+      const double u = unit(rng) * total;
+      const std::size_t k =
+          std::min<std::size_t>(cdf.size() - 2, std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin() - 1);
+      const double theta = (static_cast<double>(k / columns) + unit(rng)) * dt;
+      const double phi = (static_cast<double>(k % columns) + unit(rng)) * dp;
+      n = guide.normal(0, 0) * std::cos(theta);  // v
+      const Vec3 t = guide.normal(guide.rows() - 1, 0), b = guide.normal(guide.rows() - 1, columns / 4);
+      n = (n + std::sin(theta) * (std::cos(phi) * t + std::sin(phi) * b)).normalized();
+      r = reflect(setup.view, n);
+      if (!(r.norm() > 0.5)) continue;
+      r.normalize();
+    } else {
+      r = uniformDirection(rng);
+      n = geometryForReflection(r, setup.view).normal;
+    }
+    if (!keep(r)) continue;
+    Probe p{r, n};
+    p.highlight = true;
+    p.weight = 1.0 / density(n);  // times v once the reference is known
+    probes.push_back(p);
+  }
+  return probes;
+}
+
+struct Measure {
+  double lookupRms = 0.0, highlightRms = 0.0, max = 0.0, peak = 0.0;
+  double bound() const { return std::max(lookupRms, highlightRms); }
+};
+
+// The errors of `values` (one per probe) against the probes' reference, relative to the peak: each
+// RMS as the square root of its mean square plus two standard errors (the self-normalised
+// estimator's for the value-weighted set), so that another sample of the same directions measures
+// less with high probability.
+Measure measure(const std::vector<Probe>& probes, const std::vector<Rgb>& values) {
+  Measure m;
+  std::vector<double> e2(probes.size());
+  double lookupSum = 0.0, lookupCount = 0.0, highSum = 0.0, highWeight = 0.0, worst = 0.0;
+  for (std::size_t i = 0; i < probes.size(); ++i) {
+    const Probe& p = probes[i];
+    const double v = p.reference.abs().maxCoeff();
+    m.peak = std::max(m.peak, v);
+    e2[i] = (values[i] - p.reference).square().sum() / 3.0;
+    worst = std::max(worst, std::sqrt(e2[i]));
+    if (p.highlight) {
+      highSum += p.weight * v * e2[i], highWeight += p.weight * v;
+    } else {
+      lookupSum += e2[i], lookupCount += 1.0;
+    }
+  }
+  const double lookupMean = lookupCount > 0.0 ? lookupSum / lookupCount : 0.0;
+  const double highMean = highWeight > 0.0 ? highSum / highWeight : lookupMean;
+  double lookupVariance = 0.0, highVariance = 0.0;
+  for (std::size_t i = 0; i < probes.size(); ++i) {
+    const Probe& p = probes[i];
+    if (p.highlight) {
+      const double w = p.weight * p.reference.abs().maxCoeff();
+      highVariance += w * w * (e2[i] - highMean) * (e2[i] - highMean);
+    } else {
+      lookupVariance += (e2[i] - lookupMean) * (e2[i] - lookupMean);
+    }
+  }
+  const double lookupError = lookupCount > 1.0 ? std::sqrt(lookupVariance / (lookupCount - 1.0) / lookupCount) : 0.0;
+  const double highError = highWeight > 0.0 ? std::sqrt(highVariance) / highWeight : lookupError;
+  const double scale = m.peak > 0.0 ? 1.0 / m.peak : 1.0;
+  m.lookupRms = std::sqrt(lookupMean + 2.0 * lookupError) * scale;
+  m.highlightRms = std::sqrt(highMean + 2.0 * highError) * scale;
+  m.max = worst * scale;
+  return m;
+}
+
+std::vector<Rgb> valuesAt(const std::vector<Probe>& probes, const std::function<Rgb(const Probe&)>& value) {
+  std::vector<Rgb> out(probes.size());
+  tbb::parallel_for(std::size_t(0), probes.size(), [&](std::size_t i) { out[i] = value(probes[i]); });
+  return out;
+}
+
+void requireFinite(const Image& image) {
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x)
+      if (!allFinite(image.at(x, y))) {
+        throw Error(Error::Kind::Numerical, "a material under an environment came out non-finite at texel (" +
+                                                std::to_string(x) + ", " + std::to_string(y) + ")");
+      }
+}
+
+void prepare(Setup& setup) {
+  const UnderEnvironmentOptions& o = setup.options;
+  setup.scale = setup.material.lightColorPerIrradiance();
+  setup.view = o.view.normalized();
+  setup.eyeToEnvironment = o.camera.eyeToEnvironment();
+  setup.environmentToEye = setup.eyeToEnvironment.transpose();
+  setup.split = detail::splitEnvironment(setup.input, o.brightFactor, o.maxBrightTexels);
+  setup.rest = std::make_unique<detail::LatLongPyramid>(setup.split.rest);
+  setup.narrowest = narrowestLobe(setup);
+}
+
+}  // namespace
+
+// ---- public ----------------------------------------------------------------------------------
+
+std::string_view toString(UnderEnvironmentMethod method) {
+  switch (method) {
+    case UnderEnvironmentMethod::Auto:
+      return "auto";
+    case UnderEnvironmentMethod::Sampled:
+      return "sampled";
+    case UnderEnvironmentMethod::Reference:
+      return "reference";
+  }
+  return "?";
+}
+
+UnderEnvironmentMethod parseUnderEnvironmentMethod(std::string_view name) {
+  return parseByName(
+      name,
+      std::array{UnderEnvironmentMethod::Auto, UnderEnvironmentMethod::Sampled, UnderEnvironmentMethod::Reference},
+      "method");
+}
+
+void UnderEnvironmentOptions::validate() const {
+  require(resolution >= 1 && resolution <= 65536,
+          "resolution must be in [1, 65536], got " + std::to_string(resolution));
+  require(view.allFinite() && view.norm() > 0.0, "view must be a non-zero finite vector");
+  require(parameterization != ParameterizationKind::Sphere || (view.normalized() - Vec3::UnitZ()).norm() < 1e-9,
+          "a sphere map views along +z (eye space); turn the camera instead of the view");
+  camera.validate();
+  require(samplesPerTexel >= 1 && samplesPerTexel <= 4096, "samples per texel must be in [1, 4096]");
+  require(maxError > 0.0 && maxError < 1.0,
+          "max error must be in (0, 1) (0.01 is 1 % of the peak), got " + formatG(maxError));
+  require(importanceSamples == 0 || (importanceSamples >= 8 && importanceSamples <= 1 << 20),
+          "importance samples must be 0 (searched) or in [8, 2^20]");
+  require(gridPerWidth == 0 || gridPerWidth == -1 || (gridPerWidth >= 2 && gridPerWidth <= 64),
+          "grid points per lobe width must be 0 (searched), -1 (every footprint sample) or in [2, 64]");
+  require((importanceSamples == 0 && gridPerWidth == 0) || method == UnderEnvironmentMethod::Sampled,
+          "fixed importance samples or grid need the sampled method");
+  require(probes >= 16 && probes <= 1 << 20, "probes must be in [16, 2^20]");
+  require(std::isfinite(brightFactor) && brightFactor > 1.0, "the bright factor must be > 1");
+  require(maxBrightTexels >= 0 && maxBrightTexels <= 1 << 16, "bright texels must be in [0, 65536]");
+  validateRun();
+}
+
+void requireBrdf(const Material& material) {
+  const Vec3 v = Vec3::UnitZ();
+  if (material.reflectionLobes({v, v, v})) return;
+  throw Error(Error::Kind::InvalidArgument,
+              std::string(material.model()) +
+                  " has no BRDF to light with an environment: its map is hand-designed or holds one fixed "
+                  "configuration (a reflectance or prefiltered mode, a mirror-direction table), not reflected "
+                  "light; use a lighting-mode material (phong, blinn_phong, cook_torrance, lobes, measured with "
+                  "\"method\": \"fit\")");
+}
+
+std::vector<Rgb> underEnvironmentReferenceAt(const Environment& environment, const Material& material,
+                                             const std::vector<Vec3>& normals, const Vec3& view,
+                                             const UnderEnvironmentOptions& options) {
+  requireBrdf(material);
+  options.camera.validate();
+  Setup setup(environment, material, options);
+  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  std::vector<Rgb> values(normals.size());
+  arena.execute([&] {
+    prepare(setup);
+    setup.view = view.normalized();
+    const ReferenceEvaluation reference(setup);
+    tbb::parallel_for(std::size_t(0), normals.size(),
+                      [&](std::size_t i) { values[i] = reference.at(normals[i].normalized()); });
+  });
+  return values;
+}
+
+namespace {
+
+// Tries the candidates cheapest first and returns the first whose bound on the probes is within 0.8
+// maxError (the margin covers the gap between its point values and the finished map's lookups);
+// without estimation the first. When none qualifies, the most accurate one tried, with a note.
+std::unique_ptr<Evaluation> chooseCandidate(const Setup& setup, const std::vector<Candidate>& candidates,
+                                            std::vector<Probe>& probes, double rimCos, bool estimating,
+                                            UnderEnvironmentSummary& summary) {
+  const UnderEnvironmentOptions& o = setup.options;
+  const double target = 0.8 * o.maxError;
+  std::unique_ptr<Evaluation> best;
+  double bestError = HUGE_VAL;
+  std::size_t bestIndex = 0;
+  for (const Candidate& c : candidates) {
+    const auto start = Clock::now();
+    auto evaluation = build(setup, c, o.progress);
+    UnderEnvironmentCandidate record{c.detail, c.predicted, secondsSince(start)};
+    if (estimating && probes.empty()) {
+      // The probes and their reference, once: the value-weighted half guided by the first grid.
+      const auto probeStart = Clock::now();
+      const auto* grid = dynamic_cast<const GridEvaluation*>(evaluation.get());
+      std::optional<GridEvaluation> guide;
+      if (!grid) {  // a coarse grid of at most 128 rows, 16 samples each: only a guide
+        Candidate coarse = makeCandidate(setup, 16, 2, 1.0, 1);
+        coarse.rows = std::min(coarse.rows, 129), coarse.columns = std::min(coarse.columns, 512);
+        guide.emplace(setup, coarse, std::function<void(double)>{});
+        grid = &*guide;
+      }
+      probes = drawProbes(setup, grid->grid(), o.probes, rimCos);
+      const ReferenceEvaluation reference(setup);
+      const auto values = valuesAt(probes, [&](const Probe& p) { return reference.at(p.normal); });
+      for (std::size_t i = 0; i < probes.size(); ++i) probes[i].reference = values[i];
+      summary.estimateSeconds += secondsSince(probeStart);
+    }
+    if (estimating) {
+      const auto estimateStart = Clock::now();
+      const Measure m = measure(probes, valuesAt(probes, [&](const Probe& p) { return evaluation->at(p.normal); }));
+      record.errorEstimate = m.bound(), record.errorEstimateMax = m.max;
+      summary.estimateSeconds += secondsSince(estimateStart);
+    }
+    summary.candidates.push_back(record);
+    if (!estimating || record.errorEstimate <= target) {
+      summary.candidates.back().chosen = true;
+      summary.detail = c.detail;
+      return evaluation;
+    }
+    if (record.errorEstimate < bestError) {
+      bestError = record.errorEstimate, best = std::move(evaluation), bestIndex = summary.candidates.size() - 1;
+    }
+  }
+  summary.candidates[bestIndex].chosen = true;
+  summary.detail = candidates[bestIndex].detail;
+  summary.notes.push_back("no sampled setting met 0.8 x the error bound on the probes (best " +
+                          formatG(100.0 * bestError) + " %); used the most accurate one tried");
+  return best;
+}
+
+}  // namespace
+
+MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, const Material& material,
+                                               const UnderEnvironmentOptions& options) {
+  options.validate();
+  requireBrdf(material);
+  require(environment.map && !environment.image.empty(), "an empty environment");
+  const auto start = Clock::now();
+  MaterialUnderEnvironment result;
+  result.map =
+      std::shared_ptr<const Parameterization>(makeParameterization(options.parameterization, options.resolution));
+  options.requireImageSize(result.map->width(), result.map->height());
+  UnderEnvironmentSummary& summary = result.summary;
+  summary.material = std::string(material.model());
+  summary.maxError = options.maxError;
+  Setup setup(environment, material, options);
+  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    prepare(setup);
+    summary.brightTexels = static_cast<int>(setup.split.texels.size());
+    summary.brightThreshold = setup.split.threshold;
+    summary.brightShare = setup.split.brightShare;
+    summary.setupSeconds = secondsSince(start);
+    if (setup.rest->resampled()) {
+      summary.notes.push_back(
+          "the environment is not a power-of-two lat-long image: its rest (below the bright "
+          "texels) is read resampled into one, by the map and by the reference alike");
+    }
+    const double rimCos = mapRimCos(options.parameterization, options.resolution);
+    const double footprintSamples =
+        static_cast<double>(result.map->width()) * result.map->height() * options.samplesPerTexel;
+    std::vector<Probe> probes;
+    std::unique_ptr<Evaluation> evaluation;
+    const bool reference = options.method == UnderEnvironmentMethod::Reference;
+    const bool estimating = !reference && (options.estimateError || options.method == UnderEnvironmentMethod::Auto);
+    if (reference) {
+      evaluation = std::make_unique<ReferenceEvaluation>(setup);
+      summary.method = UnderEnvironmentMethod::Reference;
+      summary.detail = "the reference sum at every footprint sample";
+      summary.exact = summary.metBound = true;
+    } else {
+      summary.method = UnderEnvironmentMethod::Sampled;
+      const auto candidates = candidatesFor(setup, footprintSamples, arena.max_concurrency());
+      const auto candidateStart = Clock::now();
+      evaluation = chooseCandidate(setup, candidates, probes, rimCos, estimating, summary);
+      summary.outputSeconds += secondsSince(candidateStart) - summary.estimateSeconds;
+    }
+    const auto bakeStart = Clock::now();
+    const auto* grid = dynamic_cast<const GridEvaluation*>(evaluation.get());
+    // Where L_o is smooth: the grid's spacing, or an eighth of the narrowest lobe in normals.
+    const double smoothAngle = grid ? grid->grid().rowSpacing() : setup.narrowest / 16.0;
+    result.image = renderOutput(*result.map, EvaluationFunction(*evaluation, setup.view), setup.view, smoothAngle,
+                                options.samplesPerTexel, options.progress);
+    requireFinite(result.image);
+    summary.outputSeconds += secondsSince(bakeStart);
+    if (estimating) {
+      // The finished map as a renderer reads it: bilinear lookups at the probes.
+      const auto measureStart = Clock::now();
+      const Measure m = measure(probes, valuesAt(probes, [&](const Probe& p) -> Rgb {
+                                  return sampleBilinear(result.image, *result.map, p.direction).head<3>();
+                                }));
+      summary.errorEstimated = true;
+      summary.errorEstimate = m.bound(), summary.lookupRms = m.lookupRms, summary.highlightRms = m.highlightRms;
+      summary.errorMax = m.max, summary.peak = m.peak, summary.probes = static_cast<int>(probes.size());
+      summary.metBound = summary.errorEstimate <= options.maxError;
+      if (!summary.metBound) {
+        summary.notes.push_back(
+            "the finished map's lookups miss the bound: its resolution limits them when the "
+            "sampled values met it (raise the resolution)");
+      }
+      summary.estimateSeconds += secondsSince(measureStart);
+    }
+  });
+  summary.seconds = secondsSince(start);
+  return result;
+}
+
+std::string UnderEnvironmentSummary::briefReport() const {
+  std::ostringstream out;
+  out << material << " under the environment by " << toString(method);
+  if (!detail.empty()) out << " (" << detail << ")";
+  if (exact) {
+    out << ": exact";
+  } else if (errorEstimated) {
+    out << ": estimated error " << formatG(100.0 * errorEstimate) << " % of the peak (lookups "
+        << formatG(100.0 * lookupRms) << " %, highlight " << formatG(100.0 * highlightRms) << " %; bound "
+        << formatG(100.0 * maxError) << " %" << (metBound ? "" : ", NOT met") << ")";
+  } else {
+    out << ": error not estimated (estimation off)";
+  }
+  out << ", " << formatG(seconds) << " s";
+  return out.str();
+}
+
+nlohmann::json UnderEnvironmentSummary::toJson() const {
+  nlohmann::json candidatesJson = nlohmann::json::array();
+  for (const auto& c : candidates) {
+    nlohmann::json entry = {
+        {"detail", c.detail}, {"predicted_seconds", c.predictedSeconds}, {"seconds", c.seconds}, {"chosen", c.chosen}};
+    if (c.errorEstimate >= 0.0)
+      entry["error_estimate"] = c.errorEstimate, entry["error_estimate_max"] = c.errorEstimateMax;
+    candidatesJson.push_back(entry);
+  }
+  auto estimated = [&](double value) { return errorEstimated ? nlohmann::json(value) : nlohmann::json(nullptr); };
+  return {{"material", material},
+          {"method", std::string(toString(method))},
+          {"detail", detail},
+          {"max_error", maxError},
+          {"error_metric", "max(lookup RMS, value-weighted RMS), relative to the peak"},
+          {"error_estimated", errorEstimated},
+          {"error_estimate", estimated(errorEstimate)},
+          {"lookup_rms", estimated(lookupRms)},
+          {"highlight_rms", estimated(highlightRms)},
+          {"error_max", estimated(errorMax)},
+          {"peak", estimated(peak)},
+          {"probes", probes},
+          {"exact", exact},
+          {"met_bound", errorEstimated || exact ? nlohmann::json(metBound) : nlohmann::json(nullptr)},
+          {"bright_texels", brightTexels},
+          {"bright_threshold", brightThreshold},
+          {"bright_share", brightShare},
+          {"seconds", seconds},
+          {"setup_seconds", setupSeconds},
+          {"estimate_seconds", estimateSeconds},
+          {"output_seconds", outputSeconds},
+          {"candidates", candidatesJson},
+          {"notes", notes}};
+}
+
+MapWriteReport writeUnderEnvironmentMap(const MaterialUnderEnvironment& map, const std::filesystem::path& path,
+                                        nlohmann::json spec, CubeLayout layout, const WriteOptions& options) {
+  require(map.map && !map.image.empty(), "writeUnderEnvironmentMap: nothing to write");
+  if (!spec.is_object()) spec = nlohmann::json::object();
+  const UnderEnvironmentSummary& s = map.summary;
+  MapInfo info;
+  info.parameterization = map.map->kind();
+  info.resolution = map.map->resolution();
+  info.conventionVersion = kConventionVersion;
+  info.spec = spec;
+  info.spec["under_environment"] = {
+      {"material", s.material},
+      {"method", std::string(toString(s.method))},
+      {"detail", s.detail},
+      {"max_error", s.maxError},
+      {"error_metric", "max(lookup RMS, value-weighted RMS), relative to the peak"},
+      {"error_estimate", s.errorEstimated ? nlohmann::json(s.errorEstimate) : nlohmann::json(nullptr)},
+      {"exact", s.exact}};
+  return writeMap(map.image, info, path, layout, options);
+}
+
+}  // namespace brdfbake

@@ -1,0 +1,251 @@
+// The matcap job (run/matcap_job.hpp) called as a script would: a material file and an environment
+// file in, a map on disk out, checked against values the job did not produce (a Lambertian albedo
+// under a white furnace; a small sun against the one-light map of the same material baked from a
+// spec with "lights", at the light colour docs/conventions.md prescribes), and bad input refused
+// naming the file or key, with nothing written.
+#include <brdfbake/bake/map_function.hpp>
+#include <brdfbake/env/environment.hpp>
+#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/run/matcap_job.hpp>
+
+#include <cmath>
+#include <fstream>
+
+#include "test_support.hpp"
+
+namespace brdfbake {
+namespace {
+
+namespace fs = std::filesystem;
+using test::TempDir;
+
+// The environment's image written plainly (lat-long by its 2:1 shape).
+fs::path writeEnvironment(const Environment& environment, const fs::path& path) {
+  Image plain = environment.image;
+  plain.metadata = nlohmann::json::object();
+  writeImage(plain, path);
+  return path;
+}
+
+fs::path writeText(const fs::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+  return path;
+}
+
+// Black, but for a uniform disc of radiance `radiance` and angular radius `radius` about `direction`.
+class SunOnly final : public MapFunction {
+ public:
+  SunOnly(const Vec3& direction, double radius, double radiance)
+      : direction_(direction.normalized()), cosRadius_(std::cos(radius)), radiance_(radiance) {}
+  Rgb evaluate(const Vec3& d) const override {
+    return d.normalized().dot(direction_) >= cosRadius_ ? Rgb::Constant(radiance_) : Rgb::Zero();
+  }
+
+ private:
+  Vec3 direction_;
+  double cosRadius_, radiance_;
+};
+
+// The texels of two sphere maps both fully covered (alpha 1).
+template <class F>
+void forCoveredTexels(const Image& a, const Image& b, F f) {
+  for (int y = 0; y < a.height(); ++y)
+    for (int x = 0; x < a.width(); ++x)
+      if (a.at(x, y)[3] >= 1.0 && b.at(x, y)[3] >= 1.0) f(x, y);
+}
+
+TEST(MatcapJob, AWhiteFurnaceShowsTheLambertianAlbedo) {
+  TempDir dir;
+  const fs::path furnace = writeEnvironment(
+      bakeEnvironment(ConstantEnvironment(), ParameterizationKind::LatLong, 32, "furnace", 4), dir / "furnace.exr");
+  const std::pair<const char*, const char*> materials[] = {
+      {"phong", R"({"model": "phong", "diffuse": [0.5, 0.5, 0.5], "specular": [0, 0, 0], "exponent": 10})"},
+      {"cook_torrance",
+       R"({"model": "cook_torrance", "distribution": "ggx", "roughness": 0.3, "fresnel": {"schlick": [0.04, 0.04, 0.04]},
+           "specular_weight": 0, "diffuse": [0.5, 0.5, 0.5]})"}};
+  for (const auto& [name, json] : materials) {
+    MatcapRequest request;
+    request.material = writeText(dir / (std::string(name) + ".json"), json);
+    request.environment = furnace;
+    request.output = dir / (std::string(name) + "_matcap.exr");
+    request.resolution = 32;
+    JobOptions options;
+    options.threads = 2;
+    const MapResult result = makeMatcap(request, options);
+    ASSERT_TRUE(result.written) << result.error;
+    EXPECT_EQ(result.entry["bake_path"], "under_environment");
+    EXPECT_LT(result.entry["under_environment"]["error_estimate"].get<double>(), 0.01);
+    const MapFile map = readMap(request.output);
+    EXPECT_EQ(map.parameterization->kind(), ParameterizationKind::Sphere);
+    double worst = 0.0;
+    int covered = 0;
+    forCoveredTexels(map.image, map.image, [&](int x, int y) {
+      worst = std::max(worst, (map.image.at(x, y).head<3>() - 0.5).abs().maxCoeff());
+      ++covered;
+    });
+    EXPECT_GT(covered, 600);           // most of the 32^2 disc
+    EXPECT_LE(worst, 0.0025) << name;  // 0.5 within 0.5 %
+  }
+  // --exposure 1: twice the radiance.
+  MatcapRequest request;
+  request.material = dir / "phong.json";
+  request.environment = furnace;
+  request.output = dir / "exposed.exr";
+  request.resolution = 16;
+  request.exposure = 1.0;
+  ASSERT_TRUE(makeMatcap(request).written);
+  const MapFile exposed = readMap(request.output);
+  EXPECT_NEAR(exposed.image.at(8, 8)[1], 1.0, 0.005);
+}
+
+TEST(MatcapJob, ASmallSunShowsWhatItsOneLightShows) {
+  // A 0.5-degree sun of radiance 5000: irradiance P = Σ L Ω over the written environment's texels
+  // (summed here). The one-light map of the same material is baked from a spec with "lights" (the
+  // baker's directional-light path), at colour P / pi for Phong and P for Cook-Torrance.
+  TempDir dir;
+  const Vec3 sun = Vec3(0.3, 0.5, 0.6).normalized();
+  const Environment environment =
+      bakeEnvironment(SunOnly(sun, radians(0.5), 5000.0), ParameterizationKind::LatLong, 512, "sun", 16);
+  const fs::path file = writeEnvironment(environment, dir / "sun.exr");
+  double power = 0.0;
+  for (int y = 0; y < environment.image.height(); ++y)
+    for (int x = 0; x < environment.image.width(); ++x)
+      power += environment.image.at(x, y)[0] * environment.map->texelSolidAngle(x, y);
+  EXPECT_NEAR(power, 5000.0 * kTwoPi * (1.0 - std::cos(radians(0.5))), 0.03 * power);
+  const std::pair<nlohmann::json, double> materials[] = {
+      {{{"model", "phong"}, {"diffuse", {0.3, 0.2, 0.1}}, {"specular", {0.5, 0.5, 0.5}}, {"exponent", 50}}, 1.0 / kPi},
+      {{{"model", "cook_torrance"},
+        {"mode", "lighting"},
+        {"distribution", "ggx"},
+        {"roughness", 0.3},
+        {"fresnel", {{"schlick", {0.955, 0.638, 0.538}}}},
+        {"shadowing", "smith_separable"}},
+       1.0}};
+  int index = 0;
+  for (const auto& [material, colorPerIrradiance] : materials) {
+    const std::string name = material["model"].get<std::string>();
+    MatcapRequest request;
+    request.material = writeText(dir / (name + ".json"), material.dump());
+    request.environment = file;
+    request.output = dir / (name + "_matcap.exr");
+    request.resolution = 64;
+    request.samplesPerTexel = 4;
+    JobOptions options;
+    options.threads = 2;
+    ASSERT_TRUE(makeMatcap(request, options).written);
+    const double color = power * colorPerIrradiance;
+    SpecRunOptions oneLight;
+    oneLight.threads = 2;
+    oneLight.outDir = dir.path();
+    oneLight.document = {
+        {"maps",
+         {{{"output", "one_light_" + std::to_string(index++) + ".exr"},
+           {"parameterization", "sphere"},
+           {"resolution", 64},
+           {"samples_per_texel", 4},
+           {"material", material},
+           {"lights", {{{"direction", {sun.x(), sun.y(), sun.z()}}, {"color", {color, color, color}}}}}}}}};
+    const SpecRunResult expectedRun = runSpec(oneLight);
+    ASSERT_FALSE(expectedRun.firstError);
+    const Image matcap = readMap(request.output).image, expected = readMap(expectedRun.maps[0].output).image;
+    double peak = 0.0, sum = 0.0;
+    int count = 0;
+    forCoveredTexels(matcap, expected,
+                     [&](int x, int y) { peak = std::max(peak, expected.at(x, y).head<3>().maxCoeff()); });
+    forCoveredTexels(matcap, expected, [&](int x, int y) {
+      sum += (matcap.at(x, y).head<3>() - expected.at(x, y).head<3>()).square().sum() / 3.0;
+      ++count;
+    });
+    ASSERT_GT(count, 2500);
+    EXPECT_LT(std::sqrt(sum / count) / peak, 0.02) << name << ": RMS over the visible disc, relative to the peak";
+  }
+}
+
+TEST(MatcapJob, FitFilesAndMeasuredTablesAreLitThroughTheirBrdf) {
+  // synthetic_two_lobes.astm is tabulated from known lobes (docs/fitting.md) and the fit.json of the
+  // same name is lobes fitted to it, so the table's matcap (lobes fitted by the job) and the fit's
+  // agree up to the two fits' differences.
+  TempDir dir;
+  std::vector<Image> images;
+  const fs::path sky = test::sourcePath("data_samples/environments/sky_latlong.exr");
+  for (const std::string material :
+       {"data_samples/fits/synthetic_two_lobes.json", "data_samples/tables/synthetic_two_lobes.astm"}) {
+    MatcapRequest request;
+    request.material = test::sourcePath(material);
+    request.environment = sky;
+    request.output =
+        dir / (fs::path(material).stem().string() + fs::path(material).extension().string().substr(1) + ".exr");
+    request.resolution = 32;
+    request.samplesPerTexel = 4;
+    request.yaw = 90.0, request.pitch = 10.0;
+    EXPECT_EQ(matcapSpec(request)["maps"][0]["camera"]["yaw"], 90.0);
+    JobOptions options;
+    options.threads = 2;
+    const MapResult result = makeMatcap(request, options);
+    ASSERT_TRUE(result.written) << material;
+    EXPECT_EQ(result.entry["under_environment"]["material"], images.empty() ? "lobes" : "measured") << material;
+    const Image image = readMap(request.output).image;
+    double brightest = 0.0;
+    for (int y = 0; y < image.height(); ++y)
+      for (int x = 0; x < image.width(); ++x) {
+        ASSERT_TRUE(image.at(x, y).allFinite());
+        brightest = std::max(brightest, image.at(x, y).head<3>().maxCoeff());
+      }
+    EXPECT_GT(brightest, 0.0) << material;
+    images.push_back(image);
+  }
+  double peak = 0.0, sum = 0.0;
+  int count = 0;
+  forCoveredTexels(images[0], images[1],
+                   [&](int x, int y) { peak = std::max(peak, images[0].at(x, y).head<3>().maxCoeff()); });
+  forCoveredTexels(images[0], images[1], [&](int x, int y) {
+    sum += (images[0].at(x, y).head<3>() - images[1].at(x, y).head<3>()).square().sum() / 3.0;
+    ++count;
+  });
+  EXPECT_LT(std::sqrt(sum / count) / peak, 0.05) << "the fit's matcap against the table's, RMS relative to the peak";
+}
+
+TEST(MatcapJob, BadInputIsNamedAndNothingIsWritten) {
+  TempDir dir;
+  const fs::path sky = test::sourcePath("data_samples/environments/sky_latlong.exr");
+  const fs::path out = dir / "out";
+  fs::create_directories(out);
+  auto errorOf = [&](MatcapRequest request) -> std::string {
+    request.output = out / "matcap.exr";
+    request.resolution = 16;
+    try {
+      makeMatcap(request);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  MatcapRequest request;
+  request.environment = sky;
+  request.material = dir / "missing.json";
+  EXPECT_NE(errorOf(request).find("missing.json"), std::string::npos);
+  request.material = writeText(dir / "spec.json", R"({"maps": []})");
+  EXPECT_NE(errorOf(request).find("a bake spec"), std::string::npos) << errorOf(request);
+  request.material = writeText(dir / "gooch.json", R"({"model": "gooch"})");
+  const std::string gooch = errorOf(request);
+  EXPECT_NE(gooch.find("maps[0].material"), std::string::npos) << gooch;
+  request.material = writeText(dir / "phong.json", R"({"model": "phong", "specular": [1, 1, 1], "exponent": 20})");
+  request.environment = dir / "no_sky.exr";
+  EXPECT_NE(errorOf(request).find("environment.file"), std::string::npos) << errorOf(request);
+  request.environment = writeText(dir / "not_an_image.exr", "hello");
+  EXPECT_NE(errorOf(request).find("environment.file"), std::string::npos) << errorOf(request);
+  request.environment = sky;
+  request.pitch = 120.0;
+  EXPECT_NE(errorOf(request).find("camera.pitch"), std::string::npos) << errorOf(request);
+  request.pitch.reset();
+  request.exposure = 40.0;
+  EXPECT_NE(errorOf(request).find("exposure"), std::string::npos) << errorOf(request);
+  request.exposure = 0.0;
+  request.method = "fast";
+  EXPECT_NE(errorOf(request).find("environment.method"), std::string::npos) << errorOf(request);
+  EXPECT_TRUE(test::filesIn(out).empty());
+}
+
+}  // namespace
+}  // namespace brdfbake
