@@ -125,13 +125,15 @@ TEST(ChartJob, SkyErrorsAreFiniteBoundedAndAgreeWithThePrefiltersEstimates) {
     // Each method picks its setting for the 1 % bound; importance, the weakest on a sun, may not
     // reach it (docs/prefilter.md) but stays within a few percent.
     EXPECT_LT(rms, p["method"] == "importance" ? 0.06 : 0.02) << key;
-    // Fast methods estimate their own error from probes before they make the map: the error
-    // measured on 256 texels is within a factor of 3 of it (or both are below 0.2 %).
+    // Fast methods estimate their own error from probes before they make the map. The estimate is
+    // the largest of three RMS errors (over solid angle, weighted by value, near bright texels), so
+    // it is at least the RMS measured on 256 texels over solid angle within a factor of 3, and at
+    // most 4 times it (or both are below 0.2 %).
     ASSERT_TRUE(p["estimate"].is_number()) << key;
     const double estimate = p["estimate"].get<double>();
     if (rms > 2e-3 || estimate > 2e-3) {
       EXPECT_LT(rms, 3.0 * estimate) << key;
-      EXPECT_GT(rms, estimate / 3.0) << key;
+      EXPECT_GT(rms, estimate / 4.0) << key;
     }
     if (p["method"] == "auto") {
       EXPECT_TRUE(p["met_bound"].get<bool>()) << key;

@@ -149,7 +149,8 @@ TEST(PrefilterJob, SpecsBakeEnvironmentMaps) {
   const Rgb centre = sampleAt(dir / "colored_cube_mirror_sphere.exr", Vec3(0, 0, 1));
   EXPECT_LT((centre - Rgb(0, 0, 1)).abs().maxCoeff(), 1e-3) << centre.transpose();
 
-  // Environment and material together: the JSON path named, nothing written.
+  // A lobe and a material together (a material is lit by the environment, a lobe prefilters it
+  // without one): the JSON path named, nothing written.
   const fs::path bad = dir / "bad.json";
   std::ofstream(bad) << R"({"maps": [{"output": "x.exr", "parameterization": "sphere", "resolution": 8,
       "environment": {"file": ")"
@@ -157,7 +158,8 @@ TEST(PrefilterJob, SpecsBakeEnvironmentMaps) {
       "material": {"model": "phong", "exponent": 5}}]})";
   SpecRunOptions options;
   options.spec = bad;
-  EXPECT_NE(test::errorOf([&] { runSpec(options); }).find("maps[0].material"), std::string::npos);
+  EXPECT_NE(test::errorOf([&] { runSpec(options); }).find("maps[0].environment.lobe: with a \"material\""),
+            std::string::npos);
   std::ofstream(bad) << R"({"maps": [{"output": "x.exr", "parameterization": "sphere", "resolution": 8,
       "environment": {"file": ")"
                      << kSky << R"(", "lobe": "phong:-1"}}]})";
