@@ -172,6 +172,16 @@ SpecRunResult runSpec(const SpecRunOptions& options) {
   return result;
 }
 
+MapResult runOneMapSpec(const nlohmann::json& document, const std::string& label, const JobOptions& options) {
+  SpecRunOptions run;
+  static_cast<JobOptions&>(run) = options;
+  run.document = document;
+  run.label = label;
+  SpecRunResult result = runSpec(run);
+  if (result.firstError) throw *result.firstError;
+  return std::move(result.maps.front());
+}
+
 namespace run_detail {
 
 MapResult makeMapResult(const MapSpec& map, const EntryFacts& facts, std::vector<fs::path> files,

@@ -95,4 +95,10 @@ SpecPlan planSpec(const SpecRunOptions& options);
 /// throws and errors loading an environment; errors while making a map are in its MapResult.
 SpecRunResult runSpec(const SpecRunOptions& options);
 
+/// runSpec for an in-memory spec of one map (`document`, its relative paths against the current
+/// folder; messages name it `label`) with `options`, returning that map. The jobs built on a
+/// one-map spec (prefilterEnvironment, makeMatcap) run through it. Throws what runSpec throws, and
+/// the map's error when making it failed.
+MapResult runOneMapSpec(const nlohmann::json& document, const std::string& label, const JobOptions& options);
+
 }  // namespace brdfbake
