@@ -112,11 +112,13 @@ int SpecRunResult::failed() const {
 std::string SpecRunResult::briefReport() const {
   std::string text;
   for (const auto& map : maps) text += map.briefReport();
-  if (failed() > 0) {
-    text += std::to_string(failed()) + " of " + std::to_string(maps.size()) + " maps failed" +
-            (failed() < static_cast<int>(maps.size()) ? "; the others were written\n" : "\n");
-  }
-  return text;
+  return text + failureSummary();
+}
+
+std::string SpecRunResult::failureSummary() const {
+  if (failed() == 0) return "";
+  return std::to_string(failed()) + " of " + std::to_string(maps.size()) + " maps failed" +
+         (failed() < static_cast<int>(maps.size()) ? "; the others were written\n" : "\n");
 }
 
 nlohmann::json SpecRunResult::toJson() const {

@@ -131,6 +131,15 @@ TEST(FitJob, EvalOfATableReturnsItsSamplesAndOfAMaterialItsBrdf) {
   EXPECT_NEAR(phong[2], 0.25 * expected, 1e-9);
 }
 
+TEST(FitJob, EvalNamesItsColumnsWhenThereAreMoreThanThree) {
+  // The line `eval` prints to stderr once: the channel names in order, only beyond RGB.
+  EvaluateResult result;
+  result.channels = {"R", "G", "B"};
+  EXPECT_EQ(result.columnsLine(), "");
+  result.channels = {"400", "410", "420", "430"};
+  EXPECT_EQ(result.columnsLine(), "columns (4 channels): 400 410 420 430\n");
+}
+
 // A fixed exponent cap bounds every lobe (recorded as fit.max_exponent); the default, auto, starts
 // at 1e4 and records the cap it kept.
 TEST(FitJob, AFixedExponentCapBoundsEveryLobe) {

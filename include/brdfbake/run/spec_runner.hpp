@@ -70,8 +70,10 @@ struct SpecRunResult {
   std::optional<Error> firstError;
 
   int failed() const;
-  /// Each map's lines, then "N of M maps failed" when some did.
+  /// Each map's lines, then failureSummary().
   std::string briefReport() const;
+  /// "N of M maps failed\n" (with "; the others were written" when some were) when any failed, else "".
+  std::string failureSummary() const;
   /// {"spec": ..., "maps": [MapResult::entry, ...]}.
   nlohmann::json toJson() const;
 };
