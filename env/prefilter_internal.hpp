@@ -261,6 +261,14 @@ class ProbeSet {
   double floor() const { return floor_; }
 
  private:
+  // Puts the probes of each group (lattice, guided, near-bright) into the batches: batch b holds those
+  // of index i = b mod B of every group.
+  void arrangeBatches(const std::vector<Vec3>& lattice, const std::vector<Vec3>& guided, const std::vector<Vec3>& near);
+  // Keeps the centres and probabilities of the texels the guided probes were drawn from (`cdf`:
+  // luminance x solid angle over `level`'s texels, a running sum), for guidedDensity.
+  void keepGuidedTexels(const LatLongLevel& level, const std::vector<double>& cdf);
+  // Chooses how the reference on the probes is summed: the environment's own texels or a pyramid level.
+  void prepareReference(const ProbeSources& sources);
   // The guided draws' density at d relative to the uniform density's, over the guided texels within
   // the lobe's support of d (the tabulated lobe is exactly zero beyond it).
   double guidedDensity(const Vec3& d) const;
