@@ -296,12 +296,8 @@ void parseMaterialMap(JsonObjectReader& map, MapSpec& spec, const fs::path& base
   if (!m.deferredFit && !spec.anyAuto() && !spec.radialProfile) materials::checkMaterialSampling(spec);
 }
 
-MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs::path& baseDirectory) {
-  JsonObjectReader map(value, path);
-  MapSpec spec;
-  spec.jsonPath = path;
-  spec.raw = value;
-
+// "output": a path the image formats know, within the length limits; relative to the spec's folder.
+void parseOutputPath(JsonObjectReader& map, MapSpec& spec, const fs::path& baseDirectory) {
   const std::string output = map.string("output");
   if (output.empty()) throw specError(map.child("output"), "must not be empty");
   if (output.size() > kMaxPathLength) {
@@ -321,7 +317,10 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     throw specError(map.child("output"), e.what());
   }
   spec.output = fs::path(output).is_absolute() ? fs::path(output) : baseDirectory / output;
+}
 
+// "parameterization": a map kind, "profile" or "auto".
+void parseParameterization(JsonObjectReader& map, MapSpec& spec) {
   const std::string kind = map.string("parameterization");
   if (kind == "auto") {
     spec.autoSelect.parameterization = true;
@@ -336,6 +335,10 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
                           printable(kind, 40) + "\"");
     }
   }
+}
+
+// "resolution" and "samples_per_texel", each a number or "auto", and "max_error", which "auto" needs.
+void parseSampling(JsonObjectReader& map, MapSpec& spec) {
   auto isAuto = [&](const char* key) {
     const auto* entry = map.find(key);
     return entry && entry->is_string() && *entry == "auto";
@@ -357,7 +360,10 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     throw specError(map.child("max_error"),
                     "only applies when parameterization, resolution or samples_per_texel is \"auto\"");
   }
+}
 
+// "layout" of a cube map: "cross" or "faces".
+void parseCubeLayout(JsonObjectReader& map, MapSpec& spec) {
   if (const auto* layout = map.find("layout")) {
     if (spec.parameterization != ParameterizationKind::Cube)
       throw specError(map.child("layout"), "only applies to cube maps");
@@ -369,7 +375,10 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
       throw specError(map.child("layout"), "must be \"cross\" or \"faces\", got " + describe(*layout));
     }
   }
+}
 
+// "view": "fixed", "free" or a direction [x, y, z].
+void parseView(JsonObjectReader& map, MapSpec& spec) {
   if (const auto* view = map.find("view"); view && view->is_string()) {
     if (*view == "fixed") {
       spec.viewNeed = MapSpec::ViewNeed::Fixed;
@@ -392,6 +401,18 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     spec.view = map.direction("view");
     spec.viewGiven = true;
   }
+}
+
+MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs::path& baseDirectory) {
+  JsonObjectReader map(value, path);
+  MapSpec spec;
+  spec.jsonPath = path;
+  spec.raw = value;
+  parseOutputPath(map, spec, baseDirectory);
+  parseParameterization(map, spec);
+  parseSampling(map, spec);
+  parseCubeLayout(map, spec);
+  parseView(map, spec);
 
   if (map.has("environment") && !map.has("material")) {  // a prefiltered environment map (docs/prefilter.md)
     if (spec.radialProfile) throw specError(map.child("parameterization"), "environment maps cannot be profiles");
