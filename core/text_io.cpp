@@ -9,6 +9,7 @@
 
 #include <cerrno>
 #include <ctime>
+#include <sstream>
 
 namespace brdfbake {
 namespace fs = std::filesystem;
@@ -89,6 +90,13 @@ void writeStdout(std::string_view text) {
     }
     text.remove_prefix(static_cast<std::size_t>(written));
   }
+}
+
+std::string formatG(double value, int significant) {
+  std::ostringstream out;
+  out.precision(significant);
+  out << value;
+  return out.str();
 }
 
 }  // namespace brdfbake

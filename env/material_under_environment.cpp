@@ -5,6 +5,7 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/named_values.hpp>
 #include <brdfbake/core/progress.hpp>
+#include <brdfbake/core/text_io.hpp>
 #include <brdfbake/core/version.hpp>
 #include <brdfbake/env/material_under_environment.hpp>
 
@@ -21,13 +22,6 @@ namespace brdfbake {
 namespace {
 using Clock = std::chrono::steady_clock;
 using detail::NormalGrid;
-
-std::string formatG(double value) {
-  std::ostringstream out;
-  out.precision(3);
-  out << value;
-  return out.str();
-}
 
 // Cost model (seconds on one core, measured on the development machine; only the order of the
 // candidates depends on it): one importance sample (draw, mixture density, shade, trilinear lookup),

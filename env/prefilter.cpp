@@ -7,6 +7,7 @@
 #include <brdfbake/core/named_values.hpp>
 #include <brdfbake/core/progress.hpp>
 #include <brdfbake/core/run_options.hpp>
+#include <brdfbake/core/text_io.hpp>
 #include <brdfbake/core/version.hpp>
 #include <brdfbake/env/env_accuracy.hpp>
 #include <brdfbake/env/prefilter.hpp>
@@ -23,13 +24,6 @@
 namespace brdfbake {
 namespace detail {
 
-std::string formatG(double value) {
-  std::ostringstream out;
-  out.precision(3);
-  out << value;
-  return out.str();
-}
-
 Mat3 eyeToEnvironment(const PrefilterOptions& options) {
   const Vec3 z = options.view.normalized();
   Vec3 up = options.up - options.up.dot(z) * z;
@@ -44,7 +38,6 @@ Mat3 eyeToEnvironment(const PrefilterOptions& options) {
 
 namespace {
 using detail::eyeToEnvironment;
-using detail::formatG;
 using Clock = std::chrono::steady_clock;
 
 // Mirror: the environment looked up (bilinear) over each texel's footprint.

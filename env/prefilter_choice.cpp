@@ -3,6 +3,7 @@
 // trial of the candidates against the error probes, and the chosen method evaluated at every texel.
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/progress.hpp>
+#include <brdfbake/core/text_io.hpp>
 #include <brdfbake/env/prefilter.hpp>
 
 #include <tbb/parallel_for.h>

@@ -213,9 +213,6 @@ struct PrefilterSummary;
 
 namespace brdfbake::detail {
 
-// A number to 3 significant digits, as the prefilter's messages and reports print them.
-std::string formatG(double value);
-
 // Eye space of a sphere map -> the environment's frame (PrefilterOptions::view and up).
 Mat3 eyeToEnvironment(const PrefilterOptions& options);
 

@@ -115,3 +115,11 @@ TEST(WriteStdout, WritesEveryByte) {
 
 }  // namespace
 }  // namespace brdfbake
+
+TEST(FormatG, PrintsSignificantDigitsLikePrintfG) {
+  // The expected strings are what C's printf("%.3g") and ("%.5g") print for these values.
+  EXPECT_EQ(brdfbake::formatG(0.12634), "0.126");
+  EXPECT_EQ(brdfbake::formatG(1234.5), "1.23e+03");
+  EXPECT_EQ(brdfbake::formatG(2.0), "2");
+  EXPECT_EQ(brdfbake::formatG(0.000123456, 5), "0.00012346");
+}

@@ -33,4 +33,8 @@ std::vector<std::string> readTextLines(const std::filesystem::path& path, const 
 /// when stdout is closed. Callers that also use std::cout flush it first.
 void writeStdout(std::string_view text);
 
+/// `value` as a report prints it: `significant` significant digits, in the shorter of fixed and
+/// scientific notation (printf's %g): formatG(0.12634) == "0.126", formatG(1234.5) == "1.23e+03".
+std::string formatG(double value, int significant = 3);
+
 }  // namespace brdfbake
