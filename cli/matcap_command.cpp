@@ -38,7 +38,8 @@ Examples:
 struct MatcapArgs {
   CommonFlags flags;
   MatcapRequest request;
-  std::string material, environment, output, camera;
+  OutputFiles outputs;
+  std::string material, environment, camera;
 };
 
 // "YAW,PITCH" in degrees.
@@ -55,7 +56,8 @@ int runMatcap(MatcapArgs args) {
   MatcapRequest& request = args.request;
   request.material = args.material;
   request.environment = args.environment;
-  request.output = args.output;
+  request.output = args.outputs.first();
+  request.moreOutputs = args.outputs.rest();
   if (!args.camera.empty()) parseCamera(args.camera, request);
   // The spec keys the request sets, named by their flags in messages.
   const std::vector<std::pair<std::string, std::string>> names = {
@@ -66,7 +68,6 @@ int runMatcap(MatcapArgs args) {
       {"matcap: maps[0].environment.method", "--method"},
       {"matcap: maps[0].environment.from", "--from"},
       {"matcap: maps[0].camera", "--camera"},
-      {"matcap: maps[0].output", "-o"},
       {"matcap: maps[0].resolution", "--resolution"},
       {"matcap: maps[0].parameterization", "--parameterization"},
       {"matcap: maps[0].samples_per_texel", "--samples-per-texel"},
@@ -78,7 +79,7 @@ int runMatcap(MatcapArgs args) {
   try {
     result = makeMatcap(request, jobOptions(args.flags, progress));
   } catch (const Error& error) {
-    throw renameSpecPaths(error, names);
+    throw renameSpecPaths(renameSpecPaths(error, outputFlagNames("matcap")), names);
   }
   progress.finish();
   return printResult(result, args.flags);
@@ -93,7 +94,8 @@ Command addMatcapCommand(CLI::App& app) {
   command->footer(kFooter);
   command->add_option("material", args->material, "Material JSON, fit.json or measured table")->required();
   command->add_option("environment", args->environment, "Environment image (EXR, HDR, ...)")->required();
-  command->add_option("-o,--output", args->output, "Output map (.exr, .png, .hdr, .tif)")->required();
+  addOutputFileOption(command, args->outputs, "Output map");
+  addTexelFormatOption(command, r.texelFormat);
   command->add_option("--resolution", r.resolution, "Texels per side (sphere), hemisphere, face, or rows (latlong)")
       ->default_val(256)
       ->check(CLI::Range(1, 65536));
