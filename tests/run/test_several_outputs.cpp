@@ -7,6 +7,8 @@
 #include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/maps/map_mips.hpp>
 #include <brdfbake/maps/texture.hpp>
+#include <brdfbake/run/convert_output.hpp>
+#include <brdfbake/run/ibl_job.hpp>
 #include <brdfbake/run/prefilter_job.hpp>
 #include <brdfbake/run/spec_runner.hpp>
 
@@ -130,9 +132,8 @@ TEST(SeveralOutputs, TheMapIsMadeOnceForAllItsFiles) {
 
 // A spec of one mirror cube map whose outputs and texel format are `keys`, run in `dir`.
 SpecRunResult runMirrorSpec(const fs::path& dir, const nlohmann::json& keys) {
-  nlohmann::json map = {{"parameterization", "cube"},
-                        {"resolution", 8},
-                        {"environment", {{"file", kSky}, {"lobe", "mirror"}}}};
+  nlohmann::json map = {
+      {"parameterization", "cube"}, {"resolution", 8}, {"environment", {{"file", kSky}, {"lobe", "mirror"}}}};
   map.update(keys);
   SpecRunOptions options;
   options.document = {{"maps", nlohmann::json::array({map})}};
@@ -158,10 +159,10 @@ TEST(SeveralOutputs, FormatsThatCannotHoldTheMapAreRefusedBeforeAnyWork) {
   expectRefused({{"outputs", {"a.exr", "a.bmp"}}}, "maps[0].outputs[1]", "a.bmp");
   expectRefused({{"outputs", {"a.exr", "b/../a.exr"}}}, "maps[0].outputs[1]", "same file as maps[0].outputs[0]");
   // A whole chain in one file: PNG holds one image.
-  nlohmann::json chain = {{"outputs", {"c.ktx2", "c.png"}},
-                          {"environment",
-                           {{"file", kSky}, {"lobe", "ggx"}, {"gloss_chain", nlohmann::json::object()},
-                            {"mip_layout", "tiled"}}}};
+  nlohmann::json chain = {
+      {"outputs", {"c.ktx2", "c.png"}},
+      {"environment",
+       {{"file", kSky}, {"lobe", "ggx"}, {"gloss_chain", nlohmann::json::object()}, {"mip_layout", "tiled"}}}};
   expectRefused(chain, "maps[0].outputs[1]", "a whole mip chain in one file");
   // Texel formats: a name the library does not know, one DDS cannot store, none of the outputs a texture.
   expectRefused({{"outputs", {"t.exr", "t.ktx2"}}, {"texel_format", "rgb8"}}, "maps[0].texel_format",
@@ -193,6 +194,50 @@ TEST(TexelFormat, Rgb9e5Ktx2HoldsTheMapWithinItsRounding) {
       EXPECT_NEAR(ktx["lookups"][0][i][c].get<double>(), a[c], largest * std::ldexp(1.0, -9) + 1e-9) << i;
     }
   }
+}
+
+TEST(SeveralOutputs, ConvertWritesTheOneResampledMapInEachFormat) {
+  test::TempDir dir;
+  ConvertOptions options;
+  options.source.path = kSky;
+  options.source.from = ParameterizationKind::LatLong;
+  options.to = ParameterizationKind::Cube;
+  options.resolution = 8;
+  options.samplesPerTexel = 1;
+  options.output = dir / "s.exr";
+  options.moreOutputs = {dir / "s.dds"};
+  options.texelFormat = TexelFormat::Rgba32Float;  // the DDS only: float32 keeps the EXR's values exactly
+  const ConvertResult result = convertOutput(options);
+  EXPECT_EQ(readTextureHeaderOf(dir / "s.dds").format, TexelFormat::Rgba32Float);
+  const MapFile exr = readMap(dir / "s.exr"), dds = readMap(dir / "s.dds");
+  for (const Vec3& d : someTexelCentres(8)) {
+    const Rgba a = texelAt(exr, d), b = texelAt(dds, d);
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(b[c], a[c]);
+  }
+  options.moreOutputs = {dir / "t.png"};
+  options.output = dir / "t.exr";
+  EXPECT_THROW(convertOutput(options), Error);  // a texel format and no texture output
+  EXPECT_FALSE(fs::exists(dir / "t.exr"));
+}
+
+TEST(TexelFormat, IblWritesEveryTextureInTheFormatAsked) {
+  test::TempDir dir;
+  IblOptions options;
+  options.environment = kSky;
+  options.outDir = dir.path();
+  options.resolution = 8;
+  options.irradianceResolution = 4;
+  options.skyboxResolution = 8;
+  options.dfgSize = 8;
+  options.texelFormat = TexelFormat::Rgb9e5;
+  makeIbl(options);
+  for (const char* file :
+       {"sky_latlong_ggx.ktx2", "sky_latlong_irradiance.ktx2", "sky_latlong_skybox.ktx2", "sky_latlong_dfg.ktx2"}) {
+    EXPECT_EQ(readTextureHeaderOf(dir / file).format, TexelFormat::Rgb9e5) << file;
+  }
+  options.format = "exr";
+  options.outDir = dir / "exr";
+  EXPECT_THROW(makeIbl(options), Error);  // EXR stores floats: no texel format
 }
 
 }  // namespace
