@@ -39,32 +39,21 @@
 #include <regex>
 #include <sstream>
 
+#include "bench_support.hpp"
+
 namespace {
 using namespace brdfbake;
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
-
-double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+using bench::Clock;
+using bench::cmgenDirection;
+using bench::haveProgram;
+using bench::since;
+using bench::writeFloatRgbExr;
 
 std::string percent(double value) {
   std::ostringstream out;
   out << std::fixed << std::setprecision(2) << 100.0 * value << " %";
   return out.str();
-}
-
-void writeFloatRgbExr(const Environment& environment, const fs::path& path) {
-  const Image& image = environment.image;
-  std::vector<float> rgb(static_cast<std::size_t>(image.width()) * image.height() * 3);
-  for (int y = 0; y < image.height(); ++y)
-    for (int x = 0; x < image.width(); ++x)
-      for (int c = 0; c < 3; ++c)
-        rgb[(static_cast<std::size_t>(y) * image.width() + x) * 3 + c] = image.data()[image.index(x, y) + c];
-  auto out = OIIO::ImageOutput::create(path.string());
-  OIIO::ImageSpec spec(image.width(), image.height(), 3, OIIO::TypeDesc::FLOAT);
-  if (!out || !out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()) ||
-      !out->close()) {
-    throw Error(Error::Kind::Io, path.string() + ": cannot write");
-  }
 }
 
 // A texel of one face of a cube level: face, x, y.
@@ -122,12 +111,6 @@ ChainRun brdfbakeChain(const Environment& sky, const std::vector<double>& roughn
     run.errors.push_back(levelError(sky, lobes[k], axes, values, weights, threads));
   }
   return run;
-}
-
-// cmgen's face F texel (x, y) of an n^2 face, in brdfbake's frame.
-Vec3 cmgenDirection(int face, int x, int y, int n) {
-  const Vec3 c = CubeMap::faceDirection(static_cast<CubeMap::Face>(face), Vec2((x + 0.5) / n, (y + 0.5) / n));
-  return {c.x(), c.y(), -c.z()};
 }
 
 // cmgen --ibl-ld on `input`, timed; the roughness of each level from what it prints.
@@ -211,7 +194,7 @@ int main(int argc, char** argv) {
     const Environment sky = bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, rows, "sky", 16, threads);
     const fs::path work = fs::temp_directory_path() / ("brdfbake-ibl-bench-" + std::to_string(::getpid()));
     fs::create_directories(work);
-    if (useCmgen && std::system("command -v cmgen > /dev/null 2>&1") != 0) {
+    if (useCmgen && !haveProgram("cmgen")) {
       std::cerr << "cmgen not found (Debian: apt-get install libfilament-tools): brdfbake alone\n";
       useCmgen = false;
     }

@@ -55,12 +55,16 @@
 #include <random>
 #include <sstream>
 
+#include "bench_support.hpp"
+
 namespace {
 using namespace brdfbake;
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
-
-double since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+using bench::Clock;
+using bench::cmgenDirection;
+using bench::haveProgram;
+using bench::since;
+using bench::writeFloatRgbExr;
 
 struct Row {
   std::string group;   // "phong:100 paraboloid", "ggx:0.5 cube"
@@ -96,31 +100,6 @@ Row run(const Environment& environment, const PrefilterLobe& lobe, PrefilterOpti
   row.rms = error.rms;
   row.max = error.max;
   return row;
-}
-
-void writeFloatRgbExr(const Environment& environment, const fs::path& path) {
-  const Image& image = environment.image;
-  std::vector<float> rgb(static_cast<std::size_t>(image.width()) * image.height() * 3);
-  for (int y = 0; y < image.height(); ++y)
-    for (int x = 0; x < image.width(); ++x)
-      for (int c = 0; c < 3; ++c)
-        rgb[(static_cast<std::size_t>(y) * image.width() + x) * 3 + c] = image.data()[image.index(x, y) + c];
-  auto out = OIIO::ImageOutput::create(path.string());
-  OIIO::ImageSpec spec(image.width(), image.height(), 3, OIIO::TypeDesc::FLOAT);
-  if (!out || !out->open(path.string(), spec) || !out->write_image(OIIO::TypeDesc::FLOAT, rgb.data()) ||
-      !out->close()) {
-    throw Error(Error::Kind::Io, path.string() + ": cannot write");
-  }
-}
-
-bool haveProgram(const std::string& name) {
-  return std::system(("command -v " + name + " > /dev/null 2>&1").c_str()) == 0;
-}
-
-// cmgen's face F holds the OpenGL face F of the frame (x, y, -z).
-Vec3 cmgenDirection(int face, int x, int y, int n) {
-  const Vec3 c = CubeMap::faceDirection(static_cast<CubeMap::Face>(face), Vec2((x + 0.5) / n, (y + 0.5) / n));
-  return {c.x(), c.y(), -c.z()};
 }
 
 void ggxComparison(const Environment& environment, int faceSize, int subsetSize, int threads, bool useCmgen,

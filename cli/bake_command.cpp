@@ -36,30 +36,23 @@ int runBake(const BakeArgs& args) {
                 "-o: bake writes one file per map, named by the spec's \"output\" keys; give the folder they go "
                 "in with --out-dir DIR");
   }
-  ProgressPrinter progress(args.flags);
   SpecRunOptions options;
-  static_cast<JobOptions&>(options) = jobOptions(args.flags, progress);
   options.spec = args.spec;
   options.outDir = args.outDir;
-  const SpecRunResult result = runSpec(options);
-  progress.finish();
+  const SpecRunResult result = withProgress(args.flags, options, runSpec);
   if (args.flags.json) {
     printResult(result, args.flags);
   } else {
+    // Written maps' lines on stdout, failures on stderr (a failed map's line is "maps[i] failed: ...").
     for (const auto& map : result.maps) {
       if (map.written)
         printJsonOrText(nullptr, map.briefReport(), args.flags);
       else
-        writeStderr("brdfbake: " + map.jsonPath + " failed: " + map.error + "\n");
+        writeStderr("brdfbake: " + map.briefReport());
     }
+    if (result.maps.size() > 1 && result.firstError) writeStderr("brdfbake: " + result.failureSummary());
   }
-  if (result.firstError) {
-    if (!args.flags.json && result.maps.size() > 1) {
-      writeStderr("brdfbake: " + std::to_string(result.failed()) + " of " + std::to_string(result.maps.size()) +
-                  " maps failed" + (result.failed() < int(result.maps.size()) ? "; the others were written\n" : "\n"));
-    }
-    throw *result.firstError;
-  }
+  if (result.firstError) throw *result.firstError;
   return 0;
 }
 

@@ -79,11 +79,7 @@ int runChart(ChartArgs a) {
   options.methods =
       parseList<PrefilterMethod>(a.methods, "--methods", [](const std::string& s) { return parsePrefilterMethod(s); });
   options.lookupError = a.environmentError == "lookup";
-  ProgressPrinter progress(a.flags);
-  static_cast<JobOptions&>(options) = jobOptions(a.flags, progress);
-  const ChartResult result = chartSpec(options);
-  progress.finish();
-  return printResult(result, a.flags);
+  return printResult(withProgress(a.flags, options, chartSpec), a.flags);
 }
 
 }  // namespace

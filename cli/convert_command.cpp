@@ -37,19 +37,12 @@ int runConvert(ConvertArgs a) {
   options.output = a.outputs.first();
   options.moreOutputs = a.outputs.rest();
   if (a.texelFormat) options.texelFormat = parseFlag("--texel-format", *a.texelFormat, parseTexelFormat);
-  ProgressPrinter progress(a.flags);
-  static_cast<JobOptions&>(options) = jobOptions(a.flags, progress);
-  try {
-    const ConvertResult result = convertOutput(options);
-    progress.finish();
-    return printResult(result, a.flags);
-  } catch (const Error& e) {
-    throw renameSpecPaths(e, {{"cos_view", "--cos-view"},
-                              {"to:", "--to:"},
-                              {"resolution:", "--resolution:"},
-                              {"texel format:", "--texel-format:"},
-                              {"output: ", "-o: "}});
-  }
+  const FlagNames names = {{"cos_view", "--cos-view"},
+                           {"to:", "--to:"},
+                           {"resolution:", "--resolution:"},
+                           {"texel format:", "--texel-format:"},
+                           {"output: ", "-o: "}};
+  return printResult(namingFlags(names, [&] { return withProgress(a.flags, options, convertOutput); }), a.flags);
 }
 
 }  // namespace
@@ -59,16 +52,11 @@ Command addConvertCommand(CLI::App& app) {
   auto* command = app.add_subcommand("convert", "Resample a map into another parameterization");
   command->footer(kFooter);
   command->add_option("map", args->map, "Input map or image")->required();
-  command->add_option("--to", args->to, "Output parameterization")
-      ->required()
-      ->check(CLI::IsMember({"sphere", "paraboloid", "cube", "latlong"}));
+  addToOption(command, args->to);
   addFromOption(command, args->from);
   command->add_option("--resolution", args->options.resolution, "Output resolution (default: the input's)")
       ->check(CLI::Range(1, 65536));
-  command->add_option("--samples-per-texel", args->options.samplesPerTexel, "Samples per output texel")
-      ->default_val(16)
-      ->check(CLI::Range(1, 4096));
-  command->add_option("--samples", args->options.samplesPerTexel, "(old spelling of --samples-per-texel)")->group("");
+  addSamplesPerTexelOption(command, args->options.samplesPerTexel, "Samples per output texel", true);
   addCosViewOption(command, args->options.source.cosView);
   addMipLevelOption(command, args->options.source.mipLevel);
   command->add_flag("--faces", args->faces, "Write a cube map as six files instead of a cross");

@@ -46,11 +46,7 @@ int runEval(const EvalArgs& a) {
   if (!options.wi && a.pairs.empty())
     throw Error(Error::Kind::InvalidArgument, "give either --wi and --wo, or --pairs FILE");
   const EvaluateResult result = evaluateBrdf(options);
-  if (!a.flags.json && !a.flags.quiet && result.channels.size() > 3) {
-    std::string names;
-    for (const auto& name : result.channels) names += " " + name;
-    writeStderr("columns (" + std::to_string(result.channels.size()) + " channels):" + names + "\n");
-  }
+  if (!a.flags.json && !a.flags.quiet) writeStderr(result.columnsLine());
   return printResult(result, a.flags, Printing::Query, -1);
 }
 

@@ -103,10 +103,7 @@ int runFit(FitArgs a) {
   options.rgb = a.rgb == "cie1931" ? RgbMethod::Cie1931 : RgbMethod::SingleWavelengths;
   options.output = a.output.empty() && !a.flags.json ? options.table.stem().string() + "_fit.json" : a.output;
   options.report = a.report;
-  ProgressPrinter progress(a.flags);
-  static_cast<JobOptions&>(options) = jobOptions(a.flags, progress);
-  const FitTableResult result = fitTable(options);
-  progress.finish();
+  const FitTableResult result = withProgress(a.flags, options, fitTable);
   printResult(result, a.flags);
   return result.file.fit.usable() ? 0 : 1;
 }

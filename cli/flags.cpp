@@ -200,7 +200,32 @@ std::vector<std::pair<std::string, std::string>> outputFlagNames(const std::stri
   return names;
 }
 
-Error renameSpecPaths(const Error& error, const std::vector<std::pair<std::string, std::string>>& names) {
+void addEnvironmentFromOption(CLI::App* command, std::optional<std::string>& from) {
+  command->add_option("--from", from, "Parameterization of a plain environment image (default: metadata, shape)");
+}
+
+void addToOption(CLI::App* command, std::string& to) {
+  command->add_option("--to", to, "Output parameterization")
+      ->required()
+      ->check(CLI::IsMember({"sphere", "paraboloid", "cube", "latlong"}));
+}
+
+void addMapResolutionOption(CLI::App* command, int& resolution) {
+  command->add_option("--resolution", resolution, "Texels per side (sphere), hemisphere, face, or rows (latlong)")
+      ->default_val(256)
+      ->check(CLI::Range(1, 65536));
+}
+
+void addMaxErrorOption(CLI::App* command, double& maxError, const std::string& bound) {
+  command->add_option("--max-error", maxError, bound)->default_val(0.01)->check(CLI::Range(1e-6, 0.5));
+}
+
+void addSamplesPerTexelOption(CLI::App* command, int& samples, const std::string& help, bool oldSpelling) {
+  command->add_option("--samples-per-texel", samples, help)->default_val(16)->check(CLI::Range(1, 4096));
+  if (oldSpelling) command->add_option("--samples", samples, "(old spelling of --samples-per-texel)")->group("");
+}
+
+Error renameSpecPaths(const Error& error, const FlagNames& names) {
   std::string message = error.what();
   for (const auto& [path, flag] : names) {
     for (std::size_t at = message.find(path); at != std::string::npos; at = message.find(path, at + flag.size())) {

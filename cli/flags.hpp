@@ -52,6 +52,24 @@ class ProgressPrinter {
 /// The JobOptions the flags ask for, with `progress`'s sink.
 JobOptions jobOptions(const CommonFlags& flags, ProgressPrinter& progress);
 
+/// job(JobOptions) with the options the flags ask for and progress on stderr, cleared before the
+/// result is returned (to be printed).
+template <class Job>
+auto withProgress(const CommonFlags& flags, Job job) {
+  ProgressPrinter progress(flags);
+  auto result = job(jobOptions(flags, progress));
+  progress.finish();
+  return result;
+}
+/// job(options), the JobOptions part of `options` set as the flags ask, with progress on stderr.
+template <class Options, class Job>
+auto withProgress(const CommonFlags& flags, Options& options, Job job) {
+  return withProgress(flags, [&](const JobOptions& common) {
+    static_cast<JobOptions&>(options) = common;
+    return job(options);
+  });
+}
+
 /// Prints JSON (when not null; `indent` as nlohmann's dump) or else the text unless --quiet, checked.
 void printJsonOrText(const nlohmann::json& json, const std::string& text, const CommonFlags& flags, int indent = 2);
 
@@ -114,6 +132,17 @@ void addCosViewOption(CLI::App* command, std::optional<double>& cosView);
 void addMipLevelOption(CLI::App* command, int& mipLevel);
 /// --from KIND: the parameterization of a plain (metadata-free) image.
 void addFromOption(CLI::App* command, std::string& from);
+/// --from KIND for an environment image (its metadata, else its shape, when not given).
+void addEnvironmentFromOption(CLI::App* command, std::optional<std::string>& from);
+/// --to KIND: the output parameterization (required).
+void addToOption(CLI::App* command, std::string& to);
+/// --resolution N of a map: texels per side, hemisphere or face, or rows; 1 to 65536, default 256.
+void addMapResolutionOption(CLI::App* command, int& resolution);
+/// --max-error E in [1e-6, 0.5], default 0.01; `bound` says what it bounds.
+void addMaxErrorOption(CLI::App* command, double& maxError, const std::string& bound);
+/// --samples-per-texel N in [1, 4096], default 16 (and the hidden old spelling --samples when
+/// `oldSpelling`).
+void addSamplesPerTexelOption(CLI::App* command, int& samples, const std::string& help, bool oldSpelling);
 
 /// The containers every output file may be, for -o's help: chosen by the extension.
 inline constexpr const char* kOutputContainers = ".exr .hdr .tif .png .ktx2 .ktx .dds";
@@ -134,6 +163,17 @@ std::vector<std::pair<std::string, std::string>> outputFlagNames(const std::stri
 
 /// Renames the JSON paths of a spec the command built from its flags to the flags, in an error
 /// message: each pair is (JSON path or quoted key, flag).
-Error renameSpecPaths(const Error& error, const std::vector<std::pair<std::string, std::string>>& names);
+using FlagNames = std::vector<std::pair<std::string, std::string>>;
+Error renameSpecPaths(const Error& error, const FlagNames& names);
+
+/// f(), its errors' JSON paths renamed to the flags (renameSpecPaths).
+template <class F>
+auto namingFlags(const FlagNames& names, F&& f) {
+  try {
+    return f();
+  } catch (const Error& error) {
+    throw renameSpecPaths(error, names);
+  }
+}
 
 }  // namespace brdfbake::cli

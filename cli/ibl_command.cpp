@@ -22,7 +22,7 @@ own estimate against the reference sum; --json lists each file with its role.
 Example:
   brdfbake ibl data_samples/environments/sky_latlong.exr --out-dir out/ibl --json)";
 
-const std::vector<std::pair<std::string, std::string>> kFlagNames = {
+const FlagNames kFlagNames = {
     {"ibl: maps[0].environment.gloss_chain.levels", "--levels"},
     {"ibl: maps[0].environment.file", "ENV"},
     {"ibl: maps[1].environment.file", "ENV"},
@@ -47,15 +47,7 @@ int runIbl(IblArgs args) {
   options.dfgForm = parseFlag("--dfg-form", args.dfgForm, parseDfgForm);
   options.shCmgen = args.shFormat == "cmgen";
   if (args.texelFormat) options.texelFormat = parseFlag("--texel-format", *args.texelFormat, parseTexelFormat);
-  ProgressPrinter progress(args.flags);
-  static_cast<JobOptions&>(options) = jobOptions(args.flags, progress);
-  IblResult result;
-  try {
-    result = makeIbl(options);
-  } catch (const Error& error) {
-    throw renameSpecPaths(error, kFlagNames);
-  }
-  progress.finish();
+  const IblResult result = namingFlags(kFlagNames, [&] { return withProgress(args.flags, options, makeIbl); });
   return printResult(result, args.flags);
 }
 
@@ -80,10 +72,8 @@ Command addIblCommand(CLI::App& app) {
   command->add_option("--dfg-size", r.dfgSize, "DFG table texels per side")->default_val(128);
   command->add_option("--dfg-form", args->dfgForm, "single (f0 DFG1 + f90 DFG2) | multiscatter (Filament's)")
       ->default_val("single");
-  command->add_option("--max-error", r.maxError, "The bound each prefiltered level is made to (relative RMS)")
-      ->default_val(0.01)
-      ->check(CLI::Range(1e-6, 0.5));
-  command->add_option("--from", r.from, "Parameterization of a plain environment image (default: metadata, shape)");
+  addMaxErrorOption(command, r.maxError, "The bound each prefiltered level is made to (relative RMS)");
+  addEnvironmentFromOption(command, r.from);
   command->add_option("--sh-format", args->shFormat, "brdfbake (JSON) | cmgen (also STEM_sh.txt, cmgen's lines)")
       ->default_val("brdfbake")
       ->check(CLI::IsMember({"brdfbake", "cmgen"}));

@@ -60,7 +60,7 @@ int runMatcap(MatcapArgs args) {
   request.moreOutputs = args.outputs.rest();
   if (!args.camera.empty()) parseCamera(args.camera, request);
   // The spec keys the request sets, named by their flags in messages.
-  const std::vector<std::pair<std::string, std::string>> names = {
+  const FlagNames names = {
       {"matcap: maps[0].material.", args.material + ": "},
       {"matcap: maps[0].material", args.material},
       {"matcap: maps[0].environment.file", "ENVIRONMENT " + args.environment},
@@ -74,14 +74,11 @@ int runMatcap(MatcapArgs args) {
       {"matcap: maps[0].exposure", "--exposure"},
       {"matcap: maps[0]", "matcap"},
   };
-  ProgressPrinter progress(args.flags);
-  MapResult result;
-  try {
-    result = makeMatcap(request, jobOptions(args.flags, progress));
-  } catch (const Error& error) {
-    throw renameSpecPaths(renameSpecPaths(error, outputFlagNames("matcap")), names);
-  }
-  progress.finish();
+  FlagNames allNames = outputFlagNames("matcap");
+  allNames.insert(allNames.end(), names.begin(), names.end());
+  const MapResult result = namingFlags(allNames, [&] {
+    return withProgress(args.flags, [&](const JobOptions& options) { return makeMatcap(request, options); });
+  });
   return printResult(result, args.flags);
 }
 
@@ -96,25 +93,19 @@ Command addMatcapCommand(CLI::App& app) {
   command->add_option("environment", args->environment, "Environment image (EXR, HDR, ...)")->required();
   addOutputFileOption(command, args->outputs, "Output map");
   addTexelFormatOption(command, r.texelFormat);
-  command->add_option("--resolution", r.resolution, "Texels per side (sphere), hemisphere, face, or rows (latlong)")
-      ->default_val(256)
-      ->check(CLI::Range(1, 65536));
+  addMapResolutionOption(command, r.resolution);
   command->add_option("--parameterization", r.parameterization, "sphere (the matcap) | paraboloid | cube | latlong")
       ->default_val("sphere")
       ->check(CLI::IsMember({"sphere", "paraboloid", "cube", "latlong"}));
   command->add_option("--camera", args->camera, "YAW,PITCH in degrees: turn the camera (default 0,0: looking down -z)");
   command->add_option("--method", r.method, "auto | sampled | reference (the brute-force sum: slow)")
       ->default_val("auto");
-  command->add_option("--max-error", r.maxError, "The bound on the estimated error (relative to the peak)")
-      ->default_val(0.01)
-      ->check(CLI::Range(1e-6, 0.5));
-  command->add_option("--samples-per-texel", r.samplesPerTexel, "Footprint samples per texel")
-      ->default_val(16)
-      ->check(CLI::Range(1, 4096));
+  addMaxErrorOption(command, r.maxError, "The bound on the estimated error (relative to the peak)");
+  addSamplesPerTexelOption(command, r.samplesPerTexel, "Footprint samples per texel", false);
   command->add_option("--exposure", r.exposure, "Scale the map by 2^STOPS before writing (for .png)")
       ->default_val(0.0)
       ->check(CLI::Range(-30.0, 30.0));
-  command->add_option("--from", r.from, "Parameterization of a plain environment image (default: metadata, shape)");
+  addEnvironmentFromOption(command, r.from);
   addComputeFlags(command, args->flags, /*makesMaps=*/true);
   addOutputFlags(command, args->flags, "the map's entry, as bake --json prints it: files, error estimate");
   return [args] { return runMatcap(*args); };

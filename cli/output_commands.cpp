@@ -24,8 +24,6 @@ Examples:
   brdfbake sample out/phong_eye_profile.exr --dirs directions.txt --json
   brdfbake sample out/sky_varying.exr --dir 0,0.5,1 --cos-view 0.7)";
 
-const std::vector<std::pair<std::string, std::string>> kLookupFlags = {{"cos_view", "--cos-view"}};
-
 struct SampleArgs {
   CommonFlags flags;
   SampleOptions options;
@@ -42,11 +40,8 @@ int runSample(SampleArgs a) {
   options.directionsFile = a.dirs;
   options.source.path = a.map;
   if (!a.from.empty()) options.source.from = parseParameterizationKind(a.from);
-  try {
-    return printResult(sampleOutput(options), a.flags, Printing::Query, -1);
-  } catch (const Error& e) {
-    throw renameSpecPaths(e, kLookupFlags);
-  }
+  const SampleResult result = namingFlags({{"cos_view", "--cos-view"}}, [&] { return sampleOutput(options); });
+  return printResult(result, a.flags, Printing::Query, -1);
 }
 
 }  // namespace

@@ -42,7 +42,7 @@ Examples:
   brdfbake prefilter sky.hdr --chain ggx --to cube --resolution 256 --tiled -o out/sky_ggx.ktx2)";
 
 // The spec keys a request sets, named by their flags in messages.
-const std::vector<std::pair<std::string, std::string>> kFlagNames = {
+const FlagNames kFlagNames = {
     {"prefilter: maps[0].environment.gloss_chain.scale", "--gloss-scale"},
     {"prefilter: maps[0].environment.gloss_chain.bias", "--gloss-bias"},
     {"prefilter: maps[0].environment.gloss_chain.levels", "--mip-count"},
@@ -81,21 +81,12 @@ void addFilterFlags(CLI::App* command, PrefilterArgs& a) {
   command->add_option("--lobe", r.lobe, "mirror | irradiance | phong:N | blinn:N | ggx:ROUGHNESS | lobes:FIT.json");
   command->add_option("--chain", r.chain, "ggx: cmgen's GGX chain, level k of L holding roughness k/(L-1)")
       ->check(CLI::IsMember({"ggx"}));
-  command->add_option("--to", r.to, "Output parameterization")
-      ->required()
-      ->check(CLI::IsMember({"sphere", "paraboloid", "cube", "latlong"}));
-  command->add_option("--resolution", r.resolution, "Texels per side (sphere), hemisphere, face, or rows (latlong)")
-      ->default_val(256)
-      ->check(CLI::Range(1, 65536));
+  addToOption(command, r.to);
+  addMapResolutionOption(command, r.resolution);
   command->add_option("--method", r.method, "auto | reference | sh | importance | direct")->default_val("auto");
-  command->add_option("--max-error", r.maxError, "The bound each map is made to (relative RMS, 0.01 = 1 %)")
-      ->default_val(0.01)
-      ->check(CLI::Range(1e-6, 0.5));
-  command->add_option("--samples-per-texel", r.samplesPerTexel, "Mirror lobe: footprint samples per texel")
-      ->default_val(16)
-      ->check(CLI::Range(1, 4096));
-  command->add_option("--samples", r.samplesPerTexel, "(old spelling of --samples-per-texel)")->group("");
-  command->add_option("--from", r.from, "Parameterization of a plain environment image (default: metadata, shape)");
+  addMaxErrorOption(command, r.maxError, "The bound each map is made to (relative RMS, 0.01 = 1 %)");
+  addSamplesPerTexelOption(command, r.samplesPerTexel, "Mirror lobe: footprint samples per texel", true);
+  addEnvironmentFromOption(command, r.from);
   command->add_option("--view", a.view, "Sphere maps: direction towards the viewer X,Y,Z (default 0,0,1)");
   command->add_option("--up", a.up, "Sphere maps: up vector X,Y,Z (default 0,1,0)");
   command->add_option("--elevations", r.elevations, "Varying lobe models: maps in the stack (default 8)");
@@ -130,14 +121,11 @@ int runPrefilter(PrefilterArgs args) {
   if (!args.view.empty()) request.view = parseVector(args.view, "--view");
   if (!args.up.empty()) request.up = parseVector(args.up, "--up");
   if (!args.shOutput.empty()) request.shOutput = args.shOutput;
-  ProgressPrinter progress(args.flags);
-  MapResult result;
-  try {
-    result = prefilterEnvironment(request, jobOptions(args.flags, progress));
-  } catch (const Error& error) {
-    throw renameSpecPaths(renameSpecPaths(error, outputFlagNames("prefilter")), kFlagNames);
-  }
-  progress.finish();
+  FlagNames names = outputFlagNames("prefilter");
+  names.insert(names.end(), kFlagNames.begin(), kFlagNames.end());
+  const MapResult result = namingFlags(names, [&] {
+    return withProgress(args.flags, [&](const JobOptions& options) { return prefilterEnvironment(request, options); });
+  });
   return printResult(result, args.flags);
 }
 

@@ -36,9 +36,7 @@ int runPreview(PreviewArgs a) {
   options.preview.object = parseFlag("--object", a.object, parsePreviewObject);
   options.preview.segments = a.segments > 0 ? a.segments : (options.preview.perVertex ? 16 : 64);
   if (!a.view.empty()) options.preview.view = parseVector(a.view, "--view");
-  ProgressPrinter progress(a.flags);
-  static_cast<JobOptions&>(options) = jobOptions(a.flags, progress);
-  return printResult(makePreview(options), a.flags);
+  return printResult(withProgress(a.flags, options, makePreview), a.flags);
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 #pragma once
-// Internals of prefilter.cpp: the working lat-long pyramid the fast methods read, and the
+// Internals of prefiltering (prefilter*.cpp): the working lat-long pyramid the fast methods read, the
 // evaluators (direct sum, filtered importance sampling, spherical harmonics, interpolation grid,
-// reference) that give the prefiltered value at one axis.
+// reference) that give the prefiltered value at one axis, the error probes, and the steps prefilter()
+// takes in other files.
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/env/prefilter_lobe.hpp>
 #include <brdfbake/maps/image.hpp>
@@ -12,6 +13,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace brdfbake::detail {
@@ -206,9 +208,16 @@ class PrefilterInput {
 namespace brdfbake {
 struct PrefilteredMap;
 struct PrefilterOptions;
+struct PrefilterSummary;
 }  // namespace brdfbake
 
 namespace brdfbake::detail {
+
+// A number to 3 significant digits, as the prefilter's messages and reports print them.
+std::string formatG(double value);
+
+// Eye space of a sphere map -> the environment's frame (PrefilterOptions::view and up).
+Mat3 eyeToEnvironment(const PrefilterOptions& options);
 
 // |value - reference| / max(|reference|, floor), |.| the RGB norm: the metric of docs/prefilter.md.
 double relativeError(const Rgb& value, const Rgb& reference, double floor);
@@ -252,6 +261,14 @@ class ProbeSet {
   double floor() const { return floor_; }
 
  private:
+  // Puts the probes of each group (lattice, guided, near-bright) into the batches: batch b holds those
+  // of index i = b mod B of every group.
+  void arrangeBatches(const std::vector<Vec3>& lattice, const std::vector<Vec3>& guided, const std::vector<Vec3>& near);
+  // Keeps the centres and probabilities of the texels the guided probes were drawn from (`cdf`:
+  // luminance x solid angle over `level`'s texels, a running sum), for guidedDensity.
+  void keepGuidedTexels(const LatLongLevel& level, const std::vector<double>& cdf);
+  // Chooses how the reference on the probes is summed: the environment's own texels or a pyramid level.
+  void prepareReference(const ProbeSources& sources);
   // The guided draws' density at d relative to the uniform density's, over the guided texels within
   // the lobe's support of d (the tabulated lobe is exactly zero beyond it).
   double guidedDensity(const Vec3& d) const;
@@ -293,6 +310,30 @@ struct ErrorEstimate {
 // errors are easily missed), while 256 probes were within 6 % of all 512 at every candidate tried, so a
 // candidate is accepted only from half the probes on.
 ErrorEstimate estimate(const std::function<Rgb(const Vec3&)>& value, ProbeSet& probes, double target);
+
+// The probes whose reference was computed, kept to measure the finished map's lookups.
+struct ProbeCheck {
+  std::vector<Vec3> axes;
+  std::vector<Rgb> references;
+  std::vector<double> weights;
+  std::vector<bool> nearBright;
+  double floor = 0.0;
+};
+
+// A filtered lobe: chooses the method (reference, or the fast candidates with auto's fallback)
+// and evaluates it at every output texel. `check` gets the estimate's probes (prefilter_choice.cpp).
+Image filterWithLobe(PrefilterInput& input, const PrefilterLobe& lobe, const Parameterization& map,
+                     const PrefilterOptions& options, int threads, PrefilterSummary& summary,
+                     std::optional<ProbeCheck>& check);
+
+// The finished map as a renderer reads it: bilinear lookups at the probes against their reference, as
+// the solid-angle RMS, the value-weighted RMS and the RMS over the bright sources' caps of the relative
+// error, each with two standard errors to spare: lookupErrorEstimate. The probes saw the method at the
+// texel centres' axes; the lookups add the texels' interpolation, which only the resolution changes
+// (a sun's highlight a few texels wide, issue 22), so it is reported beside the estimate, not in it
+// (prefilter_error.cpp).
+void measureLookups(const Image& level0, const Parameterization& map, const PrefilterLobe& lobe,
+                    const PrefilterOptions& options, const ProbeCheck& check, PrefilterSummary& summary);
 
 }  // namespace brdfbake::detail
 

@@ -1,12 +1,14 @@
 // The prefilter methods at one axis: working pyramid, direct sums, filtered importance sampling,
 // spherical harmonics, interpolation grid, and the exact reference.
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/math.hpp>
 #include <brdfbake/maps/latlong_map.hpp>
 #include <brdfbake/maps/map_mips.hpp>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <array>
 #include <bit>
 
 #include "prefilter_internal.hpp"
@@ -441,15 +443,7 @@ Rgb LatLongGrid::value(const Vec3& axis) const {
   const double px = pixel.x() - 0.5, py = pixel.y() - 0.5;
   const double fx = std::floor(px), fy = std::floor(py);
   const double tx = px - fx, ty = py - fy;
-  auto weights = [](double t, double w[4]) {  // Catmull-Rom
-    const double t2 = t * t, t3 = t2 * t;
-    w[0] = 0.5 * (-t3 + 2.0 * t2 - t);
-    w[1] = 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0);
-    w[2] = 0.5 * (-3.0 * t3 + 4.0 * t2 + t);
-    w[3] = 0.5 * (t3 - t2);
-  };
-  double wx[4], wy[4];
-  weights(tx, wx), weights(ty, wy);
+  const std::array<double, 4> wx = catmullRomWeights(tx), wy = catmullRomWeights(ty);
   Rgb sum = Rgb::Zero();
   for (int j = 0; j < 4; ++j) {
     int y = static_cast<int>(fy) - 1 + j, shift = 0;

@@ -83,6 +83,37 @@ std::vector<Vec3> capProbes(const std::vector<Vec3>& sources, double capCos, int
   return axes;
 }
 
+// Luminance x solid angle of the texels of `level` as a running sum: texel i (row-major) weighs
+// cdf[i + 1] - cdf[i].
+std::vector<double> luminanceCdf(const LatLongLevel& level) {
+  std::vector<double> cdf(static_cast<std::size_t>(level.width) * level.height + 1, 0.0);
+  for (int y = 0; y < level.height; ++y)
+    for (int x = 0; x < level.width; ++x) {
+      const Rgb v = level.at(x, y);
+      const double luminance = std::max(0.0, 0.2126 * v[0] + 0.7152 * v[1] + 0.0722 * v[2]);
+      const std::size_t i = static_cast<std::size_t>(y) * level.width + x;
+      cdf[i + 1] = cdf[i] + luminance * level.rowSolidAngle[y];
+    }
+  return cdf;
+}
+
+// `count` guided probes: a texel of `level` drawn (stratified) by its share of `cdf`, then a
+// direction about its centre drawn from the lobe.
+std::vector<Vec3> guidedProbes(const LatLongLevel& level, const std::vector<double>& cdf, const PrefilterLobe& lobe,
+                               int count, std::mt19937& rng) {
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  const double total = cdf.back();
+  std::vector<Vec3> axes;
+  for (int i = 0; i < count; ++i) {
+    const double u = (i + uniform(rng)) / count * total;
+    const std::size_t k =
+        std::min<std::size_t>(cdf.size() - 2, std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin() - 1);
+    const Vec3 centre = level.direction(static_cast<int>(k % level.width), static_cast<int>(k / level.width));
+    axes.push_back(aboutCentre(centre, std::cos(lobe.sampleAngle(uniform(rng))), kTwoPi * uniform(rng)));
+  }
+  return axes;
+}
+
 }  // namespace
 
 double relativeError(const Rgb& value, const Rgb& reference, double floor) {
@@ -99,68 +130,67 @@ ProbeSet::ProbeSet(const ProbeSources& sources, const PrefilterOptions& options,
   // A random rotation of a Fibonacci lattice: uniform directions, evenly spread.
   const Mat3 rotate = randomRotation(rng);
   // Guided probes: a texel drawn by its luminance x solid angle at a coarse level, then a lobe sample.
-  const int guidedLevel = pyramid.levelFor(kPi / 64.0);
-  const auto& G = pyramid.level(guidedLevel);
-  std::vector<double> cdf(static_cast<std::size_t>(G.width) * G.height + 1, 0.0);
-  double meanLuminance = 0.0;
-  for (int y = 0; y < G.height; ++y)
-    for (int x = 0; x < G.width; ++x) {
-      const Rgb v = G.at(x, y);
-      const double luminance = std::max(0.0, 0.2126 * v[0] + 0.7152 * v[1] + 0.0722 * v[2]);
-      const std::size_t i = static_cast<std::size_t>(y) * G.width + x;
-      cdf[i + 1] = cdf[i] + luminance * G.rowSolidAngle[y];
-    }
+  const auto& G = pyramid.level(pyramid.levelFor(kPi / 64.0));
+  const std::vector<double> cdf = luminanceCdf(G);
   const double total = cdf.back();
-  meanLuminance = total / kFourPi;
   // Near-bright probes: uniform in the caps of 5 degrees about the bright sources (issue 22).
   capCos_ = std::cos(radians(5.0));
-  if (!sphereIrradiance && total > 0.0) bright_ = brightSources(G, meanLuminance);
+  if (!sphereIrradiance && total > 0.0) bright_ = brightSources(G, total / kFourPi);
   count_ = options.probes;
   guided_ = sphereIrradiance || !(total > 0.0) ? 0 : count_ / 2;
   near_ = bright_.empty() ? 0 : guided_ / 2;
   guided_ -= near_;
   uniformCount_ = count_ - guided_ - near_;
   const double golden = kPi * (3.0 - std::sqrt(5.0));
-  auto lattice = [&](int i) {
+  std::vector<Vec3> latticeAxes;
+  for (int i = 0; i < uniformCount_; ++i) {
     const double z = 1.0 - 2.0 * (i + 0.5) / uniformCount_, r = std::sqrt(std::max(0.0, 1.0 - z * z));
     const Vec3 d = rotate * Vec3(r * std::cos(golden * i), r * std::sin(golden * i), z);
-    return sphereIrradiance ? prefilterAxis(d, lobe, options) : d;
-  };
-  std::vector<Vec3> guidedAxes, nearAxes;
-  for (int i = 0; i < guided_; ++i) {
-    const double u = (i + uniform(rng)) / guided_ * total;
-    const std::size_t k =
-        std::min<std::size_t>(cdf.size() - 2, std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin() - 1);
-    const Vec3 centre = G.direction(static_cast<int>(k % G.width), static_cast<int>(k / G.width));
-    guidedAxes.push_back(aboutCentre(centre, std::cos(lobe.sampleAngle(uniform(rng))), kTwoPi * uniform(rng)));
+    latticeAxes.push_back(sphereIrradiance ? prefilterAxis(d, lobe, options) : d);
   }
+  const std::vector<Vec3> guidedAxes = guidedProbes(G, cdf, lobe, guided_, rng);
+  std::vector<Vec3> nearAxes;
   if (near_ > 0) nearAxes = capProbes(bright_, capCos_, near_, kTwoPi * uniform(rng));
-  const int batchCount = count_ >= 64 ? 4 : 1;
-  for (int b = 0; b < batchCount; ++b) {
-    for (int i = b; i < uniformCount_; i += batchCount) axes_.push_back(lattice(i));
-    for (int i = b; i < guided_; i += batchCount) axes_.push_back(guidedAxes[static_cast<std::size_t>(i)]);
-    for (int i = b; i < near_; i += batchCount) axes_.push_back(nearAxes[static_cast<std::size_t>(i)]);
-    batchEnd_.push_back(static_cast<int>(axes_.size()));
-  }
-  if (guided_ > 0) {
-    for (std::size_t i = 0; i + 1 < cdf.size(); ++i)
-      if (const double p = cdf[i + 1] - cdf[i]; p > 0.0) {
-        centres_.push_back(G.direction(static_cast<int>(i % G.width), static_cast<int>(i / G.width)));
-        probability_.push_back(p / total);
-      }
-  }
+  arrangeBatches(latticeAxes, guidedAxes, nearAxes);
+  if (guided_ > 0) keepGuidedTexels(G, cdf);
   weights_.assign(axes_.size(), 1.0);
   nearBright_.assign(axes_.size(), 0);
   reference_.resize(axes_.size());
-  // The reference on the probes, over all but 1e-7 of the lobe's mass with the lobe tabulated to
-  // 1e-6 of its peak. A resampled input (not a power-of-two lat-long) under a lobe narrower than 16
-  // texels of the working lat-long is summed over its own texels (ReferenceSummer), not over the
-  // pyramid the candidates read, so the resampling error is part of the estimate. Otherwise the
-  // finest pyramid level needed is summed (texels <= width / 8 with the lobe corrected for their box,
-  // ProbeSources::correctedTable, or level 0 split into sub-samples <= width / 8): a power-of-two lat-long input is
-  // its pyramid's level 0 (coarser levels are exact solid-angle means of its texels), and a lobe wider than 16
-  // texels averages the resampling's local error away (its 2 x 2 bilinear means keep each neighbourhood's mean),
-  // while summing a hemisphere of input texels per probe would cost seconds.
+  prepareReference(sources);
+}
+
+void ProbeSet::arrangeBatches(const std::vector<Vec3>& lattice, const std::vector<Vec3>& guided,
+                              const std::vector<Vec3>& near) {
+  const int batchCount = count_ >= 64 ? 4 : 1;
+  for (int b = 0; b < batchCount; ++b) {
+    for (int i = b; i < uniformCount_; i += batchCount) axes_.push_back(lattice[static_cast<std::size_t>(i)]);
+    for (int i = b; i < guided_; i += batchCount) axes_.push_back(guided[static_cast<std::size_t>(i)]);
+    for (int i = b; i < near_; i += batchCount) axes_.push_back(near[static_cast<std::size_t>(i)]);
+    batchEnd_.push_back(static_cast<int>(axes_.size()));
+  }
+}
+
+void ProbeSet::keepGuidedTexels(const LatLongLevel& level, const std::vector<double>& cdf) {
+  const double total = cdf.back();
+  for (std::size_t i = 0; i + 1 < cdf.size(); ++i)
+    if (const double p = cdf[i + 1] - cdf[i]; p > 0.0) {
+      centres_.push_back(level.direction(static_cast<int>(i % level.width), static_cast<int>(i / level.width)));
+      probability_.push_back(p / total);
+    }
+}
+
+// The reference on the probes, over all but 1e-7 of the lobe's mass with the lobe tabulated to
+// 1e-6 of its peak. A resampled input (not a power-of-two lat-long) under a lobe narrower than 16
+// texels of the working lat-long is summed over its own texels (ReferenceSummer), not over the
+// pyramid the candidates read, so the resampling error is part of the estimate. Otherwise the
+// finest pyramid level needed is summed (texels <= width / 8 with the lobe corrected for their box,
+// ProbeSources::correctedTable, or level 0 split into sub-samples <= width / 8): a power-of-two lat-long input is
+// its pyramid's level 0 (coarser levels are exact solid-angle means of its texels), and a lobe wider than 16
+// texels averages the resampling's local error away (its 2 x 2 bilinear means keep each neighbourhood's mean),
+// while summing a hemisphere of input texels per probe would cost seconds.
+void ProbeSet::prepareReference(const ProbeSources& sources) {
+  const PrefilterLobe& lobe = lobe_;
+  const LatLongPyramid& pyramid = sources.pyramid;
   table_ = sources.table;
   const double cosCap = std::cos(lobe.tailAngle(1e-7));
   if (pyramid.resampled() && lobe.width() < 16.0 * pyramid.texelAngle(0)) {

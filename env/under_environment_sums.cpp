@@ -2,10 +2,12 @@
 // bright texels and the rest, the bright texels as lights, filtered importance sampling of the BRDF's
 // reflection lobes, the reference sum, and the polar grid of normals.
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/math.hpp>
 
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "under_environment_internal.hpp"
@@ -287,15 +289,7 @@ Rgb NormalGrid::value(const Vec3& normal) const {
   const double py = std::min(theta, 0.5 * kPi) / dTheta_, px = phi / dPhi_;
   const int iy = std::min(static_cast<int>(py), rows_ - 1), ix = std::min(static_cast<int>(px), columns_ - 1);
   const double ty = py - iy, tx = px - ix;
-  auto weights = [](double t, double w[4]) {  // Catmull-Rom
-    const double t2 = t * t, t3 = t2 * t;
-    w[0] = 0.5 * (-t3 + 2.0 * t2 - t);
-    w[1] = 0.5 * (3.0 * t3 - 5.0 * t2 + 2.0);
-    w[2] = 0.5 * (-3.0 * t3 + 4.0 * t2 + t);
-    w[3] = 0.5 * (t3 - t2);
-  };
-  double wx[4], wy[4];
-  weights(tx, wx), weights(ty, wy);
+  const std::array<double, 4> wx = catmullRomWeights(tx), wy = catmullRomWeights(ty);
   Rgb sum = Rgb::Zero();
   for (int j = 0; j < 4; ++j) {
     // Padded row iy - 1 + j is table row iy + j; padded column ix - 1 is table column ix.

@@ -6,6 +6,7 @@
 #include <brdfbake/fit/fit_file.hpp>
 
 #include <fstream>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -118,6 +119,300 @@ HeldOutReport heldOutFromJson(JsonObjectReader r) {
   return report;
 }
 
+nlohmann::ordered_json sourceToJson(const FitSource& source) {
+  return {{"file", source.file},
+          {"format", source.format},
+          {"samples", source.samples},
+          {"channels", source.channels},
+          {"notes", source.notes}};
+}
+
+// "model": the formula, the elevation and its range, the lobe count, the wavelengths of spectral channels.
+nlohmann::ordered_json modelToJson(const LobeModel& model) {
+  const std::size_t lobes = model.channels.empty() ? 0 : model.channels[0].lobes.size();
+  nlohmann::ordered_json m = {
+      {"description", lobeModelDescription(model.elevation)},
+      {"elevation", std::string(toString(model.elevation))},
+      {"elevation_range", {{"min_cos", finite(model.minCos, "min_cos")}, {"max_cos", finite(model.maxCos, "max_cos")}}},
+      {"lobes", lobes}};
+  if (!model.wavelengthsNm.empty()) m["wavelengths_nm"] = numbers(model.wavelengthsNm, "wavelength");
+  return m;
+}
+
+nlohmann::ordered_json candidateToJson(const ModelCandidate& c) {
+  return {{"lobes", c.lobes},
+          {"elevation", std::string(toString(c.elevation))},
+          {"kind", std::string(toString(c.kind))},
+          {"parameters", c.parameters},
+          {"held_out_score", finite(c.heldOutScore, "held-out score")},
+          {"kfold_ratio", finite(c.kfoldRatio, "k-fold ratio")},
+          {"elevation_ratio", finite(c.elevationRatio, "elevation ratio")},
+          {"seconds", finite(c.seconds, "seconds")},
+          {"max_exponent", finite(c.maxExponent, "max exponent")},
+          {"chosen", c.chosen}};
+}
+
+// "fit": how the model was fitted (the options), the candidates tried and the held-out estimate.
+nlohmann::ordered_json fitSectionToJson(const FitResult& fit) {
+  const FitOptions& o = fit.options;
+  nlohmann::ordered_json candidates = nlohmann::ordered_json::array();
+  for (const auto& c : fit.candidates) candidates.push_back(candidateToJson(c));
+  const bool perChannel = o.method == FitMethod::PerChannel;
+  nlohmann::ordered_json section = {
+      {"method", std::string(toString(o.method))},
+      {"residual", perChannel ? "cbrt(cos theta_i f_fit + eps) - cbrt(cos theta_i f_measured + eps), "
+                                "eps = 1e-6 of the channel's largest cos theta_i f"
+                              : "ln(1 + cos theta_i f_fit) - ln(1 + cos theta_i max(f_measured, 0))"},
+      {"kind", std::string(toString(o.kind))},
+      {"max_exponent", finite(o.maxExponent, "max exponent")},
+      {"loss", std::string(toString(o.loss))},
+      {"loss_scale", finite(o.lossScale, "loss scale")},
+      {"auto_margin", finite(o.autoMargin, "auto margin")},
+      {"elevation_margin", finite(o.elevationMargin, "elevation margin")},
+      {"requested_lobes", requestedLobes(o.lobes)},
+      {"requested_elevation", std::string(toString(o.elevation))},
+      {"seconds", finite(fit.seconds, "seconds")},
+      {"usable", fit.usable()},
+      {"in_sample_log_error", finite(fit.inSampleError, "in-sample error")},
+      {"candidates", candidates}};
+  if (fit.heldOut) section["held_out"] = heldOutToJson(*fit.heldOut);
+  return section;
+}
+
+nlohmann::ordered_json lobeToJson(const Lobe& lobe) {
+  nlohmann::ordered_json entry = {{"weight", numbers(lobe.weight, "lobe weight")},
+                                  {"exponent", numbers(lobe.exponent, "lobe exponent")}};
+  if (lobe.halfVector) {
+    entry["axis"] = "half_vector";
+    entry["fresnel"] = finite(lobe.fresnel, "lobe fresnel");
+  } else if (!lobe.aboutMirror()) {
+    entry["cxy"] = finite(lobe.cxy, "lobe cxy");
+  }
+  return entry;
+}
+
+nlohmann::ordered_json statsToJson(const ChannelFitStats& s) {
+  return {{"samples", s.samples},
+          {"rms_cosine_weighted", finite(s.rmsCosineWeighted, "rms")},
+          {"log_rmse", finite(s.logRmse, "log rmse")},
+          {"cube_root_rmse", finite(s.cubeRootRmse, "cube-root rmse")},
+          {"worst_sample",
+           {{"index", s.worst.index},
+            {"theta_i", finite(s.worst.angles.thetaIn, "angle")},
+            {"phi_i", finite(s.worst.angles.phiIn, "angle")},
+            {"theta_s", finite(s.worst.angles.thetaOut, "angle")},
+            {"phi_s", finite(s.worst.angles.phiOut, "angle")},
+            {"measured", finite(s.worst.measured, "measured value")},
+            {"fitted", finite(s.worst.fitted, "fitted value")}}},
+          {"iterations", s.solver.iterations},
+          {"total_iterations", s.totalIterations},
+          {"seconds", finite(s.seconds, "seconds")},
+          {"termination", s.solver.termination},
+          {"usable", s.solver.usable},
+          {"brief_report", s.solver.briefReport}};
+}
+
+// One entry of "channels"; `stats` (the fit's statistics of the channel) may be null.
+nlohmann::ordered_json channelToJson(const LobeChannel& channel, const ChannelFitStats* stats) {
+  nlohmann::ordered_json lobeArray = nlohmann::ordered_json::array();
+  for (const auto& lobe : channel.lobes) lobeArray.push_back(lobeToJson(lobe));
+  nlohmann::ordered_json entry = {
+      {"name", channel.name}, {"diffuse", finite(channel.diffuse, "diffuse")}, {"lobes", lobeArray}};
+  if (stats) entry["stats"] = statsToJson(*stats);
+  return entry;
+}
+
+void readFormatAndVersion(JsonObjectReader& root) {
+  const std::string format = root.string("format");
+  if (format != kFitFileFormat) {
+    throw specError("format", "must be \"" + std::string(kFitFileFormat) + "\", got \"" + printable(format, 60) + "\"");
+  }
+  const int version = root.integer("version", 1, 1 << 20);
+  if (version != kFitFileVersion) {
+    throw specError("version", "this brdfbake reads version " + std::to_string(kFitFileVersion) +
+                                   ", the file is version " + std::to_string(version));
+  }
+  root.optionalString("generator");
+}
+
+void readSource(JsonObjectReader source, FitSource& out) {
+  out.file = source.string("file");
+  out.format = source.string("format");
+  out.samples = static_cast<std::size_t>(source.integer("samples", 0, 1 << 30));
+  out.channels = source.string("channels");
+  const auto& notes = source.array("notes");
+  for (std::size_t i = 0; i < notes.size(); ++i) {
+    if (!notes[i].is_string())
+      throw specError(source.child("notes") + "[" + std::to_string(i) + "]", "must be a string");
+    out.notes.push_back(notes[i].get<std::string>());
+  }
+  source.finish();
+}
+
+// "model": the elevation, its range and the wavelengths into `model`; returns the lobe count.
+int readModelShape(JsonObjectReader m, LobeModel& model) {
+  m.optionalString("description");
+  model.elevation = m.parsed("elevation", parseLobeElevation);
+  JsonObjectReader range = m.object("elevation_range");
+  model.minCos = range.number("min_cos", 0.0, 1.0, /*exclusiveMinimum=*/true);
+  model.maxCos = range.number("max_cos", model.minCos, 1.0);
+  range.finish();
+  const int lobeCount = m.integer("lobes", 0, kMaxModelLobes);
+  if (m.has("wavelengths_nm")) {
+    const auto& w = m.array("wavelengths_nm");
+    for (std::size_t i = 0; i < w.size(); ++i) {
+      const std::string at = m.child("wavelengths_nm") + "[" + std::to_string(i) + "]";
+      model.wavelengthsNm.push_back(JsonObjectReader::asNumber(w[i], at));
+      if (i > 0 && !(model.wavelengthsNm[i] > model.wavelengthsNm[i - 1]))
+        throw specError(at, "wavelengths must increase");
+    }
+  }
+  m.finish();
+  return lobeCount;
+}
+
+// "requested_lobes": "auto" (0) or a positive whole number.
+int readRequestedLobes(JsonObjectReader& fit) {
+  const std::string lobes = fit.string("requested_lobes");
+  if (lobes == "auto") return 0;
+  try {
+    std::size_t used = 0;
+    const int count = std::stoi(lobes, &used);
+    if (used != lobes.size() || count < 1) throw std::invalid_argument(lobes);
+    return count;
+  } catch (const std::exception&) {
+    throw specError(fit.child("requested_lobes"),
+                    "must be \"auto\" or a positive whole number, got \"" + printable(lobes, 40) + "\"");
+  }
+}
+
+// One of "fit.candidates". `fitHasMethod`: false in files written before held-out selection, whose
+// candidates are {"lobes", "elevation", "error" (in-sample), "chosen"}.
+ModelCandidate readCandidate(JsonObjectReader c, bool fitHasMethod) {
+  ModelCandidate candidate;
+  candidate.lobes = c.integer("lobes", 1, kMaxModelLobes);
+  candidate.elevation = c.parsed("elevation", parseLobeElevation);
+  if (!fitHasMethod) {
+    c.number("error", 0.0);
+  } else {
+    const std::string kind = c.string("kind");
+    if (kind != "mirror" && kind != "lafortune" && kind != "half_vector") {
+      throw specError(c.child("kind"),
+                      "must be \"mirror\", \"lafortune\" or \"half_vector\", got \"" + printable(kind, 40) + "\"");
+    }
+    candidate.kind = parseLobeKindChoice(kind);
+    candidate.parameters = c.integer("parameters", 0, 1 << 30);
+    candidate.heldOutScore = c.number("held_out_score", 0.0);
+    candidate.kfoldRatio = c.number("kfold_ratio", 0.0);
+    candidate.elevationRatio = c.number("elevation_ratio", 0.0);
+    candidate.seconds = c.number("seconds", 0.0);
+    if (c.has("max_exponent")) candidate.maxExponent = c.number("max_exponent", 0.0, kMaxLobeExponent);
+  }
+  const auto& chosen = c.require("chosen");
+  if (!chosen.is_boolean()) throw specError(c.child("chosen"), "must be true or false");
+  candidate.chosen = chosen.get<bool>();
+  c.finish();
+  return candidate;
+}
+
+// "fit": the options the model was fitted with, the held-out estimate and the candidates.
+void readFitSection(JsonObjectReader fit, FitResult& result) {
+  fit.optionalString("residual");
+  FitOptions& o = result.options;
+  const bool fitHasMethod = fit.has("method");
+  if (fitHasMethod) {
+    o.method = fit.parsed("method", parseFitMethod);
+  } else {
+    o.method = FitMethod::PerChannel;  // files written before the shared method
+  }
+  if (fit.has("kind")) {
+    o.kind = fit.parsed("kind", parseLobeKindChoice);
+  }
+  if (fit.has("max_exponent")) o.maxExponent = fit.number("max_exponent", kMinLobeExponent, kMaxLobeExponent);
+  if (fit.has("in_sample_log_error")) result.inSampleError = fit.number("in_sample_log_error", 0.0);
+  if (fit.has("held_out")) result.heldOut = heldOutFromJson(fit.object("held_out"));
+  o.loss = fit.parsed("loss", parseRobustLoss);
+  o.lossScale = fit.number("loss_scale", 0.0, HUGE_VAL, true);
+  o.autoMargin = fit.number("auto_margin", 0.0, 1.0, true);
+  o.elevationMargin = fit.number("elevation_margin", 0.0, 1.0, true);
+  o.lobes = readRequestedLobes(fit);
+  o.elevation = fit.parsed("requested_elevation", parseElevationChoice);
+  result.seconds = fit.number("seconds", 0.0);
+  fit.require("usable");  // recomputed from the channels' stats
+  const auto& candidates = fit.array("candidates");
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    result.candidates.push_back(readCandidate(
+        JsonObjectReader(candidates[i], fit.child("candidates") + "[" + std::to_string(i) + "]"), fitHasMethod));
+  }
+  fit.finish();
+}
+
+// One lobe of a channel, `count` coefficients per weight and exponent.
+Lobe readLobe(JsonObjectReader lobe, std::size_t count) {
+  Lobe l;
+  l.weight = readNumbers(lobe, "weight", count, count == 1 ? 0.0 : 1e-300, HUGE_VAL);
+  l.exponent = readNumbers(lobe, "exponent", count, kMinLobeExponent, kMaxLobeExponent);
+  const std::string axis = lobe.optionalString("axis").value_or("lafortune");
+  if (axis == "half_vector") {
+    l.halfVector = true;
+    l.fresnel = lobe.number("fresnel", 0.0, 0.0, HUGE_VAL, false);
+  } else if (axis == "lafortune") {
+    l.cxy = lobe.number("cxy", -1.0, -kMaxLobeCxy, kMaxLobeCxy, false);
+  } else {
+    throw specError(lobe.child("axis"),
+                    "must be \"lafortune\" (the default) or \"half_vector\", got \"" + printable(axis, 40) + "\"");
+  }
+  lobe.finish();
+  return l;
+}
+
+// One entry of "channels": its `lobeCount` lobes of `count` coefficients and, if present, its stats.
+LobeChannel readChannel(JsonObjectReader ch, int lobeCount, std::size_t count, std::optional<ChannelFitStats>& stats) {
+  LobeChannel channel;
+  channel.name = ch.string("name");
+  channel.diffuse = ch.number("diffuse", 0.0);
+  const auto& lobes = ch.array("lobes");
+  if (static_cast<int>(lobes.size()) != lobeCount) {
+    throw specError(ch.child("lobes"), "model.lobes says " + std::to_string(lobeCount) + " lobe(s), this channel has " +
+                                           std::to_string(lobes.size()));
+  }
+  for (std::size_t k = 0; k < lobes.size(); ++k) {
+    channel.lobes.push_back(
+        readLobe(JsonObjectReader(lobes[k], ch.child("lobes") + "[" + std::to_string(k) + "]"), count));
+  }
+  if (ch.has("stats")) stats = readStats(ch.object("stats"), channel.name);
+  ch.finish();
+  return channel;
+}
+
+// "channels" into fit.model (whose elevation and wavelengths are read) and, when every channel has
+// them, their stats into fit.channels.
+void readChannels(JsonObjectReader& root, int lobeCount, FitResult& fit) {
+  LobeModel& model = fit.model;
+  const auto& channels = root.array("channels");
+  if (channels.empty()) throw specError("channels", "must hold at least one channel");
+  const std::size_t count = static_cast<std::size_t>(elevationCoefficientCount(model.elevation));
+  bool allStats = true, anyStats = false;
+  std::vector<ChannelFitStats> stats;
+  for (std::size_t c = 0; c < channels.size(); ++c) {
+    std::optional<ChannelFitStats> channelStats;
+    model.channels.push_back(readChannel(JsonObjectReader(channels[c], "channels[" + std::to_string(c) + "]"),
+                                         lobeCount, count, channelStats));
+    if (channelStats) {
+      anyStats = true;
+      stats.push_back(std::move(*channelStats));
+    } else {
+      allStats = false;
+    }
+  }
+  if (anyStats && !allStats) throw specError("channels", "either every channel has \"stats\" or none has");
+  if (!model.wavelengthsNm.empty() && model.wavelengthsNm.size() != model.channels.size()) {
+    throw specError("model.wavelengths_nm",
+                    "must hold one wavelength per channel (" + std::to_string(model.channels.size()) + ")");
+  }
+  fit.channels = std::move(stats);
+}
+
 }  // namespace
 
 std::string lobeModelDescription(LobeElevation elevation) {
@@ -131,99 +426,17 @@ std::string lobeModelDescription(LobeElevation elevation) {
 }
 
 nlohmann::ordered_json fitFileToJson(const FitFile& file) {
-  const LobeModel& model = file.fit.model;
   nlohmann::ordered_json document;
   document["format"] = kFitFileFormat;
   document["version"] = kFitFileVersion;
   document["generator"] = std::string("brdfbake ") + BRDFBAKE_VERSION_STRING;
-  if (file.hasSource) {
-    document["source"] = {{"file", file.source.file},
-                          {"format", file.source.format},
-                          {"samples", file.source.samples},
-                          {"channels", file.source.channels},
-                          {"notes", file.source.notes}};
-  }
-  const std::size_t lobes = model.channels.empty() ? 0 : model.channels[0].lobes.size();
-  nlohmann::ordered_json m = {
-      {"description", lobeModelDescription(model.elevation)},
-      {"elevation", std::string(toString(model.elevation))},
-      {"elevation_range", {{"min_cos", finite(model.minCos, "min_cos")}, {"max_cos", finite(model.maxCos, "max_cos")}}},
-      {"lobes", lobes}};
-  if (!model.wavelengthsNm.empty()) m["wavelengths_nm"] = numbers(model.wavelengthsNm, "wavelength");
-  document["model"] = m;
-  if (file.hasFitInfo) {
-    const FitOptions& o = file.fit.options;
-    nlohmann::ordered_json candidates = nlohmann::ordered_json::array();
-    for (const auto& c : file.fit.candidates) {
-      candidates.push_back({{"lobes", c.lobes},
-                            {"elevation", std::string(toString(c.elevation))},
-                            {"kind", std::string(toString(c.kind))},
-                            {"parameters", c.parameters},
-                            {"held_out_score", finite(c.heldOutScore, "held-out score")},
-                            {"kfold_ratio", finite(c.kfoldRatio, "k-fold ratio")},
-                            {"elevation_ratio", finite(c.elevationRatio, "elevation ratio")},
-                            {"seconds", finite(c.seconds, "seconds")},
-                            {"max_exponent", finite(c.maxExponent, "max exponent")},
-                            {"chosen", c.chosen}});
-    }
-    const bool perChannel = o.method == FitMethod::PerChannel;
-    document["fit"] = {{"method", std::string(toString(o.method))},
-                       {"residual", perChannel ? "cbrt(cos theta_i f_fit + eps) - cbrt(cos theta_i f_measured + eps), "
-                                                 "eps = 1e-6 of the channel's largest cos theta_i f"
-                                               : "ln(1 + cos theta_i f_fit) - ln(1 + cos theta_i max(f_measured, 0))"},
-                       {"kind", std::string(toString(o.kind))},
-                       {"max_exponent", finite(o.maxExponent, "max exponent")},
-                       {"loss", std::string(toString(o.loss))},
-                       {"loss_scale", finite(o.lossScale, "loss scale")},
-                       {"auto_margin", finite(o.autoMargin, "auto margin")},
-                       {"elevation_margin", finite(o.elevationMargin, "elevation margin")},
-                       {"requested_lobes", requestedLobes(o.lobes)},
-                       {"requested_elevation", std::string(toString(o.elevation))},
-                       {"seconds", finite(file.fit.seconds, "seconds")},
-                       {"usable", file.fit.usable()},
-                       {"in_sample_log_error", finite(file.fit.inSampleError, "in-sample error")},
-                       {"candidates", candidates}};
-    if (file.fit.heldOut) document["fit"]["held_out"] = heldOutToJson(*file.fit.heldOut);
-  }
+  if (file.hasSource) document["source"] = sourceToJson(file.source);
+  document["model"] = modelToJson(file.fit.model);
+  if (file.hasFitInfo) document["fit"] = fitSectionToJson(file.fit);
   nlohmann::ordered_json channels = nlohmann::ordered_json::array();
-  for (std::size_t c = 0; c < model.channels.size(); ++c) {
-    const LobeChannel& channel = model.channels[c];
-    nlohmann::ordered_json lobeArray = nlohmann::ordered_json::array();
-    for (const auto& lobe : channel.lobes) {
-      nlohmann::ordered_json entry = {{"weight", numbers(lobe.weight, "lobe weight")},
-                                      {"exponent", numbers(lobe.exponent, "lobe exponent")}};
-      if (lobe.halfVector) {
-        entry["axis"] = "half_vector";
-        entry["fresnel"] = finite(lobe.fresnel, "lobe fresnel");
-      } else if (!lobe.aboutMirror()) {
-        entry["cxy"] = finite(lobe.cxy, "lobe cxy");
-      }
-      lobeArray.push_back(entry);
-    }
-    nlohmann::ordered_json entry = {
-        {"name", channel.name}, {"diffuse", finite(channel.diffuse, "diffuse")}, {"lobes", lobeArray}};
-    if (c < file.fit.channels.size()) {
-      const ChannelFitStats& s = file.fit.channels[c];
-      entry["stats"] = {{"samples", s.samples},
-                        {"rms_cosine_weighted", finite(s.rmsCosineWeighted, "rms")},
-                        {"log_rmse", finite(s.logRmse, "log rmse")},
-                        {"cube_root_rmse", finite(s.cubeRootRmse, "cube-root rmse")},
-                        {"worst_sample",
-                         {{"index", s.worst.index},
-                          {"theta_i", finite(s.worst.angles.thetaIn, "angle")},
-                          {"phi_i", finite(s.worst.angles.phiIn, "angle")},
-                          {"theta_s", finite(s.worst.angles.thetaOut, "angle")},
-                          {"phi_s", finite(s.worst.angles.phiOut, "angle")},
-                          {"measured", finite(s.worst.measured, "measured value")},
-                          {"fitted", finite(s.worst.fitted, "fitted value")}}},
-                        {"iterations", s.solver.iterations},
-                        {"total_iterations", s.totalIterations},
-                        {"seconds", finite(s.seconds, "seconds")},
-                        {"termination", s.solver.termination},
-                        {"usable", s.solver.usable},
-                        {"brief_report", s.solver.briefReport}};
-    }
-    channels.push_back(entry);
+  for (std::size_t c = 0; c < file.fit.model.channels.size(); ++c) {
+    channels.push_back(
+        channelToJson(file.fit.model.channels[c], c < file.fit.channels.size() ? &file.fit.channels[c] : nullptr));
   }
   document["channels"] = channels;
   return document;
@@ -237,175 +450,19 @@ FitFile fitFileFromJson(const nlohmann::json& document, const std::string& label
   try {
     JsonObjectReader root(document, "");
     FitFile file;
-    const std::string format = root.string("format");
-    if (format != kFitFileFormat) {
-      throw specError("format",
-                      "must be \"" + std::string(kFitFileFormat) + "\", got \"" + printable(format, 60) + "\"");
-    }
-    const int version = root.integer("version", 1, 1 << 20);
-    if (version != kFitFileVersion) {
-      throw specError("version", "this brdfbake reads version " + std::to_string(kFitFileVersion) +
-                                     ", the file is version " + std::to_string(version));
-    }
-    root.optionalString("generator");
-
+    readFormatAndVersion(root);
     file.hasSource = root.has("source");
-    if (file.hasSource) {
-      JsonObjectReader source = root.object("source");
-      file.source.file = source.string("file");
-      file.source.format = source.string("format");
-      file.source.samples = static_cast<std::size_t>(source.integer("samples", 0, 1 << 30));
-      file.source.channels = source.string("channels");
-      const auto& notes = source.array("notes");
-      for (std::size_t i = 0; i < notes.size(); ++i) {
-        if (!notes[i].is_string())
-          throw specError(source.child("notes") + "[" + std::to_string(i) + "]", "must be a string");
-        file.source.notes.push_back(notes[i].get<std::string>());
-      }
-      source.finish();
-    }
-
-    LobeModel& model = file.fit.model;
-    JsonObjectReader m = root.object("model");
-    m.optionalString("description");
-    model.elevation = m.parsed("elevation", parseLobeElevation);
-    JsonObjectReader range = m.object("elevation_range");
-    model.minCos = range.number("min_cos", 0.0, 1.0, /*exclusiveMinimum=*/true);
-    model.maxCos = range.number("max_cos", model.minCos, 1.0);
-    range.finish();
-    const int lobeCount = m.integer("lobes", 0, kMaxModelLobes);
-    if (m.has("wavelengths_nm")) {
-      const auto& w = m.array("wavelengths_nm");
-      for (std::size_t i = 0; i < w.size(); ++i) {
-        const std::string at = m.child("wavelengths_nm") + "[" + std::to_string(i) + "]";
-        model.wavelengthsNm.push_back(JsonObjectReader::asNumber(w[i], at));
-        if (i > 0 && !(model.wavelengthsNm[i] > model.wavelengthsNm[i - 1]))
-          throw specError(at, "wavelengths must increase");
-      }
-    }
-    m.finish();
-
+    if (file.hasSource) readSource(root.object("source"), file.source);
+    const int lobeCount = readModelShape(root.object("model"), file.fit.model);
     if (root.has("fit")) {
-      JsonObjectReader fit = root.object("fit");
-      fit.optionalString("residual");
-      FitOptions& o = file.fit.options;
-      const bool fitHasMethod = fit.has("method");
-      if (fitHasMethod) {
-        o.method = fit.parsed("method", parseFitMethod);
-      } else {
-        o.method = FitMethod::PerChannel;  // files written before the shared method
-      }
-      if (fit.has("kind")) {
-        o.kind = fit.parsed("kind", parseLobeKindChoice);
-      }
-      if (fit.has("max_exponent")) o.maxExponent = fit.number("max_exponent", kMinLobeExponent, kMaxLobeExponent);
-      if (fit.has("in_sample_log_error")) file.fit.inSampleError = fit.number("in_sample_log_error", 0.0);
-      if (fit.has("held_out")) file.fit.heldOut = heldOutFromJson(fit.object("held_out"));
-      o.loss = fit.parsed("loss", parseRobustLoss);
-      o.lossScale = fit.number("loss_scale", 0.0, HUGE_VAL, true);
-      o.autoMargin = fit.number("auto_margin", 0.0, 1.0, true);
-      o.elevationMargin = fit.number("elevation_margin", 0.0, 1.0, true);
-      const std::string lobes = fit.string("requested_lobes");
-      if (lobes == "auto") {
-        o.lobes = 0;
-      } else {
-        try {
-          std::size_t used = 0;
-          o.lobes = std::stoi(lobes, &used);
-          if (used != lobes.size() || o.lobes < 1) throw std::invalid_argument(lobes);
-        } catch (const std::exception&) {
-          throw specError(fit.child("requested_lobes"),
-                          "must be \"auto\" or a positive whole number, got \"" + printable(lobes, 40) + "\"");
-        }
-      }
-      o.elevation = fit.parsed("requested_elevation", parseElevationChoice);
-      file.fit.seconds = fit.number("seconds", 0.0);
-      fit.require("usable");  // recomputed from the channels' stats
-      const auto& candidates = fit.array("candidates");
-      for (std::size_t i = 0; i < candidates.size(); ++i) {
-        JsonObjectReader c(candidates[i], fit.child("candidates") + "[" + std::to_string(i) + "]");
-        ModelCandidate candidate;
-        candidate.lobes = c.integer("lobes", 1, kMaxModelLobes);
-        candidate.elevation = c.parsed("elevation", parseLobeElevation);
-        if (!fitHasMethod) {
-          // Written before held-out selection: {"lobes", "elevation", "error" (in-sample), "chosen"}.
-          c.number("error", 0.0);
-        } else {
-          const std::string kind = c.string("kind");
-          if (kind != "mirror" && kind != "lafortune" && kind != "half_vector") {
-            throw specError(c.child("kind"), "must be \"mirror\", \"lafortune\" or \"half_vector\", got \"" +
-                                                 printable(kind, 40) + "\"");
-          }
-          candidate.kind = parseLobeKindChoice(kind);
-          candidate.parameters = c.integer("parameters", 0, 1 << 30);
-          candidate.heldOutScore = c.number("held_out_score", 0.0);
-          candidate.kfoldRatio = c.number("kfold_ratio", 0.0);
-          candidate.elevationRatio = c.number("elevation_ratio", 0.0);
-          candidate.seconds = c.number("seconds", 0.0);
-          if (c.has("max_exponent")) candidate.maxExponent = c.number("max_exponent", 0.0, kMaxLobeExponent);
-        }
-        const auto& chosen = c.require("chosen");
-        if (!chosen.is_boolean()) throw specError(c.child("chosen"), "must be true or false");
-        candidate.chosen = chosen.get<bool>();
-        c.finish();
-        file.fit.candidates.push_back(candidate);
-      }
-      fit.finish();
+      readFitSection(root.object("fit"), file.fit);
     } else {
       file.hasFitInfo = false;
     }
-
-    const auto& channels = root.array("channels");
-    if (channels.empty()) throw specError("channels", "must hold at least one channel");
-    const std::size_t count = static_cast<std::size_t>(elevationCoefficientCount(model.elevation));
-    bool allStats = true, anyStats = false;
-    std::vector<ChannelFitStats> stats;
-    for (std::size_t c = 0; c < channels.size(); ++c) {
-      JsonObjectReader ch(channels[c], "channels[" + std::to_string(c) + "]");
-      LobeChannel channel;
-      channel.name = ch.string("name");
-      channel.diffuse = ch.number("diffuse", 0.0);
-      const auto& lobes = ch.array("lobes");
-      if (static_cast<int>(lobes.size()) != lobeCount) {
-        throw specError(ch.child("lobes"), "model.lobes says " + std::to_string(lobeCount) +
-                                               " lobe(s), this channel has " + std::to_string(lobes.size()));
-      }
-      for (std::size_t k = 0; k < lobes.size(); ++k) {
-        JsonObjectReader lobe(lobes[k], ch.child("lobes") + "[" + std::to_string(k) + "]");
-        Lobe l;
-        l.weight = readNumbers(lobe, "weight", count, count == 1 ? 0.0 : 1e-300, HUGE_VAL);
-        l.exponent = readNumbers(lobe, "exponent", count, kMinLobeExponent, kMaxLobeExponent);
-        const std::string axis = lobe.optionalString("axis").value_or("lafortune");
-        if (axis == "half_vector") {
-          l.halfVector = true;
-          l.fresnel = lobe.number("fresnel", 0.0, 0.0, HUGE_VAL, false);
-        } else if (axis == "lafortune") {
-          l.cxy = lobe.number("cxy", -1.0, -kMaxLobeCxy, kMaxLobeCxy, false);
-        } else {
-          throw specError(lobe.child("axis"), "must be \"lafortune\" (the default) or \"half_vector\", got \"" +
-                                                  printable(axis, 40) + "\"");
-        }
-        lobe.finish();
-        channel.lobes.push_back(std::move(l));
-      }
-      if (ch.has("stats")) {
-        anyStats = true;
-        stats.push_back(readStats(ch.object("stats"), channel.name));
-      } else {
-        allStats = false;
-      }
-      ch.finish();
-      model.channels.push_back(std::move(channel));
-    }
-    if (anyStats && !allStats) throw specError("channels", "either every channel has \"stats\" or none has");
-    if (!model.wavelengthsNm.empty() && model.wavelengthsNm.size() != model.channels.size()) {
-      throw specError("model.wavelengths_nm",
-                      "must hold one wavelength per channel (" + std::to_string(model.channels.size()) + ")");
-    }
-    file.fit.channels = std::move(stats);
+    readChannels(root, lobeCount, file.fit);
     root.finish();
     try {
-      model.validate();
+      file.fit.model.validate();
     } catch (const Error& e) {
       throw specError("channels", e.what());
     }

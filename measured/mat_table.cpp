@@ -129,58 +129,85 @@ std::uintmax_t requireCompleteMatFile(const std::filesystem::path& path) {
   return bytes.size();
 }
 
-}  // namespace
+// An open .mat file and what its variables are read with.
+struct MatFile {
+  std::unique_ptr<mat_t, MatCloser> mat;
+  std::string file;
+  std::uintmax_t bytes = 0;  // the file's size, which bounds what its variables may claim
 
-MeasuredTable readMat(const std::filesystem::path& path) {
-  const std::string file = path.string();
+  Eigen::MatrixXd read(const char* name) const { return readMatrix(mat.get(), name, file, bytes); }
+  bool has(const char* name) const { return hasVariable(mat.get(), name); }
+};
+
+MatFile openMatFile(const std::filesystem::path& path) {
+  MatFile mat;
+  mat.file = path.string();
   silenceMatio();
-  const std::uintmax_t fileBytes = requireCompleteMatFile(path);
+  mat.bytes = requireCompleteMatFile(path);
   lastMatioMessage.clear();
-  std::unique_ptr<mat_t, MatCloser> mat(Mat_Open(file.c_str(), MAT_ACC_RDONLY));
-  if (!mat)
-    throw malformed(file, 0,
+  mat.mat.reset(Mat_Open(mat.file.c_str(), MAT_ACC_RDONLY));
+  if (!mat.mat)
+    throw malformed(mat.file, 0,
                     "not a MATLAB .mat file libmatio can read" +
                         (lastMatioMessage.empty() ? std::string() : " (" + lastMatioMessage + ")"));
+  return mat;
+}
 
-  const Eigen::MatrixXd dirIn = readMatrix(mat.get(), "dir_in", file, fileBytes);
-  const bool combined = dirIn.cols() == 4;
-  Eigen::MatrixXd dirOut;
-  if (combined) {
-    if (hasVariable(mat.get(), "dir_out"))
+// The sample directions: 'dir_in' N x 4 (all four angles, `out` empty) or 'dir_in' and 'dir_out',
+// each N x 2 [theta phi] or N x 3 unit vectors.
+struct MatDirections {
+  Eigen::MatrixXd in, out;
+  bool combined = false;
+};
+
+MatDirections readDirections(const MatFile& mat) {
+  const std::string& file = mat.file;
+  MatDirections d;
+  d.in = mat.read("dir_in");
+  d.combined = d.in.cols() == 4;
+  if (d.combined) {
+    if (mat.has("dir_out"))
       throw malformed(file, 0, "variable 'dir_in' is N x 4 (all four angles), so 'dir_out' must be absent");
-  } else {
-    if (dirIn.cols() != 2 && dirIn.cols() != 3)
-      throw malformed(file, 0,
-                      "variable 'dir_in' must be N x 2 [theta phi], N x 3 unit vectors or N x 4 "
-                      "[theta_i phi_i theta_s phi_s], is " +
-                          std::to_string(dirIn.rows()) + " x " + std::to_string(dirIn.cols()));
-    dirOut = readMatrix(mat.get(), "dir_out", file, fileBytes);
-    if (dirOut.cols() != 2 && dirOut.cols() != 3)
-      throw malformed(file, 0,
-                      "variable 'dir_out' must be N x 2 [theta phi] or N x 3 unit vectors, is " +
-                          std::to_string(dirOut.rows()) + " x " + std::to_string(dirOut.cols()));
-    if (dirOut.rows() != dirIn.rows())
-      throw malformed(
-          file, 0,
-          "'dir_in' has " + std::to_string(dirIn.rows()) + " rows but 'dir_out' has " + std::to_string(dirOut.rows()));
+    return d;
   }
-  const Eigen::MatrixXd fr = readMatrix(mat.get(), "fr", file, fileBytes);
-  const Eigen::Index n = dirIn.rows();
+  if (d.in.cols() != 2 && d.in.cols() != 3)
+    throw malformed(file, 0,
+                    "variable 'dir_in' must be N x 2 [theta phi], N x 3 unit vectors or N x 4 "
+                    "[theta_i phi_i theta_s phi_s], is " +
+                        std::to_string(d.in.rows()) + " x " + std::to_string(d.in.cols()));
+  d.out = mat.read("dir_out");
+  if (d.out.cols() != 2 && d.out.cols() != 3)
+    throw malformed(file, 0,
+                    "variable 'dir_out' must be N x 2 [theta phi] or N x 3 unit vectors, is " +
+                        std::to_string(d.out.rows()) + " x " + std::to_string(d.out.cols()));
+  if (d.out.rows() != d.in.rows())
+    throw malformed(
+        file, 0,
+        "'dir_in' has " + std::to_string(d.in.rows()) + " rows but 'dir_out' has " + std::to_string(d.out.rows()));
+  return d;
+}
+
+// 'fr': one row per direction, one column per channel.
+Eigen::MatrixXd readValues(const MatFile& mat, Eigen::Index n) {
+  const std::string& file = mat.file;
+  Eigen::MatrixXd fr = mat.read("fr");
   if (n == 0) throw malformed(file, 0, "no samples ('dir_in' has 0 rows)");
   if (fr.rows() != n)
     throw malformed(file, 0,
                     "'fr' has " + std::to_string(fr.rows()) + " rows for " + std::to_string(n) +
                         " directions (expected N x channels)");
   if (fr.cols() < 1) throw malformed(file, 0, "'fr' has no channels");
+  return fr;
+}
 
-  MeasuredTable table;
-  table.sourceFile = file;
-  table.format = TableFormat::Mat;
-  if (hasVariable(mat.get(), "wavelength")) {
-    const Eigen::MatrixXd w = readMatrix(mat.get(), "wavelength", file, fileBytes);
-    if (std::min(w.rows(), w.cols()) != 1 || w.size() != fr.cols())
+// The channels of 'fr' (`channels` columns): spectral with a 'wavelength' variable, else RGB or one channel.
+void readChannels(const MatFile& mat, Eigen::Index channels, MeasuredTable& table) {
+  const std::string& file = mat.file;
+  if (mat.has("wavelength")) {
+    const Eigen::MatrixXd w = mat.read("wavelength");
+    if (std::min(w.rows(), w.cols()) != 1 || w.size() != channels)
       throw malformed(file, 0,
-                      "variable 'wavelength' must be a vector of " + std::to_string(fr.cols()) +
+                      "variable 'wavelength' must be a vector of " + std::to_string(channels) +
                           " wavelengths (one per column of 'fr'), is " + std::to_string(w.rows()) + " x " +
                           std::to_string(w.cols()));
     table.kind = ChannelKind::Spectral;
@@ -191,30 +218,47 @@ MeasuredTable readMat(const std::filesystem::path& path) {
       table.wavelengthsNm.push_back(nm);
       table.channelNames.push_back(measured::wavelengthChannelName(nm));
     }
-  } else if (fr.cols() == 3) {
+  } else if (channels == 3) {
     table.kind = ChannelKind::Trichromatic;
     table.channelNames = {"R", "G", "B"};
     table.notes.push_back("RGB channels are taken as stored; the file does not say which primaries they use");
-  } else if (fr.cols() == 1) {
+  } else if (channels == 1) {
     table.kind = ChannelKind::Monochrome;
     table.channelNames = {"fr"};
   } else {
     throw malformed(file, 0,
-                    "'fr' has " + std::to_string(fr.cols()) +
+                    "'fr' has " + std::to_string(channels) +
                         " channels but there is no 'wavelength' variable (without it 'fr' must have 1 or 3)");
   }
+}
 
+// Every sample's four angles, checked.
+void readSampleAngles(const MatDirections& d, const std::string& file, MeasuredTable& table) {
+  const Eigen::Index n = d.in.rows();
   table.angles.resize(static_cast<std::size_t>(n));
   for (Eigen::Index r = 0; r < n; ++r) {
     SampleAngles& a = table.angles[static_cast<std::size_t>(r)];
-    if (combined) {
-      a = {dirIn(r, 0), dirIn(r, 1), dirIn(r, 2), dirIn(r, 3)};
+    if (d.combined) {
+      a = {d.in(r, 0), d.in(r, 1), d.in(r, 2), d.in(r, 3)};
     } else {
-      std::tie(a.thetaIn, a.phiIn) = directionAngles(dirIn, r, file, "dir_in");
-      std::tie(a.thetaOut, a.phiOut) = directionAngles(dirOut, r, file, "dir_out");
+      std::tie(a.thetaIn, a.phiIn) = directionAngles(d.in, r, file, "dir_in");
+      std::tie(a.thetaOut, a.phiOut) = directionAngles(d.out, r, file, "dir_out");
     }
     measured::checkAngles(a, file, 0, "sample " + std::to_string(r + 1) + ": ");
   }
+}
+
+}  // namespace
+
+MeasuredTable readMat(const std::filesystem::path& path) {
+  const MatFile mat = openMatFile(path);
+  const MatDirections directions = readDirections(mat);
+  const Eigen::MatrixXd fr = readValues(mat, directions.in.rows());
+  MeasuredTable table;
+  table.sourceFile = mat.file;
+  table.format = TableFormat::Mat;
+  readChannels(mat, fr.cols(), table);
+  readSampleAngles(directions, mat.file, table);
   table.values = fr;
   measured::noteNegativeValues(table);
   return table;

@@ -95,6 +95,70 @@ void classifyChannels(MeasuredTable& table, const std::string& file, int line) {
       "channels must be wavelengths ('400nm,410nm,...'), 'R,G,B' or one single channel; got '" + printable(list) + "'");
 }
 
+// The VARS line's value: theta_i,phi_i,theta_s,phi_s and the channels' names.
+void readVars(std::string_view value, const std::string& file, int line, MeasuredTable& table) {
+  const std::vector<std::string_view> names = measured::splitOn(value, ',');
+  static constexpr std::string_view kAngles[4] = {"theta_i", "phi_i", "theta_s", "phi_s"};
+  for (std::size_t k = 0; k < 4; ++k)
+    if (names.size() <= k || names[k] != kAngles[k])
+      throw malformed(file, line,
+                      "VARS must start with theta_i,phi_i,theta_s,phi_s; got '" + printable(value, 80) + "'");
+  if (names.size() < 5) throw malformed(file, line, "VARS names no channel after the four angles");
+  for (std::size_t c = 4; c < names.size(); ++c) {
+    if (names[c].empty()) throw malformed(file, line, "VARS has an empty name at position " + std::to_string(c + 1));
+    table.channelNames.emplace_back(names[c]);
+  }
+  classifyChannels(table, file, line);
+}
+
+// What an ASTM file's header said, as far as it has been read.
+struct AstmHeader {
+  bool haveVars = false;
+  std::optional<long long> numPoints;
+  int numPointsLine = 0;
+};
+
+// One header line 'KEY value', kept in table.header; NUM_POINTS and VARS are read.
+void readAstmHeaderLine(std::string_view text, const std::string& file, int line, MeasuredTable& table,
+                        AstmHeader& header) {
+  if (startsLikeNumber(text))
+    throw malformed(
+        file, line,
+        "a data row before the VARS line (the header must end with 'VARS theta_i,phi_i,theta_s,phi_s,...')");
+  const std::size_t space = text.find_first_of(" \t");
+  const std::string_view key = text.substr(0, space);
+  const std::string_view value =
+      space == std::string_view::npos ? std::string_view() : measured::trim(text.substr(space));
+  if (!isHeaderKey(key))
+    throw malformed(file, line, "expected a header line 'KEY value', got '" + printable(text, 80) + "'");
+  table.header.emplace_back(std::string(key), std::string(value));
+  if (key == "NUM_POINTS") {
+    header.numPoints = measured::parseCount(value);
+    if (!header.numPoints)
+      throw malformed(file, line, "NUM_POINTS '" + printable(value, 40) + "' is not a whole number");
+    header.numPointsLine = line;
+  } else if (key == "VARS") {
+    readVars(value, file, line, table);
+    header.haveVars = true;
+  }
+}
+
+// After the last line: a VARS line, as many rows as NUM_POINTS says, at least one.
+void checkAstmRows(const AstmHeader& header, std::size_t rows, const std::string& file, int lastLine,
+                   MeasuredTable& table) {
+  if (!header.haveVars)
+    throw malformed(file, lastLine,
+                    "no VARS line: the header must end with 'VARS theta_i,phi_i,theta_s,phi_s,<channels>'");
+  if (header.numPoints && static_cast<long long>(rows) != *header.numPoints)
+    throw malformed(file, lastLine,
+                    "the file ends after " + std::to_string(rows) + " rows, but NUM_POINTS (line " +
+                        std::to_string(header.numPointsLine) + ") says " + std::to_string(*header.numPoints) +
+                        " (truncated?)");
+  if (rows == 0) throw malformed(file, lastLine, "no data rows after the VARS line");
+  if (!header.numPoints)
+    table.notes.push_back("no NUM_POINTS line: the row count (" + std::to_string(rows) + ") was not checked");
+}
+
 }  // namespace
 
 MeasuredTable readAstm(const std::filesystem::path& path) {
@@ -106,48 +170,15 @@ MeasuredTable readAstm(const std::filesystem::path& path) {
   table.sourceFile = file;
   table.format = TableFormat::Astm;
   RowCollector rows;
-  bool haveVars = false;
-  std::optional<long long> numPoints;
-  int numPointsLine = 0;
+  AstmHeader header;
 
   for (const measured::TextLine& line : lines) {
     const std::string_view text = measured::trim(line.text);
     if (text.empty()) continue;
 
-    if (!haveVars) {
-      if (startsLikeNumber(text))
-        throw malformed(
-            file, line.number,
-            "a data row before the VARS line (the header must end with 'VARS theta_i,phi_i,theta_s,phi_s,...')");
-      const std::size_t space = text.find_first_of(" \t");
-      const std::string_view key = text.substr(0, space);
-      const std::string_view value =
-          space == std::string_view::npos ? std::string_view() : measured::trim(text.substr(space));
-      if (!isHeaderKey(key))
-        throw malformed(file, line.number, "expected a header line 'KEY value', got '" + printable(text, 80) + "'");
-      table.header.emplace_back(std::string(key), std::string(value));
-      if (key == "NUM_POINTS") {
-        numPoints = measured::parseCount(value);
-        if (!numPoints)
-          throw malformed(file, line.number, "NUM_POINTS '" + printable(value, 40) + "' is not a whole number");
-        numPointsLine = line.number;
-      } else if (key == "VARS") {
-        const std::vector<std::string_view> names = measured::splitOn(value, ',');
-        static constexpr std::string_view kAngles[4] = {"theta_i", "phi_i", "theta_s", "phi_s"};
-        for (std::size_t k = 0; k < 4; ++k)
-          if (names.size() <= k || names[k] != kAngles[k])
-            throw malformed(file, line.number,
-                            "VARS must start with theta_i,phi_i,theta_s,phi_s; got '" + printable(value, 80) + "'");
-        if (names.size() < 5) throw malformed(file, line.number, "VARS names no channel after the four angles");
-        for (std::size_t c = 4; c < names.size(); ++c) {
-          if (names[c].empty())
-            throw malformed(file, line.number, "VARS has an empty name at position " + std::to_string(c + 1));
-          table.channelNames.emplace_back(names[c]);
-        }
-        classifyChannels(table, file, line.number);
-        rows.channels = table.channelNames.size();
-        haveVars = true;
-      }
+    if (!header.haveVars) {
+      readAstmHeaderLine(text, file, line.number, table, header);
+      rows.channels = table.channelNames.size();  // the VARS line's channels (none before it)
       continue;
     }
 
@@ -156,25 +187,14 @@ MeasuredTable readAstm(const std::filesystem::path& path) {
       throw malformed(file, line.number,
                       columnCountMessage(4 + rows.channels, fields.size(), "comma-separated",
                                          line.number == lines.back().number && measured::lacksFinalNewline(content)));
-    if (numPoints && static_cast<long long>(rows.angles.size()) == *numPoints)
-      throw malformed(
-          file, line.number,
-          "more rows than NUM_POINTS " + std::to_string(*numPoints) + " (line " + std::to_string(numPointsLine) + ")");
+    if (header.numPoints && static_cast<long long>(rows.angles.size()) == *header.numPoints)
+      throw malformed(file, line.number,
+                      "more rows than NUM_POINTS " + std::to_string(*header.numPoints) + " (line " +
+                          std::to_string(header.numPointsLine) + ")");
     parseRow(fields, file, line.number, rows);
   }
 
-  const int lastLine = lines.empty() ? 0 : lines.back().number;
-  if (!haveVars)
-    throw malformed(file, lastLine,
-                    "no VARS line: the header must end with 'VARS theta_i,phi_i,theta_s,phi_s,<channels>'");
-  if (numPoints && static_cast<long long>(rows.angles.size()) != *numPoints)
-    throw malformed(file, lastLine,
-                    "the file ends after " + std::to_string(rows.angles.size()) + " rows, but NUM_POINTS (line " +
-                        std::to_string(numPointsLine) + ") says " + std::to_string(*numPoints) + " (truncated?)");
-  if (rows.angles.empty()) throw malformed(file, lastLine, "no data rows after the VARS line");
-  if (!numPoints)
-    table.notes.push_back("no NUM_POINTS line: the row count (" + std::to_string(rows.angles.size()) +
-                          ") was not checked");
+  checkAstmRows(header, rows.angles.size(), file, lines.empty() ? 0 : lines.back().number, table);
   rows.finish(table);
   measured::noteNegativeValues(table);
   return table;

@@ -115,6 +115,68 @@ double checkedCosView(std::optional<double> cosView, OutputKind kind) {
   return *cosView;
 }
 
+// The slices of an elevation stack, slice 0 first, and the range of n.v they span: slice 0's
+// spec.prefilter.elevation says how many slices there are; every slice must agree with it.
+struct StackSlices {
+  std::vector<MapFile> maps;
+  double minCos = 1.0, maxCos = 1.0;
+};
+
+StackSlices readStackSlices(const fs::path& path, int mipLevel) {
+  StackSlices stack;
+  stack.maps.push_back(readMap(elevationSlicePath(path, 0), mipLevel));
+  const nlohmann::json* elevation = elevationOf(stack.maps[0]);
+  const std::string first = elevationSlicePath(path, 0).string();
+  if (!elevation || !elevation->value("slices", nlohmann::json()).is_number_integer() ||
+      !elevation->value("min_cos", nlohmann::json()).is_number() ||
+      !elevation->value("max_cos", nlohmann::json()).is_number()) {
+    throw Error(Error::Kind::InvalidInput, first +
+                                               ": not a slice of an elevation stack (no spec.prefilter.elevation "
+                                               "with slices, min_cos and max_cos)");
+  }
+  const int count = (*elevation)["slices"].get<int>();
+  stack.minCos = (*elevation)["min_cos"].get<double>();
+  stack.maxCos = (*elevation)["max_cos"].get<double>();
+  if (count < 2 || count > 64 || !(stack.minCos > 0.0 && stack.minCos <= stack.maxCos && stack.maxCos <= 1.0)) {
+    throw Error(Error::Kind::InvalidInput,
+                first + ": spec.prefilter.elevation: needs 2 to 64 slices and 0 < min_cos <= max_cos <= 1");
+  }
+  for (int j = 1; j < count; ++j) {
+    const fs::path slicePath = elevationSlicePath(path, j);
+    stack.maps.push_back(readMap(slicePath, mipLevel));
+    const MapFile& slice = stack.maps.back();
+    const nlohmann::json* e = elevationOf(slice);
+    if (!e || e->value("slice", -1) != j || e->value("slices", -1) != count ||
+        slice.info.parameterization != stack.maps[0].info.parameterization ||
+        slice.info.resolution != stack.maps[0].info.resolution) {
+      throw Error(Error::Kind::InvalidInput, slicePath.string() + ": not slice " + std::to_string(j) +
+                                                 " of the stack " + first + " begins (its metadata or its map differ)");
+    }
+  }
+  return stack;
+}
+
+// An image without brdfbake metadata, read as a map of the parameterization options.from says.
+MapFile adoptPlainImage(Image image, const fs::path& path, const OpenOutputOptions& options) {
+  if (!options.from) {
+    throw Error(Error::Kind::InvalidInput, path.string() +
+                                               ": not a brdfbake map (no brdfbake metadata); for a plain "
+                                               "environment image, give its parameterization (" +
+                                               options.fromName + " sphere|paraboloid|cube|latlong)");
+  }
+  return adoptImage(options.mipLevel == 0 ? std::move(image) : readImage(path, options.mipLevel), *options.from,
+                    path.string());
+}
+
+// A map whose metadata names a parameterization other than options.from (when given) is refused.
+void requireMetadataAgrees(const Image& image, const std::string& parameterization, const fs::path& path,
+                           const OpenOutputOptions& options) {
+  if (options.from && *options.from != MapInfo::fromJson(image.metadata).parameterization) {
+    throw Error(Error::Kind::InvalidArgument, path.string() + ": its metadata says it is a " + parameterization +
+                                                  " map, not " + std::string(toString(*options.from)));
+  }
+}
+
 }  // namespace
 
 std::string_view toString(OutputKind kind) {
@@ -153,49 +215,18 @@ BakedOutput BakedOutput::open(const fs::path& path, const OpenOutputOptions& opt
                                        cubeFacePaths(path)[0].filename().string() + " ..., nor an elevation stack " +
                                        elevationSlicePath(path, 0).filename().string() + " ...)");
     }
-    // An elevation stack: slice 0 says how many slices and their range.
+    StackSlices stack = readStackSlices(path, options.mipLevel);
     out.kind_ = OutputKind::ElevationStack;
-    out.maps_.push_back(readMap(elevationSlicePath(path, 0), options.mipLevel));
-    const nlohmann::json* elevation = elevationOf(out.maps_[0]);
-    const std::string first = elevationSlicePath(path, 0).string();
-    if (!elevation || !elevation->value("slices", nlohmann::json()).is_number_integer() ||
-        !elevation->value("min_cos", nlohmann::json()).is_number() ||
-        !elevation->value("max_cos", nlohmann::json()).is_number()) {
-      throw Error(Error::Kind::InvalidInput, first +
-                                                 ": not a slice of an elevation stack (no spec.prefilter.elevation "
-                                                 "with slices, min_cos and max_cos)");
-    }
-    const int count = (*elevation)["slices"].get<int>();
-    out.minCos_ = (*elevation)["min_cos"].get<double>();
-    out.maxCos_ = (*elevation)["max_cos"].get<double>();
-    if (count < 2 || count > 64 || !(out.minCos_ > 0.0 && out.minCos_ <= out.maxCos_ && out.maxCos_ <= 1.0)) {
-      throw Error(Error::Kind::InvalidInput,
-                  first + ": spec.prefilter.elevation: needs 2 to 64 slices and 0 < min_cos <= max_cos <= 1");
-    }
-    for (int j = 1; j < count; ++j) {
-      const fs::path slicePath = elevationSlicePath(path, j);
-      out.maps_.push_back(readMap(slicePath, options.mipLevel));
-      const MapFile& slice = out.maps_.back();
-      const nlohmann::json* e = elevationOf(slice);
-      if (!e || e->value("slice", -1) != j || e->value("slices", -1) != count ||
-          slice.info.parameterization != out.maps_[0].info.parameterization ||
-          slice.info.resolution != out.maps_[0].info.resolution) {
-        throw Error(Error::Kind::InvalidInput, slicePath.string() + ": not slice " + std::to_string(j) +
-                                                   " of the stack " + first +
-                                                   " begins (its metadata or its map differ)");
-      }
-    }
-    for (int j = 0; j < count; ++j) out.files_.push_back(elevationSlicePath(path, j));
-    out.metadata_ = out.maps_[0].image.metadata;
-    out.indexedByNormal_ = irradianceByNormal(out.maps_[0]);
-    out.valueScale_ = irradianceScale(out.maps_[0]);
-    out.eyeSpace_ = out.maps_[0].info.parameterization == ParameterizationKind::Sphere;
-    return out;
-  }
-  out.files_ = {path};
-  if (const auto faces = cubeFaceSet(path); !faces.empty()) {
+    out.maps_ = std::move(stack.maps);
+    out.minCos_ = stack.minCos;
+    out.maxCos_ = stack.maxCos;
+    for (std::size_t j = 0; j < out.maps_.size(); ++j)
+      out.files_.push_back(elevationSlicePath(path, static_cast<int>(j)));
+  } else if (const auto faces = cubeFaceSet(path); !faces.empty()) {
     out.files_ = faces;
+    out.maps_.push_back(readMap(path, options.mipLevel));
   } else {
+    out.files_ = {path};
     Image image = readImage(path);
     const std::string parameterization = image.metadata.is_object() ? image.metadata.value("parameterization", "") : "";
     if (parameterization == "profile") {
@@ -216,24 +247,14 @@ BakedOutput BakedOutput::open(const fs::path& path, const OpenOutputOptions& opt
       return out;
     }
     if (!hasMapMetadata(image)) {
-      if (!options.from) {
-        throw Error(Error::Kind::InvalidInput, path.string() +
-                                                   ": not a brdfbake map (no brdfbake metadata); for a plain "
-                                                   "environment image, give its parameterization (" +
-                                                   options.fromName + " sphere|paraboloid|cube|latlong)");
-      }
-      out.maps_.push_back(adoptImage(options.mipLevel == 0 ? std::move(image) : readImage(path, options.mipLevel),
-                                     *options.from, path.string()));
+      out.maps_.push_back(adoptPlainImage(std::move(image), path, options));
       out.metadata_ = out.maps_[0].image.metadata;
       out.eyeSpace_ = *options.from == ParameterizationKind::Sphere;
       return out;
     }
-    if (options.from && *options.from != MapInfo::fromJson(image.metadata).parameterization) {
-      throw Error(Error::Kind::InvalidArgument, path.string() + ": its metadata says it is a " + parameterization +
-                                                    " map, not " + std::string(toString(*options.from)));
-    }
+    requireMetadataAgrees(image, parameterization, path, options);
+    out.maps_.push_back(readMap(path, options.mipLevel));
   }
-  out.maps_.push_back(readMap(path, options.mipLevel));
   out.metadata_ = out.maps_[0].image.metadata;
   out.indexedByNormal_ = irradianceByNormal(out.maps_[0]);
   out.valueScale_ = irradianceScale(out.maps_[0]);

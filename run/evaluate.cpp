@@ -112,6 +112,13 @@ std::string EvaluateResult::briefReport() const {
   return out.str();
 }
 
+std::string EvaluateResult::columnsLine() const {
+  if (channels.size() <= 3) return "";
+  std::string names;
+  for (const auto& name : channels) names += " " + name;
+  return "columns (" + std::to_string(channels.size()) + " channels):" + names + "\n";
+}
+
 nlohmann::json EvaluateResult::toJson() const {
   nlohmann::json report = {{"model", model.string()}, {"kind", kind}, {"channels", channels}};
   if (pairs.empty()) {

@@ -63,13 +63,7 @@ nlohmann::json matcapSpec(const MatcapRequest& request) {
 }
 
 MapResult makeMatcap(const MatcapRequest& request, const JobOptions& options) {
-  SpecRunOptions run;
-  static_cast<JobOptions&>(run) = options;
-  run.document = matcapSpec(request);
-  run.label = "matcap";
-  SpecRunResult result = runSpec(run);
-  if (result.firstError) throw *result.firstError;
-  return std::move(result.maps.front());
+  return runOneMapSpec(matcapSpec(request), "matcap", options);
 }
 
 }  // namespace brdfbake

@@ -57,13 +57,7 @@ nlohmann::json prefilterSpec(const PrefilterRequest& request) {
 }
 
 MapResult prefilterEnvironment(const PrefilterRequest& request, const JobOptions& options) {
-  SpecRunOptions run;
-  static_cast<JobOptions&>(run) = options;
-  run.document = prefilterSpec(request);
-  run.label = "prefilter";
-  SpecRunResult result = runSpec(run);
-  if (result.firstError) throw *result.firstError;
-  return std::move(result.maps.front());
+  return runOneMapSpec(prefilterSpec(request), "prefilter", options);
 }
 
 }  // namespace brdfbake

@@ -119,11 +119,13 @@ int SpecRunResult::failed() const {
 std::string SpecRunResult::briefReport() const {
   std::string text;
   for (const auto& map : maps) text += map.briefReport();
-  if (failed() > 0) {
-    text += std::to_string(failed()) + " of " + std::to_string(maps.size()) + " maps failed" +
-            (failed() < static_cast<int>(maps.size()) ? "; the others were written\n" : "\n");
-  }
-  return text;
+  return text + failureSummary();
+}
+
+std::string SpecRunResult::failureSummary() const {
+  if (failed() == 0) return "";
+  return std::to_string(failed()) + " of " + std::to_string(maps.size()) + " maps failed" +
+         (failed() < static_cast<int>(maps.size()) ? "; the others were written\n" : "\n");
 }
 
 nlohmann::json SpecRunResult::toJson() const {
@@ -177,6 +179,16 @@ SpecRunResult runSpec(const SpecRunOptions& options) {
     }
   }
   return result;
+}
+
+MapResult runOneMapSpec(const nlohmann::json& document, const std::string& label, const JobOptions& options) {
+  SpecRunOptions run;
+  static_cast<JobOptions&>(run) = options;
+  run.document = document;
+  run.label = label;
+  SpecRunResult result = runSpec(run);
+  if (result.firstError) throw *result.firstError;
+  return std::move(result.maps.front());
 }
 
 namespace run_detail {

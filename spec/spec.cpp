@@ -296,14 +296,8 @@ void parseMaterialMap(JsonObjectReader& map, MapSpec& spec, const fs::path& base
   if (!m.deferredFit && !spec.anyAuto() && !spec.radialProfile) materials::checkMaterialSampling(spec);
 }
 
-MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs::path& baseDirectory) {
-  JsonObjectReader map(value, path);
-  MapSpec spec;
-  spec.jsonPath = path;
-  spec.raw = value;
-
-  spec_detail::parseMapOutputs(map, spec, baseDirectory);  // "output" or "outputs"
-
+// "parameterization": a map kind, "profile" or "auto".
+void parseParameterization(JsonObjectReader& map, MapSpec& spec) {
   const std::string kind = map.string("parameterization");
   if (kind == "auto") {
     spec.autoSelect.parameterization = true;
@@ -318,6 +312,10 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
                           printable(kind, 40) + "\"");
     }
   }
+}
+
+// "resolution" and "samples_per_texel", each a number or "auto", and "max_error", which "auto" needs.
+void parseSampling(JsonObjectReader& map, MapSpec& spec) {
   auto isAuto = [&](const char* key) {
     const auto* entry = map.find(key);
     return entry && entry->is_string() && *entry == "auto";
@@ -339,7 +337,10 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     throw specError(map.child("max_error"),
                     "only applies when parameterization, resolution or samples_per_texel is \"auto\"");
   }
+}
 
+// "layout" of a cube map: "cross" or "faces".
+void parseCubeLayout(JsonObjectReader& map, MapSpec& spec) {
   if (const auto* layout = map.find("layout")) {
     if (spec.parameterization != ParameterizationKind::Cube)
       throw specError(map.child("layout"), "only applies to cube maps");
@@ -351,7 +352,10 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
       throw specError(map.child("layout"), "must be \"cross\" or \"faces\", got " + describe(*layout));
     }
   }
+}
 
+// "view": "fixed", "free" or a direction [x, y, z].
+void parseView(JsonObjectReader& map, MapSpec& spec) {
   if (const auto* view = map.find("view"); view && view->is_string()) {
     if (*view == "fixed") {
       spec.viewNeed = MapSpec::ViewNeed::Fixed;
@@ -374,6 +378,18 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
     spec.view = map.direction("view");
     spec.viewGiven = true;
   }
+}
+
+MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs::path& baseDirectory) {
+  JsonObjectReader map(value, path);
+  MapSpec spec;
+  spec.jsonPath = path;
+  spec.raw = value;
+  spec_detail::parseMapOutputs(map, spec, baseDirectory);  // "output" or "outputs"
+  parseParameterization(map, spec);
+  parseSampling(map, spec);
+  parseCubeLayout(map, spec);
+  parseView(map, spec);
 
   if (map.has("environment") && !map.has("material")) {  // a prefiltered environment map (docs/prefilter.md)
     if (spec.radialProfile) throw specError(map.child("parameterization"), "environment maps cannot be profiles");

@@ -11,10 +11,12 @@
 #include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/spec/spec.hpp>
 
+#include "brdf_references.hpp"
 #include "test_support.hpp"
 
 namespace brdfbake {
 namespace {
+using test::eq13;
 
 BakeOptions options(int samples) {
   BakeOptions o;
@@ -41,14 +43,6 @@ void expectFinite(const Image& image, const std::string& what) {
     }
   }
   EXPECT_EQ(bad, 0) << what;
-}
-
-// Independent Eq. 13 (Heidrich 2000).
-double eq13(double c, double eta) {
-  if (c <= 0.0) return 1.0;
-  const double g = std::sqrt(eta * eta + c * c - 1.0);
-  const double a = (g - c) / (g + c), b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0);
-  return 0.5 * a * a * (1.0 + b * b);
 }
 
 // The normal a sphere-map texel centre stands for (disc coordinates, eye space), nullopt outside.

@@ -7,8 +7,14 @@
 
 #include <random>
 
+#include "brdf_references.hpp"
+
 namespace brdfbake {
 namespace {
+using test::eq13;
+
+// The specular term's albedo with F = 1 (180 azimuth steps).
+double specularAlbedo(const CookTorranceMaterial& m, double thetaV) { return test::halfVectorAlbedo(m, thetaV, 180); }
 
 CookTorranceParams params(CookTorranceMode mode, MicrofacetDistribution d, double roughness, FresnelTerm f) {
   CookTorranceParams p;
@@ -17,13 +23,6 @@ CookTorranceParams params(CookTorranceMode mode, MicrofacetDistribution d, doubl
   p.roughness = roughness;
   p.fresnel = std::move(f);
   return p;
-}
-
-// Independent Eq. 13 (Heidrich 2000), written out again rather than calling the library.
-double eq13(double c, double eta) {
-  const double g = std::sqrt(eta * eta + c * c - 1.0);
-  const double a = (g - c) / (g + c), b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0);
-  return 0.5 * a * a * (1.0 + b * b);
 }
 
 // 2 pi * integral over theta of f(cos theta) cos theta sin theta (midpoint rule).
@@ -150,28 +149,6 @@ TEST(CookTorrance, CopperGoesTowardsWhiteAtGrazing) {
   EXPECT_NEAR(centre[1] / centre[0], 0.6194 / 0.9433, 1e-3);  // the copper F0 ratio
   EXPECT_NEAR(rim[1] / rim[0], 1.0, 1e-12);                   // F(90 deg) = 1: white
   EXPECT_NEAR(rim[2] / rim[0], 1.0, 1e-12);
-}
-
-// Directional albedo of the specular term with F = 1: integral of brdf(l, v) (n.l) over l,
-// integrated over the half vector (dw_l = 4 (v.h) dw_h), midpoint rule in (theta_h, phi_h).
-double specularAlbedo(const CookTorranceMaterial& m, double thetaV) {
-  const Vec3 n = Vec3::UnitZ(), v(std::sin(thetaV), 0.0, std::cos(thetaV));
-  const int nt = 1500, np = 180;
-  const double dt = (kPi / 2) / nt, dp = kTwoPi / np;
-  double sum = 0.0;
-  for (int i = 0; i < nt; ++i) {
-    const double t = (i + 0.5) * dt;
-    for (int j = 0; j < np; ++j) {
-      const double p = (j + 0.5) * dp;
-      const Vec3 h(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
-      const double vh = v.dot(h);
-      if (vh <= 0) continue;
-      const Vec3 l = 2 * vh * h - v;
-      if (l.z() <= 0) continue;
-      sum += m.brdf(n, v, l)[0] * l.z() * 4 * vh * std::sin(t);
-    }
-  }
-  return sum * dt * dp;
 }
 
 TEST(CookTorrance, NormalisedFormConservesEnergy) {

@@ -8,6 +8,8 @@
 
 #include <random>
 
+#include "brdf_references.hpp"
+
 namespace brdfbake {
 namespace {
 
@@ -102,6 +104,9 @@ TEST(Smith, GOverNlNvIsG2OverTheCosinesAndFiniteAtGrazing) {
   EXPECT_EQ(smithGOverNlNv(0.5, 0.5, -0.1, 0.5, alpha, false, false), 0.0);
 }
 
+// The albedo of a microfacet BRDF (360 azimuth steps).
+double albedo(const CookTorranceMaterial& m, double thetaV) { return test::halfVectorAlbedo(m, thetaV, 360); }
+
 CookTorranceMaterial smithMaterial(MicrofacetDistribution distribution, double roughness,
                                    MicrofacetShadowing shadowing) {
   CookTorranceParams p;
@@ -111,27 +116,6 @@ CookTorranceMaterial smithMaterial(MicrofacetDistribution distribution, double r
   p.fresnel = FresnelTerm::fromF0(Rgb::Ones());  // F = 1
   p.shadowing = shadowing;
   return CookTorranceMaterial(p);
-}
-
-// ∫ f(l, v) (n.l) dω_l over the hemisphere, in half-vector coordinates (dω_l = 4 (v.h) dω_h).
-double albedo(const CookTorranceMaterial& m, double thetaV) {
-  const Vec3 n = Vec3::UnitZ(), v(std::sin(thetaV), 0.0, std::cos(thetaV));
-  const int nt = 1500, np = 360;
-  const double dt = (kPi / 2) / nt, dp = kTwoPi / np;
-  double sum = 0.0;
-  for (int i = 0; i < nt; ++i) {
-    const double t = (i + 0.5) * dt;
-    for (int j = 0; j < np; ++j) {
-      const double p = (j + 0.5) * dp;
-      const Vec3 h(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
-      const double vh = v.dot(h);
-      if (vh <= 0) continue;
-      const Vec3 l = 2 * vh * h - v;
-      if (l.z() <= 0) continue;
-      sum += m.brdf(n, v, l)[0] * l.z() * 4 * vh * std::sin(t);
-    }
-  }
-  return sum * dt * dp;
 }
 
 // The albedo at normal incidence written as a 1-D integral over the half-vector angle t (v = n:

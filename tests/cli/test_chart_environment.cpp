@@ -13,52 +13,25 @@
 #include <set>
 #include <sstream>
 
+#include "chart_support.hpp"
 #include "pareto_check.hpp"
 #include "test_support.hpp"
 
 namespace brdfbake {
 namespace {
 namespace fs = std::filesystem;
+using test::readCsv;
 using test::runCli;
+using test::writeChartSpec;
 
 using test::q;
 
 const std::string kSky = test::sourcePath("data_samples/environments/sky_latlong.exr");
 const std::string kFurnace = test::sourcePath("data_samples/environments/furnace_latlong.exr");
 
-// A one-map spec prefiltering `environment` with `lobe`.
-void writeSpec(const fs::path& path, const std::string& environment, const std::string& lobe,
-               const std::string& extra = "") {
-  std::ofstream(path) << R"({"maps": [{"output": "m.exr", "parameterization": "paraboloid", "resolution": 16,
-      "environment": {"file": ")"
-                      << environment << R"(", "lobe": ")" << lobe << R"(", "max_error": 0.01}})" << extra << "]}";
-}
-
-// The CSV as rows of column name -> text.
-std::vector<std::map<std::string, std::string>> readCsv(const fs::path& path) {
-  std::ifstream in(path);
-  std::vector<std::string> header;
-  std::vector<std::map<std::string, std::string>> rows;
-  for (std::string line; std::getline(in, line);) {
-    std::vector<std::string> cells;
-    std::stringstream s(line);
-    for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
-    if (!line.empty() && line.back() == ',') cells.push_back("");
-    if (header.empty()) {
-      header = cells;
-      continue;
-    }
-    EXPECT_EQ(cells.size(), header.size()) << line;
-    std::map<std::string, std::string> row;
-    for (std::size_t i = 0; i < header.size() && i < cells.size(); ++i) row[header[i]] = cells[i];
-    rows.push_back(row);
-  }
-  return rows;
-}
-
 TEST(ChartEnvironment, BadFlagsExitTwoAndWriteNothing) {
   test::TempDir dir;
-  writeSpec(dir / "f.json", kFurnace, "phong:20");
+  writeChartSpec(dir / "f.json", kFurnace, "phong:20");
   EXPECT_EQ(runCli("chart " + q(dir / "f.json") + " --csv " + q(dir / "x.csv") + " --methods sh,fast").exitCode, 2);
   EXPECT_EQ(runCli("chart " + q(dir / "f.json") + " --csv " + q(dir / "x.csv") + " --subset 3").exitCode, 2);
   EXPECT_EQ(runCli("chart " + q(dir / "f.json") + " --csv " + q(dir / "x.csv") + " --environment-error mean").exitCode,
@@ -73,7 +46,7 @@ TEST(ChartEnvironment, BadFlagsExitTwoAndWriteNothing) {
 // through the library: tests/run/test_run_chart.cpp).
 TEST(ChartEnvironment, ChartsAFurnaceIntoACsvEndToEnd) {
   test::TempDir dir;
-  writeSpec(dir / "f.json", kFurnace, "phong:20");
+  writeChartSpec(dir / "f.json", kFurnace, "phong:20");
   const auto result = runCli("chart " + q(dir / "f.json") + " --csv " + q(dir / "f.csv") +
                              " --resolutions 8 --parameterizations cube --methods sh --subset 16 --threads 2 --quiet");
   ASSERT_EQ(result.exitCode, 0) << result.output;

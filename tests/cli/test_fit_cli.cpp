@@ -7,46 +7,18 @@
 
 #include <fstream>
 
+#include "fit_formula.hpp"
 #include "test_support.hpp"
 
 namespace brdfbake {
 namespace {
+using test::cornellDirection;
 namespace fs = std::filesystem;
+using test::fitFormula;
+using test::readJsonFile;
 using test::runCli;
 
-// (sin theta cos phi, sin theta sin phi, cos theta): the Cornell convention.
-Vec3 direction(double theta, double phi) {
-  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
-}
-
 using test::q;
-
-nlohmann::json readJson(const fs::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
-}
-
-// The lobe formula of docs/fitting.md computed from a fit.json's numbers, independently of the library.
-double formula(const nlohmann::json& fit, std::size_t channel, const Vec3& wi, const Vec3& wo) {
-  const auto& ch = fit["channels"][channel];
-  const double minCos = fit["model"]["elevation_range"]["min_cos"], maxCos = fit["model"]["elevation_range"]["max_cos"];
-  const bool varying = fit["model"]["elevation"] == "varying";
-  const double t = maxCos > minCos ? std::clamp(std::log(wo.z() / minCos) / std::log(maxCos / minCos), 0.0, 1.0) : 0.0;
-  auto parameter = [&](const nlohmann::json& p) {
-    if (!varying) return p[0].get<double>();
-    return std::pow(p[0].get<double>(), (1 - t) * (1 - t)) * std::pow(p[1].get<double>(), 2 * t * (1 - t)) *
-           std::pow(p[2].get<double>(), t * t);
-  };
-  double f = ch["diffuse"].get<double>() / kPi;
-  for (const auto& lobe : ch["lobes"]) {
-    const double c = parameter(lobe["weight"]), n = parameter(lobe["exponent"]);
-    // Lafortune et al. 1997 Eq. 4 with C_x = C_y = cxy, C_z = 1; cxy = -1 (absent) is r_v . wi.
-    const double cxy = lobe.contains("cxy") ? lobe["cxy"].get<double>() : -1.0;
-    const double x = cxy * (wi.x() * wo.x() + wi.y() * wo.y()) + wi.z() * wo.z();
-    if (x > 0) f += c * (n + 2) / (2 * kPi) * std::pow(x, n);
-  }
-  return f;
-}
 
 TEST(FitCli, EvalPairsPrintsOneLinePerInputLine) {
   test::TempDir dir;
@@ -60,12 +32,13 @@ TEST(FitCli, EvalPairsPrintsOneLinePerInputLine) {
   ASSERT_EQ(out.size(), 4u) << result.output;
   EXPECT_EQ(out[1], "# a comment");
   EXPECT_EQ(out[2], "");
-  const auto document = readJson(fitFile);
+  const auto document = readJsonFile(fitFile);
   std::istringstream first(out[0]);
   for (std::size_t c = 0; c < 3; ++c) {
     double v = 0;
     first >> v;
-    EXPECT_NEAR(v, formula(document, c, direction(0.5236, 0), direction(0.5236, 3.14159)), 1e-6 * std::max(1.0, v));
+    EXPECT_NEAR(v, fitFormula(document, c, cornellDirection(0.5236, 0), cornellDirection(0.5236, 3.14159)),
+                1e-6 * std::max(1.0, v));
   }
 }
 
@@ -115,7 +88,7 @@ TEST(FitCli, WithoutOutputTheFitIsWrittenToTheCurrentFolder) {
                                 " --lobes 1 --elevation constant");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   EXPECT_NE(result.output.find("wrote synthetic_two_lobes_fit.json"), std::string::npos) << result.output;
-  EXPECT_EQ(readJson(dir / "synthetic_two_lobes_fit.json")["format"], "brdfbake.lobe_fit");
+  EXPECT_EQ(readJsonFile(dir / "synthetic_two_lobes_fit.json")["format"], "brdfbake.lobe_fit");
 }
 
 }  // namespace

@@ -18,14 +18,11 @@ extern char** environ;
 namespace brdfbake {
 namespace {
 namespace fs = std::filesystem;
+using test::put;
 using test::q;
 using test::runCli;
+using test::slurp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
-void put(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 void putJson(const fs::path& p, const nlohmann::json& j) { put(p, j.dump(2)); }
 
 nlohmann::json phongMap(const std::string& output, int resolution = 16) {

@@ -16,32 +16,10 @@
 namespace brdfbake {
 namespace {
 namespace fs = std::filesystem;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
-
-void put(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
-
-int hiddenTemporaries(const fs::path& folder) {
-  int count = 0;
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    if (entry.path().filename().string().find(".tmp-") != std::string::npos) ++count;
-  }
-  return count;
-}
-
-template <typename F>
-std::string errorOf(F&& f, Error::Kind expected) {
-  try {
-    f();
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), expected) << e.what();
-    return e.what();
-  }
-  return "(no error)";
-}
+using test::errorOf;
+using test::hiddenTemporaries;
+using test::put;
+using test::slurp;
 
 TEST(AtomicOutput, TheTargetAppearsOnlyOnCommit) {
   test::TempDir dir;

@@ -22,43 +22,10 @@
 namespace brdfbake {
 namespace {
 namespace fs = std::filesystem;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
-
-template <typename F>
-std::string errorOf(F&& f, Error::Kind expected) {
-  try {
-    f();
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), expected) << e.what();
-    return e.what();
-  }
-  return "(no error)";
-}
-
-// BRDFBAKE_GNUPLOT set to `value` (unset: std::nullopt) while it lives.
-class GnuplotVariable {
- public:
-  explicit GnuplotVariable(const std::optional<std::string>& value) {
-    if (const char* old = std::getenv("BRDFBAKE_GNUPLOT")) old_ = old;
-    if (value)
-      ::setenv("BRDFBAKE_GNUPLOT", value->c_str(), 1);
-    else
-      ::unsetenv("BRDFBAKE_GNUPLOT");
-  }
-  ~GnuplotVariable() {
-    if (old_)
-      ::setenv("BRDFBAKE_GNUPLOT", old_->c_str(), 1);
-    else
-      ::unsetenv("BRDFBAKE_GNUPLOT");
-  }
-
- private:
-  std::optional<std::string> old_;
-};
+using test::errorOf;
+using test::GnuplotVariable;
+using test::hiddenTemporaries;
+using test::slurp;
 
 // An executable shell script standing in for gnuplot; "$out" is the path its script's first
 // "set output '...'" names.
@@ -68,13 +35,6 @@ fs::path fakeGnuplot(const test::TempDir& dir, const std::string& body) {
                         << body << "\n";
   fs::permissions(script, fs::perms::owner_all);
   return script;
-}
-
-int hiddenTemporaries(const fs::path& folder) {
-  int count = 0;
-  for (const auto& entry : fs::directory_iterator(folder))
-    if (entry.path().filename().string().find(".tmp-") != std::string::npos) ++count;
-  return count;
 }
 
 // Waits up to 10 s for `file` to hold a process id.

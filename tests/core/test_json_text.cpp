@@ -17,14 +17,9 @@ std::string nestedArrays(int depth) {
   return std::string(static_cast<std::size_t>(depth), '[') + std::string(static_cast<std::size_t>(depth), ']');
 }
 
+// The message of the InvalidInput error parsing `text` throws.
 std::string errorFor(const std::string& text) {
-  try {
-    parseJsonText(text, "in.json");
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), Error::Kind::InvalidInput);
-    return e.what();
-  }
-  return "(no error)";
+  return test::errorOf([&] { parseJsonText(text, "in.json"); }, Error::Kind::InvalidInput);
 }
 
 TEST(JsonText, NestingUpToTheLimitParses) {

@@ -17,19 +17,8 @@
 namespace brdfbake {
 namespace {
 namespace fs = std::filesystem;
-
-void put(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
-
-template <typename F>
-std::string errorOf(F&& f, Error::Kind expected) {
-  try {
-    f();
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), expected) << e.what();
-    return e.what();
-  }
-  return "(no error)";
-}
+using test::errorOf;
+using test::put;
 
 TEST(ReadTextLines, SplitsLinesOfEitherEnding) {
   test::TempDir dir;

@@ -16,17 +16,13 @@
 
 #include <random>
 
+#include "map_function_support.hpp"
+#include "test_support.hpp"
+
 namespace brdfbake {
 namespace {
-
-std::string errorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
+using test::errorOf;
+using test::SunOnly;
 
 CookTorranceParams lighting(MicrofacetDistribution distribution, double roughness, FresnelTerm fresnel) {
   CookTorranceParams p;
@@ -101,20 +97,6 @@ TEST(MaterialUnderEnvironment, FurnaceShowsTheLambertianAlbedo) {
     }
   }
 }
-
-// Black, but for a uniform disc of radiance `radiance` and angular radius `radius` about `direction`.
-class SunOnly final : public MapFunction {
- public:
-  SunOnly(const Vec3& direction, double radius, double radiance)
-      : direction_(direction.normalized()), cosRadius_(std::cos(radius)), radiance_(radiance) {}
-  Rgb evaluate(const Vec3& d) const override {
-    return d.normalized().dot(direction_) >= cosRadius_ ? Rgb::Constant(radiance_) : Rgb::Zero();
-  }
-
- private:
-  Vec3 direction_;
-  double cosRadius_, radiance_;
-};
 
 TEST(MaterialUnderEnvironment, SmallSunIsOneLightOfItsIrradiance) {
   // A 0.5-degree sun, as a light: irradiance P = Σ L Ω over the environment's texels (summed here),

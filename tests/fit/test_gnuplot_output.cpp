@@ -19,34 +19,8 @@
 namespace brdfbake {
 namespace {
 namespace fs = std::filesystem;
-
-// BRDFBAKE_GNUPLOT set to `value` (nullopt: unset) while it lives.
-class GnuplotVariable {
- public:
-  explicit GnuplotVariable(const std::optional<std::string>& value) {
-    if (const char* old = std::getenv("BRDFBAKE_GNUPLOT")) old_ = old;
-    if (value)
-      ::setenv("BRDFBAKE_GNUPLOT", value->c_str(), 1);
-    else
-      ::unsetenv("BRDFBAKE_GNUPLOT");
-  }
-  ~GnuplotVariable() {
-    if (old_)
-      ::setenv("BRDFBAKE_GNUPLOT", old_->c_str(), 1);
-    else
-      ::unsetenv("BRDFBAKE_GNUPLOT");
-  }
-
- private:
-  std::optional<std::string> old_;
-};
-
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using test::GnuplotVariable;
+using test::slurp;
 
 TEST(Gnuplot, QuotesAndChartPaths) {
   EXPECT_EQ(gnuplotQuote("it's here"), "'it''s here'");

@@ -16,21 +16,13 @@
 #include <numeric>
 #include <random>
 
+#include "fit_formula.hpp"
 #include "test_support.hpp"
 
 namespace brdfbake {
 namespace {
-
-Vec3 direction(double theta, double phi) {
-  return Vec3(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
-}
-
-// Lafortune et al. 1997 Eq. 4 with C_x = C_y = cxy, C_z = 1, scaled as brdf/lobes.hpp documents:
-// C (n + 2) / (2 pi) max(0, cxy (l_x v_x + l_y v_y) + l_z v_z)^n.
-double lafortuneByHand(double c, double n, double cxy, const Vec3& l, const Vec3& v) {
-  const double x = cxy * (l.x() * v.x() + l.y() * v.y()) + l.z() * v.z();
-  return x > 0.0 ? c * (n + 2.0) / (2.0 * kPi) * std::pow(x, n) : 0.0;
-}
+using test::cornellDirection;
+using test::lafortuneByHand;
 
 LobeModel lafortuneModel(double cxy, double n, double c, double diffuse) {
   LobeModel m;
@@ -58,15 +50,16 @@ TEST(FitOptions, ThreadCountsAreLimitedTo1024) {
 TEST(LafortuneLobe, MatchesEquationFourTypedOut) {
   const LobeModel m = lafortuneModel(-1.4, 20.0, 0.3, 0.2);
   m.validate();
-  for (const auto& [l, v] : std::vector<std::pair<Vec3, Vec3>>{{direction(0.5, 0.0), direction(0.6, kPi)},
-                                                               {direction(1.2, 0.3), direction(1.3, 3.0)},
-                                                               {direction(0.2, 1.0), direction(0.9, -2.0)}}) {
+  for (const auto& [l, v] :
+       std::vector<std::pair<Vec3, Vec3>>{{cornellDirection(0.5, 0.0), cornellDirection(0.6, kPi)},
+                                          {cornellDirection(1.2, 0.3), cornellDirection(1.3, 3.0)},
+                                          {cornellDirection(0.2, 1.0), cornellDirection(0.9, -2.0)}}) {
     const double expected = 0.2 / kPi + lafortuneByHand(0.3, 20.0, -1.4, l, v);
     EXPECT_NEAR(m.evaluate(0, l, v), expected, 1e-12 * expected);
   }
   // c_xy = -1 is the Phong lobe about the mirrored view: r_v . l.
   const LobeModel phong = lafortuneModel(-1.0, 20.0, 0.3, 0.0);
-  const Vec3 l = direction(0.5, 0.2), v = direction(0.7, 3.0);
+  const Vec3 l = cornellDirection(0.5, 0.2), v = cornellDirection(0.7, 3.0);
   const Vec3 rv(-v.x(), -v.y(), v.z());
   EXPECT_NEAR(phong.evaluate(0, l, v), 0.3 * 22.0 / (2.0 * kPi) * std::pow(rv.dot(l), 20.0), 1e-12);
 }
@@ -77,7 +70,7 @@ TEST(LafortuneLobe, IsRadiallySymmetricAboutItsAxisWithAmplitudeAToTheN) {
   for (double cxy : {-1.6, -1.0, 0.6, 1.0}) {
     const double n = 30.0, c = 0.5;
     const LobeModel m = lafortuneModel(cxy, n, c, 0.0);
-    const Vec3 v = direction(radians(40.0), kPi * 0.25);
+    const Vec3 v = cornellDirection(radians(40.0), kPi * 0.25);
     const Vec3 a(cxy * v.x(), cxy * v.y(), v.z());
     const Vec3 axis = a.normalized();
     const Vec3 u = axis.cross(Vec3::UnitZ()).normalized(), w = axis.cross(u);
@@ -97,8 +90,9 @@ TEST(LafortuneLobe, IsRadiallySymmetricAboutItsAxisWithAmplitudeAToTheN) {
 
 TEST(LafortuneLobe, IsReciprocal) {
   const LobeModel m = lafortuneModel(-1.3, 15.0, 0.4, 0.1);
-  for (const auto& [l, v] : std::vector<std::pair<Vec3, Vec3>>{{direction(0.3, 0.0), direction(1.1, 2.9)},
-                                                               {direction(1.3, 0.5), direction(0.4, -2.5)}}) {
+  for (const auto& [l, v] :
+       std::vector<std::pair<Vec3, Vec3>>{{cornellDirection(0.3, 0.0), cornellDirection(1.1, 2.9)},
+                                          {cornellDirection(1.3, 0.5), cornellDirection(0.4, -2.5)}}) {
     EXPECT_NEAR(m.evaluate(0, l, v), m.evaluate(0, v, l), 1e-12);
   }
 }
@@ -109,7 +103,7 @@ TEST(LafortuneLobe, ReflectsCTimesAToTheNTimesTheAxisElevation) {
   // the growth |a|^n is the Fresnel-like rise towards grazing of |c_xy| > 1.
   const double n = 400.0, c = 0.2, cxy = -1.2;
   const LobeModel m = lafortuneModel(cxy, n, c, 0.0);
-  const Vec3 v = direction(radians(60.0), kPi);
+  const Vec3 v = cornellDirection(radians(60.0), kPi);
   const Vec3 a(cxy * v.x(), cxy * v.y(), v.z());
   const Vec3 axis = a.normalized();
   const Vec3 u = axis.cross(Vec3::UnitZ()).normalized(), w = axis.cross(u);
@@ -165,10 +159,11 @@ LobeModel halfVectorModel(double c, double cf, double n, double diffuse) {
 TEST(HalfVectorLobe, MatchesMicrofacetFormTypedOut) {
   const LobeModel m = halfVectorModel(0.05, 0.6, 80.0, 0.1);
   m.validate();
-  for (const auto& [l, v] : std::vector<std::pair<Vec3, Vec3>>{{direction(0.5, 0.0), direction(0.6, kPi)},
-                                                               {direction(1.2, 0.0), direction(1.35, 3.0)},
-                                                               {direction(0.2, 1.0), direction(0.9, -2.0)},
-                                                               {direction(1.3, 0.4), direction(1.1, 0.4)}}) {
+  for (const auto& [l, v] :
+       std::vector<std::pair<Vec3, Vec3>>{{cornellDirection(0.5, 0.0), cornellDirection(0.6, kPi)},
+                                          {cornellDirection(1.2, 0.0), cornellDirection(1.35, 3.0)},
+                                          {cornellDirection(0.2, 1.0), cornellDirection(0.9, -2.0)},
+                                          {cornellDirection(1.3, 0.4), cornellDirection(1.1, 0.4)}}) {
     const double expected = 0.1 / kPi + halfVectorByHand(0.05, 0.6, 80.0, l, v);
     EXPECT_NEAR(m.evaluate(0, l, v), expected, 1e-12 * expected);
     EXPECT_NEAR(m.evaluate(0, v, l), expected, 1e-12 * expected);  // reciprocal
@@ -178,7 +173,7 @@ TEST(HalfVectorLobe, MatchesMicrofacetFormTypedOut) {
   EXPECT_NEAR(m.mirrorValue(0, u),
               0.1 / kPi + (0.05 + 0.6 * std::pow(1.0 - u, 5.0)) * 82.0 / (2.0 * kPi) / (4.0 * u * u), 1e-12);
   // The lighting material evaluates the same BRDF (in a frame where the normal is not z).
-  const Vec3 l = direction(1.2, 0.0), v = direction(1.35, 3.0);
+  const Vec3 l = cornellDirection(1.2, 0.0), v = cornellDirection(1.35, 3.0);
   const LobeMaterial material(m, LobeMaterialMode::Lighting);
   const Eigen::Matrix3d rotation = Eigen::AngleAxisd(0.4, Vec3(1.0, 2.0, 3.0).normalized()).toRotationMatrix();
   const Rgb rgb = material.brdf(rotation * Vec3::UnitZ(), rotation * v, rotation * l);
@@ -192,9 +187,9 @@ TEST(HalfVectorLobe, IsStretchedInThePlaneOfIncidenceAtGrazing) {
   // in-plane view sees far more. Checked against the typed-out form.
   const double n = 200.0;
   const LobeModel m = halfVectorModel(1.0, 0.0, n, 0.0);
-  const Vec3 l = direction(radians(70.0), 0.0);
-  const Vec3 mirror = direction(radians(70.0), kPi);
-  const Vec3 inPlane = direction(radians(79.0), kPi);
+  const Vec3 l = cornellDirection(radians(70.0), 0.0);
+  const Vec3 mirror = cornellDirection(radians(70.0), kPi);
+  const Vec3 inPlane = cornellDirection(radians(79.0), kPi);
   const Vec3 axis = mirror.cross(Vec3::UnitY()).normalized();  // in the plane, perpendicular to m
   const Vec3 across = Eigen::AngleAxisd(radians(9.0), axis) * mirror;
   ASSERT_NEAR(std::abs(across.y()), std::sin(radians(9.0)), 1e-12);
@@ -211,7 +206,7 @@ double reflectedFraction(const LobeModel& m, const Vec3& l, int rings = 4000, in
     const double theta = (i + 0.5) * (kPi / 2.0) / rings;
     for (int j = 0; j < sectors; ++j) {
       const double phi = (j + 0.5) * 2.0 * kPi / sectors;
-      const Vec3 v = direction(theta, phi);
+      const Vec3 v = cornellDirection(theta, phi);
       sum += m.evaluate(0, l, v) * v.z() * std::sin(theta) * (kPi / 2.0 / rings) * (2.0 * kPi / sectors);
     }
   }
@@ -252,7 +247,7 @@ TEST(HalfVectorLobe, ValidationAndFitFileCarryAxisAndFresnel) {
   EXPECT_TRUE(back.fit.model.channels[0].lobes[0].halfVector);
   EXPECT_EQ(back.fit.model.channels[0].lobes[0].fresnel, 0.7);
   EXPECT_FALSE(back.fit.model.allAboutMirror());
-  const Vec3 l = direction(1.0, 0.0), v = direction(1.1, 3.0);
+  const Vec3 l = cornellDirection(1.0, 0.0), v = cornellDirection(1.1, 3.0);
   EXPECT_DOUBLE_EQ(back.fit.model.evaluate(0, l, v), file.fit.model.evaluate(0, l, v));
 }
 
@@ -307,7 +302,7 @@ TEST(HeldOut, ErrorAndSplitsMatchSumsTypedOut) {
   std::map<long, std::pair<double, std::size_t>> perElevation;
   for (std::size_t i = 0; i < table.size(); ++i) {
     const auto& a = table.angles[i];
-    const Vec3 wi = direction(a.thetaIn, a.phiIn), wo = direction(a.thetaOut, a.phiOut);
+    const Vec3 wi = cornellDirection(a.thetaIn, a.phiIn), wo = cornellDirection(a.thetaOut, a.phiOut);
     const Vec3 mirror(-wi.x(), -wi.y(), wi.z());
     double squares = 0.0;
     for (std::size_t c = 0; c < 3; ++c) {

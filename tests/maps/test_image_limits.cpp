@@ -23,24 +23,10 @@
 namespace brdfbake {
 namespace {
 namespace fs = std::filesystem;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
-
-void put(const fs::path& p, const std::string& bytes) { std::ofstream(p, std::ios::binary) << bytes; }
-
-template <typename F>
-std::string errorOf(F&& f, Error::Kind expected) {
-  try {
-    f();
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), expected) << e.what();
-    return e.what();
-  }
-  return "(no error)";
-}
+using test::errorOf;
+using test::hiddenTemporaries;
+using test::put;
+using test::slurp;
 
 std::string bigEndian32(std::uint32_t v) {
   return {static_cast<char>(v >> 24), static_cast<char>(v >> 16), static_cast<char>(v >> 8), static_cast<char>(v)};
@@ -183,13 +169,6 @@ Image noise(int w, int h) {
     for (int x = 0; x < w; ++x) image.set(x, y, Rgba(u(rng), u(rng), u(rng), 1.0));
   image.metadata = {{"brdfbake", "test"}};
   return image;
-}
-
-int hiddenTemporaries(const fs::path& folder) {
-  int count = 0;
-  for (const auto& entry : fs::directory_iterator(folder))
-    if (entry.path().filename().string().find(".tmp-") != std::string::npos) ++count;
-  return count;
 }
 
 TEST(ImageLimits, AFullDiskIsAnErrorNamingTheImageForEveryFormat) {

@@ -2,10 +2,10 @@
 // What the run-layer tests share: each command's computation called through its library job, the
 // way a renderer or a script calls it (brdfbake::run), with the same JSON the tool prints.
 #include <brdfbake/run/describe_output.hpp>
+#include <brdfbake/run/prefilter_job.hpp>
 #include <brdfbake/run/sample_output.hpp>
 #include <brdfbake/run/spec_runner.hpp>
 
-#include <fstream>
 #include <string>
 
 #include "test_support.hpp"
@@ -34,21 +34,17 @@ inline nlohmann::json bakeSpec(const std::filesystem::path& spec, const std::fil
   return result.toJson();
 }
 
-/// The message of the Error `f` throws ("" and a failure when it throws none).
-template <class F>
-std::string errorOf(F&& f) {
-  try {
-    f();
-  } catch (const Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no error thrown";
-  return "";
-}
-
-inline nlohmann::json readJsonFile(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
+/// `brdfbake prefilter ENVIRONMENT --lobe LOBE --to TO --resolution RESOLUTION -o OUTPUT`, the
+/// other fields at their defaults.
+inline PrefilterRequest prefilterRequest(const std::string& environment, const std::string& lobe, const std::string& to,
+                                         int resolution, const std::filesystem::path& output) {
+  PrefilterRequest r;
+  r.environment = environment;
+  r.lobe = lobe;
+  r.to = to;
+  r.resolution = resolution;
+  r.output = output;
+  return r;
 }
 
 }  // namespace brdfbake::test

@@ -12,12 +12,14 @@
 #include <cmath>
 #include <fstream>
 
+#include "map_function_support.hpp"
 #include "test_support.hpp"
 
 namespace brdfbake {
 namespace {
 
 namespace fs = std::filesystem;
+using test::SunOnly;
 using test::TempDir;
 
 // The environment's image written plainly (lat-long by its 2:1 shape).
@@ -32,20 +34,6 @@ fs::path writeText(const fs::path& path, const std::string& text) {
   std::ofstream(path) << text;
   return path;
 }
-
-// Black, but for a uniform disc of radiance `radiance` and angular radius `radius` about `direction`.
-class SunOnly final : public MapFunction {
- public:
-  SunOnly(const Vec3& direction, double radius, double radiance)
-      : direction_(direction.normalized()), cosRadius_(std::cos(radius)), radiance_(radiance) {}
-  Rgb evaluate(const Vec3& d) const override {
-    return d.normalized().dot(direction_) >= cosRadius_ ? Rgb::Constant(radiance_) : Rgb::Zero();
-  }
-
- private:
-  Vec3 direction_;
-  double cosRadius_, radiance_;
-};
 
 // The texels of two sphere maps both fully covered (alpha 1).
 template <class F>

@@ -17,45 +17,18 @@
 #include <set>
 #include <sstream>
 
+#include "chart_support.hpp"
 #include "pareto_check.hpp"
 #include "run_support.hpp"
 
 namespace brdfbake {
 namespace {
 namespace fs = std::filesystem;
+using test::readCsv;
+using test::writeChartSpec;
 
 const std::string kSky = test::sourcePath("data_samples/environments/sky_latlong.exr");
 const std::string kFurnace = test::sourcePath("data_samples/environments/furnace_latlong.exr");
-
-// A one-map spec prefiltering `environment` with `lobe`.
-void writeSpec(const fs::path& path, const std::string& environment, const std::string& lobe,
-               const std::string& extra = "") {
-  std::ofstream(path) << R"({"maps": [{"output": "m.exr", "parameterization": "paraboloid", "resolution": 16,
-      "environment": {"file": ")"
-                      << environment << R"(", "lobe": ")" << lobe << R"(", "max_error": 0.01}})" << extra << "]}";
-}
-
-// The CSV as rows of column name -> text.
-std::vector<std::map<std::string, std::string>> readCsv(const fs::path& path) {
-  std::ifstream in(path);
-  std::vector<std::string> header;
-  std::vector<std::map<std::string, std::string>> rows;
-  for (std::string line; std::getline(in, line);) {
-    std::vector<std::string> cells;
-    std::stringstream s(line);
-    for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
-    if (!line.empty() && line.back() == ',') cells.push_back("");
-    if (header.empty()) {
-      header = cells;
-      continue;
-    }
-    EXPECT_EQ(cells.size(), header.size()) << line;
-    std::map<std::string, std::string> row;
-    for (std::size_t i = 0; i < header.size() && i < cells.size(); ++i) row[header[i]] = cells[i];
-    rows.push_back(row);
-  }
-  return rows;
-}
 
 // chart SPEC with the environment sweep of the tool's --resolutions, --parameterizations, --methods.
 ChartOptions chartOf(const fs::path& spec, std::vector<int> resolutions,
@@ -76,7 +49,7 @@ using M = PrefilterMethod;
 
 TEST(ChartJob, FurnaceGivesZeroErrorForEveryParameterizationResolutionAndMethod) {
   test::TempDir dir;
-  writeSpec(dir / "f.json", kFurnace, "phong:20");
+  writeChartSpec(dir / "f.json", kFurnace, "phong:20");
   ChartOptions options = chartOf(dir / "f.json", {8, 16}, {}, {}, 64);
   options.csv = dir / "f.csv";
   chartSpec(options);
@@ -106,7 +79,7 @@ TEST(ChartJob, FurnaceGivesZeroErrorForEveryParameterizationResolutionAndMethod)
 
 TEST(ChartJob, SkyErrorsAreFiniteBoundedAndAgreeWithThePrefiltersEstimates) {
   test::TempDir dir;
-  writeSpec(dir / "s.json", kSky, "phong:100");
+  writeChartSpec(dir / "s.json", kSky, "phong:100");
   ChartOptions options = chartOf(dir / "s.json", {16, 32}, {K::Sphere, K::Paraboloid});
   options.csv = dir / "s.csv";
   const auto points = chartSpec(options).toJson();
@@ -168,10 +141,10 @@ TEST(ChartJob, SkyErrorsAreFiniteBoundedAndAgreeWithThePrefiltersEstimates) {
 TEST(ChartJob, MirrorMapsAndBadCombinationsAreSkippedWithANote) {
   test::TempDir dir;
   // A filtered map, then a mirror map (no reference to chart against).
-  writeSpec(dir / "m.json", kFurnace, "irradiance",
-            R"(, {"output": "mirror.exr", "parameterization": "sphere", "resolution": 16,
+  writeChartSpec(dir / "m.json", kFurnace, "irradiance",
+                 R"(, {"output": "mirror.exr", "parameterization": "sphere", "resolution": 16,
                   "environment": {"file": ")" +
-                kFurnace + R"(", "lobe": "mirror"}})");
+                     kFurnace + R"(", "lobe": "mirror"}})");
   const ChartResult result =
       chartSpec(chartOf(dir / "m.json", {8}, {K::LatLong}, {M::SphericalHarmonics, M::Direct}, 32));
   const auto entries = result.toJson();
@@ -188,11 +161,11 @@ TEST(ChartJob, MirrorMapsAndBadCombinationsAreSkippedWithANote) {
   EXPECT_NE(result.briefReport().find("note: maps[1]"), std::string::npos) << result.briefReport();
 
   // Fitted lobes that vary with elevation make a stack of maps, not one: skipped with a note.
-  writeSpec(dir / "v.json", kFurnace, "irradiance",
-            R"(, {"output": "v.exr", "parameterization": "sphere", "resolution": 16,
+  writeChartSpec(dir / "v.json", kFurnace, "irradiance",
+                 R"(, {"output": "v.exr", "parameterization": "sphere", "resolution": 16,
                   "environment": {"file": ")" +
-                kFurnace + R"(", "lobe": "lobes:)" + test::sourcePath("data_samples/fits/synthetic_varying.json") +
-                R"("}})");
+                     kFurnace + R"(", "lobe": "lobes:)" + test::sourcePath("data_samples/fits/synthetic_varying.json") +
+                     R"("}})");
   const auto varyingEntries =
       chartSpec(chartOf(dir / "v.json", {8}, {K::LatLong}, {M::SphericalHarmonics}, 16)).toJson();
   ASSERT_EQ(varyingEntries.size(), 2u);
@@ -200,7 +173,7 @@ TEST(ChartJob, MirrorMapsAndBadCombinationsAreSkippedWithANote) {
   EXPECT_NE(varyingEntries[1]["note"].get<std::string>().find("vary with elevation"), std::string::npos);
 
   // A combination the prefilter refuses (a map over the size limit) is skipped, the rest charted.
-  writeSpec(dir / "big.json", kFurnace, "phong:10");
+  writeChartSpec(dir / "big.json", kFurnace, "phong:10");
   const auto bigEntries =
       chartSpec(chartOf(dir / "big.json", {8, 10000}, {K::LatLong}, {M::SphericalHarmonics}, 16)).toJson();
   ASSERT_EQ(bigEntries.size(), 2u);
@@ -216,8 +189,8 @@ TEST(ChartJob, DrawsOnePanelPerMapAsAPictureOf900By600PixelsEach) {
   // Two maps (an environment and a material): two panels stacked, 900 x 1200 pixels; each panel
   // is a chart, not a blank page: far more than a handful of its pixels differ from white.
   test::TempDir dir;
-  writeSpec(dir / "s.json", kSky, "phong:10",
-            R"(, {"output": "p.exr", "parameterization": "sphere", "material": {"model": "phong", "exponent": 20},
+  writeChartSpec(dir / "s.json", kSky, "phong:10",
+                 R"(, {"output": "p.exr", "parameterization": "sphere", "material": {"model": "phong", "exponent": 20},
                   "lights": [{"direction": [0, 1, 1]}]})");
   ChartOptions options = chartOf(dir / "s.json", {16}, {K::Sphere, K::Cube}, {M::Auto, M::SphericalHarmonics}, 32);
   options.samplesPerTexel = {1};

@@ -13,39 +13,15 @@
 #include <fstream>
 #include <sstream>
 
+#include "fit_formula.hpp"
 #include "run_support.hpp"
 
 namespace brdfbake {
 namespace {
+using test::cornellDirection;
 namespace fs = std::filesystem;
+using test::fitFormula;
 using test::readJsonFile;
-
-// (sin theta cos phi, sin theta sin phi, cos theta): the Cornell convention.
-Vec3 direction(double theta, double phi) {
-  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
-}
-
-// The lobe formula of docs/fitting.md computed from a fit.json's numbers, independently of the library.
-double formula(const nlohmann::json& fit, std::size_t channel, const Vec3& wi, const Vec3& wo) {
-  const auto& ch = fit["channels"][channel];
-  const double minCos = fit["model"]["elevation_range"]["min_cos"], maxCos = fit["model"]["elevation_range"]["max_cos"];
-  const bool varying = fit["model"]["elevation"] == "varying";
-  const double t = maxCos > minCos ? std::clamp(std::log(wo.z() / minCos) / std::log(maxCos / minCos), 0.0, 1.0) : 0.0;
-  auto parameter = [&](const nlohmann::json& p) {
-    if (!varying) return p[0].get<double>();
-    return std::pow(p[0].get<double>(), (1 - t) * (1 - t)) * std::pow(p[1].get<double>(), 2 * t * (1 - t)) *
-           std::pow(p[2].get<double>(), t * t);
-  };
-  double f = ch["diffuse"].get<double>() / kPi;
-  for (const auto& lobe : ch["lobes"]) {
-    const double c = parameter(lobe["weight"]), n = parameter(lobe["exponent"]);
-    // Lafortune et al. 1997 Eq. 4 with C_x = C_y = cxy, C_z = 1; cxy = -1 (absent) is r_v . wi.
-    const double cxy = lobe.contains("cxy") ? lobe["cxy"].get<double>() : -1.0;
-    const double x = cxy * (wi.x() * wo.x() + wi.y() * wo.y()) + wi.z() * wo.z();
-    if (x > 0) f += c * (n + 2) / (2 * kPi) * std::pow(x, n);
-  }
-  return f;
-}
 
 // `brdfbake eval MODEL --wi WI --wo WO`: the values per channel.
 std::vector<double> evaluate(const fs::path& model, const Vec3& wi, const Vec3& wo) {
@@ -83,9 +59,9 @@ TEST(FitJob, FitsASyntheticTableAndEvalMatchesTheFormula) {
     EXPECT_LT(channel["stats"]["log_rmse"].get<double>(), 0.02);  // 1 % noise
   }
   for (const auto& [wi, wo] :
-       std::vector<std::pair<Vec3, Vec3>>{{direction(radians(30), 0), direction(radians(30), kPi)},
-                                          {direction(radians(70), 0.3), direction(radians(65), 3.5)},
-                                          {direction(radians(10), 1.0), direction(radians(50), 0.2)}}) {
+       std::vector<std::pair<Vec3, Vec3>>{{cornellDirection(radians(30), 0), cornellDirection(radians(30), kPi)},
+                                          {cornellDirection(radians(70), 0.3), cornellDirection(radians(65), 3.5)},
+                                          {cornellDirection(radians(10), 1.0), cornellDirection(radians(50), 0.2)}}) {
     EvaluateOptions eval;
     eval.model = dir / "fit.json";
     eval.wi = wi;
@@ -94,7 +70,7 @@ TEST(FitJob, FitsASyntheticTableAndEvalMatchesTheFormula) {
     ASSERT_EQ(result["value"].size(), 3u);
     EXPECT_EQ(result["channels"], nlohmann::json({"R", "G", "B"}));
     for (std::size_t c = 0; c < 3; ++c) {
-      const double expected = formula(document, c, wi, wo);
+      const double expected = fitFormula(document, c, wi, wo);
       EXPECT_NEAR(result["value"][c].get<double>(), expected, 1e-9 * std::max(1.0, expected));
     }
   }
@@ -116,7 +92,8 @@ TEST(FitJob, EvalPairsGivesOneRowPerInputLine) {
   ASSERT_TRUE(result.rows[0].value);
   for (std::size_t c = 0; c < 3; ++c) {
     const double v = (*result.rows[0].value)[static_cast<Eigen::Index>(c)];
-    EXPECT_NEAR(v, formula(document, c, direction(0.5236, 0), direction(0.5236, 3.14159)), 1e-9 * std::max(1.0, v));
+    EXPECT_NEAR(v, fitFormula(document, c, cornellDirection(0.5236, 0), cornellDirection(0.5236, 3.14159)),
+                1e-9 * std::max(1.0, v));
   }
   EXPECT_EQ(result.rows[3].line, 4);
   // A bad line names the file and line; three numbers are not a pair.
@@ -142,16 +119,25 @@ TEST(FitJob, EvalOfATableReturnsItsSamplesAndOfAMaterialItsBrdf) {
   for (std::string f; std::getline(fields, f, ',');) row.push_back(std::stod(f));
   ASSERT_EQ(row.size(), 7u);
   const auto value = evaluate(test::sourcePath("data_samples/tables/synthetic_two_lobes.astm"),
-                              direction(row[0], row[1]), direction(row[2], row[3]));
+                              cornellDirection(row[0], row[1]), cornellDirection(row[2], row[3]));
   for (std::size_t c = 0; c < 3; ++c) EXPECT_NEAR(value[c], row[4 + c], 1e-12 * std::max(1.0, row[4 + c]));
 
   // Phong as a material: shade / (n.l) = k_s max(0, r.l)^n / (n.l).
   std::ofstream(dir / "phong.json") << R"({"model": "phong", "specular": [1, 0.5, 0.25], "exponent": 20})";
-  const Vec3 wi = direction(0.6, 0.0), wo = direction(0.5, kPi + 0.1);
+  const Vec3 wi = cornellDirection(0.6, 0.0), wo = cornellDirection(0.5, kPi + 0.1);
   const double expected = std::pow(Vec3(-wo.x(), -wo.y(), wo.z()).dot(wi), 20) / wi.z();
   const auto phong = evaluate(dir / "phong.json", wi, wo);
   EXPECT_NEAR(phong[0], expected, 1e-9);
   EXPECT_NEAR(phong[2], 0.25 * expected, 1e-9);
+}
+
+TEST(FitJob, EvalNamesItsColumnsWhenThereAreMoreThanThree) {
+  // The line `eval` prints to stderr once: the channel names in order, only beyond RGB.
+  EvaluateResult result;
+  result.channels = {"R", "G", "B"};
+  EXPECT_EQ(result.columnsLine(), "");
+  result.channels = {"400", "410", "420", "430"};
+  EXPECT_EQ(result.columnsLine(), "columns (4 channels): 400 410 420 430\n");
 }
 
 // A fixed exponent cap bounds every lobe (recorded as fit.max_exponent); the default, auto, starts
@@ -254,8 +240,8 @@ TEST(FitJob, MerlTablesAreSampledOnTheCornellGridAndFitted) {
   const double scale[3] = {1.0, 1.15, 1.66};
   for (std::size_t c = 0; c < 3; ++c) {
     // f = k_d / pi + lobes: the fitted BRDF is the constant everywhere.
-    const Vec3 wi = direction(0.7, 0.0), wo = direction(0.4, 2.0);
-    EXPECT_NEAR(formula(document, c, wi, wo), scale[c], 1e-3 * scale[c]);
+    const Vec3 wi = cornellDirection(0.7, 0.0), wo = cornellDirection(0.4, 2.0);
+    EXPECT_NEAR(fitFormula(document, c, wi, wo), scale[c], 1e-3 * scale[c]);
   }
   const auto value = evaluate(dir / "white.binary", Vec3(0.3, 0, 0.95), Vec3(-0.2, 0.1, 0.97));
   ASSERT_EQ(value.size(), 3u);
@@ -274,7 +260,7 @@ TEST(FitJob, GarnetRedFitBakesAMap) {
   test::bakeSpec(dir / "spec.json");
   EXPECT_TRUE(fs::exists(dir / "garnet.exr"));
   // Eval of the real table near a sample agrees with the file (interpolation returns samples).
-  EXPECT_NEAR(evaluate(table, direction(0.872665, 0), direction(0.573513, 0))[0], 0.023025,
+  EXPECT_NEAR(evaluate(table, cornellDirection(0.872665, 0), cornellDirection(0.573513, 0))[0], 0.023025,
               1e-9);  // first row of the file, 400 nm
 }
 

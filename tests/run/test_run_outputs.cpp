@@ -22,6 +22,7 @@ namespace brdfbake {
 namespace {
 
 using test::infoOf;
+using test::prefilterRequest;
 using test::randomDirections;
 namespace fs = std::filesystem;
 
@@ -177,22 +178,11 @@ TEST(OutputJobs, EveryBakedKindSamplesConvertsAndPreviews) {
   }
 }
 
-PrefilterRequest request(const std::string& environment, const std::string& lobe, const std::string& to, int resolution,
-                         const fs::path& output) {
-  PrefilterRequest r;
-  r.environment = environment;
-  r.lobe = lobe;
-  r.to = to;
-  r.resolution = resolution;
-  r.output = output;
-  return r;
-}
-
 TEST(OutputJobs, PrefilterMipLevelsStacksAndFresnelMapsReadBack) {
   test::TempDir dir;
   // Mip levels of a furnace's irradiance: pi at every level, whether read from STEM_mipK.EXT or as
   // mip level K of STEM.EXT; cube faces at every level too.
-  PrefilterRequest mips = request(kFurnace, "irradiance", "cube", 8, dir / "irr.exr");
+  PrefilterRequest mips = prefilterRequest(kFurnace, "irradiance", "cube", 8, dir / "irr.exr");
   mips.faces = true;
   mips.mips = true;
   ASSERT_TRUE(prefilterEnvironment(mips).written);
@@ -213,7 +203,7 @@ TEST(OutputJobs, PrefilterMipLevelsStacksAndFresnelMapsReadBack) {
   // An elevation stack of a fitted model that varies with elevation, prefiltered from the furnace:
   // slice j holds C(u_j) (n(u_j) + 2) / (n(u_j) + 1) (the normalised lobe's integral times 1), and
   // a renderer blends neighbouring slices linearly in t = ln(u / min_cos) / ln(max_cos / min_cos).
-  PrefilterRequest stack = request(kFurnace, "lobes:" + kVaryingFit, "paraboloid", 16, dir / "v.exr");
+  PrefilterRequest stack = prefilterRequest(kFurnace, "lobes:" + kVaryingFit, "paraboloid", 16, dir / "v.exr");
   stack.elevations = 3;
   const nlohmann::json report = prefilterEnvironment(stack).toJson();
   const LobeModel model = readFitFile(kVaryingFit).fit.model;
@@ -253,7 +243,7 @@ TEST(OutputJobs, PrefilterMipLevelsStacksAndFresnelMapsReadBack) {
   for (const Rgb& v : converted) EXPECT_NEAR(v[0], quarter, 3e-3 * quarter);
 
   // The Fresnel decomposition: specular map, irradiance map (looked up at the normal), profile.
-  PrefilterRequest coat = request(kFurnace, "phong:20", "sphere", 16, dir / "coat.exr");
+  PrefilterRequest coat = prefilterRequest(kFurnace, "phong:20", "sphere", 16, dir / "coat.exr");
   coat.fresnelIor = 1.5;
   ASSERT_TRUE(prefilterEnvironment(coat).written);
   for (const double c : {0.15625, 0.46875, 0.96875}) {  // texel centres (i + 0.5) / 16
@@ -273,7 +263,7 @@ TEST(OutputJobs, TiledMipChainsAndShIrradianceReadBack) {
   test::TempDir dir;
   const std::string sky = test::sourcePath("data_samples/environments/sky_latlong.exr");
   auto glossy = [&](const fs::path& output, bool tiled) {
-    PrefilterRequest r = request(sky, "phong:20", "paraboloid", 16, output);
+    PrefilterRequest r = prefilterRequest(sky, "phong:20", "paraboloid", 16, output);
     r.mips = true;
     r.method = "sh";
     r.tiled = tiled;
@@ -290,13 +280,13 @@ TEST(OutputJobs, TiledMipChainsAndShIrradianceReadBack) {
   }
   EXPECT_EQ(infoOf(dir / "tiled.exr")["metadata"]["mip_levels"], 5);
   expectPreviews(dir / "tiled.exr", Vec3::UnitZ(), 1);
-  PrefilterRequest notPowerOfTwo = request(sky, "phong:20", "cube", 12, dir / "bad.exr");
+  PrefilterRequest notPowerOfTwo = prefilterRequest(sky, "phong:20", "cube", 12, dir / "bad.exr");
   notPowerOfTwo.mips = notPowerOfTwo.tiled = true;
   EXPECT_NE(test::errorOf([&] { prefilterEnvironment(notPowerOfTwo); }).find("power-of-two"), std::string::npos);
-  PrefilterRequest noMips = request(sky, "phong:20", "cube", 16, dir / "bad.exr");
+  PrefilterRequest noMips = prefilterRequest(sky, "phong:20", "cube", 16, dir / "bad.exr");
   noMips.tiled = true;
   EXPECT_THROW(prefilterEnvironment(noMips), Error);
-  PrefilterRequest png = request(sky, "phong:20", "cube", 16, dir / "bad.png");
+  PrefilterRequest png = prefilterRequest(sky, "phong:20", "cube", 16, dir / "bad.png");
   png.mips = png.tiled = true;
   EXPECT_NE(test::errorOf([&] { prefilterEnvironment(png); }).find(".exr"), std::string::npos);
   EXPECT_FALSE(fs::exists(dir / "bad.exr"));
@@ -324,7 +314,7 @@ TEST(OutputJobs, TiledMipChainsAndShIrradianceReadBack) {
   // SH irradiance: the furnace (radiance 1) gives 1 everywhere. A sky of radiance 1 above the horizon
   // (y > 0) has E(n)/pi = (1 + n.y)/2, which three bands hold exactly; its irradiance cube map,
   // computed by the reference sum (another method), agrees.
-  PrefilterRequest furnace = request(kFurnace, "irradiance", "cube", 8, dir / "furnace_irr.exr");
+  PrefilterRequest furnace = prefilterRequest(kFurnace, "irradiance", "cube", 8, dir / "furnace_irr.exr");
   furnace.shOutput = dir / "furnace_sh.json";
   ASSERT_TRUE(prefilterEnvironment(furnace).written);
   for (const Rgb& v : sampleAll(dir / "furnace_sh.json", directions)) EXPECT_NEAR(v[0], 1.0, 1e-3);
@@ -335,7 +325,8 @@ TEST(OutputJobs, TiledMipChainsAndShIrradianceReadBack) {
         hemisphere.set(x, y, y < 64 ? Rgba(1, 1, 1, 1) : Rgba(0, 0, 0, 1));  // top rows: y > 0
     writeImage(hemisphere, dir / "hemisphere.exr");
   }
-  PrefilterRequest half = request((dir / "hemisphere.exr").string(), "irradiance", "cube", 16, dir / "sky_irr.exr");
+  PrefilterRequest half =
+      prefilterRequest((dir / "hemisphere.exr").string(), "irradiance", "cube", 16, dir / "sky_irr.exr");
   half.method = "reference";
   half.shOutput = dir / "sky_sh.json";
   ASSERT_TRUE(prefilterEnvironment(half).written);
@@ -359,7 +350,7 @@ TEST(OutputJobs, TiledMipChainsAndShIrradianceReadBack) {
   for (std::size_t i = 0; i < directions.size(); ++i)
     EXPECT_NEAR(fromConverted[i][0], 0.5 * (1.0 + directions[i].y()), 2e-2) << directions[i].transpose();
   expectPreviews(dir / "sky_sh.json", Vec3(0, 1, 1));
-  PrefilterRequest wrongLobe = request(sky, "phong:20", "cube", 8, dir / "x.exr");
+  PrefilterRequest wrongLobe = prefilterRequest(sky, "phong:20", "cube", 8, dir / "x.exr");
   wrongLobe.shOutput = dir / "x.json";
   EXPECT_NE(test::errorOf([&] { prefilterEnvironment(wrongLobe); }).find("sh_output"), std::string::npos);
 }

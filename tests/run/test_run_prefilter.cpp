@@ -19,26 +19,16 @@ namespace brdfbake {
 namespace {
 namespace fs = std::filesystem;
 using test::infoOf;
+using test::prefilterRequest;
 using test::sampleAt;
 
 const std::string kSky = test::sourcePath("data_samples/environments/sky_latlong.exr");
 const std::string kFurnace = test::sourcePath("data_samples/environments/furnace_latlong.exr");
 
-PrefilterRequest request(const std::string& environment, const std::string& lobe, const std::string& to, int resolution,
-                         const fs::path& output) {
-  PrefilterRequest r;
-  r.environment = environment;
-  r.lobe = lobe;
-  r.to = to;
-  r.resolution = resolution;
-  r.output = output;
-  return r;
-}
-
 TEST(PrefilterJob, GlossyParaboloidWithMipsMatchesTheReferenceAndRecordsItself) {
   test::TempDir dir;
   const fs::path out = dir / "glossy.exr";
-  PrefilterRequest r = request(kSky, "phong:50", "paraboloid", 32, out);
+  PrefilterRequest r = prefilterRequest(kSky, "phong:50", "paraboloid", 32, out);
   r.mips = true;
   const MapResult result = prefilterEnvironment(r);
   const nlohmann::json report = result.toJson();
@@ -80,7 +70,7 @@ TEST(PrefilterJob, GlossChainWritesOneLevelPerExponentEachMatchingTheReference) 
   // with its own exponent.
   test::TempDir dir;
   const fs::path out = dir / "chain.exr";
-  PrefilterRequest r = request(kSky, "phong", "cube", 16, out);
+  PrefilterRequest r = prefilterRequest(kSky, "phong", "cube", 16, out);
   r.glossScale = 6;
   r.glossBias = 1;
   r.mipCount = 3;
@@ -112,11 +102,11 @@ TEST(PrefilterJob, GlossChainWritesOneLevelPerExponentEachMatchingTheReference) 
     }
   }
   // Bad combinations name the spec key (the tool renames it to its flag: PrefilterCli).
-  PrefilterRequest fixed = request(kSky, "phong:10", "cube", 16, dir / "x.exr");
+  PrefilterRequest fixed = prefilterRequest(kSky, "phong:10", "cube", 16, dir / "x.exr");
   fixed.glossScale = 6;
   const std::string fixedMessage = test::errorOf([&] { prefilterEnvironment(fixed); });
   EXPECT_NE(fixedMessage.find("maps[0].environment.lobe: a gloss chain"), std::string::npos) << fixedMessage;
-  PrefilterRequest mips = request(kSky, "phong", "cube", 16, dir / "x.exr");
+  PrefilterRequest mips = prefilterRequest(kSky, "phong", "cube", 16, dir / "x.exr");
   mips.glossScale = 6;
   mips.mips = true;
   const std::string mipsMessage = test::errorOf([&] { prefilterEnvironment(mips); });
@@ -128,7 +118,7 @@ TEST(PrefilterJob, FurnaceIrradianceIsOne) {
   test::TempDir dir;
   for (const char* to : {"sphere", "cube", "latlong"}) {
     const fs::path out = dir / (std::string("furnace_") + to + ".exr");
-    EXPECT_TRUE(prefilterEnvironment(request(kFurnace, "irradiance", to, 8, out)).written);
+    EXPECT_TRUE(prefilterEnvironment(prefilterRequest(kFurnace, "irradiance", to, 8, out)).written);
     for (const Vec3& d : {Vec3(0, 0, 1), Vec3(0.3, -0.8, 0.2).normalized(), Vec3(1, 1, 1).normalized()}) {
       EXPECT_NEAR(sampleAt(out, d)[1], 1.0, 1e-3) << to;  // E/pi
     }
@@ -178,11 +168,13 @@ TEST(PrefilterJob, FittedLobesFromAFitFile) {
   }
   writeFitFile(dir / "fit.json", fit);
   const fs::path out = dir / "fitted.exr";
-  ASSERT_TRUE(prefilterEnvironment(request(kFurnace, "lobes:" + (dir / "fit.json").string(), "cube", 4, out)).written);
+  ASSERT_TRUE(
+      prefilterEnvironment(prefilterRequest(kFurnace, "lobes:" + (dir / "fit.json").string(), "cube", 4, out)).written);
   // Furnace: C (n + 2)/(n + 1) per channel.
   EXPECT_NEAR(sampleAt(out, Vec3(0.2, 0.3, -1).normalized())[0], 0.5 * 42.0 / 41.0, 1e-3);
   // Elevations are for varying models only.
-  PrefilterRequest constantStack = request(kFurnace, "lobes:" + (dir / "fit.json").string(), "cube", 4, dir / "c.exr");
+  PrefilterRequest constantStack =
+      prefilterRequest(kFurnace, "lobes:" + (dir / "fit.json").string(), "cube", 4, dir / "c.exr");
   constantStack.elevations = 4;
   EXPECT_NE(test::errorOf([&] { prefilterEnvironment(constantStack); }).find("elevations"), std::string::npos);
 
@@ -193,7 +185,8 @@ TEST(PrefilterJob, FittedLobesFromAFitFile) {
   for (auto& channel : fit.fit.model.channels) channel.lobes[0] = {{0.5, 0.3, 0.2}, {40.0, 20.0, 10.0}};
   writeFitFile(dir / "varying.json", fit);
   const fs::path stack = dir / "v.exr";
-  PrefilterRequest varying = request(kFurnace, "lobes:" + (dir / "varying.json").string(), "latlong", 4, stack);
+  PrefilterRequest varying =
+      prefilterRequest(kFurnace, "lobes:" + (dir / "varying.json").string(), "latlong", 4, stack);
   varying.elevations = 3;
   const nlohmann::json report = prefilterEnvironment(varying).toJson();
   ASSERT_EQ(report["files"].size(), 3u);
@@ -211,7 +204,8 @@ TEST(PrefilterJob, FittedLobesFromAFitFile) {
   }
   // Bad slice counts name the key.
   for (int bad : {1, 0, 65}) {
-    PrefilterRequest refused = request(kFurnace, "lobes:" + (dir / "varying.json").string(), "cube", 4, dir / "w.exr");
+    PrefilterRequest refused =
+        prefilterRequest(kFurnace, "lobes:" + (dir / "varying.json").string(), "cube", 4, dir / "w.exr");
     refused.elevations = bad;
     EXPECT_NE(test::errorOf([&] { prefilterEnvironment(refused); }).find("elevations"), std::string::npos) << bad;
   }
@@ -233,7 +227,7 @@ TEST(PrefilterJob, FresnelDecompositionHoldsTheSpecularTheIrradianceAndTheFresne
   // (F at n.v = (i + 0.5) / N, against the formula typed out), with metadata saying how a renderer
   // combines them. On the furnace, specular 1 and irradiance E/pi 1 everywhere.
   test::TempDir dir;
-  PrefilterRequest r = request(kFurnace, "mirror", "latlong", 8, dir / "coat.exr");
+  PrefilterRequest r = prefilterRequest(kFurnace, "mirror", "latlong", 8, dir / "coat.exr");
   r.fresnelIor = 1.5;
   r.combine = "mix";
   const nlohmann::json report = prefilterEnvironment(r).toJson();
@@ -261,7 +255,7 @@ TEST(PrefilterJob, FresnelDecompositionHoldsTheSpecularTheIrradianceAndTheFresne
   }
 
   // On the sky: each file against the reference sums at texel centres of a lat-long map of 16.
-  PrefilterRequest sky = request(kSky, "mirror", "latlong", 16, dir / "sky.exr");
+  PrefilterRequest sky = prefilterRequest(kSky, "mirror", "latlong", 16, dir / "sky.exr");
   sky.fresnelIor = 1.5;
   sky.combine = "mix";
   sky.method = "reference";  // every texel summed at its centre: no fast method's error to allow for
@@ -297,7 +291,7 @@ TEST(PrefilterJob, FresnelDecompositionHoldsTheSpecularTheIrradianceAndTheFresne
 
   // Refused, naming the key: an irradiance lobe, combine alone, a bad combine, a non-positive index.
   auto refused = [&](const std::string& lobe, std::optional<double> ior, std::optional<std::string> combine) {
-    PrefilterRequest bad = request(kFurnace, lobe, "cube", 8, dir / "bad.exr");
+    PrefilterRequest bad = prefilterRequest(kFurnace, lobe, "cube", 8, dir / "bad.exr");
     bad.fresnelIor = ior;
     bad.combine = combine;
     const std::string message = test::errorOf([&] { prefilterEnvironment(bad); });

@@ -41,14 +41,9 @@ json colorgram() {
 
 BakeSpec parse(const json& map) { return parseBakeSpec({{"maps", {map}}}, "/base", "spec.json"); }
 
+// The message of the InvalidInput error parsing `map` throws.
 std::string errorFor(const json& map) {
-  try {
-    parse(map);
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), Error::Kind::InvalidInput) << e.what();
-    return e.what();
-  }
-  return "(no error)";
+  return test::errorOf([&] { parse(map); }, Error::Kind::InvalidInput);
 }
 
 TEST(MaterialSpecs, ContractExamplesParse) {

@@ -24,14 +24,9 @@ json validMap() {
           {"lights", {{{"direction", "eye"}, {"color", {1, 1, 1}}}}}};
 }
 
+// The message of the InvalidInput error parsing `document` throws.
 std::string errorFor(const json& document) {
-  try {
-    parseBakeSpec(document, "/base", "spec.json");
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), Error::Kind::InvalidInput) << e.what();
-    return e.what();
-  }
-  return "(no error)";
+  return test::errorOf([&] { parseBakeSpec(document, "/base", "spec.json"); }, Error::Kind::InvalidInput);
 }
 
 json withMap(const std::function<void(json&)>& edit) {

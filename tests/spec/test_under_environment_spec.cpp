@@ -35,14 +35,9 @@ json copperUnderSky() {
 
 BakeSpec parse(const json& map) { return parseBakeSpec({{"maps", {map}}}, kSamples, "spec.json"); }
 
+// The message of the InvalidInput error parsing `map` throws.
 std::string errorFor(const json& map) {
-  try {
-    parse(map);
-  } catch (const Error& e) {
-    EXPECT_EQ(e.kind(), Error::Kind::InvalidInput) << e.what();
-    return e.what();
-  }
-  return "(no error)";
+  return test::errorOf([&] { parse(map); }, Error::Kind::InvalidInput);
 }
 
 TEST(UnderEnvironmentSpec, AMaterialBesideAnEnvironmentIsLitByIt) {

@@ -1,8 +1,9 @@
 #pragma once
-// Helpers for tests of maps and lookups: a wrapper that forces the baker's general path, and
-// reproducible random directions.
+// Helpers for tests of maps and lookups: a wrapper that forces the baker's general path, a sun alone
+// as an environment, and reproducible random directions.
 #include <brdfbake/bake/map_function.hpp>
 
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -16,6 +17,20 @@ class GeneralOnly final : public MapFunction {
 
  private:
   const MapFunction& inner_;
+};
+
+// Black, but for a uniform disc of radiance `radiance` and angular radius `radius` about `direction`.
+class SunOnly final : public MapFunction {
+ public:
+  SunOnly(const Vec3& direction, double radius, double radiance)
+      : direction_(direction.normalized()), cosRadius_(std::cos(radius)), radiance_(radiance) {}
+  Rgb evaluate(const Vec3& d) const override {
+    return d.normalized().dot(direction_) >= cosRadius_ ? Rgb::Constant(radiance_) : Rgb::Zero();
+  }
+
+ private:
+  Vec3 direction_;
+  double cosRadius_, radiance_;
 };
 
 // `count` unit directions uniform on the sphere (normalised Gaussian triples, std::mt19937(seed)).

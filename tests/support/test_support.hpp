@@ -1,11 +1,20 @@
 #pragma once
-// Helpers shared by the tests: temporary folders, the shared/ data folder, running the CLI.
+// Helpers shared by the tests: temporary folders, the shared/ data folder, running the CLI, files
+// written and read back, errors caught, BRDFBAKE_GNUPLOT set for a while.
 #include <gtest/gtest.h>
+#include <brdfbake/core/error.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <optional>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -91,5 +100,102 @@ inline std::vector<std::string> filesIn(const std::filesystem::path& folder) {
   std::sort(names.begin(), names.end());
   return names;
 }
+
+/// The whole file as bytes ("" when it cannot be read).
+inline std::string slurp(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+/// Writes `bytes` to `path` as they are.
+inline void put(const std::filesystem::path& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+/// The JSON document in `path`.
+inline nlohmann::json readJsonFile(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+/// How many of `folder`'s entries are AtomicOutput temporaries (".tmp-" in the name).
+inline int hiddenTemporaries(const std::filesystem::path& folder) {
+  int count = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    if (entry.path().filename().string().find(".tmp-") != std::string::npos) ++count;
+  }
+  return count;
+}
+
+/// A CSV file (comma-separated, first line the header) as rows of column name -> text; a trailing
+/// comma is an empty last cell. Every row must have the header's number of cells.
+inline std::vector<std::map<std::string, std::string>> readCsv(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> rows;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> cells;
+    std::stringstream s(line);
+    for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
+    if (!line.empty() && line.back() == ',') cells.push_back("");
+    if (header.empty()) {
+      header = cells;
+      continue;
+    }
+    EXPECT_EQ(cells.size(), header.size()) << line;
+    std::map<std::string, std::string> row;
+    for (std::size_t i = 0; i < header.size() && i < cells.size(); ++i) row[header[i]] = cells[i];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+/// The message of the Error `f` throws ("" and a failure when it throws none).
+template <class F>
+std::string errorOf(F&& f) {
+  try {
+    f();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no error thrown";
+  return "";
+}
+
+/// The message of the Error `f` throws, which must be of kind `expected` ("(no error)" when it
+/// throws none, which the caller's check of the message then reports).
+template <class F>
+std::string errorOf(F&& f, Error::Kind expected) {
+  try {
+    f();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), expected) << e.what();
+    return e.what();
+  }
+  return "(no error)";
+}
+
+/// BRDFBAKE_GNUPLOT set to `value` (std::nullopt: unset) while it lives; restored after.
+class GnuplotVariable {
+ public:
+  explicit GnuplotVariable(const std::optional<std::string>& value) {
+    if (const char* old = std::getenv("BRDFBAKE_GNUPLOT")) old_ = old;
+    if (value)
+      ::setenv("BRDFBAKE_GNUPLOT", value->c_str(), 1);
+    else
+      ::unsetenv("BRDFBAKE_GNUPLOT");
+  }
+  ~GnuplotVariable() {
+    if (old_)
+      ::setenv("BRDFBAKE_GNUPLOT", old_->c_str(), 1);
+    else
+      ::unsetenv("BRDFBAKE_GNUPLOT");
+  }
+  GnuplotVariable(const GnuplotVariable&) = delete;
+  GnuplotVariable& operator=(const GnuplotVariable&) = delete;
+
+ private:
+  std::optional<std::string> old_;
+};
 
 }  // namespace brdfbake::test

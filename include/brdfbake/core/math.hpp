@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -39,6 +40,18 @@ inline double clampFinite(double x, double lo, double hi) { return x >= lo ? (x 
 inline Vec3 anyPerpendicular(const Vec3& a) {
   const Vec3 helper = std::abs(a.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
   return a.cross(helper).normalized();
+}
+
+/// Catmull-Rom cubic interpolation weights for the samples p[-1], p[0], p[1], p[2] at the
+/// fraction `t` in [0, 1] between p[0] and p[1]: sum_k w[k] p[k - 1] is the curve through the
+/// samples whose tangent at each sample is half the difference of its neighbours. The weights sum
+/// to 1 for every t, are (0, 1, 0, 0) at t = 0 and (0, 0, 1, 0) at t = 1, and reproduce any
+/// quadratic exactly.
+template <class T>
+std::array<T, 4> catmullRomWeights(T t) {
+  const T t2 = t * t, t3 = t2 * t;
+  return {T(0.5) * (-t3 + T(2) * t2 - t), T(0.5) * (T(3) * t3 - T(5) * t2 + T(2)),
+          T(0.5) * (T(-3) * t3 + T(4) * t2 + t), T(0.5) * (t3 - t2)};
 }
 
 }  // namespace brdfbake

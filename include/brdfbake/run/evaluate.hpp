@@ -48,6 +48,9 @@ struct EvaluateResult {
 
   /// One line per row: the values (9 significant digits), or the kept line.
   std::string briefReport() const;
+  /// "columns (N channels): NAME ...\n" naming the values' columns when there are more than three
+  /// (a spectral table or fit), else "": the tool prints it to stderr, once.
+  std::string columnsLine() const;
   /// {"model", "kind", "channels", "wi", "wo", "value"} for one pair; {"model", "kind", "channels",
   /// "pairs", "values": [{"line", "value"}]} for a pairs file.
   nlohmann::json toJson() const;

@@ -70,8 +70,10 @@ struct SpecRunResult {
   std::optional<Error> firstError;
 
   int failed() const;
-  /// Each map's lines, then "N of M maps failed" when some did.
+  /// Each map's lines, then failureSummary().
   std::string briefReport() const;
+  /// "N of M maps failed\n" (with "; the others were written" when some were) when any failed, else "".
+  std::string failureSummary() const;
   /// {"spec": ..., "maps": [MapResult::entry, ...]}.
   nlohmann::json toJson() const;
 };
@@ -94,5 +96,11 @@ SpecPlan planSpec(const SpecRunOptions& options);
 /// planSpec, then loads every environment, then makes each map (see @file). Throws what planSpec
 /// throws and errors loading an environment; errors while making a map are in its MapResult.
 SpecRunResult runSpec(const SpecRunOptions& options);
+
+/// runSpec for an in-memory spec of one map (`document`, its relative paths against the current
+/// folder; messages name it `label`) with `options`, returning that map. The jobs built on a
+/// one-map spec (prefilterEnvironment, makeMatcap) run through it. Throws what runSpec throws, and
+/// the map's error when making it failed.
+MapResult runOneMapSpec(const nlohmann::json& document, const std::string& label, const JobOptions& options);
 
 }  // namespace brdfbake
