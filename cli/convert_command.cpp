@@ -22,7 +22,9 @@ Examples:
 struct ConvertArgs {
   CommonFlags flags;
   ConvertOptions options;
-  std::string map, to, from, output;
+  OutputFiles outputs;
+  std::optional<std::string> texelFormat;
+  std::string map, to, from;
   bool faces = false;
 };
 
@@ -32,8 +34,14 @@ int runConvert(ConvertArgs a) {
   if (!a.from.empty()) options.source.from = parseParameterizationKind(a.from);
   options.to = parseParameterizationKind(a.to);
   options.layout = a.faces ? CubeLayout::Faces : CubeLayout::Cross;
-  options.output = a.output;
-  const FlagNames names = {{"cos_view", "--cos-view"}, {"to:", "--to:"}, {"resolution:", "--resolution:"}};
+  options.output = a.outputs.first();
+  options.moreOutputs = a.outputs.rest();
+  if (a.texelFormat) options.texelFormat = parseFlag("--texel-format", *a.texelFormat, parseTexelFormat);
+  const FlagNames names = {{"cos_view", "--cos-view"},
+                           {"to:", "--to:"},
+                           {"resolution:", "--resolution:"},
+                           {"texel format:", "--texel-format:"},
+                           {"output: ", "-o: "}};
   return printResult(namingFlags(names, [&] { return withProgress(a.flags, options, convertOutput); }), a.flags);
 }
 
@@ -52,7 +60,8 @@ Command addConvertCommand(CLI::App& app) {
   addCosViewOption(command, args->options.source.cosView);
   addMipLevelOption(command, args->options.source.mipLevel);
   command->add_flag("--faces", args->faces, "Write a cube map as six files instead of a cross");
-  command->add_option("-o,--output", args->output, "Output file (.exr, .hdr, .tif, .png)")->required();
+  addOutputFileOption(command, args->outputs, "Output map");
+  addTexelFormatOption(command, args->texelFormat);
   addComputeFlags(command, args->flags, /*makesMaps=*/true);
   addOutputFlags(command, args->flags, "files, seconds, notes");
   return [args] { return runConvert(*args); };

@@ -177,6 +177,29 @@ void addFromOption(CLI::App* command, std::string& from) {
       ->check(CLI::IsMember({"sphere", "paraboloid", "cube", "latlong"}));
 }
 
+void addOutputFileOption(CLI::App* command, OutputFiles& outputs, const std::string& what) {
+  command
+      ->add_option(
+          "-o,--output", outputs.files,
+          what + " (" + kOutputContainers + "); repeat -o to write the one map in several formats, computed once")
+      ->required()
+      ->allow_extra_args(false)  // one file per -o, so `-o OUT ENV` leaves ENV to the positional
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
+void addTexelFormatOption(CLI::App* command, std::optional<std::string>& texelFormat) {
+  command->add_option("--texel-format", texelFormat,
+                      ".ktx2 .ktx .dds texels: rgba16f (default) | rgba32f | rgb16f | rgb32f | rgb9e5 | rg11b10f");
+}
+
+std::vector<std::pair<std::string, std::string>> outputFlagNames(const std::string& label) {
+  std::vector<std::pair<std::string, std::string>> names;
+  for (int i = 0; i < 16; ++i) names.emplace_back(label + ": maps[0].outputs[" + std::to_string(i) + "]", "-o");
+  names.emplace_back(label + ": maps[0].output", "-o");
+  names.emplace_back(label + ": maps[0].texel_format", "--texel-format");
+  return names;
+}
+
 void addEnvironmentFromOption(CLI::App* command, std::optional<std::string>& from) {
   command->add_option("--from", from, "Parameterization of a plain environment image (default: metadata, shape)");
 }

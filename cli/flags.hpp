@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -142,6 +143,23 @@ void addMaxErrorOption(CLI::App* command, double& maxError, const std::string& b
 /// --samples-per-texel N in [1, 4096], default 16 (and the hidden old spelling --samples when
 /// `oldSpelling`).
 void addSamplesPerTexelOption(CLI::App* command, int& samples, const std::string& help, bool oldSpelling);
+
+/// The containers every output file may be, for -o's help: chosen by the extension.
+inline constexpr const char* kOutputContainers = ".exr .hdr .tif .png .ktx2 .ktx .dds";
+
+/// -o FILE, repeatable: the first file and the rest (one computation, written in each file's format).
+struct OutputFiles {
+  std::vector<std::string> files;
+  std::string first() const { return files.empty() ? std::string() : files.front(); }
+  std::vector<std::filesystem::path> rest() const { return {files.begin() + (files.empty() ? 0 : 1), files.end()}; }
+};
+/// -o,--output FILE (required; repeat it to write the one map in several formats), `what` the help's noun.
+void addOutputFileOption(CLI::App* command, OutputFiles& outputs, const std::string& what);
+/// --texel-format NAME: how .ktx2, .ktx and .dds outputs store texels; the help lists the names.
+void addTexelFormatOption(CLI::App* command, std::optional<std::string>& texelFormat);
+/// (the JSON path of each output of a one-map spec, "-o") for renameSpecPaths: "LABEL: maps[0].outputs[i]"
+/// for every i, then "LABEL: maps[0].output" and "LABEL: maps[0].texel_format" (--texel-format).
+std::vector<std::pair<std::string, std::string>> outputFlagNames(const std::string& label);
 
 /// Renames the JSON paths of a spec the command built from its flags to the flags, in an error
 /// message: each pair is (JSON path or quoted key, flag).

@@ -37,6 +37,7 @@ struct IblArgs {
   CommonFlags flags;
   IblOptions options;
   std::string environment, outDir, dfgForm = "single", shFormat = "brdfbake";
+  std::optional<std::string> texelFormat;
 };
 
 int runIbl(IblArgs args) {
@@ -45,6 +46,7 @@ int runIbl(IblArgs args) {
   options.outDir = args.outDir;
   options.dfgForm = parseFlag("--dfg-form", args.dfgForm, parseDfgForm);
   options.shCmgen = args.shFormat == "cmgen";
+  if (args.texelFormat) options.texelFormat = parseFlag("--texel-format", *args.texelFormat, parseTexelFormat);
   const IblResult result = namingFlags(kFlagNames, [&] { return withProgress(args.flags, options, makeIbl); });
   return printResult(result, args.flags);
 }
@@ -58,9 +60,10 @@ Command addIblCommand(CLI::App& app) {
   command->footer(kFooter);
   command->add_option("environment", args->environment, "Environment image (EXR, HDR, ...)")->required();
   command->add_option("--out-dir", args->outDir, "Folder for every file (created if missing)")->required();
-  command->add_option("--format", r.format, "ktx2 | ktx | dds | exr")
+  command->add_option("--format", r.format, "The files' container: ktx2 (.ktx2) | ktx (.ktx) | dds (.dds) | exr (.exr)")
       ->default_val("ktx2")
       ->check(CLI::IsMember({"ktx2", "ktx", "dds", "exr"}));
+  addTexelFormatOption(command, args->texelFormat);
   command->add_option("--stem", r.stem, "File names' stem (default: the environment's)");
   command->add_option("--resolution", r.resolution, "GGX chain: level-0 face size, a power of two")->default_val(256);
   command->add_option("--levels", r.levels, "GGX chain levels (default and only: down to 1 texel)");

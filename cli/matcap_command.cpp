@@ -38,7 +38,8 @@ Examples:
 struct MatcapArgs {
   CommonFlags flags;
   MatcapRequest request;
-  std::string material, environment, output, camera;
+  OutputFiles outputs;
+  std::string material, environment, camera;
 };
 
 // "YAW,PITCH" in degrees.
@@ -55,7 +56,8 @@ int runMatcap(MatcapArgs args) {
   MatcapRequest& request = args.request;
   request.material = args.material;
   request.environment = args.environment;
-  request.output = args.output;
+  request.output = args.outputs.first();
+  request.moreOutputs = args.outputs.rest();
   if (!args.camera.empty()) parseCamera(args.camera, request);
   // The spec keys the request sets, named by their flags in messages.
   const FlagNames names = {
@@ -66,14 +68,15 @@ int runMatcap(MatcapArgs args) {
       {"matcap: maps[0].environment.method", "--method"},
       {"matcap: maps[0].environment.from", "--from"},
       {"matcap: maps[0].camera", "--camera"},
-      {"matcap: maps[0].output", "-o"},
       {"matcap: maps[0].resolution", "--resolution"},
       {"matcap: maps[0].parameterization", "--parameterization"},
       {"matcap: maps[0].samples_per_texel", "--samples-per-texel"},
       {"matcap: maps[0].exposure", "--exposure"},
       {"matcap: maps[0]", "matcap"},
   };
-  const MapResult result = namingFlags(names, [&] {
+  FlagNames allNames = outputFlagNames("matcap");
+  allNames.insert(allNames.end(), names.begin(), names.end());
+  const MapResult result = namingFlags(allNames, [&] {
     return withProgress(args.flags, [&](const JobOptions& options) { return makeMatcap(request, options); });
   });
   return printResult(result, args.flags);
@@ -88,7 +91,8 @@ Command addMatcapCommand(CLI::App& app) {
   command->footer(kFooter);
   command->add_option("material", args->material, "Material JSON, fit.json or measured table")->required();
   command->add_option("environment", args->environment, "Environment image (EXR, HDR, ...)")->required();
-  command->add_option("-o,--output", args->output, "Output map (.exr, .png, .hdr, .tif)")->required();
+  addOutputFileOption(command, args->outputs, "Output map");
+  addTexelFormatOption(command, r.texelFormat);
   addMapResolutionOption(command, r.resolution);
   command->add_option("--parameterization", r.parameterization, "sphere (the matcap) | paraboloid | cube | latlong")
       ->default_val("sphere")

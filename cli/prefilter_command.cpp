@@ -61,7 +61,6 @@ const FlagNames kFlagNames = {
     {"prefilter: maps[0].environment.mip_layout", "--tiled"},
     {"prefilter: maps[0].environment.mips", "--mips"},
     {"prefilter: maps[0].environment", "prefilter"},
-    {"prefilter: maps[0].output", "-o"},
     {"prefilter: maps[0].resolution", "--resolution"},
     {"prefilter: maps[0].parameterization", "--to"},
     {"prefilter: maps[0]", "prefilter"},
@@ -73,7 +72,8 @@ const FlagNames kFlagNames = {
 struct PrefilterArgs {
   CommonFlags flags;
   PrefilterRequest request;
-  std::string environment, output, view, up, shOutput;
+  OutputFiles outputs;
+  std::string environment, view, up, shOutput;
 };
 
 void addFilterFlags(CLI::App* command, PrefilterArgs& a) {
@@ -94,7 +94,8 @@ void addFilterFlags(CLI::App* command, PrefilterArgs& a) {
 
 void addOutputFileFlags(CLI::App* command, PrefilterArgs& a) {
   PrefilterRequest& r = a.request;
-  command->add_option("-o,--output", a.output, "Output map (.exr, .hdr, .tif, .png)")->required();
+  addOutputFileOption(command, a.outputs, "Output map");
+  addTexelFormatOption(command, r.texelFormat);
   command->add_flag("--mips", r.mips, "Also write the solid-angle-weighted mip levels STEM_mipK.EXT");
   command->add_flag("--tiled", r.tiled, "With --mips: the chain inside OUT, one tiled MIP-mapped OpenEXR");
   command->add_flag("--faces", r.faces, "Write a cube map as six files STEM_posx.EXT ... instead of a cross");
@@ -115,11 +116,14 @@ int runPrefilter(PrefilterArgs args) {
     throw Error(Error::Kind::InvalidArgument, "prefilter needs --lobe (or --chain ggx)");
   }
   request.environment = args.environment;
-  request.output = args.output;
+  request.output = args.outputs.first();
+  request.moreOutputs = args.outputs.rest();
   if (!args.view.empty()) request.view = parseVector(args.view, "--view");
   if (!args.up.empty()) request.up = parseVector(args.up, "--up");
   if (!args.shOutput.empty()) request.shOutput = args.shOutput;
-  const MapResult result = namingFlags(kFlagNames, [&] {
+  FlagNames names = outputFlagNames("prefilter");
+  names.insert(names.end(), kFlagNames.begin(), kFlagNames.end());
+  const MapResult result = namingFlags(names, [&] {
     return withProgress(args.flags, [&](const JobOptions& options) { return prefilterEnvironment(request, options); });
   });
   return printResult(result, args.flags);

@@ -47,7 +47,10 @@ Command addPreviewCommand(CLI::App& app) {
   auto* command = app.add_subcommand("preview", "Render an object shaded with a map (see it as a renderer would)");
   command->footer(kFooter);
   command->add_option("map", args->map, "Output of bake or prefilter (or a plain image with --from)")->required();
-  command->add_option("-o,--output", args->output, "Output image (.png is 8-bit sRGB; .exr keeps HDR values)")
+  command
+      ->add_option(
+          "-o,--output", args->output,
+          std::string("Output image (") + kOutputContainers + "; .png is 8-bit sRGB, the others keep HDR values)")
       ->required();
   command->add_option("--object", args->object, "sphere | torus | teapot")->default_str("sphere");
   command->add_option("--view", args->view, "View vector X,Y,Z towards the viewer, in the map frame (default 0,0,1)");

@@ -3,6 +3,7 @@
 #include <brdfbake/run/convert_output.hpp>
 
 namespace brdfbake {
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -18,13 +19,26 @@ nlohmann::json convertedFrom(const ConvertOptions& options, const nlohmann::json
   return from;
 }
 
+// The texel format an output gets: the options' for a texture container, none for other formats.
+std::optional<TexelFormat> texelFormatFor(const ConvertOptions& options, const fs::path& file) {
+  return isTextureContainer(imageFormatFor(file)) ? options.texelFormat : std::nullopt;
+}
+
 }  // namespace
 
 void ConvertOptions::validate() const {
   JobOptions::validate();
   require(resolution >= 0 && resolution <= 65536, "resolution must be in [1, 65536] (0: the input's)");
   require(samplesPerTexel >= 1 && samplesPerTexel <= 4096, "samples per texel must be in [1, 4096]");
-  imageFormatFor(output);  // a bad extension fails before the work
+  bool anyTexture = false;
+  for (const fs::path& file : outputs()) anyTexture = isTextureContainer(imageFormatFor(file)) || anyTexture;
+  require(!texelFormat || anyTexture, "texel format: applies to .ktx2, .ktx and .dds outputs only; none is one");
+}
+
+std::vector<fs::path> ConvertOptions::outputs() const {
+  std::vector<fs::path> files{output};
+  files.insert(files.end(), moreOutputs.begin(), moreOutputs.end());
+  return files;
 }
 
 ConvertResult convertOutput(const ConvertOptions& options) {
@@ -42,9 +56,12 @@ ConvertResult convertOutput(const ConvertOptions& options) {
   const auto target = makeParameterization(options.to, resolution);
   FilePlan plan;
   plan.addInput(options.source.path, "map");
-  for (const auto& f :
-       mapOutputFiles(options.output, "output", options.to == ParameterizationKind::Cube, options.layout)) {
-    plan.addOutput(f.file, f.role);
+  for (const fs::path& file : options.outputs()) {
+    for (const auto& f : mapOutputFiles(file, "output", options.to == ParameterizationKind::Cube, options.layout))
+      plan.addOutput(f.file, f.role);
+    const OutputShape shape{options.to, resolution, false, options.layout, texelFormatFor(options, file)};
+    if (const std::string problem = containerProblem(file, shape); !problem.empty())
+      throw Error(Error::Kind::InvalidArgument, "output: " + problem);
   }
   plan.check();
   BakeOptions bake;
@@ -59,9 +76,14 @@ ConvertResult convertOutput(const ConvertOptions& options) {
   info.conventionVersion = kConventionVersion;
   info.spec = source.metadata().value("spec", nlohmann::json::object());
   info.spec["converted_from"] = convertedFrom(options, described);
-  const auto written = writeMap(baked.image, info, options.output, options.layout,
-                                {.inputs = {options.source.path}, .texelFormat = std::nullopt});
-  return {written.files, written.notes, baked.summary.seconds};
+  ConvertResult result{{}, {}, baked.summary.seconds};
+  for (const fs::path& file : options.outputs()) {  // the one resampled map, in each format
+    const auto written = writeMap(baked.image, info, file, options.layout,
+                                  {.inputs = {options.source.path}, .texelFormat = texelFormatFor(options, file)});
+    result.files.insert(result.files.end(), written.files.begin(), written.files.end());
+    result.notes.insert(result.notes.end(), written.notes.begin(), written.notes.end());
+  }
+  return result;
 }
 
 std::string ConvertResult::briefReport() const {

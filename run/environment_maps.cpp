@@ -52,14 +52,25 @@ nlohmann::json environmentSource(const EnvironmentMapSpec& e, const Environment&
           {"detected", environment.detection}};
 }
 
+// What was made, written to one of the map's outputs (its format by its extension).
+MapWriteReport writeToOutput(const MapSpec& map, const EnvironmentMapSpec& e, const Prefiltered& made, std::size_t i,
+                             const MapRunContext& context) {
+  const fs::path file = map.outputs()[i];
+  const WriteOptions options = map.writeOptionsFor(i, context.write.inputs);
+  if (made.stack) return writePrefilteredStack(*made.stack, file, map.raw, map.cubeLayout, options, e.mipLayout);
+  if (made.decomposition) {
+    return writeFresnelDecomposition(*made.decomposition, file, map.raw, map.cubeLayout, options, e.mipLayout);
+  }
+  return writePrefilteredMap(made.map, file, map.raw, map.cubeLayout, options, e.mipLayout);
+}
+
+// Every output of the map from the one computation, then the SH file once.
 MapWriteReport writePrefiltered(const MapSpec& map, const EnvironmentMapSpec& e, const Prefiltered& made,
                                 const Environment& environment, const MapRunContext& context) {
-  MapWriteReport written =
-      made.stack ? writePrefilteredStack(*made.stack, map.output, map.raw, map.cubeLayout, context.write, e.mipLayout)
-      : made.decomposition
-          ? writeFresnelDecomposition(*made.decomposition, map.output, map.raw, map.cubeLayout, context.write,
-                                      e.mipLayout)
-          : writePrefilteredMap(made.map, map.output, map.raw, map.cubeLayout, context.write, e.mipLayout);
+  MapWriteReport written;
+  for (std::size_t i = 0; i < map.outputs().size(); ++i) {
+    appendWritten(written, writeToOutput(map, e, made, i, context));
+  }
   if (const auto& sh = e.shOutput) {
     const ShExpansion coefficients = irradianceSh(environment);
     if (e.shCmgen) {
@@ -135,7 +146,7 @@ std::vector<std::string> boundNotes(const Prefiltered& made) {
 }
 
 void addLines(const MapSpec& map, const Prefiltered& made, double writeSeconds, MapResult& result) {
-  const std::string what = made.stack ? elevationSlicePath(map.output, 0).string() + " ..." : map.output.string();
+  const std::string what = made.stack ? elevationSlicePath(map.output, 0).string() + " ..." : outputNames(map);
   result.lines.push_back("wrote " + what + " (" + std::string(toString(map.parameterization)) + " " +
                          std::to_string(made.map.map->width()) + "x" + std::to_string(made.map.map->height()) +
                          "): " + made.map.summary.briefReport() + "; write " + formatNumber(writeSeconds) + " s");

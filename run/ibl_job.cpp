@@ -46,6 +46,8 @@ void IblOptions::validate() const {
   require(!outDir.empty(), "ibl: the output folder (--out-dir) is required");
   require(format == "ktx2" || format == "ktx" || format == "dds" || format == "exr",
           "ibl: format (--format) must be ktx2, ktx, dds or exr, got \"" + format + "\"");
+  require(!texelFormat || format != "exr",
+          "ibl: a texel format (--texel-format) applies to the ktx2, ktx and dds formats, not exr");
   checkPowerOfTwo(resolution, 1, 8192, "resolution (--resolution)");
   checkPowerOfTwo(irradianceResolution, 1, 1024, "irradiance resolution (--irradiance-resolution)");
   checkPowerOfTwo(skyboxResolution, 1, 8192, "skybox resolution (--skybox-resolution)");
@@ -73,19 +75,22 @@ nlohmann::json iblSpec(const IblOptions& options) {
   ggx["mip_layout"] = "tiled";
   nlohmann::json irradiance = environmentJson(options, "irradiance");
   irradiance["sh_output"] = outputName(options, "_sh", ".json").string();
-  const nlohmann::json maps = nlohmann::json::array({{{"output", outputName(options, "_ggx", ext).string()},
-                                                      {"parameterization", "cube"},
-                                                      {"resolution", options.resolution},
-                                                      {"environment", ggx}},
-                                                     {{"output", outputName(options, "_irradiance", ext).string()},
-                                                      {"parameterization", "cube"},
-                                                      {"resolution", options.irradianceResolution},
-                                                      {"environment", irradiance}},
-                                                     {{"output", outputName(options, "_skybox", ext).string()},
-                                                      {"parameterization", "cube"},
-                                                      {"resolution", options.skyboxResolution},
-                                                      {"environment", environmentJson(options, "mirror")}}});
-  return {{"maps", maps}};
+  nlohmann::json maps = nlohmann::json::array({{{"output", outputName(options, "_ggx", ext).string()},
+                                                {"parameterization", "cube"},
+                                                {"resolution", options.resolution},
+                                                {"environment", ggx}},
+                                               {{"output", outputName(options, "_irradiance", ext).string()},
+                                                {"parameterization", "cube"},
+                                                {"resolution", options.irradianceResolution},
+                                                {"environment", irradiance}},
+                                               {{"output", outputName(options, "_skybox", ext).string()},
+                                                {"parameterization", "cube"},
+                                                {"resolution", options.skyboxResolution},
+                                                {"environment", environmentJson(options, "mirror")}}});
+  nlohmann::json spec = {{"maps", maps}};
+  if (options.texelFormat)
+    for (auto& map : spec["maps"]) map["texel_format"] = std::string(toString(*options.texelFormat));
+  return spec;
 }
 
 namespace {
@@ -110,7 +115,9 @@ ExtraFiles planIbl(const IblOptions& options, const SpecRunOptions& run) {
   for (const auto& entry : mapOutputFiles(extra.dfg, "dfg table")) plan.files.addOutput(entry.file, entry.role);
   if (options.shCmgen) plan.files.addOutput(extra.shText, "irradiance SH, cmgen's lines");
   plan.files.check();
-  if (const std::string problem = containerProblem(extra.dfg, OutputShape{}); !problem.empty())
+  OutputShape dfgShape;
+  dfgShape.texelFormat = options.texelFormat;
+  if (const std::string problem = containerProblem(extra.dfg, dfgShape); !problem.empty())
     throw Error(Error::Kind::InvalidArgument, problem);
   return extra;
 }
@@ -125,6 +132,7 @@ nlohmann::json writeExtras(const IblOptions& options, const ExtraFiles& extra, I
   const Image table = dfgTable(dfg);
   WriteOptions write;
   write.inputs = {options.environment};
+  write.texelFormat = options.texelFormat;
   const WriteReport written = writeDfgTable(table, extra.dfg, write);
   if (options.progress) options.progress("ibl: DFG table", 1.0);
   result.files.push_back(extra.dfg);

@@ -13,7 +13,9 @@ namespace brdfbake::run_detail {
 /// What every map of one run shares.
 struct MapRunContext {
   const JobOptions& options;
-  WriteOptions write;  ///< the inputs no output may overwrite (the spec, the map's environment)
+  /// The inputs no output may overwrite (the spec, the map's environment); each output's texel format
+  /// comes from MapSpec::writeOptionsFor.
+  WriteOptions write;
 };
 
 /// The entry every map's JSON shares: output, files, parameterization, resolution, width,
@@ -38,6 +40,17 @@ MapResult runUnderEnvironmentMap(const MapSpec& map, const Environment& environm
 /// decomposition or a gloss chain, and the SH irradiance file when asked.
 MapResult runEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e, const Environment& environment,
                             const MapRunContext& context);
+
+/// Adds `from`'s files and its notes not already in `into` (one output of several written).
+void appendWritten(MapWriteReport& into, const MapWriteReport& from);
+
+/// The map's outputs as its "wrote" line names them: "a.exr", or "a.exr, a.png, a.ktx2".
+std::string outputNames(const MapSpec& map);
+
+/// Sets a one-map spec's "output" (or, with `more`, "outputs") and "texel_format", for the jobs that
+/// build a spec from a request (prefilter, matcap).
+void putOutputs(nlohmann::json& map, const std::filesystem::path& output,
+                const std::vector<std::filesystem::path>& more, const std::optional<std::string>& texelFormat);
 
 /// A number as the tool prints seconds and errors (6 significant digits, as iostream).
 std::string formatNumber(double value);

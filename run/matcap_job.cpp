@@ -6,6 +6,8 @@
 #include <cctype>
 #include <fstream>
 
+#include "map_runners.hpp"
+
 namespace brdfbake {
 namespace fs = std::filesystem;
 
@@ -48,12 +50,12 @@ nlohmann::json matcapSpec(const MatcapRequest& request) {
   if (request.method != "auto") environment["method"] = request.method;
   if (request.maxError != 0.01) environment["max_error"] = request.maxError;
   if (request.from) environment["from"] = *request.from;
-  nlohmann::json map = {{"output", request.output.string()},
-                        {"parameterization", request.parameterization},
+  nlohmann::json map = {{"parameterization", request.parameterization},
                         {"resolution", request.resolution},
                         {"material", materialJson(request.material)},
                         {"environment", environment}};
   if (request.exposure != 0.0) map["exposure"] = request.exposure;
+  run_detail::putOutputs(map, request.output, request.moreOutputs, request.texelFormat);
   if (request.samplesPerTexel != 16) map["samples_per_texel"] = request.samplesPerTexel;
   if (request.yaw || request.pitch)
     map["camera"] = {{"yaw", request.yaw.value_or(0.0)}, {"pitch", request.pitch.value_or(0.0)}};

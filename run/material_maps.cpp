@@ -110,15 +110,19 @@ MapResult writeProfile(const Baked& baked, const MapRunContext& context) {
   image.metadata["spec"] = map.raw;
   if (!baked.autoReport.is_null()) image.metadata["spec"]["auto"] = baked.autoReport;
   const auto writeStart = std::chrono::steady_clock::now();
-  const WriteReport written = writeImage(image, map.output, context.write);
+  MapWriteReport written;
+  for (std::size_t i = 0; i < map.outputs().size(); ++i) {
+    const fs::path file = map.outputs()[i];
+    appendWritten(written, {{file}, writeImage(image, file, map.writeOptionsFor(i, context.write.inputs)).notes});
+  }
   const double writeSeconds = secondsSince(writeStart);
   const int n = profile.resolution();
   MapResult result = makeMapResult(map, {"profile", n, n, 1, baked.summary.path, baked.summary.seconds, writeSeconds},
-                                   {map.output}, written.notes);
+                                   written.files, written.notes);
   const Vec3& axis = profile.axis();
   result.entry["axis"] = {axis.x(), axis.y(), axis.z()};
   result.entry["samples_per_texel"] = map.samplesPerTexel;
-  result.lines.push_back("wrote " + map.output.string() + " (1-D radial profile, " + std::to_string(n) +
+  result.lines.push_back("wrote " + outputNames(map) + " (1-D radial profile, " + std::to_string(n) +
                          " texels about (" + formatNumber(axis.x()) + ", " + formatNumber(axis.y()) + ", " +
                          formatNumber(axis.z()) + "), " + baked.summary.path + "): bake " +
                          formatNumber(baked.summary.seconds) + " s, write " + formatNumber(writeSeconds) + " s");
@@ -139,13 +143,19 @@ MapResult writeMaterialMap(const Baked& baked, const MapRunContext& context) {
   info.spec = map.raw;
   if (!baked.autoReport.is_null()) info.spec["auto"] = baked.autoReport;
   const auto writeStart = std::chrono::steady_clock::now();
-  MapWriteReport written = writeMap(baked.image, info, map.output, map.cubeLayout, context.write);
-  // Extra files the spec asks for: silhouette mip levels ("mips"), the 1-D Fresnel table.
+  MapWriteReport written;
   BakeOptions extrasOptions;
   extrasOptions.threads = context.options.threads;
-  const MapWriteReport extras = writeMapExtras(map, extrasOptions, context.write);
-  written.files.insert(written.files.end(), extras.files.begin(), extras.files.end());
-  written.notes.insert(written.notes.end(), extras.notes.begin(), extras.notes.end());
+  for (std::size_t i = 0; i < map.outputs().size(); ++i) {
+    const WriteOptions options = map.writeOptionsFor(i, context.write.inputs);
+    appendWritten(written, writeMap(baked.image, info, map.outputs()[i], map.cubeLayout, options));
+    // Extra files the spec asks for beside each output: silhouette mip levels ("mips"); the 1-D Fresnel
+    // table (one file, written with the first).
+    MapSpec one = map;
+    one.output = map.outputs()[i];
+    if (i > 0) one.materialMap()->fresnelTableOutput.reset();
+    appendWritten(written, writeMapExtras(one, extrasOptions, options));
+  }
   const double writeSeconds = secondsSince(writeStart);
   const std::string kind(toString(map.parameterization));
   const int width = parameterization->width(), height = parameterization->height();
@@ -153,7 +163,7 @@ MapResult writeMaterialMap(const Baked& baked, const MapRunContext& context) {
       makeMapResult(map, {kind, map.resolution, width, height, baked.summary.path, baked.summary.seconds, writeSeconds},
                     written.files, written.notes);
   result.entry["samples_per_texel"] = map.samplesPerTexel;
-  result.lines.push_back("wrote " + map.output.string() + " (" + kind + " " + std::to_string(width) + "x" +
+  result.lines.push_back("wrote " + outputNames(map) + " (" + kind + " " + std::to_string(width) + "x" +
                          std::to_string(height) + ", " + std::to_string(map.samplesPerTexel) + " samples/texel, " +
                          baked.summary.path + "): bake " + formatNumber(baked.summary.seconds) + " s, write " +
                          formatNumber(writeSeconds) + " s");

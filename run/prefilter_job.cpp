@@ -1,5 +1,7 @@
 #include <brdfbake/run/prefilter_job.hpp>
 
+#include "map_runners.hpp"
+
 namespace brdfbake {
 
 namespace {
@@ -46,12 +48,11 @@ nlohmann::json environmentJson(const PrefilterRequest& request) {
 }  // namespace
 
 nlohmann::json prefilterSpec(const PrefilterRequest& request) {
-  nlohmann::json map = {{"output", request.output.string()},
-                        {"parameterization", request.to},
-                        {"resolution", request.resolution},
-                        {"environment", environmentJson(request)}};
+  nlohmann::json map = {
+      {"parameterization", request.to}, {"resolution", request.resolution}, {"environment", environmentJson(request)}};
   if (request.samplesPerTexel != 16) map["samples_per_texel"] = request.samplesPerTexel;
   if (request.faces) map["layout"] = "faces";
+  run_detail::putOutputs(map, request.output, request.moreOutputs, request.texelFormat);
   return {{"maps", nlohmann::json::array({map})}};
 }
 

@@ -1,6 +1,7 @@
 #include <brdfbake/core/memory_budget.hpp>
 #include <brdfbake/run/spec_runner.hpp>
 
+#include <algorithm>
 #include <sstream>
 
 #include "map_runners.hpp"
@@ -19,7 +20,13 @@ fs::path placed(const fs::path& outDir, const fs::path& written) {
 void placeOutputs(BakeSpec& spec, const fs::path& outDir) {
   if (outDir.empty()) return;
   for (auto& map : spec.maps) {
-    map.output = placed(outDir, map.raw.at("output").get<std::string>());
+    if (map.outputList) {
+      const nlohmann::json& list = map.raw.at("outputs");
+      map.output = placed(outDir, list.at(0).get<std::string>());
+      for (std::size_t i = 1; i < list.size(); ++i) map.moreOutputs[i - 1] = placed(outDir, list[i].get<std::string>());
+    } else {
+      map.output = placed(outDir, map.raw.at("output").get<std::string>());
+    }
     auto* e = std::get_if<EnvironmentMapSpec>(&map.content);
     if (e && e->shOutput) e->shOutput = placed(outDir, map.raw["environment"]["sh_output"].get<std::string>());
   }
@@ -203,9 +210,33 @@ MapResult makeMapResult(const MapSpec& map, const EntryFacts& facts, std::vector
                   {"bake_seconds", facts.bakeSeconds},
                   {"write_seconds", facts.writeSeconds},
                   {"notes", notes}};
+  if (map.outputList) result.entry["outputs"] = pathsToJson(map.outputs());
   result.files = std::move(files);
   result.notes = std::move(notes);
   return result;
+}
+
+void appendWritten(MapWriteReport& into, const MapWriteReport& from) {
+  into.files.insert(into.files.end(), from.files.begin(), from.files.end());
+  for (const std::string& note : from.notes)
+    if (std::find(into.notes.begin(), into.notes.end(), note) == into.notes.end()) into.notes.push_back(note);
+}
+
+void putOutputs(nlohmann::json& map, const fs::path& output, const std::vector<fs::path>& more,
+                const std::optional<std::string>& texelFormat) {
+  if (more.empty()) {
+    map["output"] = output.string();
+  } else {
+    map["outputs"] = nlohmann::json::array({output.string()});
+    for (const fs::path& file : more) map["outputs"].push_back(file.string());
+  }
+  if (texelFormat) map["texel_format"] = *texelFormat;
+}
+
+std::string outputNames(const MapSpec& map) {
+  std::string names;
+  for (const fs::path& file : map.outputs()) names += (names.empty() ? "" : ", ") + file.string();
+  return names;
 }
 
 std::string formatNumber(double value) {

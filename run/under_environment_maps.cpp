@@ -33,7 +33,11 @@ MapResult runUnderEnvironmentMap(const MapSpec& specified, const Environment& en
   }
   const UnderEnvironmentSummary& s = made.summary;
   const auto writeStart = std::chrono::steady_clock::now();
-  const MapWriteReport written = writeUnderEnvironmentMap(made, map.output, map.raw, map.cubeLayout, context.write);
+  MapWriteReport written;
+  for (std::size_t i = 0; i < map.outputs().size(); ++i) {
+    appendWritten(written, writeUnderEnvironmentMap(made, map.outputs()[i], map.raw, map.cubeLayout,
+                                                    map.writeOptionsFor(i, context.write.inputs)));
+  }
   const double writeSeconds = secondsSince(writeStart);
   const std::string kind(toString(map.parameterization));
   const int width = made.map->width(), height = made.map->height();
@@ -43,7 +47,7 @@ MapResult runUnderEnvironmentMap(const MapSpec& specified, const Environment& en
       map, {kind, map.resolution, width, height, "under_environment", s.seconds, writeSeconds}, written.files, notes);
   result.entry["samples_per_texel"] = map.samplesPerTexel;
   result.entry["under_environment"] = s.toJson();
-  result.lines.push_back("wrote " + map.output.string() + " (" + kind + " " + std::to_string(width) + "x" +
+  result.lines.push_back("wrote " + outputNames(map) + " (" + kind + " " + std::to_string(width) + "x" +
                          std::to_string(height) + ", lit by " + map.environmentLighting()->file.filename().string() +
                          "): " + formatNumber(s.seconds) + " s, write " + formatNumber(writeSeconds) + " s");
   result.lines.push_back("  " + s.briefReport());

@@ -10,18 +10,18 @@
 #include <sys/stat.h>
 
 #include <fstream>
+#include <map>
 #include <sstream>
 
+#include "map_outputs.hpp"
 #include "registry_entries.hpp"
 
 namespace brdfbake {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr std::size_t kMaxPathLength = 4096;  // PATH_MAX on Linux
-constexpr std::size_t kMaxNameLength = 255;   // NAME_MAX of Linux file systems
-constexpr std::size_t kMaxLights = 256;       // per map (docs/limits.md)
-constexpr std::size_t kMaxMaps = 1024;        // per spec
+constexpr std::size_t kMaxLights = 256;  // per map (docs/limits.md)
+constexpr std::size_t kMaxMaps = 1024;   // per spec
 
 DirectionalLight parseLight(const nlohmann::json& value, const std::string& path, const Vec3& view, bool& atEye) {
   JsonObjectReader light(value, path);
@@ -296,29 +296,6 @@ void parseMaterialMap(JsonObjectReader& map, MapSpec& spec, const fs::path& base
   if (!m.deferredFit && !spec.anyAuto() && !spec.radialProfile) materials::checkMaterialSampling(spec);
 }
 
-// "output": a path the image formats know, within the length limits; relative to the spec's folder.
-void parseOutputPath(JsonObjectReader& map, MapSpec& spec, const fs::path& baseDirectory) {
-  const std::string output = map.string("output");
-  if (output.empty()) throw specError(map.child("output"), "must not be empty");
-  if (output.size() > kMaxPathLength) {
-    throw specError(map.child("output"), "a name of " + std::to_string(output.size()) +
-                                             " characters; paths are limited to " + std::to_string(kMaxPathLength));
-  }
-  for (const auto& part : fs::path(output)) {
-    if (part.string().size() > kMaxNameLength) {
-      throw specError(map.child("output"), "a name of " + std::to_string(part.string().size()) +
-                                               " bytes in the path; file names are limited to " +
-                                               std::to_string(kMaxNameLength) + " (NAME_MAX)");
-    }
-  }
-  try {
-    imageFormatFor(output);
-  } catch (const Error& e) {
-    throw specError(map.child("output"), e.what());
-  }
-  spec.output = fs::path(output).is_absolute() ? fs::path(output) : baseDirectory / output;
-}
-
 // "parameterization": a map kind, "profile" or "auto".
 void parseParameterization(JsonObjectReader& map, MapSpec& spec) {
   const std::string kind = map.string("parameterization");
@@ -408,7 +385,7 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
   MapSpec spec;
   spec.jsonPath = path;
   spec.raw = value;
-  parseOutputPath(map, spec, baseDirectory);
+  spec_detail::parseMapOutputs(map, spec, baseDirectory);  // "output" or "outputs"
   parseParameterization(map, spec);
   parseSampling(map, spec);
   parseCubeLayout(map, spec);
@@ -417,11 +394,13 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
   if (map.has("environment") && !map.has("material")) {  // a prefiltered environment map (docs/prefilter.md)
     if (spec.radialProfile) throw specError(map.child("parameterization"), "environment maps cannot be profiles");
     parseEnvironmentMap(map, spec, baseDirectory);
+    spec_detail::parseTexelFormatAndCheckOutputs(map, spec);
     map.finish();
     return spec;
   }
 
   parseMaterialMap(map, spec, baseDirectory);
+  spec_detail::parseTexelFormatAndCheckOutputs(map, spec);
   map.finish();
   return spec;
 }
@@ -452,24 +431,28 @@ std::string MapSpec::modelName() const {
 }
 
 std::vector<FilePlan::Entry> MapSpec::plannedOutputs() const {
-  const std::string role = jsonPath + ".output";
+  std::vector<FilePlan::Entry> out;
+  auto add = [&out](const std::vector<FilePlan::Entry>& files) { out.insert(out.end(), files.begin(), files.end()); };
+  const std::vector<fs::path> files = outputs();
   if (const EnvironmentMapSpec* environment = environmentMap()) {
     const EnvironmentMapSpec& e = *environment;
-    PrefilterOutputs outputs{parameterization, resolution, e.mips, cubeLayout, e.mipLayout};
-    if (e.lobeModel() && e.lobeModel()->elevation == LobeElevation::Varying) outputs.elevationSlices = e.elevations;
-    outputs.fresnel = e.fresnel.has_value();
-    if (e.glossChain) outputs.mips = true, outputs.mipLevels = static_cast<int>(e.chainLobes.size());
-    std::vector<FilePlan::Entry> files = prefilterOutputFiles(output, outputs, role);
-    if (const auto& sh = e.shOutput) files.push_back({*sh, jsonPath + ".environment.sh_output"});
-    return files;
+    PrefilterOutputs shape{parameterization, resolution, e.mips, cubeLayout, e.mipLayout};
+    if (e.lobeModel() && e.lobeModel()->elevation == LobeElevation::Varying) shape.elevationSlices = e.elevations;
+    shape.fresnel = e.fresnel.has_value();
+    if (e.glossChain) shape.mips = true, shape.mipLevels = static_cast<int>(e.chainLobes.size());
+    for (std::size_t i = 0; i < files.size(); ++i) add(prefilterOutputFiles(files[i], shape, outputJsonPath(i)));
+    if (const auto& sh = e.shOutput) out.push_back({*sh, jsonPath + ".environment.sh_output"});
+    return out;
   }
   const MaterialMapSpec& m = *materialMap();
   const bool cube = parameterization == ParameterizationKind::Cube && !anyAuto() && !radialProfile;
-  std::vector<FilePlan::Entry> out = mapOutputFiles(output, role, cube, cubeLayout);
-  auto add = [&out](const std::vector<FilePlan::Entry>& files) { out.insert(out.end(), files.begin(), files.end()); };
-  if (m.mips && m.mipLayout == MipLayout::Files) {
-    for (int level = 1; level < mipLevelCount(resolution); ++level) {
-      add(mapOutputFiles(mipLevelPath(output, level), role + " (mip level " + std::to_string(level) + ")"));
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const std::string role = outputJsonPath(i);
+    add(mapOutputFiles(files[i], role, cube, cubeLayout));
+    if (m.mips && m.mipLayout == MipLayout::Files) {
+      for (int level = 1; level < mipLevelCount(resolution); ++level) {
+        add(mapOutputFiles(mipLevelPath(files[i], level), role + " (mip level " + std::to_string(level) + ")"));
+      }
     }
   }
   if (const auto& table = m.fresnelTableOutput) {
@@ -559,21 +542,20 @@ BakeSpec parseBakeSpec(const nlohmann::json& document, const fs::path& baseDirec
       spec.maps.back().specLabel = label;
     }
     root.finish();
-    // Each output resolved once (up to kMaxMaps of them), then compared pairwise: the same resolved
-    // path, or the same existing file (a hard link).
-    std::vector<fs::path> resolved;
-    std::vector<std::pair<dev_t, ino_t>> inodes;
+    // Each output (every file of "outputs") resolved once, then looked up among those before it: the
+    // same resolved path, or the same existing file (a hard link).
+    std::map<fs::path, std::string> byPath;
+    std::map<std::pair<dev_t, ino_t>, std::string> byInode;
     for (const MapSpec& map : spec.maps) {
-      resolved.push_back(resolvedPath(map.output));
-      struct stat info {};
-      inodes.emplace_back(::stat(map.output.c_str(), &info) == 0 ? std::pair(info.st_dev, info.st_ino)
-                                                                 : std::pair<dev_t, ino_t>(0, 0));
-    }
-    for (std::size_t i = 0; i < spec.maps.size(); ++i) {
-      for (std::size_t j = 0; j < i; ++j) {
-        if (resolved[i] == resolved[j] || (inodes[i].second != 0 && inodes[i] == inodes[j])) {
-          throw specError(spec.maps[i].jsonPath + ".output", "same file as " + spec.maps[j].jsonPath + ".output");
-        }
+      const std::vector<fs::path> files = map.outputs();
+      for (std::size_t k = 0; k < files.size(); ++k) {
+        const std::string name = map.outputJsonPath(k);
+        const auto [path, fresh] = byPath.emplace(resolvedPath(files[k]), name);
+        if (!fresh) throw specError(name, "same file as " + path->second);
+        struct stat info {};
+        if (::stat(files[k].c_str(), &info) != 0) continue;
+        const auto [inode, freshInode] = byInode.emplace(std::pair(info.st_dev, info.st_ino), name);
+        if (!freshInode) throw specError(name, "same file as " + inode->second);
       }
     }
     return spec;

@@ -149,3 +149,36 @@ TEST(PrefilterCli, BadFlagsExitTwoAndBadEnvironmentsAreNamed) {
 
 }  // namespace
 }  // namespace brdfbake
+
+namespace brdfbake {
+namespace {
+
+// -o repeated writes one map in several formats; --texel-format names; help names the containers.
+TEST(PrefilterCli, RepeatedOutputAndTexelFormatFlags) {
+  test::TempDir dir;
+  const auto both = runCli("prefilter " + q(kFurnace) + " --lobe irradiance --to cube --resolution 8 --quiet -o " +
+                           q(dir / "f.exr") + " -o " + q(dir / "f.ktx2") + " --texel-format rg11b10f");
+  ASSERT_EQ(both.exitCode, 0) << both.output;
+  for (const char* file : {"f.exr", "f.ktx2"}) EXPECT_NEAR(sampleMap(dir / file, Vec3(0, 1, 0))[1], 1.0, 1e-3) << file;
+  const auto unknown = runCli("prefilter " + q(kFurnace) + " --lobe irradiance --to cube -o " + q(dir / "g.ktx2") +
+                              " --texel-format rgb8");
+  EXPECT_EQ(unknown.exitCode, 2);
+  EXPECT_NE(unknown.output.find("--texel-format: texel format must be one of rgba16f, rgba32f"), std::string::npos)
+      << unknown.output;
+  const auto png = runCli("prefilter " + q(kSky) + " --chain ggx --to cube --resolution 8 --tiled -o " +
+                          q(dir / "c.exr") + " -o " + q(dir / "c.png"));
+  EXPECT_EQ(png.exitCode, 2);
+  EXPECT_NE(png.output.find("-o: " + (dir / "c.png").string() + ": a whole mip chain"), std::string::npos)
+      << png.output;
+  EXPECT_FALSE(fs::exists(dir / "c.exr"));  // refused before any work
+  for (const char* command : {"prefilter", "matcap", "convert"}) {
+    const auto help = runCli(std::string(command) + " --help");
+    EXPECT_NE(help.output.find(".exr .hdr .tif .png .ktx2 .ktx .dds"), std::string::npos) << command;
+    EXPECT_NE(help.output.find("rgb9e5"), std::string::npos) << command;
+  }
+  const auto ibl = runCli("ibl --help");
+  EXPECT_NE(ibl.output.find("ktx2 (.ktx2) | ktx (.ktx) | dds (.dds) | exr (.exr)"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace brdfbake

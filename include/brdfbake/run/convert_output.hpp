@@ -15,8 +15,16 @@ struct ConvertOptions : JobOptions {
   int samplesPerTexel = 16;  ///< footprint samples per output texel, in [1, 4096]
   CubeLayout layout = CubeLayout::Cross;
   std::filesystem::path output;
+  /// Further files the one resampled map is written to (formats by extension), after `output`.
+  std::vector<std::filesystem::path> moreOutputs;
+  /// How .ktx2, .ktx and .dds outputs store texels (default rgba16f); at least one output must be one.
+  std::optional<TexelFormat> texelFormat;
 
+  /// Throws Error(InvalidArgument) for values out of range, an output of an unknown format, a texel
+  /// format no output can take, and JobOptions' rules.
   void validate() const;
+  /// `output`, then `moreOutputs`.
+  std::vector<std::filesystem::path> outputs() const;
 };
 
 struct ConvertResult {

@@ -42,6 +42,8 @@ struct IblOptions : JobOptions {
   double maxError = 0.01;           ///< the bound of every prefiltered level (RMS relative)
   std::optional<std::string> from;  ///< parameterization of a plain environment image
   bool shCmgen = false;             ///< also STEM_sh.txt, the 9 lines cmgen prints
+  /// How the textures store texels (default rgba16f; every map and the DFG table); not with "exr".
+  std::optional<TexelFormat> texelFormat;
 
   /// Throws Error(InvalidArgument) naming the field (by its flag): no environment or out_dir, an
   /// unknown format, sizes out of range, a resolution that is not a power of two, levels other than

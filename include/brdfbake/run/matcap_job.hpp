@@ -25,8 +25,11 @@ struct MatcapRequest {
   /// its relative "file" resolved against the file's folder), a fit.json of `brdfbake fit` (model
   /// "lobes", lighting mode) or a measured table (.astm, .brdf, .mat: model "measured", method "fit").
   std::filesystem::path material;
-  std::filesystem::path environment;        ///< ["environment"]["file"]: EXR, HDR, ... (radiance)
-  std::filesystem::path output;             ///< ["output"]: .exr (float) or .png (8-bit sRGB, clamped), ...
+  std::filesystem::path environment;  ///< ["environment"]["file"]: EXR, HDR, ... (radiance)
+  std::filesystem::path output;       ///< ["output"]: .exr (float) or .png (8-bit sRGB, clamped), ...
+  /// With `output`, ["outputs"]: the map made once and written to each file (formats by extension).
+  std::vector<std::filesystem::path> moreOutputs;
+  std::optional<std::string> texelFormat;   ///< ["texel_format"] (.ktx2, .ktx, .dds outputs): rgba16f, rgb9e5, ...
   std::string parameterization = "sphere";  ///< ["parameterization"]: sphere | paraboloid | cube | latlong
   int resolution = 256;                     ///< ["resolution"]
   int samplesPerTexel = 16;                 ///< ["samples_per_texel"]

@@ -18,22 +18,25 @@ namespace brdfbake {
 
 /// One prefiltered environment map; each field is the spec key in brackets (docs/spec.md).
 struct PrefilterRequest {
-  std::filesystem::path environment;   ///< ["environment"]["file"]: EXR, HDR, ...
-  std::string lobe;                    ///< ["lobe"]: mirror | irradiance | phong:N | blinn:N | ggx:R | lobes:FIT.json
-  std::string to;                      ///< ["parameterization"]: sphere | paraboloid | cube | latlong
-  std::filesystem::path output;        ///< ["output"]
-  int resolution = 256;                ///< ["resolution"]
-  std::string method = "auto";         ///< ["method"]: auto | reference | sh | importance | direct
-  double maxError = 0.01;              ///< ["max_error"]: the bound each map is made to
-  std::optional<std::string> from;     ///< ["from"]: parameterization of a plain environment image
-  bool mips = false;                   ///< ["mips"]
-  bool tiled = false;                  ///< ["mip_layout"] "tiled"
-  bool faces = false;                  ///< ["layout"] "faces" (cube maps)
-  std::optional<Vec3> view, up;        ///< ["view"], ["up"] (sphere maps)
-  int samplesPerTexel = 16;            ///< ["samples_per_texel"] (mirror lobe footprint)
-  std::optional<int> elevations;       ///< ["elevations"] (varying lobe models)
-  std::optional<double> fresnelIor;    ///< ["fresnel"]["ior"]: a Fresnel decomposition
-  std::optional<std::string> combine;  ///< ["combine"]: add | mix
+  std::filesystem::path environment;  ///< ["environment"]["file"]: EXR, HDR, ...
+  std::string lobe;                   ///< ["lobe"]: mirror | irradiance | phong:N | blinn:N | ggx:R | lobes:FIT.json
+  std::string to;                     ///< ["parameterization"]: sphere | paraboloid | cube | latlong
+  std::filesystem::path output;       ///< ["output"]
+  /// With `output`, ["outputs"]: the map made once and written to each file (formats by extension).
+  std::vector<std::filesystem::path> moreOutputs;
+  std::optional<std::string> texelFormat;  ///< ["texel_format"] (.ktx2, .ktx, .dds outputs): rgba16f, rgb9e5, ...
+  int resolution = 256;                    ///< ["resolution"]
+  std::string method = "auto";             ///< ["method"]: auto | reference | sh | importance | direct
+  double maxError = 0.01;                  ///< ["max_error"]: the bound each map is made to
+  std::optional<std::string> from;         ///< ["from"]: parameterization of a plain environment image
+  bool mips = false;                       ///< ["mips"]
+  bool tiled = false;                      ///< ["mip_layout"] "tiled"
+  bool faces = false;                      ///< ["layout"] "faces" (cube maps)
+  std::optional<Vec3> view, up;            ///< ["view"], ["up"] (sphere maps)
+  int samplesPerTexel = 16;                ///< ["samples_per_texel"] (mirror lobe footprint)
+  std::optional<int> elevations;           ///< ["elevations"] (varying lobe models)
+  std::optional<double> fresnelIor;        ///< ["fresnel"]["ior"]: a Fresnel decomposition
+  std::optional<std::string> combine;      ///< ["combine"]: add | mix
   /// ["lobe"] with ["gloss_chain"]: "ggx" makes a GGX chain (level k of L: roughness k / (L - 1))
   /// in place of `lobe` (which must then be empty or "ggx").
   std::optional<std::string> chain;

@@ -138,7 +138,16 @@ Overloaded(F...) -> Overloaded<F...>;
 /// files), and its content, one of its kinds (std::visit it, or ask materialMap() / environmentMap()).
 struct MapSpec {
   std::string jsonPath;          ///< "maps[0]", for messages
-  std::filesystem::path output;  ///< resolved against the spec's folder
+  std::filesystem::path output;  ///< resolved against the spec's folder; the first of "outputs"
+  /// "outputs": [FILE, ...] in place of "output" (docs/spec.md): the map is made once and written to
+  /// each file, its format chosen by the extension. These are the files after the first (`output`),
+  /// resolved the same way; empty when the map gives "output".
+  std::vector<std::filesystem::path> moreOutputs;
+  bool outputList = false;  ///< the map gave "outputs" (a list), not "output"
+  /// "texel_format": how the map's .ktx2, .ktx and .dds outputs store texels (toString(TexelFormat)
+  /// names: "rgba16f" (the default), "rgba32f", "rgb16f", "rgb32f", "rgb9e5", "rg11b10f"); the
+  /// other formats ignore it, but at least one output must be a texture container.
+  std::optional<TexelFormat> texelFormat;
   ParameterizationKind parameterization = ParameterizationKind::Sphere;
   /// "parameterization": "profile": a 1-D radial profile (bake/radial_profile.hpp) instead of a
   /// 2-D map, for materials radially symmetric about one axis; eye space as for sphere maps
@@ -175,6 +184,16 @@ struct MapSpec {
   /// Notes about the inputs found while parsing (e.g. negative measured values clamped to 0),
   /// printed and reported with the map.
   std::vector<std::string> notes;
+  /// Every file the map is written to: `output`, then `moreOutputs`.
+  std::vector<std::filesystem::path> outputs() const;
+  /// The JSON path naming outputs()[i]: "maps[0].output", or "maps[0].outputs[i]".
+  std::string outputJsonPath(std::size_t i) const;
+  /// The write options for outputs()[i]: `readFiles` (never overwritten), and `texelFormat` for a texture container.
+  WriteOptions writeOptionsFor(std::size_t i, std::vector<std::filesystem::path> readFiles) const;
+  /// Why outputs()[i] cannot hold this map ("" if it can): containerProblem with the map's shape
+  /// (parameterization, resolution, a whole mip chain in the file, texel format).
+  std::string outputProblem(std::size_t i) const;
+
   /// Every file making this map writes or replaces: the output or its cube faces, mip levels,
   /// elevation slices, Fresnel maps, "fresnel_table_output", and the metadata sidecar FILE.json beside
   /// each, with roles such as "maps[0].output (mip level 2)".

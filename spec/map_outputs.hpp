@@ -1,0 +1,19 @@
+#pragma once
+// A map's outputs: "output" or "outputs" (several files from one computation) and "texel_format",
+// parsed (map_outputs.cpp) for spec.cpp's parseMap. Private to brdfbake::spec.
+#include <brdfbake/core/json_reader.hpp>
+#include <brdfbake/spec/spec.hpp>
+
+#include <filesystem>
+
+namespace brdfbake::spec_detail {
+
+// "output": FILE or "outputs": [FILE, ...] (one of the two), each a path of a format brdfbake writes,
+// resolved against `baseDirectory`; fills MapSpec::output, moreOutputs and outputList.
+void parseMapOutputs(JsonObjectReader& map, MapSpec& spec, const std::filesystem::path& baseDirectory);
+
+// "texel_format" (after the map's content is parsed, so the shape is known), then every output checked
+// against what the map will hold (MapSpec::outputProblem), the error naming the output's JSON path.
+void parseTexelFormatAndCheckOutputs(JsonObjectReader& map, MapSpec& spec);
+
+}  // namespace brdfbake::spec_detail
