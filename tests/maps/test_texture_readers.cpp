@@ -20,29 +20,12 @@
 #include <iterator>
 #include <random>
 
+#include "node_readers.hpp"
 #include "test_support.hpp"
 
 namespace brdfbake {
 namespace {
 namespace fs = std::filesystem;
-
-const fs::path kJs = fs::path(BRDFBAKE_SOURCE_DIR) / "tests" / "js";
-
-// Skips unless node and the npm package are installed (scripts/quickstart.sh test runs `npm ci` in tests/js).
-#define REQUIRE_NODE_PACKAGE(package)                                                                            \
-  if (test::run("node --version").exitCode != 0 || !fs::exists(kJs / "node_modules" / package / "package.json")) \
-  GTEST_SKIP() << "node or the npm package " << package << " is missing: run `npm ci` in " << kJs.string()       \
-               << " (scripts/quickstart.sh test does when npm is there); skipping the independent reader"
-
-nlohmann::json runNode(const std::string& script, const fs::path& file, const nlohmann::json& directions) {
-  const std::string command =
-      "node '" + (kJs / script).string() + "' '" + file.string() + "' '" + directions.dump() + "'";
-  const test::CommandResult result = test::run(command);
-  EXPECT_EQ(result.exitCode, 0) << result.output;
-  // The JSON is the last line; anything node prints before it (warnings) is skipped.
-  const std::size_t last = result.output.rfind("\n{");
-  return nlohmann::json::parse(last == std::string::npos ? result.output : result.output.substr(last + 1));
-}
 
 // The colored cube environment as a cube map: each texel samples the lat-long file at its centre's
 // direction (brdfbake's CubeMap, the writer's side).
@@ -75,12 +58,6 @@ std::vector<Known> knownDirections() {
           {{0, 0, 1}, blue},  {{0.25, -0.3, 1}, blue}, {{0, 0, -1}, yellow},  {{-0.2, 0.3, -1}, yellow}};
 }
 
-nlohmann::json directionsJson(const std::vector<Vec3>& directions) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const Vec3& d : directions) out.push_back({d.x(), d.y(), d.z()});
-  return out;
-}
-
 std::vector<Vec3> knownVectors() {
   std::vector<Vec3> out;
   for (const Known& k : knownDirections()) out.push_back(k.direction);
@@ -99,13 +76,14 @@ void expectKnownColours(const nlohmann::json& lookups, int size, double toleranc
 }
 
 TEST(TextureReaders, Ktx2CubeAsKtxParseReadsItAndAVulkanSamplerLooksItUp) {
-  REQUIRE_NODE_PACKAGE("ktx-parse");
+  if (!test::haveNodePackage("ktx-parse")) GTEST_SKIP() << test::missingNodePackage("ktx-parse");
   test::TempDir dir;
   const CubeMap cube(32);
   const std::vector<Image> chain = environmentMipChain(coloredCube(32), cube);
   const MapInfo info{ParameterizationKind::Cube, 32, kConventionVersion, {{"environment", "colored cube"}}};
   writeTiledMap(chain, info, dir / "cube.ktx2");
-  const nlohmann::json ktx = runNode("inspect_ktx2.mjs", dir / "cube.ktx2", directionsJson(knownVectors()));
+  const nlohmann::json ktx =
+      test::runNodeReader("inspect_ktx2.mjs", dir / "cube.ktx2", test::directionsJson(knownVectors()));
   EXPECT_EQ(ktx["vkFormat"], 97);  // R16G16B16A16_SFLOAT
   EXPECT_EQ(ktx["typeSize"], 2);
   EXPECT_EQ(ktx["pixelWidth"], 32);
@@ -158,7 +136,7 @@ TEST(TextureReaders, Ktx2CubeAsKtxParseReadsItAndAVulkanSamplerLooksItUp) {
 }
 
 TEST(TextureReaders, PackedFormatsReadTheSameByKtxParse) {
-  REQUIRE_NODE_PACKAGE("ktx-parse");
+  if (!test::haveNodePackage("ktx-parse")) GTEST_SKIP() << test::missingNodePackage("ktx-parse");
   test::TempDir dir;
   const MapInfo info{ParameterizationKind::Cube, 16, kConventionVersion, {}};
   const Image image = coloredCube(16);
@@ -167,7 +145,7 @@ TEST(TextureReaders, PackedFormatsReadTheSameByKtxParse) {
     options.texelFormat = format;
     const fs::path path = dir / (std::string(toString(format)) + ".ktx2");
     writeMap(image, info, path, CubeLayout::Cross, options);
-    const nlohmann::json ktx = runNode("inspect_ktx2.mjs", path, directionsJson(knownVectors()));
+    const nlohmann::json ktx = test::runNodeReader("inspect_ktx2.mjs", path, test::directionsJson(knownVectors()));
     SCOPED_TRACE(path.string());
     EXPECT_EQ(ktx["vkFormat"], format == TexelFormat::Rgb9e5 ? 123 : format == TexelFormat::B10g11r11 ? 122 : 109);
     expectKnownColours(ktx["lookups"], 16, 0.01);
@@ -207,7 +185,7 @@ void expectTexelsHoldTheirDirections(const nlohmann::json& values, const std::ve
 }
 
 TEST(TextureReaders, OrientationWithinEveryFaceIsVulkansInKtx2AndDds) {
-  REQUIRE_NODE_PACKAGE("ktx-parse");
+  if (!test::haveNodePackage("ktx-parse")) GTEST_SKIP() << test::missingNodePackage("ktx-parse");
   test::TempDir dir;
   const int n = 16;
   const MapInfo info{ParameterizationKind::Cube, n, kConventionVersion, {}};
@@ -218,10 +196,10 @@ TEST(TextureReaders, OrientationWithinEveryFaceIsVulkansInKtx2AndDds) {
   writeTiledMap(std::vector<Image>{chain}, info, dir / "d.ktx2", CubeLayout::Cross, full);
   writeTiledMap(std::vector<Image>{chain}, info, dir / "d.dds", CubeLayout::Cross, full);
   const std::vector<Vec3> directions = randomDirections(400);
-  const nlohmann::json ktx = runNode("inspect_ktx2.mjs", dir / "d.ktx2", directionsJson(directions));
+  const nlohmann::json ktx = test::runNodeReader("inspect_ktx2.mjs", dir / "d.ktx2", test::directionsJson(directions));
   expectTexelsHoldTheirDirections(ktx["lookups"][0], directions, n);
-  if (fs::exists(kJs / "node_modules/parse-dds/package.json")) {
-    const nlohmann::json dds = runNode("inspect_dds.mjs", dir / "d.dds", directionsJson(directions));
+  if (test::haveNodePackage("parse-dds")) {
+    const nlohmann::json dds = test::runNodeReader("inspect_dds.mjs", dir / "d.dds", test::directionsJson(directions));
     EXPECT_EQ(dds["format"], "rgba32f");
     EXPECT_EQ(dds["cubemap"], true);
     EXPECT_EQ(dds["shape"], nlohmann::json({n, n}));

@@ -18,35 +18,12 @@
 #include <map>
 #include <regex>
 
+#include "node_readers.hpp"
 #include "test_support.hpp"
 
 namespace brdfbake {
 namespace {
 namespace fs = std::filesystem;
-
-const fs::path kJs = fs::path(BRDFBAKE_SOURCE_DIR) / "tests" / "js";
-
-bool haveKtxParse() {
-  return test::run("node --version").exitCode == 0 && fs::exists(kJs / "node_modules/ktx-parse/package.json");
-}
-
-nlohmann::json inspectKtx2(const fs::path& file, const std::vector<Vec3>& directions) {
-  nlohmann::json list = nlohmann::json::array();
-  for (const Vec3& d : directions) list.push_back({d.x(), d.y(), d.z()});
-  const test::CommandResult result =
-      test::run("node '" + (kJs / "inspect_ktx2.mjs").string() + "' '" + file.string() + "' '" + list.dump() + "'");
-  EXPECT_EQ(result.exitCode, 0) << result.output;
-  const std::size_t last = result.output.rfind("\n{");
-  return nlohmann::json::parse(last == std::string::npos ? result.output : result.output.substr(last + 1));
-}
-
-// The direction of the centre of texel (i, j) of cube face `face` (+X, -X, +Y, -Y, +Z, -Z) of size n,
-// inverting the Vulkan specification's face selection table (sc, tc per face; s = (sc + 1) / 2).
-Vec3 vulkanTexelCentre(int face, int i, int j, int n) {
-  const double sc = 2.0 * (i + 0.5) / n - 1.0, tc = 2.0 * (j + 0.5) / n - 1.0;
-  const Vec3 d[6] = {{1, -tc, -sc}, {-1, -tc, sc}, {sc, 1, tc}, {sc, -1, -tc}, {sc, -tc, 1}, {-sc, -tc, -1}};
-  return d[face].normalized();
-}
 
 // An equirectangular environment (docs/conventions.md: y up, row 0 the top, theta = pi v) whose
 // radiance depends on l.y only, written as an OpenEXR.
@@ -119,7 +96,7 @@ TEST(Ibl, AConstantEnvironmentGivesItsRadianceAtEveryLevelAndTheFilesTheirRoles)
 }
 
 TEST(Ibl, KtxParseReadsTheChainAsGgxOfALinearEnvironmentAtEveryLevelAndFace) {
-  if (!haveKtxParse()) GTEST_SKIP() << "node or ktx-parse missing: run `npm ci` in " << kJs.string();
+  if (!test::haveNodePackage("ktx-parse")) GTEST_SKIP() << test::missingNodePackage("ktx-parse");
   test::TempDir dir;
   // L = 1 + l.y: filtering with a normalised lobe of mean cosine kappa gives 1 + kappa r.y exactly.
   const fs::path env = zonalEnvironment(dir / "linear.exr", [](double y) { return 1.0 + y; });
@@ -132,9 +109,9 @@ TEST(Ibl, KtxParseReadsTheChainAsGgxOfALinearEnvironmentAtEveryLevelAndFace) {
     for (int face = 0; face < 6; ++face)
       for (int j = 0; j < n; j += std::max(1, n / 4))
         for (int i = 0; i < n; i += std::max(1, n / 4))
-          directions.push_back(vulkanTexelCentre(face, i, j, n)), levelOf.push_back(k);
+          directions.push_back(test::vulkanTexelCentre(face, i, j, n)), levelOf.push_back(k);
   }
-  const nlohmann::json ktx = inspectKtx2(dir / "out" / "linear_ggx.ktx2", directions);
+  const nlohmann::json ktx = test::inspectKtx2(dir / "out" / "linear_ggx.ktx2", directions);
   EXPECT_EQ(ktx["vkFormat"], 97);  // R16G16B16A16_SFLOAT
   EXPECT_EQ(ktx["faceCount"], 6);
   ASSERT_EQ(ktx["levelCount"], levels);
@@ -155,7 +132,7 @@ TEST(Ibl, KtxParseReadsTheChainAsGgxOfALinearEnvironmentAtEveryLevelAndFace) {
 }
 
 TEST(Ibl, KtxParseReadsTheSkysChainAsTheReferenceSumAtEveryLevel) {
-  if (!haveKtxParse()) GTEST_SKIP() << "node or ktx-parse missing: run `npm ci` in " << kJs.string();
+  if (!test::haveNodePackage("ktx-parse")) GTEST_SKIP() << test::missingNodePackage("ktx-parse");
   // The sample sky (a sun of radiance ~2000): each level's texels, read by ktx-parse at Vulkan texel
   // centres, against the reference sum of ggx:R_k there (brute force over every environment texel).
   test::TempDir dir;
@@ -172,9 +149,9 @@ TEST(Ibl, KtxParseReadsTheSkysChainAsTheReferenceSumAtEveryLevel) {
     for (int face = 0; face < 6; ++face)
       for (int j = 0; j < n; j += std::max(1, n / 4))
         for (int i = 0; i < n; i += std::max(1, n / 4))
-          directions.push_back(vulkanTexelCentre(face, i, j, n)), levelOf.push_back(k);
+          directions.push_back(test::vulkanTexelCentre(face, i, j, n)), levelOf.push_back(k);
   }
-  const nlohmann::json ktx = inspectKtx2(dir / "out" / "sky_latlong_ggx.ktx2", directions);
+  const nlohmann::json ktx = test::inspectKtx2(dir / "out" / "sky_latlong_ggx.ktx2", directions);
   ASSERT_EQ(ktx["levelCount"], levels);
   for (int k = 1; k < levels; ++k) {
     std::vector<Vec3> axes;

@@ -14,45 +14,22 @@
 
 #include <cmath>
 
+#include "node_readers.hpp"
 #include "test_support.hpp"
 
 namespace brdfbake {
 namespace {
 namespace fs = std::filesystem;
 
-const fs::path kJs = fs::path(BRDFBAKE_SOURCE_DIR) / "tests" / "js";
 const std::string kSky = test::sourcePath("data_samples/environments/sky_latlong.exr");
-
-bool haveKtxParse() {
-  return test::run("node --version").exitCode == 0 && fs::exists(kJs / "node_modules/ktx-parse/package.json");
-}
-
-// The direction of the centre of texel (i, j) of cube face `face` (+X, -X, +Y, -Y, +Z, -Z) of size n,
-// inverting the Vulkan specification's face selection table (as tests/run/test_ibl.cpp).
-Vec3 vulkanTexelCentre(int face, int i, int j, int n) {
-  const double sc = 2.0 * (i + 0.5) / n - 1.0, tc = 2.0 * (j + 0.5) / n - 1.0;
-  const Vec3 d[6] = {{1, -tc, -sc}, {-1, -tc, sc}, {sc, 1, tc}, {sc, -1, -tc}, {sc, -tc, 1}, {-sc, -tc, -1}};
-  return d[face].normalized();
-}
 
 // Texel centres of every face of an n x n cube level: a few per face.
 std::vector<Vec3> someTexelCentres(int n) {
   std::vector<Vec3> directions;
   for (int face = 0; face < 6; ++face)
     for (int j : {0, n / 2, n - 1})
-      for (int i : {0, (n - 1) / 3, n - 1}) directions.push_back(vulkanTexelCentre(face, i, j, n));
+      for (int i : {0, (n - 1) / 3, n - 1}) directions.push_back(test::vulkanTexelCentre(face, i, j, n));
   return directions;
-}
-
-// ktx-parse's header and the texels a Vulkan cube sampler reads at `directions` in every level.
-nlohmann::json inspectKtx2(const fs::path& file, const std::vector<Vec3>& directions) {
-  nlohmann::json list = nlohmann::json::array();
-  for (const Vec3& d : directions) list.push_back({d.x(), d.y(), d.z()});
-  const test::CommandResult result =
-      test::run("node '" + (kJs / "inspect_ktx2.mjs").string() + "' '" + file.string() + "' '" + list.dump() + "'");
-  EXPECT_EQ(result.exitCode, 0) << result.output;
-  const std::size_t last = result.output.rfind("\n{");
-  return nlohmann::json::parse(last == std::string::npos ? result.output : result.output.substr(last + 1));
 }
 
 // The texel of `map` (a level read back) holding `direction`.
@@ -102,11 +79,11 @@ TEST(SeveralOutputs, OneGgxChainWrittenAsExrKtx2AndDdsAgreesInEveryLevel) {
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(b[c], a[c], std::abs(a[c]) * 4.9e-4 + 1e-7) << "level " << k;
     }
   }
-  if (!haveKtxParse()) GTEST_SKIP() << "node or tests/js/node_modules/ktx-parse missing (npm ci in tests/js)";
+  if (!test::haveNodePackage("ktx-parse")) GTEST_SKIP() << test::missingNodePackage("ktx-parse");
   // ktx-parse reads level k's texels at the Vulkan texel centres of that level's faces.
   for (int k = 0; k < levels; ++k) {
     const std::vector<Vec3> directions = someTexelCentres(std::max(1, n >> k));
-    const nlohmann::json ktx = inspectKtx2(dir / "sky.ktx2", directions);
+    const nlohmann::json ktx = test::inspectKtx2(dir / "sky.ktx2", directions);
     ASSERT_EQ(ktx["vkFormat"], 97);  // R16G16B16A16_SFLOAT, the default
     ASSERT_EQ(ktx["faceCount"], 6);
     ASSERT_EQ(ktx["levelCount"], levels);
@@ -180,9 +157,9 @@ TEST(TexelFormat, Rgb9e5Ktx2HoldsTheMapWithinItsRounding) {
   ASSERT_FALSE(result.firstError) << result.firstError->what();
   // The library's reader sees the format in the header; the EXR beside it is float.
   EXPECT_EQ(readTextureHeaderOf(dir / "m.ktx2").format, TexelFormat::Rgb9e5);
-  if (!haveKtxParse()) GTEST_SKIP() << "node or tests/js/node_modules/ktx-parse missing (npm ci in tests/js)";
+  if (!test::haveNodePackage("ktx-parse")) GTEST_SKIP() << test::missingNodePackage("ktx-parse");
   const std::vector<Vec3> directions = someTexelCentres(8);
-  const nlohmann::json ktx = inspectKtx2(dir / "m.ktx2", directions);
+  const nlohmann::json ktx = test::inspectKtx2(dir / "m.ktx2", directions);
   EXPECT_EQ(ktx["vkFormat"], 123);  // VK_FORMAT_E5B9G9R9_UFLOAT_PACK32
   const MapFile exr = readMap(dir / "m.exr");
   for (std::size_t i = 0; i < directions.size(); ++i) {
