@@ -54,7 +54,9 @@ std::vector<Vec3> brightSources(const LatLongLevel& level, double meanLuminance)
     }
   std::sort(texels.begin(), texels.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   std::vector<Vec3> bright, sums;
-  for (const auto& [power, direction] : texels) {
+  for (const auto& texel : texels) {
+    const double power = texel.first;
+    const Vec3& direction = texel.second;  // named, not a structured binding: clang 14 cannot capture those
     auto source = std::find_if(bright.begin(), bright.end(),
                                [&](const Vec3& c) { return c.dot(direction) >= std::cos(radians(2.0)); });
     if (source == bright.end()) {
