@@ -211,7 +211,8 @@ Claim checkExr(const Bytes& b, std::uintmax_t fileBytes) {
 // ---- PNG (ISO/IEC 15948: the IHDR chunk first) ---------------------------------------------------
 
 Claim checkPng(const Bytes& b) {
-  if (b.data().compare(12, 4, "IHDR") != 0) b.fail("the PNG does not start with its IHDR chunk");
+  if (b.data().size() < 16 || b.data().compare(12, 4, "IHDR") != 0)
+    b.fail("the PNG does not start with its IHDR chunk");
   const std::int64_t width = static_cast<std::int64_t>(b.unsignedAt(16, 4, "IHDR"));
   const std::int64_t height = static_cast<std::int64_t>(b.unsignedAt(20, 4, "IHDR"));
   const int depth = static_cast<int>(b.unsignedAt(24, 1, "IHDR")),
