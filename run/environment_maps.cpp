@@ -54,8 +54,7 @@ nlohmann::json environmentSource(const EnvironmentMapSpec& e, const Environment&
 
 // What was made, written to one of the map's outputs (its format by its extension).
 MapWriteReport writeToOutput(const MapSpec& map, const EnvironmentMapSpec& e, const Prefiltered& made, std::size_t i,
-                             const MapRunContext& context) {
-  const fs::path file = map.outputs()[i];
+                             const fs::path& file, const MapRunContext& context) {
   const WriteOptions options = map.writeOptionsFor(i, context.write.inputs);
   if (made.stack) return writePrefilteredStack(*made.stack, file, map.raw, map.cubeLayout, options, e.mipLayout);
   if (made.decomposition) {
@@ -68,8 +67,9 @@ MapWriteReport writeToOutput(const MapSpec& map, const EnvironmentMapSpec& e, co
 MapWriteReport writePrefiltered(const MapSpec& map, const EnvironmentMapSpec& e, const Prefiltered& made,
                                 const Environment& environment, const MapRunContext& context) {
   MapWriteReport written;
-  for (std::size_t i = 0; i < map.outputs().size(); ++i) {
-    appendWritten(written, writeToOutput(map, e, made, i, context));
+  const std::vector<fs::path> files = map.outputs();
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    appendWritten(written, writeToOutput(map, e, made, i, files[i], context));
   }
   if (const auto& sh = e.shOutput) {
     const ShExpansion coefficients = irradianceSh(environment);

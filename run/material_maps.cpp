@@ -111,8 +111,9 @@ MapResult writeProfile(const Baked& baked, const MapRunContext& context) {
   if (!baked.autoReport.is_null()) image.metadata["spec"]["auto"] = baked.autoReport;
   const auto writeStart = std::chrono::steady_clock::now();
   MapWriteReport written;
-  for (std::size_t i = 0; i < map.outputs().size(); ++i) {
-    const fs::path file = map.outputs()[i];
+  const std::vector<fs::path> files = map.outputs();
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const fs::path& file = files[i];
     appendWritten(written, {{file}, writeImage(image, file, map.writeOptionsFor(i, context.write.inputs)).notes});
   }
   const double writeSeconds = secondsSince(writeStart);
@@ -146,13 +147,14 @@ MapResult writeMaterialMap(const Baked& baked, const MapRunContext& context) {
   MapWriteReport written;
   BakeOptions extrasOptions;
   extrasOptions.threads = context.options.threads;
-  for (std::size_t i = 0; i < map.outputs().size(); ++i) {
+  const std::vector<fs::path> files = map.outputs();
+  for (std::size_t i = 0; i < files.size(); ++i) {
     const WriteOptions options = map.writeOptionsFor(i, context.write.inputs);
-    appendWritten(written, writeMap(baked.image, info, map.outputs()[i], map.cubeLayout, options));
+    appendWritten(written, writeMap(baked.image, info, files[i], map.cubeLayout, options));
     // Extra files the spec asks for beside each output: silhouette mip levels ("mips"); the 1-D Fresnel
     // table (one file, written with the first).
     MapSpec one = map;
-    one.output = map.outputs()[i];
+    one.output = files[i];
     if (i > 0) one.materialMap()->fresnelTableOutput.reset();
     appendWritten(written, writeMapExtras(one, extrasOptions, options));
   }

@@ -34,8 +34,9 @@ MapResult runUnderEnvironmentMap(const MapSpec& specified, const Environment& en
   const UnderEnvironmentSummary& s = made.summary;
   const auto writeStart = std::chrono::steady_clock::now();
   MapWriteReport written;
-  for (std::size_t i = 0; i < map.outputs().size(); ++i) {
-    appendWritten(written, writeUnderEnvironmentMap(made, map.outputs()[i], map.raw, map.cubeLayout,
+  const std::vector<fs::path> files = map.outputs();
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    appendWritten(written, writeUnderEnvironmentMap(made, files[i], map.raw, map.cubeLayout,
                                                     map.writeOptionsFor(i, context.write.inputs)));
   }
   const double writeSeconds = secondsSince(writeStart);
