@@ -149,6 +149,7 @@ nlohmann::ordered_json candidateToJson(const ModelCandidate& c) {
           {"elevation_ratio", finite(c.elevationRatio, "elevation ratio")},
           {"seconds", finite(c.seconds, "seconds")},
           {"max_exponent", finite(c.maxExponent, "max exponent")},
+          {"varying_prior", finite(c.varyingPrior, "varying prior")},
           {"chosen", c.chosen}};
 }
 
@@ -165,6 +166,7 @@ nlohmann::ordered_json fitSectionToJson(const FitResult& fit) {
                               : "ln(1 + cos theta_i f_fit) - ln(1 + cos theta_i max(f_measured, 0))"},
       {"kind", std::string(toString(o.kind))},
       {"max_exponent", finite(o.maxExponent, "max exponent")},
+      {"varying_prior", finite(o.varyingPrior, "varying prior")},
       {"loss", std::string(toString(o.loss))},
       {"loss_scale", finite(o.lossScale, "loss scale")},
       {"auto_margin", finite(o.autoMargin, "auto margin")},
@@ -176,6 +178,10 @@ nlohmann::ordered_json fitSectionToJson(const FitResult& fit) {
       {"in_sample_log_error", finite(fit.inSampleError, "in-sample error")},
       {"candidates", candidates}};
   if (fit.heldOut) section["held_out"] = heldOutToJson(*fit.heldOut);
+  if (const ModelCandidate* radial = fit.bestRadiallySymmetric()) {
+    section["best_radially_symmetric"] = candidateToJson(*radial);
+    section["best_radially_symmetric"].erase("chosen");
+  }
   return section;
 }
 
@@ -296,9 +302,9 @@ ModelCandidate readCandidate(JsonObjectReader c, bool fitHasMethod) {
     c.number("error", 0.0);
   } else {
     const std::string kind = c.string("kind");
-    if (kind != "mirror" && kind != "lafortune" && kind != "half_vector") {
-      throw specError(c.child("kind"),
-                      "must be \"mirror\", \"lafortune\" or \"half_vector\", got \"" + printable(kind, 40) + "\"");
+    if (kind != "mirror" && kind != "lafortune" && kind != "half_vector" && kind != "mixed") {
+      throw specError(c.child("kind"), "must be \"mirror\", \"lafortune\", \"half_vector\" or \"mixed\", got \"" +
+                                           printable(kind, 40) + "\"");
     }
     candidate.kind = parseLobeKindChoice(kind);
     candidate.parameters = c.integer("parameters", 0, 1 << 30);
@@ -307,6 +313,7 @@ ModelCandidate readCandidate(JsonObjectReader c, bool fitHasMethod) {
     candidate.elevationRatio = c.number("elevation_ratio", 0.0);
     candidate.seconds = c.number("seconds", 0.0);
     if (c.has("max_exponent")) candidate.maxExponent = c.number("max_exponent", 0.0, kMaxLobeExponent);
+    if (c.has("varying_prior")) candidate.varyingPrior = c.number("varying_prior", 0.0);
   }
   const auto& chosen = c.require("chosen");
   if (!chosen.is_boolean()) throw specError(c.child("chosen"), "must be true or false");
@@ -329,8 +336,10 @@ void readFitSection(JsonObjectReader fit, FitResult& result) {
     o.kind = fit.parsed("kind", parseLobeKindChoice);
   }
   if (fit.has("max_exponent")) o.maxExponent = fit.number("max_exponent", kMinLobeExponent, kMaxLobeExponent);
+  if (fit.has("varying_prior")) o.varyingPrior = fit.number("varying_prior", 0.0);
   if (fit.has("in_sample_log_error")) result.inSampleError = fit.number("in_sample_log_error", 0.0);
   if (fit.has("held_out")) result.heldOut = heldOutFromJson(fit.object("held_out"));
+  if (fit.has("best_radially_symmetric")) fit.object("best_radially_symmetric");  // derived from the candidates
   o.loss = fit.parsed("loss", parseRobustLoss);
   o.lossScale = fit.number("loss_scale", 0.0, HUGE_VAL, true);
   o.autoMargin = fit.number("auto_margin", 0.0, 1.0, true);

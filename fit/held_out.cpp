@@ -42,7 +42,7 @@ HeldOutSplit HeldOutReport::pooledElevations() const {
 
 double HeldOutReport::score() const {
   if (elevations.empty()) return kfold.ratio();
-  return 0.5 * (kfold.ratio() + pooledElevations().ratio());
+  return std::max(kfold.ratio(), pooledElevations().ratio());
 }
 
 MeasuredTable tableRows(const MeasuredTable& table, const std::vector<std::size_t>& rows) {

@@ -5,6 +5,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -80,9 +81,19 @@ struct Row {
 };
 
 struct Shape {
-  double logExponent;
+  double logExponent;       // ln n at the most normal view (t = 1)
   double cxy;               // -1 for half-vector lobes
   bool halfVector = false;  // halfVectorLobe (weight columns C and C_F)
+  // Varying lobes: ln n_j - ln n_2 and ln g_j (g_2 = 1) at the Bernstein nodes j = 0, 1 (t = 0 is
+  // the most grazing view); all 0 for a constant lobe.
+  std::array<double, 2> logExponentOffset{0.0, 0.0};
+  std::array<double, 2> logGain{0.0, 0.0};
+
+  bool operator==(const Shape&) const = default;
+  bool varies() const { return logExponentOffset != std::array{0.0, 0.0} || logGain != std::array{0.0, 0.0}; }
+  // Value j = 0, 1, 2 of the exponent and of the gain (LobeElevation::Varying's p0, p1, p2).
+  double exponentAt(int j) const { return std::exp(logExponent + (j < 2 ? logExponentOffset[j] : 0.0)); }
+  double gainAt(int j) const { return j < 2 ? std::exp(logGain[j]) : 1.0; }
 };
 
 // The fitted rows and their targets.
@@ -100,10 +111,12 @@ struct RowFactors {
   Eigen::ArrayXd logCosHalf;    // ln n.h
   Eigen::ArrayXd halfScale;     // 1 / (4 (n.l)(n.v)), 0 below the horizon
   Eigen::ArrayXd schlick;       // (1 - l.h)^5
+  Eigen::ArrayXXd bernstein;    // rows x 3: quadratic Bernstein weights at the view's elevation coordinate
 
-  explicit RowFactors(const std::vector<Row>& rows) {
+  RowFactors(const std::vector<Row>& rows, const LobeModel& range) {
     const auto n = static_cast<Eigen::Index>(rows.size());
     logCosMirror.resize(n), logCosHalf.resize(n), halfScale.resize(n), schlick.resize(n);
+    bernstein.resize(n, kVaryingDegree + 1);
     for (Eigen::Index i = 0; i < n; ++i) {
       const LobeGeometry& g = rows[static_cast<std::size_t>(i)].geometry;
       logCosMirror[i] = logPositive(g.cosine(-1.0));
@@ -111,6 +124,9 @@ struct RowFactors {
       logCosHalf[i] = above ? logPositive(g.cosHalf()) : -HUGE_VAL;
       halfScale[i] = above ? 0.25 / (g.lightZ * g.viewZ) : 0.0;
       schlick[i] = g.schlick();
+      double weights[kVaryingDegree + 1];
+      bernsteinWeights(kVaryingDegree + 1, range.elevationCoordinate(g.viewZ), weights);
+      for (int j = 0; j <= kVaryingDegree; ++j) bernstein(i, j) = weights[j];
     }
   }
   static double logPositive(double c) { return c > 0.0 ? std::log(c) : -HUGE_VAL; }
@@ -118,8 +134,8 @@ struct RowFactors {
 
 class SharedFitter {
  public:
-  SharedFitter(Data data, const SharedFitConfig& config)
-      : data_(std::move(data)), factors_(data_.rows), config_(config) {
+  SharedFitter(Data data, const SharedFitConfig& config, const LobeModel& range)
+      : data_(std::move(data)), factors_(data_.rows, range), config_(config) {
     const auto channels = static_cast<int>(data_.measured.cols());
     const int searched = std::min(config.searchChannels, channels);
     for (int s = 0; s < searched; ++s) {
@@ -162,10 +178,15 @@ class SharedFitter {
   // cache of recent shapes.
   const Eigen::MatrixXd& lobeColumns(const Shape& shape) {
     for (const auto& [key, value] : columnCache_) {
-      if (key.logExponent == shape.logExponent && key.cxy == shape.cxy && key.halfVector == shape.halfVector)
-        return value;
+      if (key == shape) return value;
     }
     if (columnCache_.size() >= kColumnCacheSize) columnCache_.pop_front();
+    Eigen::MatrixXd a = shape.varies() ? varyingLobeColumns(shape) : constantLobeColumns(shape);
+    columnCache_.emplace_back(shape, std::move(a));
+    return columnCache_.back().second;
+  }
+
+  Eigen::MatrixXd constantLobeColumns(const Shape& shape) const {
     const auto n = static_cast<Eigen::Index>(data_.rows.size());
     Eigen::MatrixXd a(n, columns(shape));
     const double exponent = std::exp(shape.logExponent);
@@ -180,8 +201,33 @@ class SharedFitter {
         a(i, 0) = normalizedLobe(1.0, exponent, data_.rows[static_cast<std::size_t>(i)].geometry.cosine(shape.cxy));
       }
     }
-    columnCache_.emplace_back(shape, std::move(a));
-    return columnCache_.back().second;
+    return a;
+  }
+
+  // The same with n(t) and the gain g(t) blended per row (geometricBlend of brdf/lobes.hpp): the
+  // first column is g(t) times the lobe of unit weight, a half-vector lobe's second (C_F) has no gain.
+  Eigen::MatrixXd varyingLobeColumns(const Shape& shape) const {
+    const auto n = static_cast<Eigen::Index>(data_.rows.size());
+    const Eigen::ArrayXd logExponent = shape.logExponent + factors_.bernstein.col(0) * shape.logExponentOffset[0] +
+                                       factors_.bernstein.col(1) * shape.logExponentOffset[1];
+    const Eigen::ArrayXd gain =
+        (factors_.bernstein.col(0) * shape.logGain[0] + factors_.bernstein.col(1) * shape.logGain[1]).exp();
+    const Eigen::ArrayXd exponent = logExponent.exp();
+    const Eigen::ArrayXd norm = (exponent + 2.0) / (2.0 * std::numbers::pi);
+    Eigen::MatrixXd a(n, columns(shape));
+    if (shape.halfVector) {
+      const Eigen::ArrayXd lobe = norm * (exponent * factors_.logCosHalf).exp() * factors_.halfScale;
+      a.col(0) = (gain * lobe).matrix();
+      a.col(1) = (lobe * factors_.schlick).matrix();
+    } else if (shape.cxy == -1.0) {
+      a.col(0) = (gain * norm * (exponent * factors_.logCosMirror).exp()).matrix();
+    } else {
+      for (Eigen::Index i = 0; i < n; ++i) {
+        a(i, 0) = gain[i] *
+                  normalizedLobe(1.0, exponent[i], data_.rows[static_cast<std::size_t>(i)].geometry.cosine(shape.cxy));
+      }
+    }
+    return a;
   }
 
   // One channel's model at coefficients x: f = max(A x, 0), residuals r_i and their sum of squares.
@@ -231,20 +277,17 @@ class SharedFitter {
   // of each channel's weights by the NNLS linearised at the data (solveChannel's first step; its
   // Gauss-Newton steps change which shapes win too little to pay for themselves, docs/fitting.md).
   // Every channel's normal equations at once: G_s = A^T diag(w_s) A from the products of column
-  // pairs, one matrix-vector product per pair for all searched channels.
+  // pairs, one matrix product (searched channels x column pairs) for all of them.
   double searchObjective(const std::vector<Shape>& shapes) {
     ++evaluations;
     if (!admissible(shapes)) return HUGE_VAL;
     const Eigen::MatrixXd a = design(shapes);
     const Eigen::Index p = a.cols();
-    Eigen::MatrixXd grams(searchWeights_.cols(), p * (p + 1) / 2);  // searched x column pairs
-    Eigen::VectorXd pair(a.rows());
+    pairs_.resize(a.rows(), p * (p + 1) / 2);
     for (Eigen::Index j = 0, m = 0; j < p; ++j) {
-      for (Eigen::Index k = 0; k <= j; ++k, ++m) {
-        pair = a.col(j).cwiseProduct(a.col(k));
-        grams.col(m).noalias() = searchWeights_.transpose() * pair;
-      }
+      for (Eigen::Index k = 0; k <= j; ++k, ++m) pairs_.col(m) = a.col(j).cwiseProduct(a.col(k));
     }
+    const Eigen::MatrixXd grams = searchWeights_.transpose() * pairs_;  // searched x column pairs
     // Products this small cost less element by element than through the blocked kernel.
     const Eigen::MatrixXd rhs = searchWeightedTargets_.transpose().lazyProduct(a);  // searched x p
     Eigen::MatrixXd x(p, grams.rows());
@@ -256,7 +299,7 @@ class SharedFitter {
       x.col(s) = nonNegativeLeastSquares(gram, rhs.row(s).transpose());
     }
     const Eigen::ArrayXXd f = a.lazyProduct(x).array().max(0.0);
-    return (log1p(f.colwise() * data_.cosIn.array()) - searchLogTargets_.array()).square().sum();
+    return (log1p(f.colwise() * data_.cosIn.array()) - searchLogTargets_.array()).square().sum() + penalty(shapes);
   }
 
   // ln(1 + v) elementwise through Eigen's vectorised log: ln(u) v / (u - 1), u = 1 + v, exact
@@ -269,11 +312,28 @@ class SharedFitter {
     return (u == 1.0).select(v, product);
   }
 
-  bool admissible(const std::vector<Shape>& shapes) const {
+  // The prior on varying shapes: varyingPenalty_ (SharedFitConfig::varyingPrior times the constant
+  // fit's objective) times the squared offsets of ln n and ln g from their values at the most normal
+  // view (0 for constant lobes).
+  double penalty(const std::vector<Shape>& shapes) const {
+    double sum = 0.0;
     for (const auto& s : shapes) {
-      if (s.logExponent < std::log(kMinLobeExponent) || s.logExponent > std::log(config_.maxExponent)) return false;
-      if (std::abs(s.cxy) > kMaxLobeCxy) return false;
-      if (std::exp(s.logExponent) * std::log(std::max(1.0, std::abs(s.cxy))) > kMaxLobeGrowthLog) return false;
+      for (std::size_t j = 0; j < 2; ++j)
+        sum += s.logExponentOffset[j] * s.logExponentOffset[j] + s.logGain[j] * s.logGain[j];
+    }
+    return varyingPenalty_ * sum;
+  }
+
+  bool admissible(const std::vector<Shape>& shapes) const {
+    const double low = std::log(kMinLobeExponent), high = std::log(config_.maxExponent);
+    for (const auto& s : shapes) {
+      for (int j = 0; j <= kVaryingDegree; ++j) {
+        const double logN = std::log(s.exponentAt(j));
+        if (logN < low || logN > high) return false;
+        if (s.exponentAt(j) * std::log(std::max(1.0, std::abs(s.cxy))) > kMaxLobeGrowthLog) return false;
+      }
+      if (std::abs(s.cxy) > kMaxFitCxy) return false;
+      if (std::abs(s.logGain[0]) > kMaxLogGain || std::abs(s.logGain[1]) > kMaxLogGain) return false;
     }
     return true;
   }
@@ -302,18 +362,32 @@ class SharedFitter {
     return chosen;
   }
 
-  // Compass search on (ln n_k, c_xy,k) of every lobe.
+  // The coordinates of a lobe's shape the compass search moves: ln n, then c_xy (Lafortune lobes),
+  // then the offsets of ln n and ln g at t = 0 and 1 (varying lobes).
+  std::vector<double*> coordinates(Shape& shape) const {
+    std::vector<double*> out{&shape.logExponent};
+    if (config_.lafortune && !shape.halfVector) out.push_back(&shape.cxy);
+    if (searchVarying_) {
+      for (std::size_t j = 0; j < 2; ++j) out.push_back(&shape.logExponentOffset[j]);
+      for (std::size_t j = 0; j < 2; ++j) out.push_back(&shape.logGain[j]);
+    }
+    return out;
+  }
+
+  // Compass search on the coordinates of every lobe (steps in c_xy are 0.2 / 0.35 of those in logarithms).
   std::vector<Shape> refine(std::vector<Shape> shapes) {
     double value = searchObjective(shapes);
-    double logStep = 0.35, cxyStep = 0.2;
-    const int budget = evaluations + config_.maxEvaluations;
-    while ((logStep > kFinalLogStep || (config_.lafortune && cxyStep > 0.005)) && evaluations < budget) {
+    double logStep = 0.35;
+    const int budget = evaluations + (searchVarying_ ? config_.maxVaryingEvaluations : config_.maxEvaluations);
+    while (logStep > kFinalLogStep && evaluations < budget) {
       bool improved = false;
       for (std::size_t k = 0; k < shapes.size(); ++k) {
-        for (int coordinate = 0; coordinate < (config_.lafortune && !shapes[k].halfVector ? 2 : 1); ++coordinate) {
+        const std::size_t count = coordinates(shapes[k]).size();
+        for (std::size_t coordinate = 0; coordinate < count; ++coordinate) {
           for (double sign : {1.0, -1.0}) {
             std::vector<Shape> trial = shapes;
-            (coordinate == 0 ? trial[k].logExponent : trial[k].cxy) += sign * (coordinate == 0 ? logStep : cxyStep);
+            double* moved = coordinates(trial[k])[coordinate];
+            *moved += sign * (moved == &trial[k].cxy ? logStep * (0.2 / 0.35) : logStep);
             const double v = searchObjective(trial);
             if (v < value * (1.0 - 1e-9)) {
               value = v;
@@ -324,10 +398,7 @@ class SharedFitter {
           }
         }
       }
-      if (!improved) {
-        logStep *= 0.5;
-        cxyStep *= 0.5;
-      }
+      if (!improved) logStep *= 0.5;
     }
     return shapes;
   }
@@ -336,10 +407,31 @@ class SharedFitter {
     std::vector<Shape> shapes;
     for (const Lobe& lobe : config_.startLobes) {
       if (static_cast<int>(shapes.size()) == config_.lobes) break;
-      shapes.push_back({std::log(lobe.exponent.at(0)), lobe.halfVector ? -1.0 : lobe.cxy, lobe.halfVector});
+      shapes.push_back(startShape(lobe));
     }
+    // Constant shapes first (greedily, lobe by lobe), then, for varying lobes, every coordinate
+    // from there: the constant fit is a good start that a varying one can only improve on.
+    const bool startVaries = std::any_of(shapes.begin(), shapes.end(), [](const Shape& s) { return s.varies(); });
+    searchVarying_ = startVaries;
     for (int k = static_cast<int>(shapes.size()); k < config_.lobes; ++k) shapes = refine(withNewLobe(shapes));
+    if (config_.varying && !startVaries) {
+      varyingPenalty_ = config_.varyingPrior * searchObjective(shapes);
+      searchVarying_ = true;
+      shapes = refine(std::move(shapes));
+    }
     return shapes;
+  }
+
+  // A warm start's lobe as a shape: constant, or the exponent and weight ratios of a varying lobe
+  // (its weights' profile is shared by every channel, so the first channel's serves).
+  Shape startShape(const Lobe& lobe) const {
+    Shape shape{std::log(lobe.exponent.back()), lobe.halfVector ? -1.0 : lobe.cxy, lobe.halfVector};
+    if (!config_.varying || lobe.exponent.size() != 3 || lobe.weight.size() != 3) return shape;
+    for (std::size_t j = 0; j < 2; ++j) {
+      shape.logExponentOffset[j] = std::log(lobe.exponent[j] / lobe.exponent[2]);
+      shape.logGain[j] = std::clamp(std::log(lobe.weight[j] / lobe.weight[2]), -kMaxLogGain, kMaxLogGain);
+    }
+    return shape;
   }
 
   const Data& data() const { return data_; }
@@ -363,6 +455,12 @@ class SharedFitter {
   // and the compass search's last step in ln n (1 %); docs/fitting.md has what other values scored.
   static constexpr double kGreedyExponentFactor = 4.0;
   static constexpr double kFinalLogStep = 0.01;
+  // Largest |c_xy| the search takes (the model allows kMaxLobeCxy): a bound as a prior, since free
+  // c_xy up to 8 fitted lobes that grow steeply towards grazing, and two such lobes predicted held-out
+  // rows worse than a Lambertian fit (docs/fitting.md).
+  static constexpr double kMaxFitCxy = 2.0;
+  // Largest |ln g| of a varying lobe's gain at t = 0 and 1: a factor of 1e4 either way.
+  static constexpr double kMaxLogGain = 9.2;
 
   Data data_;
   RowFactors factors_;
@@ -371,8 +469,13 @@ class SharedFitter {
   Eigen::MatrixXd searchWeightedTargets_;  // omega^2 f
   Eigen::MatrixXd searchLogTargets_;       // ln(1 + cos theta_i f)
   std::deque<std::pair<Shape, Eigen::MatrixXd>> columnCache_;
+  Eigen::MatrixXd pairs_;  // rows x column pairs: products of the design's columns (searchObjective)
   std::vector<int> search_;
+  bool searchVarying_ = false;  // the compass search moves the varying coordinates too
+  double varyingPenalty_ = 0.0;
 };
+
+constexpr double kMinVaryingWeight = 1e-12;
 
 }  // namespace
 
@@ -399,13 +502,13 @@ SharedFitOutcome fitSharedLobes(const MeasuredTable& table, const SharedFitConfi
       data.logTarget(i, c) = std::log1p(data.cosIn[i] * f);
     }
   }
-  SharedFitter fitter(std::move(data), config);
+  SharedFitter fitter(std::move(data), config, range);
   const std::vector<Shape> shapes = fitter.fitShapes();
   const Eigen::MatrixXd a = fitter.design(shapes);
 
   SharedFitOutcome outcome;
   outcome.rows = used.size();
-  outcome.model.elevation = LobeElevation::Constant;
+  outcome.model.elevation = config.varying ? LobeElevation::Varying : LobeElevation::Constant;
   outcome.model.minCos = range.minCos;
   outcome.model.maxCos = range.maxCos;
   if (table.kind == ChannelKind::Spectral) outcome.model.wavelengthsNm = table.wavelengthsNm;
@@ -421,8 +524,11 @@ SharedFitOutcome fitSharedLobes(const MeasuredTable& table, const SharedFitConfi
     Eigen::Index column = 1;
     for (const auto& shape : shapes) {
       Lobe lobe;
-      lobe.weight = {x[column]};
-      lobe.exponent = {std::clamp(std::exp(shape.logExponent), kMinLobeExponent, kMaxLobeExponent)};
+      for (int j = config.varying ? 0 : kVaryingDegree; j <= kVaryingDegree; ++j) {
+        // A varying model's weights must be > 0 (geometric blend): an NNLS zero becomes 1e-12.
+        lobe.weight.push_back(config.varying ? std::max(x[column] * shape.gainAt(j), kMinVaryingWeight) : x[column]);
+        lobe.exponent.push_back(std::clamp(shape.exponentAt(j), kMinLobeExponent, kMaxLobeExponent));
+      }
       lobe.cxy = shape.halfVector ? -1.0 : shape.cxy;
       lobe.halfVector = shape.halfVector;
       if (shape.halfVector) lobe.fresnel = x[column + 1];

@@ -31,9 +31,22 @@ struct SharedFitConfig {
   bool mirror = true;
   bool lafortune = false;
   bool halfVector = false;
+  // Lobes that vary with elevation (LobeElevation::Varying): each lobe's exponent n(t) and a gain
+  // g(t) on its weights are geometric quadratic Bernstein blends in the elevation coordinate t
+  // (LobeModel::elevationCoordinate), shared by every channel like the other shape parameters, so
+  // the weights stay linear: C_c(t) = w_c g(t), g = 1 at the most normal view. A half-vector
+  // lobe's C_F stays constant.
+  bool varying = false;
+  // The prior on varying shapes: each unit of squared offset of ln n or ln g from its value at the
+  // most normal view costs this fraction of the constant fit's objective (FitOptions::varyingPrior).
+  double varyingPrior = 0.01;
   double maxExponent = 1e4;  // cap on n
   int searchChannels = 6;    // channels the shape search looks at (evenly spread; all if fewer)
   int maxEvaluations = 600;  // shape trials in the compass search
+  // Shape trials of the compass search that frees a varying model's offsets (from the constant fit).
+  // 600 scored the chosen candidates within 0.02 of 300 and 200 (docs/fitting.md) at twice the time;
+  // 100 lost up to 0.23.
+  int maxVaryingEvaluations = 300;
   // Warm start: the shapes (exponent, c_xy, axis) of the first lobes, as a fit of the same table
   // with fewer lobes returned them; the fit adds lobes greedily after these. The greedy steps are
   // the same either way, so a fit warm-started from the (K-1)-lobe fit equals the cold K-lobe fit.
@@ -41,7 +54,7 @@ struct SharedFitConfig {
 };
 
 struct SharedFitOutcome {
-  LobeModel model;         // elevation Constant, range from `range`
+  LobeModel model;         // elevation Constant (Varying with SharedFitConfig::varying), range from `range`
   int evaluations = 0;     // shape trials
   double objective = 0.0;  // sum over channels and fitted rows of r_i^2
   std::size_t rows = 0;    // fitted rows (light and view above the horizon)

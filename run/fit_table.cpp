@@ -110,12 +110,21 @@ std::string FitTableResult::briefReport() const {
     out << " (" << std::setprecision(1) << h->seconds << " s)\n";
   }
   if (!fit.candidates.empty()) {
-    out << "  models tried (held-out score = mean of the k-fold and elevation ratios to Lambert):\n";
-    for (const auto& c : fit.candidates) {
-      out << "    " << c.lobes << " " << toString(c.kind) << " " << toString(c.elevation) << ", " << c.parameters
+    out << "  models tried (held-out score = the worse of the k-fold and elevation ratios to Lambert):\n";
+    auto describe = [&](const ModelCandidate& c) {
+      out << c.lobes << " " << toString(c.kind) << " " << toString(c.elevation) << ", " << c.parameters
           << " parameters: " << std::setprecision(3) << c.heldOutScore << " (k-fold " << c.kfoldRatio
-          << "x, elevations " << c.elevationRatio << "x, " << std::setprecision(1) << c.seconds << " s)"
-          << (c.chosen ? " chosen" : "") << "\n";
+          << "x, elevations " << c.elevationRatio << "x, " << std::setprecision(1) << c.seconds << " s)";
+    };
+    for (const auto& c : fit.candidates) {
+      out << "    ";
+      describe(c);
+      out << (c.chosen ? " chosen" : c.worseThanLambert() ? " dropped: worse than Lambert" : "") << "\n";
+    }
+    if (const ModelCandidate* radial = fit.bestRadiallySymmetric()) {
+      out << "  best radially symmetric (prefilters an environment): ";
+      describe(*radial);
+      out << "\n";
     }
   }
   for (const auto& note : notes) out << "  note: " << note << "\n";

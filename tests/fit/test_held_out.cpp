@@ -409,6 +409,7 @@ TEST(HeldOut, SharedFitOfASharedModelIsAtTheNoiseLevel) {
   FitOptions options;
   options.lobes = 2;
   options.kind = LobeKindChoice::Lafortune;
+  options.elevation = ElevationChoice::Constant;  // as the truth (varying lobes score 4 % lower here, at the noise)
   const FitResult fit = fitLobes(table, options);
   ASSERT_TRUE(fit.heldOut);
   // Measured: 1.12 times the noise on the 5-fold split, 1.0 to 1.27 times on held-out elevations

@@ -64,8 +64,8 @@ struct HeldOutReport {
   double seconds = 0.0;                  ///< wall time, fits included
   /// The leave-one-elevation-out errors pooled over elevations (rows weighted equally).
   HeldOutSplit pooledElevations() const;
-  /// What model selection minimises: the mean of the k-fold ratio and the pooled elevation ratio
-  /// (the k-fold ratio alone when no elevation was held out).
+  /// What model selection minimises: the worse of the k-fold ratio and the pooled elevation ratio
+  /// (the k-fold ratio alone when no elevation was held out), so that neither hides the other.
   double score() const;
 };
 

@@ -64,10 +64,11 @@ enum class LobeKindChoice {
   Auto,        ///< mirror or Lafortune, by held-out error
   Mirror,      ///< Phong lobes about the mirrored view (c_xy = -1)
   Lafortune,   ///< Lafortune lobes, c_xy free per lobe (brdf/lobes.hpp)
-  HalfVector,  ///< half-vector lobes with a Fresnel weight (halfVectorLobe), or Lafortune ones where they fit better
+  HalfVector,  ///< half-vector lobes with a Fresnel weight (halfVectorLobe)
+  Mixed,       ///< each lobe a half-vector or a mirror lobe, whichever fits better when it is added
 };
-/// "auto", "mirror", "lafortune", "half_vector"; parse throws Error(InvalidArgument) listing the accepted names for
-/// others (core/named_values.hpp).
+/// "auto", "mirror", "lafortune", "half_vector", "mixed"; parse throws Error(InvalidArgument) listing the accepted
+/// names for others (core/named_values.hpp).
 std::string_view toString(LobeKindChoice kind);
 LobeKindChoice parseLobeKindChoice(std::string_view name);
 
@@ -107,6 +108,14 @@ struct FitOptions {
   /// lowered to 0.3 and then 0.1 times maxExponent while that lowers the held-out score by
   /// autoMargin (a cap is a regularisation weight; the cap kept is FitResult::options.maxExponent).
   bool chooseMaxExponent = true;
+  /// FitMethod::Shared, varying lobes: the prior on their shapes. Each unit of squared offset of
+  /// ln n or ln C from its value at the most normal view costs this fraction of the constant fit's
+  /// error (docs/fitting.md). >= 0. Without it a lone sharp lobe of blue acrylic bent its exponent
+  /// from 1e4 to 960 towards grazing and predicted held-out rows at 3.3x Lambert's error.
+  double varyingPrior = 0.01;
+  /// FitMethod::Shared with an auto choice that chose varying lobes: the prior is also tried at 0.1
+  /// times varyingPrior, and kept if that lowers the held-out score by autoMargin.
+  bool chooseVaryingPrior = true;
   /// Auto choices: a candidate with more parameters is kept only if its held-out score is below
   /// (1 - autoMargin) times the best score of the candidates with fewer parameters. In (0, 1).
   double autoMargin = 0.01;
@@ -180,7 +189,15 @@ struct ModelCandidate {
   double elevationRatio = 0.0;  ///< pooled leave-one-elevation-out error / Lambert
   double seconds = 0.0;         ///< wall time of the held-out estimate (every split's fit)
   double maxExponent = 0.0;     ///< the exponent cap of the shared method (0: not recorded)
+  double varyingPrior = 0.0;    ///< the prior on varying shapes of the shared method (0: not recorded)
   bool chosen = false;
+
+  /// Mirror lobes: radially symmetric about the mirrored view, so they prefilter an environment
+  /// (constant: in one pass; varying: into a stack over elevation, docs/prefilter.md).
+  bool radiallySymmetric() const { return kind == LobeKindChoice::Mirror; }
+  /// A held-out ratio at or above 1: no better than a Lambertian fit on that measure. Such a
+  /// candidate is never chosen while another is not.
+  bool worseThanLambert() const { return kfoldRatio >= 1.0 || elevationRatio >= 1.0; }
 };
 
 struct FitResult {
@@ -196,6 +213,8 @@ struct FitResult {
 
   /// True when every channel's final solve is usable.
   bool usable() const;
+  /// The radially symmetric candidate of lowest held-out score (nullptr when none was tried).
+  const ModelCandidate* bestRadiallySymmetric() const;
   /// Lines like Ceres' BriefReport: model, per channel errors, iterations, termination.
   std::string briefReport() const;
 };
