@@ -13,12 +13,16 @@ namespace {
 constexpr const char* kFooter = R"(Model, per channel (1/sr):
   f(l, v) = k_d/pi + sum_k C_k (n_k + 2)/(2 pi) max(0, c_k (l_x v_x + l_y v_y) + l_z v_z)^n_k
 with c_k = -1 a Phong lobe about the mirrored view (--kind mirror), other c_k Lafortune et al.
-1997's generalised cosine lobes, or half-vector lobes with a Fresnel weight (--kind half_vector).
---method shared (default): the lobes' shapes are shared by every channel, weights by non-negative
-least squares; --method per_channel: Ceres per channel, lobes constant or varying with elevation.
+1997's generalised cosine lobes, or half-vector lobes with a Fresnel weight (--kind half_vector);
+--kind mixed lets each lobe be a half-vector or a mirror lobe. C_k and n_k are constant, or vary
+smoothly with the view's elevation (--elevation varying).
+--method shared (default): the lobes' shapes (and elevation profiles) are shared by every channel,
+weights by non-negative least squares; --method per_channel: Ceres, each channel on its own.
 The fit estimates its held-out error (log error on rows it did not see: k-fold over rows away from
 the mirror, and each interior incident elevation held out whole, as a ratio to a Lambertian fit)
-and --lobes / --kind / --elevation / --max-exponent auto choose by it. Without -o the fit goes to
+and --lobes / --kind / --elevation / --max-exponent auto choose by it: the worse of the two
+ratios decides. The report also names the best radially symmetric model (mirror lobes, which
+prefilter an environment) and its held-out error. Without -o the fit goes to
 TABLESTEM_fit.json in the current folder (none with --json, which prints it). Exit status 1 when a
 solve failed: the fit is still written, with "usable": false. Details and fit.json: docs/fitting.md.
 
@@ -38,9 +42,9 @@ struct FitArgs {
 void addModelFlags(CLI::App* command, FitArgs& a) {
   command->add_option("--lobes", a.lobes, "Lobes per channel: auto or 1.." + std::to_string(kMaxFitLobes))
       ->default_str("auto");
-  command->add_option("--kind", a.kind, "auto | mirror | lafortune | half_vector (the shared method's lobes)")
+  command->add_option("--kind", a.kind, "auto | mirror | lafortune | half_vector | mixed (the shared method's lobes)")
       ->default_str("auto");
-  command->add_option("--elevation", a.elevation, "auto | constant | varying (varying: --method per_channel)")
+  command->add_option("--elevation", a.elevation, "auto | constant | varying (with the view's elevation)")
       ->default_str("auto");
   command->add_option("--method", a.method, "shared (shapes shared by every channel) | per_channel (Ceres)")
       ->default_str("shared");

@@ -5,24 +5,30 @@ estimate the fit makes itself (fit.held_out: off-mirror 5-fold and each interior
 as ratios to a per-channel Lambertian fit) and the fit's own time (a second run with --held-out off), writes
 docs/images/fit_held_out.csv and draws docs/images/fit_held_out.png with gnuplot.
 
-usage: scripts/fit_held_out_chart.py BRDFBAKE [SHARED_DATA_DIR] [--tables a.astm,b.astm] [--only LABEL] [--plot-only]
-(--only "shared half_vector" reruns that candidate family and keeps the CSV's other rows)
+usage: scripts/fit_held_out_chart.py BRDFBAKE [SHARED_DATA_DIR] [--tables a.astm,/abs/b.brdf] [--only LABEL]
+                                     [--per-channel] [--plot-only]
+(--only "half_vector varying" reruns that candidate family and keeps the CSV's other rows; a table given
+with an absolute path is read from there, so tables outside ../shared can be charted too)
 (krylon_blue.brdf holds the numbers of krylon_blue.astm, so the default list leaves it out)
-Standard library only. Spectral tables are fitted per wavelength; the per-channel method only on RGB tables
-(its spectral fits take minutes per candidate)."""
+Standard library only. Spectral tables are fitted per wavelength; the per-channel method (--per-channel) only
+on RGB tables (its spectral fits take minutes per candidate). The score is the fit's own: the worse of the
+off-mirror 5-fold ratio and the ratio pooled over the held-out elevations."""
 import json, os, subprocess, sys, tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
-TABLES = ["garnet_red_RGB.astm", "krylon_blue_RGB.astm", "garnet_red.astm", "krylon_blue.astm"]
+TABLES = ["garnet_red.astm", "krylon_blue.astm"]
+FAMILIES = [("mirror", "constant"), ("mirror", "varying"), ("half_vector", "constant"), ("half_vector", "varying"),
+            ("mixed", "varying"), ("lafortune", "constant")]
 
 
-def candidates(table):
+def candidates(table, per_channel):
     out = []
-    for kind in ("mirror", "lafortune", "half_vector"):
+    for kind, elevation in FAMILIES:
         for k in (1, 2, 3):
-            out.append((f"shared {kind}", ["--method", "shared", "--kind", kind, "--lobes", str(k)], k))
-    if "RGB" in table:
+            out.append((f"{kind} {elevation}", ["--method", "shared", "--kind", kind, "--elevation", elevation,
+                                                "--lobes", str(k)], k))
+    if per_channel and "RGB" in table:
         for elevation, ks in (("constant", (1, 2)), ("varying", (1,))):
             for k in ks:
                 out.append((f"per-channel {elevation}", ["--method", "per_channel", "--elevation", elevation, "--lobes", str(k)], k))
@@ -39,14 +45,17 @@ def run(exe, path, args, tmp):
 
 
 def parameters(fit):
+    """Free parameters over all channels (as fit.json's candidates count them)."""
     model = fit["channels"]
-    lafortune = any("cxy" in lobe for lobe in model[0]["lobes"])
+    lafortune = sum("cxy" in lobe for lobe in model[0]["lobes"])
     fresnel = sum("fresnel" in lobe for lobe in model[0]["lobes"])  # half-vector lobes: C and C_F per channel
     shared = fit["fit"]["method"] == "shared"
-    count = 1 if fit["model"]["elevation"] == "constant" else 3
+    varying = fit["model"]["elevation"] == "varying"
     lobes = fit["model"]["lobes"]
-    per_channel = 1 + fresnel + lobes * (1 if shared else 2 * count)
-    return per_channel * len(model) + (lobes * (2 if lafortune else 1) if shared else 0)
+    if not shared:
+        return (1 + lobes * 2 * (3 if varying else 1)) * len(model)
+    # shared: per channel k_d, C (and C_F); shared per lobe n (c_xy; the varying offsets of ln n and ln g)
+    return (1 + fresnel + lobes) * len(model) + lobes + lafortune + (4 * lobes if varying else 0)
 
 
 def main(argv):
@@ -60,7 +69,7 @@ def main(argv):
     rows = []
     header = "# table,candidate,lobes,parameters,fit_seconds_1_thread,kfold_ratio,ratio_30,ratio_50,ratio_70,score\n"
     if "--plot-only" in argv:
-        plot(csv, tables, os.path.join(REPO, "docs", "images", "fit_held_out.png"))
+        plot(csv, [os.path.basename(t) for t in tables], os.path.join(REPO, "docs", "images", "fit_held_out.png"))
         return 0
     only = argv[argv.index("--only") + 1] if "--only" in argv else None
     kept = []
@@ -71,36 +80,43 @@ def main(argv):
         f.writelines(kept)
     with tempfile.TemporaryDirectory() as tmp:
         for table in tables:
-            path = os.path.join(data, table)
-            for label, args, k in candidates(table):
+            path = table if os.path.isabs(table) else os.path.join(data, table)
+            for label, args, k in candidates(table, "--per-channel" in argv):
                 if only and label != only:
                     continue
                 held = run(exe, path, [*args, "--held-out", "on"], tmp)["fit"]
                 timed = run(exe, path, [*args, "--held-out", "off", "--threads", "1"], tmp)
                 h = held["fit"]["held_out"]
                 elevations = {round(e["elevation_deg"]): e["ratio_to_lambert"] for e in h["elevations"]}
-                rows.append((table, label, k, parameters(held), timed["seconds"], h["kfold"]["ratio_to_lambert"],
+                rows.append((os.path.basename(table), label, k, parameters(held), timed["seconds"], h["kfold"]["ratio_to_lambert"],
                              elevations.get(30, 0), elevations.get(50, 0), elevations.get(70, 0), h["score"]))
                 print(" ".join(str(x) for x in rows[-1]), flush=True)
                 with open(csv, "a") as f:
                     f.write(",".join(str(x) for x in rows[-1]) + "\n")
-    plot(csv, tables, os.path.join(REPO, "docs", "images", "fit_held_out.png"))
+    plot(csv, [os.path.basename(t) for t in tables], os.path.join(REPO, "docs", "images", "fit_held_out.png"))
     return 0
 
 
 def plot(csv, tables, png):
     lines = ["set terminal pngcairo noenhanced size 1400,%d font ',10'" % (330 * len(tables)), f"set output '{png}'",
              "set datafile separator ','", f"set multiplot layout {len(tables)},2",
-             "set logscale x", "set grid", "set key outside right", "set yrange [0:*]"]
+             "set logscale x", "set grid", "set key outside right", "set yrange [0:1.2]"]
+    present = {}
+    for line in open(csv):
+        if not line.startswith("#"):
+            present.setdefault(line.split(",")[0], set()).add(line.split(",")[1])
     for table in tables:
         for column, xlabel in ((4, "parameters (all channels)"), (5, "fit time, s (1 thread, no held-out estimate)")):
             lines.append(f"set title '{table}: held-out score (ratio to Lambert)'")
-            lines.append("set ylabel 'mean of 5-fold and elevation ratios'")
+            lines.append("set ylabel 'worse of 5-fold and elevation ratios'")
             lines.append(f"set xlabel '{xlabel}'")
             series = []
-            for label, style in (("shared mirror", "pt 7 lc 1"), ("shared lafortune", "pt 5 lc 2"),
-                                 ("shared half_vector", "pt 13 lc 7"),
-                                 ("per-channel constant", "pt 9 lc 3"), ("per-channel varying", "pt 11 lc 4")):
+            for label, style in (("mirror constant", "pt 6 lc 1"), ("mirror varying", "pt 7 lc 1"),
+                                 ("half_vector constant", "pt 12 lc 7"), ("half_vector varying", "pt 13 lc 7"),
+                                 ("mixed varying", "pt 9 lc 3"), ("lafortune constant", "pt 5 lc 2"),
+                                 ("per-channel constant", "pt 8 lc 4"), ("per-channel varying", "pt 11 lc 4")):
+                if label not in present.get(table, ()):
+                    continue
                 series.append(f"'{csv}' using (strcol(1) eq '{table}' && strcol(2) eq '{label}' ? ${column} : 1/0):10 "
                               f"with linespoints {style} title '{label}'")
             lines.append("plot " + ", ".join(series))

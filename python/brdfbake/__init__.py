@@ -148,8 +148,8 @@ def fit(
     """Fits lobes to a measured table, as ``brdfbake fit TABLE`` does (docs/fitting.md).
 
     table: .astm (Cornell), .brdf (pbrt-v2), .binary (MERL) or .mat; format: auto | astm | pbrt | merl | mat.
-    lobes: "auto" or 1..6 per channel. kind: auto | mirror | lafortune | half_vector.
-    elevation: auto | constant | varying (varying: method "per_channel"). method: shared | per_channel.
+    lobes: "auto" or 1..6 per channel. kind: auto | mirror | lafortune | half_vector | mixed.
+    elevation: auto | constant | varying (with the view's elevation). method: shared | per_channel.
     max_exponent: "auto" or a cap in [1, 1e5]. held_out: estimate the held-out error (auto choices need it);
     folds: of the off-mirror split, 2..20. channels: rgb | spectral. rgb: cie1931 | single_wavelengths.
     output: also write fit.json there; report: also a PNG of measured against fitted values (gnuplot).

@@ -121,7 +121,8 @@ MeasuredTable ggxTable(double noise, std::uint32_t seed) {
     const auto& a = table.angles[i];
     const Vec3 l = cornellDirection(a.thetaIn, a.phiIn), v = cornellDirection(a.thetaOut, a.phiOut);
     for (Eigen::Index c = 0; c < 3; ++c) {
-      table.values(static_cast<Eigen::Index>(i), c) = ggxCookTorrance(l, v, 0.15, 0.04, albedo[c]) * (1.0 + noise * gauss(random));
+      table.values(static_cast<Eigen::Index>(i), c) =
+          ggxCookTorrance(l, v, 0.15, 0.04, albedo[c]) * (1.0 + noise * gauss(random));
     }
   }
   return table;

@@ -43,7 +43,7 @@ FitTableOptions fitOf(const std::string& table, const fs::path& output) {
 
 TEST(FitJob, FitsASyntheticTableAndEvalMatchesTheFormula) {
   test::TempDir dir;
-  // Varying lobes are the per-channel method's (the shared method fits constant Lafortune lobes).
+  // The per-channel method (the shared one has its own tests in tests/fit/test_fit_families.cpp).
   FitTableOptions options = fitOf(test::sourcePath("data_samples/tables/synthetic_varying.astm"), dir / "fit.json");
   options.fit.method = FitMethod::PerChannel;
   const FitTableResult fitted = fitTable(options);

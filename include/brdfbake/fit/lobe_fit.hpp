@@ -7,13 +7,14 @@
 /// and Lafortune coefficient c_xy, or a half-vector lobe's exponent); the diffuse terms and weights
 /// (a half-vector lobe's C and C_F) of each channel are solved by
 /// non-negative least squares on the cosine-weighted log error of fit/held_out.hpp, the shapes by
-/// a search around them (variable projection). Constant elevation only: Lafortune lobes (c_xy !=
-/// -1) carry the variation with elevation. FitMethod::PerChannel: Ceres per channel, as follows.
+/// a search around them (variable projection). Varying lobes share their elevation profile (the
+/// exponent and a gain on the weights at three nodes) between channels, under a prior
+/// (FitOptions::varyingPrior). FitMethod::PerChannel: Ceres per channel, as follows.
 ///
 /// Automatic choices (lobe count, lobe kind, elevation) are made by the held-out error of
 /// fit/held_out.hpp (estimateHeldOutError), never by the in-sample error: every candidate is fitted
-/// on each split, and the lowest HeldOutReport::score is kept, unless a candidate with fewer
-/// parameters is within FitOptions::autoMargin of it.
+/// on each split, and the lowest HeldOutReport::score (the worse of the off-mirror and elevation
+/// ratios) is kept, unless a candidate with fewer parameters is within FitOptions::autoMargin of it.
 ///
 /// PerChannel: each channel is fitted on its own. Per sample i (light wi, view wo, measured f_i) the residual
 /// is the difference of cube roots of the cosine-weighted values,
@@ -61,7 +62,7 @@ FitMethod parseFitMethod(std::string_view name);
 
 /// Which lobes FitMethod::Shared fits.
 enum class LobeKindChoice {
-  Auto,        ///< mirror or Lafortune, by held-out error
+  Auto,        ///< half-vector, mirror, mixed or Lafortune, by held-out error
   Mirror,      ///< Phong lobes about the mirrored view (c_xy = -1)
   Lafortune,   ///< Lafortune lobes, c_xy free per lobe (brdf/lobes.hpp)
   HalfVector,  ///< half-vector lobes with a Fresnel weight (halfVectorLobe)
@@ -74,7 +75,7 @@ LobeKindChoice parseLobeKindChoice(std::string_view name);
 
 /// Which elevation dependence to fit.
 enum class ElevationChoice {
-  Auto,      ///< constant or varying, by held-out error (PerChannel; Shared fits constant lobes)
+  Auto,      ///< constant or varying, by held-out error
   Constant,  ///< LobeElevation::Constant
   Varying,   ///< LobeElevation::Varying
 };
@@ -99,7 +100,7 @@ struct FitOptions {
   /// Largest count `lobes = 0` tries, 1..kMaxFitLobes.
   int maxAutoLobes = 3;
   ElevationChoice elevation = ElevationChoice::Auto;
-  /// FitMethod::Shared: mirror, Lafortune or half-vector lobes, or auto (by held-out error).
+  /// FitMethod::Shared: mirror, Lafortune, half-vector or mixed lobes, or auto (by held-out error).
   LobeKindChoice kind = LobeKindChoice::Auto;
   /// FitMethod::Shared: largest lobe exponent, in [1, 1e5]. 1e4 (a lobe 0.7 degrees wide at half
   /// maximum) is as sharp as the Cornell grid's spacing near the mirror can support.
@@ -181,7 +182,7 @@ struct ChannelFitStats {
 struct ModelCandidate {
   int lobes = 0;
   LobeElevation elevation = LobeElevation::Constant;
-  LobeKindChoice kind = LobeKindChoice::Mirror;  ///< Mirror, Lafortune or HalfVector
+  LobeKindChoice kind = LobeKindChoice::Mirror;  ///< Mirror, Lafortune, HalfVector or Mixed
   int parameters = 0;                            ///< free parameters of the model, all channels
   double inSampleError = 0.0;   ///< E of fit/held_out.hpp on every row of the table, fitted on all of them
   double heldOutScore = 0.0;    ///< HeldOutReport::score
