@@ -168,7 +168,7 @@ void bindFitResult(py::module_& module) {
             if (!f.file.fit.heldOut) return py::none();
             return py::float_(f.file.fit.heldOut->score());
           },
-          "The held-out score (mean of the k-fold and elevation ratios to Lambert), or None.")
+          "The held-out score (the worse of the k-fold and elevation ratios to Lambert), or None.")
       .def_property_readonly(
           "in_sample_error", [](const FitTableResult& f) { return f.file.fit.inSampleError; },
           "The log error over every row of the table (in-sample).")
