@@ -113,12 +113,16 @@ LobeModel LobeModel::atElevation(double u) const {
 }
 
 namespace {
-// Evaluates lobeBrdf for one channel from its stored coefficients, plus its half-vector lobes.
+// Evaluates lobeBrdf for one channel from its stored coefficients, plus its half-vector lobes (no
+// allocation: this runs per sample and channel).
 double channelBrdf(const LobeModel& model, const LobeChannel& channel, double u, const LobeGeometry& geometry) {
+  constexpr int kMaxCount = kVaryingDegree + 1;
   const int count = elevationCoefficientCount(model.elevation);
   const double t = model.elevationCoordinate(u);
-  std::vector<double> packed, cosToAxis;
-  packed.reserve(channel.lobes.size() * 2 * count);
+  double packed[kMaxModelLobes][2 * kMaxCount];
+  const double* lobes[kMaxModelLobes];
+  double cosToAxis[kMaxModelLobes];
+  int axisLobes = 0;
   double halfVectorSum = 0.0;
   for (const auto& lobe : channel.lobes) {
     if (lobe.halfVector) {
@@ -126,14 +130,13 @@ double channelBrdf(const LobeModel& model, const LobeChannel& channel, double u,
                                       elevationBlend(lobe.exponent.data(), count, t), geometry);
       continue;
     }
-    packed.insert(packed.end(), lobe.weight.begin(), lobe.weight.end());
-    packed.insert(packed.end(), lobe.exponent.begin(), lobe.exponent.end());
-    cosToAxis.push_back(geometry.cosine(lobe.cxy));
+    if (axisLobes == kMaxModelLobes) continue;  // validate() rejects such models
+    std::copy_n(lobe.weight.begin(), count, packed[axisLobes]);
+    std::copy_n(lobe.exponent.begin(), count, packed[axisLobes] + count);
+    lobes[axisLobes] = packed[axisLobes];
+    cosToAxis[axisLobes++] = geometry.cosine(lobe.cxy);
   }
-  std::vector<const double*> lobes(cosToAxis.size());
-  for (std::size_t k = 0; k < lobes.size(); ++k) lobes[k] = packed.data() + k * 2 * count;
-  return lobeBrdf(channel.diffuse, lobes.data(), static_cast<int>(lobes.size()), count, t, cosToAxis.data()) +
-         halfVectorSum;
+  return lobeBrdf(channel.diffuse, lobes, axisLobes, count, t, cosToAxis) + halfVectorSum;
 }
 }  // namespace
 

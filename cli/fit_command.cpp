@@ -20,9 +20,9 @@ smoothly with the view's elevation (--elevation varying).
 weights by non-negative least squares; --method per_channel: Ceres, each channel on its own.
 The fit estimates its held-out error (log error on rows it did not see: k-fold over rows away from
 the mirror, and each interior incident elevation held out whole, as a ratio to a Lambertian fit)
-and --lobes / --kind / --elevation / --max-exponent auto choose by it: the worse of the two
-ratios decides. The report also names the best radially symmetric model (mirror lobes, which
-prefilter an environment) and its held-out error. Without -o the fit goes to
+and --lobes / --kind / --elevation / --max-exponent / --varying-prior auto choose by it: the
+worse of the two ratios decides. The report also names the best radially symmetric model (mirror
+lobes, which prefilter an environment) and its held-out error. Without -o the fit goes to
 TABLESTEM_fit.json in the current folder (none with --json, which prints it). Exit status 1 when a
 solve failed: the fit is still written, with "usable": false. Details and fit.json: docs/fitting.md.
 
@@ -36,7 +36,8 @@ struct FitArgs {
   CommonFlags flags;
   FitTableOptions options;
   std::string table, format = "auto", lobes = "auto", elevation = "auto", method = "shared", kind = "auto",
-                     maxExponent = "auto", heldOut = "on", channels = "rgb", rgb = "cie1931", output, report;
+                     maxExponent = "auto", varyingPrior = "auto", heldOut = "on", channels = "rgb", rgb = "cie1931",
+                     output, report;
 };
 
 void addModelFlags(CLI::App* command, FitArgs& a) {
@@ -49,6 +50,10 @@ void addModelFlags(CLI::App* command, FitArgs& a) {
   command->add_option("--method", a.method, "shared (shapes shared by every channel) | per_channel (Ceres)")
       ->default_str("shared");
   command->add_option("--max-exponent", a.maxExponent, "auto, or a number in [1, 1e5] that fixes the cap")
+      ->default_str("auto");
+  command
+      ->add_option("--varying-prior", a.varyingPrior,
+                   "auto, or a number in [0, 1] that fixes the prior on varying lobes' elevation profiles")
       ->default_str("auto");
   command->add_option("--held-out", a.heldOut, "on | off: estimate the fit's held-out error (auto choices need it)")
       ->default_str("on")
@@ -94,6 +99,10 @@ void parseModelFlags(const FitArgs& a, FitOptions& fit) {
   if (const auto cap = autoOrNumber(a.maxExponent, "--max-exponent", 1, 1e5, false)) {
     fit.maxExponent = *cap;
     fit.chooseMaxExponent = false;
+  }
+  if (const auto prior = autoOrNumber(a.varyingPrior, "--varying-prior", 0, 1, false)) {
+    fit.varyingPrior = *prior;
+    fit.chooseVaryingPrior = false;
   }
   fit.estimateHeldOut = a.heldOut == "on";
 }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -80,10 +81,19 @@ double cosIncident(const MeasuredTable& table, std::size_t row) {
 LogErrorSum cosineLogError(const LobeModel& model, const MeasuredTable& table, const std::vector<std::size_t>& rows) {
   require(model.channelCount() == table.channelCount(),
           "held-out: the model and the table have different channel counts");
+  // A varying model frozen once per view elevation (a Cornell table has ten), not per sample.
+  std::map<double, LobeModel> frozen;
+  auto atView = [&](double viewZ) -> const LobeModel& {
+    if (model.elevation == LobeElevation::Constant || !(viewZ > 0.0)) return model;
+    auto it = frozen.find(viewZ);
+    if (it == frozen.end()) it = frozen.emplace(viewZ, model.atElevation(viewZ)).first;
+    return it->second;
+  };
   LogErrorSum sum;
   for (std::size_t i : rows) {
     const double c = cosIncident(table, i);
-    const Eigen::VectorXd fitted = model.evaluate(table.incidentDirection(i), table.outgoingDirection(i));
+    const Vec3 wo = table.outgoingDirection(i);
+    const Eigen::VectorXd fitted = atView(wo.z()).evaluate(table.incidentDirection(i), wo);
     for (Eigen::Index ch = 0; ch < table.values.cols(); ++ch) {
       const double r = logTerm(c, fitted[ch]) - logTerm(c, table.values(static_cast<Eigen::Index>(i), ch));
       sum.squares += r * r;

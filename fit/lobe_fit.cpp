@@ -311,7 +311,18 @@ struct CandidateSpace {
   std::vector<LobeElevation> elevations;
   bool heldOutFeasible = false;  // enough rows away from the mirror for held-out splits
 
-  std::size_t size() const { return counts.size() * kinds.size() * elevations.size(); }
+  // The elevations tried for `kind`: an automatic choice of kind and elevation tries Lafortune lobes
+  // constant only (varying ones never won on the Cornell tables and cost a c_xy search, docs/fitting.md).
+  std::vector<LobeElevation> elevationsFor(LobeKindChoice kind) const {
+    if (kind == LobeKindChoice::Lafortune && kinds.size() > 1 && elevations.size() > 1)
+      return {LobeElevation::Constant};
+    return elevations;
+  }
+  std::size_t size() const {
+    std::size_t total = 0;
+    for (LobeKindChoice kind : kinds) total += counts.size() * elevationsFor(kind).size();
+    return total;
+  }
 };
 
 CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& options) {
@@ -398,14 +409,13 @@ Tried scoreCandidates(const HeldOutSplits& splits, const FitOptions& options, co
       std::vector<LobeModel> fits;  // the split fits of the last count scored
     };
     std::vector<Sequence> sequences;
-    for (LobeElevation elevation : space.elevations) {
-      // Lafortune lobes carry elevation through c_xy; an automatic choice of kind tries them constant
-      // only (varying ones never won on the Cornell tables and cost a c_xy search, docs/fitting.md).
-      const bool skip = kind == LobeKindChoice::Lafortune && space.kinds.size() > 1 &&
-                        elevation == LobeElevation::Varying && space.elevations.size() > 1;
-      if (!skip) sequences.push_back({elevation});
-    }
+    for (LobeElevation elevation : space.elevationsFor(kind)) sequences.push_back({elevation});
+    // One mixed lobe is a half-vector or a mirror lobe, both scored already when their kinds are.
+    const bool mixedAfterBoth = kind == LobeKindChoice::Mixed &&
+                                std::count(space.kinds.begin(), space.kinds.end(), LobeKindChoice::HalfVector) &&
+                                std::count(space.kinds.begin(), space.kinds.end(), LobeKindChoice::Mirror);
     for (int lobes : space.counts) {
+      if (mixedAfterBoth && lobes == 1 && space.counts.size() > 1) continue;
       const std::vector<LobeModel>* constantFits = nullptr;
       for (Sequence& sequence : sequences) {
         if (!sequence.going) continue;

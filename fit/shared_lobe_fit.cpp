@@ -7,8 +7,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <deque>
+#include <cstdint>
 #include <limits>
+#include <map>
 #include <numbers>
 
 namespace brdfbake::detail {
@@ -111,12 +112,16 @@ struct RowFactors {
   Eigen::ArrayXd logCosHalf;    // ln n.h
   Eigen::ArrayXd halfScale;     // 1 / (4 (n.l)(n.v)), 0 below the horizon
   Eigen::ArrayXd schlick;       // (1 - l.h)^5
-  Eigen::ArrayXXd bernstein;    // rows x 3: quadratic Bernstein weights at the view's elevation coordinate
+  // Varying lobes: the view elevations' quadratic Bernstein weights (distinct elevations x 3) and each
+  // row's elevation, so that n(t) and g(t) cost an exp per elevation, not per row (a Cornell table
+  // has ten).
+  Eigen::ArrayXXd bernstein;
+  std::vector<Eigen::Index> elevation;
 
   RowFactors(const std::vector<Row>& rows, const LobeModel& range) {
     const auto n = static_cast<Eigen::Index>(rows.size());
     logCosMirror.resize(n), logCosHalf.resize(n), halfScale.resize(n), schlick.resize(n);
-    bernstein.resize(n, kVaryingDegree + 1);
+    std::map<double, Eigen::Index> elevations;
     for (Eigen::Index i = 0; i < n; ++i) {
       const LobeGeometry& g = rows[static_cast<std::size_t>(i)].geometry;
       logCosMirror[i] = logPositive(g.cosine(-1.0));
@@ -124,12 +129,55 @@ struct RowFactors {
       logCosHalf[i] = above ? logPositive(g.cosHalf()) : -HUGE_VAL;
       halfScale[i] = above ? 0.25 / (g.lightZ * g.viewZ) : 0.0;
       schlick[i] = g.schlick();
+      const double t = range.elevationCoordinate(g.viewZ);
+      elevation.push_back(elevations.try_emplace(t, static_cast<Eigen::Index>(elevations.size())).first->second);
+    }
+    bernstein.resize(static_cast<Eigen::Index>(elevations.size()), kVaryingDegree + 1);
+    for (const auto& [t, index] : elevations) {
       double weights[kVaryingDegree + 1];
-      bernsteinWeights(kVaryingDegree + 1, range.elevationCoordinate(g.viewZ), weights);
-      for (int j = 0; j <= kVaryingDegree; ++j) bernstein(i, j) = weights[j];
+      bernsteinWeights(kVaryingDegree + 1, t, weights);
+      for (int j = 0; j <= kVaryingDegree; ++j) bernstein(index, j) = weights[j];
     }
   }
   static double logPositive(double c) { return c > 0.0 ? std::log(c) : -HUGE_VAL; }
+};
+
+// A small cache of recently used values by key (linear search): an entry used by the current
+// evaluation is never the one evicted, so references handed out stay valid while the cache holds
+// more entries than one evaluation uses.
+template <class Key, class Value>
+class RecentCache {
+ public:
+  explicit RecentCache(std::size_t capacity) : capacity_(capacity) { entries_.reserve(capacity); }
+  const Value* find(const Key& key) {
+    for (Entry& e : entries_) {
+      if (e.key == key) {
+        e.used = ++clock_;
+        return &e.value;
+      }
+    }
+    return nullptr;
+  }
+  const Value& insert(const Key& key, Value value) {
+    if (entries_.size() < capacity_) {
+      entries_.push_back({key, std::move(value), ++clock_});
+      return entries_.back().value;
+    }
+    Entry& oldest = *std::min_element(entries_.begin(), entries_.end(),
+                                      [](const Entry& a, const Entry& b) { return a.used < b.used; });
+    oldest = {key, std::move(value), ++clock_};
+    return oldest.value;
+  }
+
+ private:
+  struct Entry {
+    Key key;
+    Value value;
+    std::uint64_t used;
+  };
+  std::vector<Entry> entries_;
+  std::size_t capacity_;
+  std::uint64_t clock_ = 0;
 };
 
 class SharedFitter {
@@ -153,6 +201,8 @@ class SharedFitter {
       searchWeightedTargets_.col(s) = (omega2 * y).matrix();
       searchLogTargets_.col(s) = data_.logTarget.col(search_[static_cast<std::size_t>(s)]);
     }
+    diffuseGram_ = searchWeights_.colwise().sum().transpose() / (std::numbers::pi * std::numbers::pi);
+    diffuseRhs_ = searchWeightedTargets_.colwise().sum().transpose() / std::numbers::pi;
   }
 
   // Weight columns of one lobe: 1, or 2 for a half-vector lobe (C and its Fresnel weight C_F).
@@ -174,46 +224,64 @@ class SharedFitter {
   }
 
   // One lobe's columns: normalizedLobe and halfVectorLobe of brdf/lobes.hpp, with c^n taken as
-  // exp(n ln c) from the row factors. A compass step changes one lobe, so the others come from a
-  // cache of recent shapes.
-  const Eigen::MatrixXd& lobeColumns(const Shape& shape) {
-    for (const auto& [key, value] : columnCache_) {
-      if (key == shape) return value;
+  // exp(n ln c) from the row factors.
+  const Eigen::MatrixXd& lobeColumns(const Shape& shape) { return lobeTerms(shape).columns; }
+
+  // What one lobe adds to the search's normal equations, kept for recent shapes: a compass step
+  // changes one lobe, so the others' columns and products come from here.
+  struct LobeTerms {
+    Eigen::MatrixXd columns;  // rows x c (c = columns(shape))
+    Eigen::MatrixXd self;     // searched x c(c+1)/2: sum_i w_s,i a_i,j a_i,k over the lobe's column pairs
+    Eigen::MatrixXd diffuse;  // searched x c: the same with the diffuse column
+    Eigen::MatrixXd rhs;      // searched x c: sum_i w_s,i f_s,i a_i,j
+  };
+
+  const LobeTerms& lobeTerms(const Shape& shape) {
+    if (const LobeTerms* hit = termsCache_.find(shape)) return *hit;
+    LobeTerms t;
+    t.columns = lobeColumnsOf(shape);
+    const Eigen::Index c = t.columns.cols();
+    t.self.resize(searchWeights_.cols(), c * (c + 1) / 2);
+    for (Eigen::Index j = 0, m = 0; j < c; ++j) {
+      for (Eigen::Index k = 0; k <= j; ++k, ++m)
+        t.self.col(m) = searchWeights_.transpose() * t.columns.col(j).cwiseProduct(t.columns.col(k));
     }
-    if (columnCache_.size() >= kColumnCacheSize) columnCache_.pop_front();
-    Eigen::MatrixXd a = shape.varies() ? varyingLobeColumns(shape) : constantLobeColumns(shape);
-    columnCache_.emplace_back(shape, std::move(a));
-    return columnCache_.back().second;
+    t.diffuse = searchWeights_.transpose() * t.columns / std::numbers::pi;
+    t.rhs = searchWeightedTargets_.transpose() * t.columns;
+    return termsCache_.insert(shape, std::move(t));
   }
 
-  Eigen::MatrixXd constantLobeColumns(const Shape& shape) const {
+  // Products of two lobes' columns (searched x c_j c_k, column b * c_j + a for columns a of j, b of k).
+  const Eigen::MatrixXd& crossTerms(const Shape& j, const LobeTerms& tj, const Shape& k, const LobeTerms& tk) {
+    const std::pair<Shape, Shape> key{j, k};
+    if (const Eigen::MatrixXd* hit = crossCache_.find(key)) return *hit;
+    const Eigen::Index cj = tj.columns.cols(), ck = tk.columns.cols();
+    Eigen::MatrixXd grams(searchWeights_.cols(), cj * ck);
+    for (Eigen::Index b = 0; b < ck; ++b) {
+      for (Eigen::Index a = 0; a < cj; ++a)
+        grams.col(b * cj + a) = searchWeights_.transpose() * tj.columns.col(a).cwiseProduct(tk.columns.col(b));
+    }
+    return crossCache_.insert(key, std::move(grams));
+  }
+
+  // A lobe's columns with n(t) and the gain g(t) per row (geometricBlend of brdf/lobes.hpp; one value
+  // for a constant lobe): the first column is g(t) times the lobe of unit weight, a half-vector lobe's
+  // second (C_F) has no gain.
+  Eigen::MatrixXd lobeColumnsOf(const Shape& shape) const {
     const auto n = static_cast<Eigen::Index>(data_.rows.size());
-    Eigen::MatrixXd a(n, columns(shape));
-    const double exponent = std::exp(shape.logExponent);
-    const double norm = phongNormalization(exponent);
-    if (shape.halfVector) {
-      a.col(0) = (norm * (exponent * factors_.logCosHalf).exp() * factors_.halfScale).matrix();
-      a.col(1) = (a.col(0).array() * factors_.schlick).matrix();
-    } else if (shape.cxy == -1.0) {
-      a.col(0) = (norm * (exponent * factors_.logCosMirror).exp()).matrix();
+    Eigen::ArrayXd exponent, gain;
+    if (shape.varies()) {
+      const Eigen::ArrayXd b0 = factors_.bernstein.col(0), b1 = factors_.bernstein.col(1);
+      const Eigen::ArrayXd byElevation =
+          (shape.logExponent + b0 * shape.logExponentOffset[0] + b1 * shape.logExponentOffset[1]).exp();
+      const Eigen::ArrayXd gainByElevation = (b0 * shape.logGain[0] + b1 * shape.logGain[1]).exp();
+      exponent = byElevation(factors_.elevation);
+      gain = gainByElevation(factors_.elevation);
     } else {
-      for (Eigen::Index i = 0; i < n; ++i) {
-        a(i, 0) = normalizedLobe(1.0, exponent, data_.rows[static_cast<std::size_t>(i)].geometry.cosine(shape.cxy));
-      }
+      exponent.setConstant(n, std::exp(shape.logExponent));
+      gain.setOnes(n);
     }
-    return a;
-  }
-
-  // The same with n(t) and the gain g(t) blended per row (geometricBlend of brdf/lobes.hpp): the
-  // first column is g(t) times the lobe of unit weight, a half-vector lobe's second (C_F) has no gain.
-  Eigen::MatrixXd varyingLobeColumns(const Shape& shape) const {
-    const auto n = static_cast<Eigen::Index>(data_.rows.size());
-    const Eigen::ArrayXd logExponent = shape.logExponent + factors_.bernstein.col(0) * shape.logExponentOffset[0] +
-                                       factors_.bernstein.col(1) * shape.logExponentOffset[1];
-    const Eigen::ArrayXd gain =
-        (factors_.bernstein.col(0) * shape.logGain[0] + factors_.bernstein.col(1) * shape.logGain[1]).exp();
-    const Eigen::ArrayXd exponent = logExponent.exp();
-    const Eigen::ArrayXd norm = (exponent + 2.0) / (2.0 * std::numbers::pi);
+    const Eigen::ArrayXd norm = (exponent + 2.0) / (2.0 * std::numbers::pi);  // phongNormalization
     Eigen::MatrixXd a(n, columns(shape));
     if (shape.halfVector) {
       const Eigen::ArrayXd lobe = norm * (exponent * factors_.logCosHalf).exp() * factors_.halfScale;
@@ -230,86 +298,151 @@ class SharedFitter {
     return a;
   }
 
-  // One channel's model at coefficients x: f = max(A x, 0), residuals r_i and their sum of squares.
-  struct ChannelState {
-    Eigen::VectorXd x;
-    Eigen::ArrayXd f, r;
-    double objective = 0.0;
+  // Residuals ln(1 + cos theta_i f) - ln(1 + cos theta_i f_measured) of one column of model values,
+  // with ln(1 + v) taken as ln of the rounded 1 + v: its absolute error (1e-16) is far below any
+  // residual that matters, and a column expression stays one vectorised pass (no log1p in Eigen's
+  // packets, and a colwise broadcast would make the whole expression scalar).
+  template <class Values, class Targets>
+  auto residuals(const Values& f, const Targets& logTarget) const {
+    return (1.0 + data_.cosIn.array() * f).log() - logTarget;
+  }
+
+  // Every channel's model at coefficients x (p x channels): f = max(A x, 0), residuals r and
+  // each channel's sum of squares.
+  struct Channels {
+    Eigen::MatrixXd x;
+    Eigen::ArrayXXd f, r;
+    Eigen::ArrayXd objective;
   };
 
-  ChannelState evaluate(const Eigen::MatrixXd& a, int channel, Eigen::VectorXd x) const {
-    ChannelState state{std::move(x), {}, {}, 0.0};
+  Channels evaluate(const Eigen::MatrixXd& a, Eigen::MatrixXd x) const {
+    Channels state{std::move(x), {}, {}, {}};
     state.f = (a * state.x).array().max(0.0);
-    state.r = log1p(data_.cosIn.array() * state.f).col(0) - data_.logTarget.col(channel).array();
-    state.objective = state.r.square().sum();
+    state.r.resize(state.f.rows(), state.f.cols());
+    for (Eigen::Index c = 0; c < state.f.cols(); ++c)
+      state.r.col(c) = residuals(state.f.col(c), data_.logTarget.col(c).array());
+    state.objective = state.r.square().colwise().sum().transpose();
     return state;
   }
 
-  // Coefficients of one channel: a weighted NNLS linearised at the data, then up to `steps`
+  // Each channel's NNLS of A x ~ target weighted by omega^2 (rows x channels), the normal
+  // equations of every channel from one product with the column pairs of A.
+  Eigen::MatrixXd weightedNnls(const Eigen::MatrixXd& a, const Eigen::MatrixXd& pairs, const Eigen::ArrayXXd& omega,
+                               const Eigen::ArrayXXd& target) const {
+    const Eigen::ArrayXXd w = omega.square();
+    const Eigen::MatrixXd grams = w.matrix().transpose() * pairs;  // channels x column pairs
+    const Eigen::MatrixXd rhs = a.transpose() * (w * target).matrix();
+    const Eigen::Index p = a.cols();
+    Eigen::MatrixXd x(p, target.cols()), gram(p, p);
+    for (Eigen::Index c = 0; c < target.cols(); ++c) {
+      for (Eigen::Index j = 0, m = 0; j < p; ++j) {
+        for (Eigen::Index k = 0; k <= j; ++k, ++m) gram(j, k) = gram(k, j) = grams(c, m);
+      }
+      x.col(c) = nonNegativeLeastSquares(gram, rhs.col(c));
+    }
+    return x;
+  }
+
+  // Every channel's coefficients: a weighted NNLS linearised at the data, then up to `steps`
   // Gauss-Newton steps (each an NNLS of the residual linearised at the current model) with step
-  // halving, until a step gains less than 1e-9 of the objective.
-  ChannelState solveChannel(const Eigen::MatrixXd& a, int channel, int steps) const {
-    const Eigen::ArrayXd& cosIn = data_.cosIn.array();
+  // halving; a channel stops when a step gains less than 1e-9 of its objective.
+  Channels solveChannels(const Eigen::MatrixXd& a, int steps) const {
+    const Eigen::Index p = a.cols();
+    Eigen::MatrixXd pairs(a.rows(), p * (p + 1) / 2);
+    for (Eigen::Index j = 0, m = 0; j < p; ++j) {
+      for (Eigen::Index k = 0; k <= j; ++k, ++m) pairs.col(m) = a.col(j).cwiseProduct(a.col(k));
+    }
     // d r / d f = cos / (1 + cos f): at the data first, then at the current model.
-    Eigen::ArrayXd omega = cosIn / (1.0 + cosIn * data_.measured.col(channel).array());
-    auto weightedNnls = [&](const Eigen::ArrayXd& target) {
-      return nonNegativeLeastSquares(weightedGram(a, omega), a.transpose() * (omega.square() * target).matrix());
+    auto omegaAt = [&](const Eigen::ArrayXXd& f) -> Eigen::ArrayXXd {
+      return (1.0 + f.colwise() * data_.cosIn.array()).inverse().colwise() * data_.cosIn.array();
     };
-    ChannelState current = evaluate(a, channel, weightedNnls(data_.measured.col(channel).array()));
-    for (int step = 0; step < steps; ++step) {
-      omega = cosIn / (1.0 + cosIn * current.f);
-      const Eigen::VectorXd proposal = weightedNnls(current.f - current.r / omega);
-      bool improved = false;
-      for (double alpha = 1.0; alpha > 0.1; alpha *= 0.5) {
-        ChannelState trial = evaluate(a, channel, current.x + alpha * (proposal - current.x));
-        if (trial.objective < current.objective) {
-          improved = current.objective - trial.objective > 1e-9 * trial.objective;
-          current = std::move(trial);
-          break;
+    const Eigen::ArrayXXd measured = data_.measured.array();
+    Channels current = evaluate(a, weightedNnls(a, pairs, omegaAt(measured), measured));
+    std::vector<bool> active(static_cast<std::size_t>(measured.cols()), true);
+    for (int step = 0; step < steps && std::count(active.begin(), active.end(), true) > 0; ++step) {
+      const Eigen::ArrayXXd omega = omegaAt(current.f);
+      const Eigen::MatrixXd proposal = weightedNnls(a, pairs, omega, current.f - current.r / omega);
+      std::vector<bool> pending = active;
+      for (double alpha = 1.0; alpha > 0.1 && std::count(pending.begin(), pending.end(), true) > 0; alpha *= 0.5) {
+        const Channels trial = evaluate(a, current.x + alpha * (proposal - current.x));
+        for (Eigen::Index c = 0; c < measured.cols(); ++c) {
+          const auto i = static_cast<std::size_t>(c);
+          if (!pending[i] || !(trial.objective[c] < current.objective[c])) continue;
+          active[i] = current.objective[c] - trial.objective[c] > 1e-9 * trial.objective[c];
+          pending[i] = false;
+          current.x.col(c) = trial.x.col(c), current.f.col(c) = trial.f.col(c), current.r.col(c) = trial.r.col(c);
+          current.objective[c] = trial.objective[c];
         }
       }
-      if (!improved) break;
+      for (std::size_t i = 0; i < active.size(); ++i) active[i] = active[i] && !pending[i];
     }
     return current;
   }
 
   // The objective the shape search minimises: the log error summed over the searched channels,
-  // of each channel's weights by the NNLS linearised at the data (solveChannel's first step; its
+  // of each channel's weights by the NNLS linearised at the data (solveChannels' first step; its
   // Gauss-Newton steps change which shapes win too little to pay for themselves, docs/fitting.md).
-  // Every channel's normal equations at once: G_s = A^T diag(w_s) A from the products of column
-  // pairs, one matrix product (searched channels x column pairs) for all of them.
+  // Every channel's normal equations G_s = A^T diag(w_s) A are put together from the products of
+  // column pairs, cached per lobe and per pair of lobes (lobeTerms, crossTerms).
   double searchObjective(const std::vector<Shape>& shapes) {
     ++evaluations;
     if (!admissible(shapes)) return HUGE_VAL;
-    const Eigen::MatrixXd a = design(shapes);
-    const Eigen::Index p = a.cols();
-    pairs_.resize(a.rows(), p * (p + 1) / 2);
-    for (Eigen::Index j = 0, m = 0; j < p; ++j) {
-      for (Eigen::Index k = 0; k <= j; ++k, ++m) pairs_.col(m) = a.col(j).cwiseProduct(a.col(k));
+    std::vector<const LobeTerms*> terms;
+    std::vector<Eigen::Index> offsets;  // each lobe's first column in the design
+    Eigen::Index p = 1;
+    for (const auto& shape : shapes) {
+      terms.push_back(&lobeTerms(shape));
+      offsets.push_back(p);
+      p += columns(shape);
     }
-    const Eigen::MatrixXd grams = searchWeights_.transpose() * pairs_;  // searched x column pairs
-    // Products this small cost less element by element than through the blocked kernel.
-    const Eigen::MatrixXd rhs = searchWeightedTargets_.transpose().lazyProduct(a);  // searched x p
-    Eigen::MatrixXd x(p, grams.rows());
-    Eigen::MatrixXd gram(p, p);
-    for (Eigen::Index s = 0; s < grams.rows(); ++s) {
-      for (Eigen::Index j = 0, m = 0; j < p; ++j) {
-        for (Eigen::Index k = 0; k <= j; ++k, ++m) gram(j, k) = gram(k, j) = grams(s, m);
+    const Eigen::Index searched = searchWeights_.cols();
+    std::vector<Eigen::MatrixXd> grams(static_cast<std::size_t>(searched), Eigen::MatrixXd(p, p));
+    Eigen::MatrixXd rhs(p, searched);
+    for (Eigen::Index s = 0; s < searched; ++s) {
+      grams[static_cast<std::size_t>(s)](0, 0) = diffuseGram_[s];
+      rhs(0, s) = diffuseRhs_[s];
+    }
+    for (std::size_t k = 0; k < shapes.size(); ++k) {
+      addLobeTerms(*terms[k], offsets[k], grams, rhs);
+      for (std::size_t j = 0; j < k; ++j) {
+        const Eigen::MatrixXd& cross = crossTerms(shapes[j], *terms[j], shapes[k], *terms[k]);
+        const Eigen::Index cj = terms[j]->columns.cols(), ck = terms[k]->columns.cols();
+        for (Eigen::Index s = 0; s < searched; ++s) {
+          Eigen::MatrixXd& g = grams[static_cast<std::size_t>(s)];
+          for (Eigen::Index b = 0; b < ck; ++b) {
+            for (Eigen::Index a = 0; a < cj; ++a)
+              g(offsets[k] + b, offsets[j] + a) = g(offsets[j] + a, offsets[k] + b) = cross(s, b * cj + a);
+          }
+        }
       }
-      x.col(s) = nonNegativeLeastSquares(gram, rhs.row(s).transpose());
     }
-    const Eigen::ArrayXXd f = a.lazyProduct(x).array().max(0.0);
-    return (log1p(f.colwise() * data_.cosIn.array()) - searchLogTargets_.array()).square().sum() + penalty(shapes);
+    Eigen::MatrixXd x(p, searched);
+    for (Eigen::Index s = 0; s < searched; ++s)
+      x.col(s) = nonNegativeLeastSquares(grams[static_cast<std::size_t>(s)], rhs.col(s));
+    Eigen::ArrayXXd f =
+        Eigen::ArrayXXd::Constant(data_.cosIn.size(), searched, 1.0 / std::numbers::pi).rowwise() * x.row(0).array();
+    for (std::size_t k = 0; k < shapes.size(); ++k)
+      f += terms[k]->columns.lazyProduct(x.middleRows(offsets[k], terms[k]->columns.cols())).array();
+    double sum = penalty(shapes);
+    for (Eigen::Index s = 0; s < searched; ++s)
+      sum += residuals(f.col(s).max(0.0), searchLogTargets_.col(s).array()).square().sum();
+    return sum;
   }
 
-  // ln(1 + v) elementwise through Eigen's vectorised log: ln(u) v / (u - 1), u = 1 + v, exact
-  // to a few ulps (Goldberg 1991, "What every computer scientist should know about
-  // floating-point arithmetic", theorem 4); v where u rounds to 1.
-  template <class Derived>
-  static Eigen::ArrayXXd log1p(const Eigen::ArrayBase<Derived>& v) {
-    const Eigen::ArrayXXd u = 1.0 + v;
-    const Eigen::ArrayXXd product = u.log() * v / (u - 1.0);  // vectorised here; select() is not
-    return (u == 1.0).select(v, product);
+  // A lobe's own products (with itself and the diffuse column) into every channel's normal equations.
+  static void addLobeTerms(const LobeTerms& t, Eigen::Index offset, std::vector<Eigen::MatrixXd>& grams,
+                           Eigen::MatrixXd& rhs) {
+    const Eigen::Index c = t.columns.cols();
+    for (std::size_t s = 0; s < grams.size(); ++s) {
+      Eigen::MatrixXd& g = grams[s];
+      const auto si = static_cast<Eigen::Index>(s);
+      for (Eigen::Index j = 0, m = 0; j < c; ++j) {
+        g(offset + j, 0) = g(0, offset + j) = t.diffuse(si, j);
+        rhs(offset + j, si) = t.rhs(si, j);
+        for (Eigen::Index k = 0; k <= j; ++k, ++m)
+          g(offset + j, offset + k) = g(offset + k, offset + j) = t.self(si, m);
+      }
+    }
   }
 
   // The prior on varying shapes: varyingPenalty_ (SharedFitConfig::varyingPrior times the constant
@@ -327,10 +460,11 @@ class SharedFitter {
   bool admissible(const std::vector<Shape>& shapes) const {
     const double low = std::log(kMinLobeExponent), high = std::log(config_.maxExponent);
     for (const auto& s : shapes) {
+      const double growth = std::log(std::max(1.0, std::abs(s.cxy)));
       for (int j = 0; j <= kVaryingDegree; ++j) {
-        const double logN = std::log(s.exponentAt(j));
+        const double logN = s.logExponent + (j < 2 ? s.logExponentOffset[static_cast<std::size_t>(j)] : 0.0);
         if (logN < low || logN > high) return false;
-        if (s.exponentAt(j) * std::log(std::max(1.0, std::abs(s.cxy))) > kMaxLobeGrowthLog) return false;
+        if (growth > 0.0 && std::exp(logN) * growth > kMaxLobeGrowthLog) return false;
       }
       if (std::abs(s.cxy) > kMaxFitCxy) return false;
       if (std::abs(s.logGain[0]) > kMaxLogGain || std::abs(s.logGain[1]) > kMaxLogGain) return false;
@@ -438,19 +572,10 @@ class SharedFitter {
   int evaluations = 0;
 
  private:
-  // A^T diag(omega^2) A, column pair by column pair (a few columns: cheaper than a general product).
-  static Eigen::MatrixXd weightedGram(const Eigen::MatrixXd& a, const Eigen::ArrayXd& omega) {
-    const Eigen::ArrayXd w2 = omega.square();
-    const Eigen::Index p = a.cols();
-    Eigen::MatrixXd gram(p, p);
-    for (Eigen::Index j = 0; j < p; ++j) {
-      const Eigen::ArrayXd weighted = w2 * a.col(j).array();
-      for (Eigen::Index k = 0; k <= j; ++k) gram(j, k) = gram(k, j) = (weighted * a.col(k).array()).sum();
-    }
-    return gram;
-  }
-
-  static constexpr std::size_t kColumnCacheSize = 16;
+  // More than one evaluation uses (at most 6 lobes, 15 pairs of them), with room for the shapes a
+  // compass search returns to.
+  static constexpr std::size_t kTermsCacheSize = 16;
+  static constexpr std::size_t kCrossCacheSize = 48;
   // The greedy grid of a new lobe's exponent (2, 8, 32, ...; the compass search walks from there)
   // and the compass search's last step in ln n (1 %); docs/fitting.md has what other values scored.
   static constexpr double kGreedyExponentFactor = 4.0;
@@ -468,8 +593,10 @@ class SharedFitter {
   Eigen::MatrixXd searchWeights_;          // rows x searched channels: omega^2 at the data
   Eigen::MatrixXd searchWeightedTargets_;  // omega^2 f
   Eigen::MatrixXd searchLogTargets_;       // ln(1 + cos theta_i f)
-  std::deque<std::pair<Shape, Eigen::MatrixXd>> columnCache_;
-  Eigen::MatrixXd pairs_;  // rows x column pairs: products of the design's columns (searchObjective)
+  RecentCache<Shape, LobeTerms> termsCache_{kTermsCacheSize};
+  RecentCache<std::pair<Shape, Shape>, Eigen::MatrixXd> crossCache_{kCrossCacheSize};
+  Eigen::VectorXd diffuseGram_;  // searched: sum_i w_s,i / pi^2
+  Eigen::VectorXd diffuseRhs_;   // searched: sum_i w_s,i f_s,i / pi
   std::vector<int> search_;
   bool searchVarying_ = false;  // the compass search moves the varying coordinates too
   double varyingPenalty_ = 0.0;
@@ -512,10 +639,10 @@ SharedFitOutcome fitSharedLobes(const MeasuredTable& table, const SharedFitConfi
   outcome.model.minCos = range.minCos;
   outcome.model.maxCos = range.maxCos;
   if (table.kind == ChannelKind::Spectral) outcome.model.wavelengthsNm = table.wavelengthsNm;
+  const auto solved = fitter.solveChannels(a, 8);
+  outcome.objective = solved.objective.sum();
   for (Eigen::Index c = 0; c < channels; ++c) {
-    const auto solved = fitter.solveChannel(a, static_cast<int>(c), 8);
-    const Eigen::VectorXd& x = solved.x;
-    outcome.objective += solved.objective;
+    const Eigen::VectorXd x = solved.x.col(c);
     LobeChannel channel;
     channel.name = static_cast<std::size_t>(c) < table.channelNames.size()
                        ? table.channelNames[static_cast<std::size_t>(c)]

@@ -135,6 +135,7 @@ def fit(
     elevation: str = "auto",
     method: str = "shared",
     max_exponent: Union[float, str] = "auto",
+    varying_prior: Union[float, str] = "auto",
     held_out: bool = True,
     folds: int = 5,
     channels: str = "rgb",
@@ -150,7 +151,8 @@ def fit(
     table: .astm (Cornell), .brdf (pbrt-v2), .binary (MERL) or .mat; format: auto | astm | pbrt | merl | mat.
     lobes: "auto" or 1..6 per channel. kind: auto | mirror | lafortune | half_vector | mixed.
     elevation: auto | constant | varying (with the view's elevation). method: shared | per_channel.
-    max_exponent: "auto" or a cap in [1, 1e5]. held_out: estimate the held-out error (auto choices need it);
+    max_exponent: "auto" or a cap in [1, 1e5]. varying_prior: "auto" or a prior in [0, 1] on varying lobes'
+    elevation profiles (FitOptions::varyingPrior). held_out: estimate the held-out error (auto choices need it);
     folds: of the off-mirror split, 2..20. channels: rgb | spectral. rgb: cie1931 | single_wavelengths.
     output: also write fit.json there; report: also a PNG of measured against fitted values (gnuplot).
     threads, progress: as for bake().
@@ -161,7 +163,7 @@ def fit(
     threads, folds = _whole(threads, "threads"), _whole(folds, "folds")
     with progress_callback(progress) as callback:
         return _core.fit_table(
-            table, lobes, kind, elevation, method, max_exponent, held_out, folds, channels, rgb, format,
+            table, lobes, kind, elevation, method, max_exponent, varying_prior, held_out, folds, channels, rgb, format,
             output, report, threads, callback,
         )
 

@@ -145,6 +145,7 @@ def fit_table(
     elevation: str,
     method: str,
     max_exponent: Union[float, str],
+    varying_prior: Union[float, str],
     held_out: bool,
     folds: int,
     channels: str,

@@ -5,6 +5,7 @@
 #include <brdfbake/core/math.hpp>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <fstream>
 
 #include "fit_formula.hpp"
@@ -62,9 +63,11 @@ TEST(FitCli, BadFlagsExitTwo) {
   for (const std::string& arguments :
        {"fit " + table + " --lobes 9", "fit " + table + " --lobes two", "fit " + table + " --elevation sideways",
         "fit " + table + " --channels spectral", "fit " + table + " --format xyz", "fit " + table + " --max-exponent 0",
-        "fit " + table + " --max-exponent high", "fit " + table + " --max-exponent 1e6", "eval " + fit,
-        "eval " + fit + " --wi 0,0,1", "eval " + fit + " --wi 0,0,1 --wo 1,2",
-        "eval " + fit + " --wi 0,0,1 --wo 0,0,1 --pairs x.txt", std::string("fit")}) {
+        "fit " + table + " --max-exponent high", "fit " + table + " --max-exponent 1e6",
+        "fit " + table + " --varying-prior -0.1", "fit " + table + " --varying-prior strong",
+        "fit " + table + " --varying-prior 2", "eval " + fit, "eval " + fit + " --wi 0,0,1",
+        "eval " + fit + " --wi 0,0,1 --wo 1,2", "eval " + fit + " --wi 0,0,1 --wo 0,0,1 --pairs x.txt",
+        std::string("fit")}) {
     const auto result = runCli(arguments);
     EXPECT_EQ(result.exitCode, 2) << arguments << "\n" << result.output;
   }
@@ -89,6 +92,27 @@ TEST(FitCli, WithoutOutputTheFitIsWrittenToTheCurrentFolder) {
   ASSERT_EQ(result.exitCode, 0) << result.output;
   EXPECT_NE(result.output.find("wrote synthetic_two_lobes_fit.json"), std::string::npos) << result.output;
   EXPECT_EQ(readJsonFile(dir / "synthetic_two_lobes_fit.json")["format"], "brdfbake.lobe_fit");
+}
+
+TEST(FitCli, AVaryingPriorGivenIsTheOneUsed) {
+  // A number fixes the prior (nothing weaker is tried): fit.json records it, and a far stronger prior
+  // holds the lobe's elevation profile flatter than a far weaker one.
+  test::TempDir dir;
+  const std::string table = q(test::sourcePath("data_samples/tables/synthetic_two_lobes.astm"));
+  double spread[2];
+  const double priors[2] = {1.0, 0.0};
+  for (int i = 0; i < 2; ++i) {
+    const fs::path out = dir / ("fit" + std::to_string(i) + ".json");
+    const auto result = runCli("fit " + table + " --lobes 1 --kind mirror --elevation varying --held-out off " +
+                               "--varying-prior " + std::to_string(priors[i]) + " -o " + q(out) + " --quiet");
+    ASSERT_EQ(result.exitCode, 0) << result.output;
+    const auto json = readJsonFile(out);
+    EXPECT_EQ(json["fit"]["varying_prior"].get<double>(), priors[i]);
+    const auto exponent = json["channels"][0]["lobes"][0]["exponent"];
+    ASSERT_EQ(exponent.size(), 3u);
+    spread[i] = std::abs(std::log(exponent[0].get<double>() / exponent[2].get<double>()));
+  }
+  EXPECT_LT(spread[0], spread[1]) << "a stronger prior should keep the exponent's profile flatter";
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <random>
 
@@ -176,7 +177,28 @@ TEST(FitCandidates, BestRadiallySymmetricIsReportedAndWritten) {
   EXPECT_EQ(written.at("kind"), "mirror");
   EXPECT_EQ(written.at("elevation"), std::string(toString(radial->elevation)));
   EXPECT_NEAR(written.at("held_out_score").get<double>(), radial->heldOutScore, 1e-12);
-  EXPECT_NO_THROW(fitFileFromJson(json, "fit.json"));
+  const nlohmann::json good = nlohmann::json::parse(json.dump());
+  EXPECT_NO_THROW(fitFileFromJson(good, "fit.json"));
+  // The keys this family added, bad: each error names its JSON path.
+  auto expectError = [&](const std::function<void(nlohmann::json&)>& spoil, const std::string& path) {
+    nlohmann::json document = good;
+    spoil(document);
+    try {
+      fitFileFromJson(document, "fit.json");
+      ADD_FAILURE() << "accepted; expected an error at " << path;
+    } catch (const Error& e) {
+      EXPECT_EQ(e.kind(), Error::Kind::InvalidInput);
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  };
+  expectError([](nlohmann::json& d) { d["fit"]["varying_prior"] = -0.5; }, "fit.varying_prior");
+  expectError([](nlohmann::json& d) { d["fit"]["varying_prior"] = "weak"; }, "fit.varying_prior");
+  expectError([](nlohmann::json& d) { d["fit"]["candidates"][0]["varying_prior"] = -1; },
+              "fit.candidates[0].varying_prior");
+  expectError([](nlohmann::json& d) { d["fit"]["candidates"][0]["kfold_ratio"] = nullptr; },
+              "fit.candidates[0].kfold_ratio");
+  expectError([](nlohmann::json& d) { d["fit"]["candidates"][0]["kind"] = "mixxed"; }, "fit.candidates[0].kind");
+  expectError([](nlohmann::json& d) { d["fit"]["best_radially_symmetric"] = 3; }, "fit.best_radially_symmetric");
 }
 
 TEST(LafortuneFit, CxyStaysWithinTheBound) {

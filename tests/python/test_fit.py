@@ -101,6 +101,8 @@ def test_a_cornell_table_fits_as_the_tool_fits_it(cornell, cli, tmp_path):
         ({"elevation": "bogus"}, brdfbake.InvalidArgumentError, "elevation: "),
         ({"format": "bogus"}, brdfbake.InvalidArgumentError, "format: "),
         ({"max_exponent": 0.5}, brdfbake.InvalidArgumentError, "max_exponent: "),
+        ({"varying_prior": -1}, brdfbake.InvalidArgumentError, "varying_prior: "),
+        ({"varying_prior": "weak"}, brdfbake.InvalidArgumentError, "varying_prior: "),
         ({"folds": 1}, brdfbake.InvalidArgumentError, "folds: "),
         ({"channels": "cmyk"}, brdfbake.InvalidArgumentError, "channels: "),
         ({"rgb": "srgb"}, brdfbake.InvalidArgumentError, "rgb: "),
