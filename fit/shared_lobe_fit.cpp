@@ -109,6 +109,8 @@ struct Data {
 // exp per row and lobe instead of pow: c^n = exp(n ln c), ln c = -inf where the lobe is 0.
 struct RowFactors {
   Eigen::ArrayXd logCosMirror;  // ln cos to the mirrored view (c_xy = -1)
+  Eigen::ArrayXd horizontal;    // l_x v_x + l_y v_y and l_z v_z: a Lafortune lobe's cosine is
+  Eigen::ArrayXd vertical;      // c_xy horizontal + vertical (LobeGeometry::cosine)
   Eigen::ArrayXd logCosHalf;    // ln n.h
   Eigen::ArrayXd halfScale;     // 1 / (4 (n.l)(n.v)), 0 below the horizon
   Eigen::ArrayXd schlick;       // (1 - l.h)^5
@@ -121,10 +123,12 @@ struct RowFactors {
   RowFactors(const std::vector<Row>& rows, const LobeModel& range) {
     const auto n = static_cast<Eigen::Index>(rows.size());
     logCosMirror.resize(n), logCosHalf.resize(n), halfScale.resize(n), schlick.resize(n);
+    horizontal.resize(n), vertical.resize(n);
     std::map<double, Eigen::Index> elevations;
     for (Eigen::Index i = 0; i < n; ++i) {
       const LobeGeometry& g = rows[static_cast<std::size_t>(i)].geometry;
       logCosMirror[i] = logPositive(g.cosine(-1.0));
+      horizontal[i] = g.horizontal, vertical[i] = g.vertical;
       const bool above = g.lightZ > 0.0 && g.viewZ > 0.0;
       logCosHalf[i] = above ? logPositive(g.cosHalf()) : -HUGE_VAL;
       halfScale[i] = above ? 0.25 / (g.lightZ * g.viewZ) : 0.0;
@@ -290,11 +294,10 @@ class SharedFitter {
       a.col(1) = (lobe * factors_.schlick).matrix();
     } else if (shape.cxy == -1.0) {
       a.col(0) = (gain * norm * (exponent * factors_.logCosMirror).exp()).matrix();
-    } else {
-      for (Eigen::Index i = 0; i < n; ++i) {
-        a(i, 0) = gain[i] *
-                  normalizedLobe(1.0, exponent[i], data_.rows[static_cast<std::size_t>(i)].geometry.cosine(shape.cxy));
-      }
+    } else {  // Lafortune: max(0, c)^n as exp(n ln c), ln c = -inf where c <= 0
+      const Eigen::ArrayXd cosine = shape.cxy * factors_.horizontal + factors_.vertical;
+      const Eigen::ArrayXd logCos = (cosine > 0.0).select(cosine.max(1e-300).log(), -HUGE_VAL);
+      a.col(0) = (gain * norm * (exponent * logCos).exp()).matrix();
     }
     return a;
   }
