@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <iomanip>
+#include <memory>
 #include <numeric>
 #include <sstream>
 
@@ -380,23 +381,46 @@ struct TriedCandidate {
 };
 using Tried = std::vector<TriedCandidate>;
 
-// Scores `config` on every split; split s's fit starts from starts[s] when given.
-TriedCandidate scoreCandidate(const HeldOutSplits& splits, const FitOptions& options, const CandidateConfig& config,
-                              const std::vector<LobeModel>* starts = nullptr) {
-  TriedCandidate candidate{config, {}, std::vector<LobeModel>(splits.size())};
-  candidate.report = splits.estimate([&](std::size_t s, const MeasuredTable& training) {
-    candidate.splitFits[s] = fitCandidateModel(training, options, config, starts ? &(*starts)[s] : nullptr);
-    return candidate.splitFits[s];
-  });
-  return candidate;
-}
+// The fits of candidates on the held-out splits. Per-channel fits are kept per split between
+// candidates (detail::PerChannelFits), so a K-lobe candidate grows from the (K - 1)-lobe one's fits
+// instead of fitting 1 .. K - 1 again.
+class SplitFitter {
+ public:
+  SplitFitter(const HeldOutSplits& splits, const FitOptions& options)
+      : splits_(splits), options_(options), perChannel_(splits.size()) {}
+
+  const FitOptions& options() const { return options_; }
+
+  // Scores `config` on every split; split s's fit starts from starts[s] when given (shared method).
+  TriedCandidate score(const CandidateConfig& config, const std::vector<LobeModel>* starts = nullptr) {
+    TriedCandidate candidate{config, {}, std::vector<LobeModel>(splits_.size())};
+    candidate.report = splits_.estimate([&](std::size_t s, const MeasuredTable& training) {
+      candidate.splitFits[s] = fit(s, training, config, starts ? &(*starts)[s] : nullptr);
+      return candidate.splitFits[s];
+    });
+    return candidate;
+  }
+
+ private:
+  LobeModel fit(std::size_t s, const MeasuredTable& training, const CandidateConfig& config, const LobeModel* start) {
+    if (options_.method == FitMethod::Shared) return fitCandidateModel(training, options_, config, start);
+    auto& fits = perChannel_[s];  // each split is fitted by one task at a time
+    if (!fits) fits = std::make_unique<detail::PerChannelFits>(training, candidateOptions(options_, config));
+    return fits->model(config.lobes, config.elevation);
+  }
+
+  const HeldOutSplits& splits_;
+  const FitOptions& options_;
+  std::vector<std::unique_ptr<detail::PerChannelFits>> perChannel_;
+};
 
 // Per kind, the lobe count grows; at each count the constant candidate is scored, then the varying
 // one starting from it (each split's varying fit refines that split's constant fit). A sequence (kind,
 // elevation) stops when one more lobe does not lower its score by the margin, or, from two lobes on,
 // when its score is more than kHopelessScoreFactor times the best so far. Each split's constant
 // K-lobe fit starts from its (K-1)-lobe fit.
-Tried scoreCandidates(const HeldOutSplits& splits, const FitOptions& options, const CandidateSpace& space) {
+Tried scoreCandidates(SplitFitter& fitter, const CandidateSpace& space) {
+  const FitOptions& options = fitter.options();
   Tried tried;
   const std::size_t total = space.size();
   std::size_t done = 0;
@@ -409,7 +433,8 @@ Tried scoreCandidates(const HeldOutSplits& splits, const FitOptions& options, co
       std::vector<LobeModel> fits;  // the split fits of the last count scored
     };
     std::vector<Sequence> sequences;
-    for (LobeElevation elevation : space.elevationsFor(kind)) sequences.push_back({elevation});
+    for (LobeElevation elevation : space.elevationsFor(kind))
+      sequences.push_back(Sequence{elevation, true, HUGE_VAL, {}});
     // One mixed lobe is a half-vector or a mirror lobe, both scored already when their kinds are.
     const bool mixedAfterBoth = kind == LobeKindChoice::Mixed &&
                                 std::count(space.kinds.begin(), space.kinds.end(), LobeKindChoice::HalfVector) &&
@@ -423,7 +448,7 @@ Tried scoreCandidates(const HeldOutSplits& splits, const FitOptions& options, co
         const std::vector<LobeModel>* starts = varying && constantFits ? constantFits
                                                : sequence.fits.empty() ? nullptr
                                                                        : &sequence.fits;
-        tried.push_back(scoreCandidate(splits, options, {lobes, sequence.elevation, kind}, starts));
+        tried.push_back(fitter.score({lobes, sequence.elevation, kind}, starts));
         sequence.fits = tried.back().splitFits;
         if (!varying) constantFits = &sequence.fits;
         const double score = tried.back().report.score();
@@ -458,12 +483,13 @@ std::size_t fewestParametersWithinMargin(const Tried& tried, const FitOptions& o
 // score by the margin (same parameters); returns the index of the candidate kept. Capped fits start
 // cold: starting from the uncapped fit, clamped, was cheaper but kept its arrangement of lobes and
 // scored worse (garnet red RGB 0.093 against 0.087, docs/fitting.md).
-std::size_t lowerExponentCap(const HeldOutSplits& splits, const FitOptions& options, Tried& tried, std::size_t best) {
+std::size_t lowerExponentCap(SplitFitter& fitter, Tried& tried, std::size_t best) {
+  const FitOptions& options = fitter.options();
   if (options.method != FitMethod::Shared || !options.chooseMaxExponent) return best;
   for (double factor : {0.3, 0.1}) {
     CandidateConfig capped = tried[best].config;
     capped.maxExponent = std::max(kMinLobeExponent, factor * options.maxExponent);
-    tried.push_back(scoreCandidate(splits, options, capped));
+    tried.push_back(fitter.score(capped));
     if (!(tried.back().report.score() < (1.0 - options.autoMargin) * tried[best].report.score())) break;
     best = tried.size() - 1;
   }
@@ -475,13 +501,14 @@ std::size_t lowerExponentCap(const HeldOutSplits& splits, const FitOptions& opti
 // margin. A table whose lobes truly vary a lot (tests: a synthetic lobe four times wider at grazing)
 // needs the weaker prior to be fitted to its noise; blue acrylic's single highlight samples need the
 // stronger one.
-std::size_t weakenVaryingPrior(const HeldOutSplits& splits, const FitOptions& options, Tried& tried, std::size_t best) {
+std::size_t weakenVaryingPrior(SplitFitter& fitter, Tried& tried, std::size_t best) {
+  const FitOptions& options = fitter.options();
   if (options.method != FitMethod::Shared || !options.chooseVaryingPrior ||
       tried[best].config.elevation != LobeElevation::Varying || options.varyingPrior == 0.0)
     return best;
   CandidateConfig weaker = tried[best].config;
   weaker.varyingPrior = 0.1 * options.varyingPrior;
-  tried.push_back(scoreCandidate(splits, options, weaker));
+  tried.push_back(fitter.score(weaker));
   return tried.back().report.score() < (1.0 - options.autoMargin) * tried[best].report.score() ? tried.size() - 1
                                                                                                : best;
 }
@@ -490,10 +517,10 @@ std::size_t weakenVaryingPrior(const HeldOutSplits& splits, const FitOptions& op
 FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
   const std::size_t channels = table.channelCount();
   const HeldOutSplits splits(table, options.heldOut);
-  Tried tried = scoreCandidates(splits, options, space);
+  SplitFitter fitter(splits, options);
+  Tried tried = scoreCandidates(fitter, space);
   const std::size_t best = weakenVaryingPrior(
-      splits, options, tried,
-      lowerExponentCap(splits, options, tried, fewestParametersWithinMargin(tried, options, channels)));
+      fitter, tried, lowerExponentCap(fitter, tried, fewestParametersWithinMargin(tried, options, channels)));
   FitResult result = fitCandidate(table, options, tried[best].config);
   for (std::size_t i = 0; i < tried.size(); ++i) {
     const auto& [config, report, fits] = tried[i];

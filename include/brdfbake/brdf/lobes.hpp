@@ -130,13 +130,21 @@ T elevationBlend(const T* coefficients, int count, double t) {
   return geometricBlend(logs, weights, count);
 }
 
+/// One normalised lobe at a positive cosine to its axis, given as logCosToAxis = ln cosToAxis:
+/// weight (n + 2) / (2 pi) exp(n logCosToAxis). Fits that evaluate fixed directions many times
+/// keep the logarithm (one exponential per evaluation, no power).
+template <class T>
+T normalizedLobeOfLog(const T& weight, const T& exponent, double logCosToAxis) {
+  using std::exp;
+  return weight * phongNormalization(exponent) * exp(exponent * T(logCosToAxis));
+}
+
 /// One normalised lobe: weight (n + 2) / (2 pi) max(0, cosToAxis)^n, in 1/sr for weight in 1.
 /// `cosToAxis` is data (a direction), never differentiated.
 template <class T>
 T normalizedLobe(const T& weight, const T& exponent, double cosToAxis) {
-  using std::pow;
   if (!(cosToAxis > 0.0)) return T(0.0);
-  return weight * phongNormalization(exponent) * pow(cosToAxis, exponent);
+  return normalizedLobeOfLog(weight, exponent, std::log(cosToAxis));
 }
 
 /// The pair of products a Lafortune lobe depends on (Lafortune et al. 1997, Eq. 4 with C_x = C_y):
@@ -189,11 +197,17 @@ T halfVectorLobe(const T& weight, const T& fresnelWeight, const T& exponent, con
          T(0.25 / (g.lightZ * g.viewZ));
 }
 
+/// The diffuse term of a lobe model, diffuse / pi in 1/sr (`diffuse` is an albedo).
+template <class T>
+T diffuseTerm(const T& diffuse) {
+  return diffuse * T(1.0 / std::numbers::pi);
+}
+
 /// diffuse / pi plus the lobes of the given weights and exponents (already evaluated at the
 /// elevation), lobe k at cosToAxis[k] (LobeGeometry::cosine of its c_xy).
 template <class T>
 T lobeSum(const T& diffuse, const T* weights, const T* exponents, int lobeCount, const double* cosToAxis) {
-  T value = diffuse * T(1.0 / std::numbers::pi);
+  T value = diffuseTerm(diffuse);
   for (int k = 0; k < lobeCount; ++k) value += normalizedLobe(weights[k], exponents[k], cosToAxis[k]);
   return value;
 }
