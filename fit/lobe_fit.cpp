@@ -147,7 +147,7 @@ struct SharedModel {
 };
 
 SharedModel sharedModel(const MeasuredTable& table, const FitOptions& options, LobeKindChoice kind,
-                        const LobeModel* warmStart) {
+                        const LobeModel* warmStart, std::shared_ptr<detail::ShapeSearches> searches = nullptr) {
   const std::string label = table.sourceFile.empty() ? std::string("table") : table.sourceFile;
   if (table.channelCount() == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
   detail::SharedFitConfig config;
@@ -159,6 +159,7 @@ SharedModel sharedModel(const MeasuredTable& table, const FitOptions& options, L
   config.maxExponent = options.maxExponent;
   config.varyingPrior = options.varyingPrior;
   if (warmStart && !warmStart->channels.empty()) config.startLobes = warmStart->channels[0].lobes;
+  config.searches = std::move(searches);
   std::size_t usable = 0;
   for (std::size_t i = 0; i < table.size(); ++i) {
     if (table.incidentDirection(i).z() > 0.0 && table.outgoingDirection(i).z() > 0.0) ++usable;
@@ -243,9 +244,11 @@ FitResult fitCandidate(const MeasuredTable& table, const FitOptions& options, co
 
 // The model alone, for a held-out split (the statistics of a split's fit are never shown).
 LobeModel fitCandidateModel(const MeasuredTable& table, const FitOptions& options, const CandidateConfig& config,
-                            const LobeModel* start = nullptr) {
+                            const LobeModel* start = nullptr,
+                            std::shared_ptr<detail::ShapeSearches> searches = nullptr) {
   const FitOptions single = candidateOptions(options, config);
-  if (options.method == FitMethod::Shared) return sharedModel(table, single, config.kind, start).model;
+  if (options.method == FitMethod::Shared)
+    return sharedModel(table, single, config.kind, start, std::move(searches)).model;
   return detail::fitPerChannel(table, single).model;
 }
 
@@ -381,13 +384,17 @@ struct TriedCandidate {
 };
 using Tried = std::vector<TriedCandidate>;
 
-// The fits of candidates on the held-out splits. Per-channel fits are kept per split between
-// candidates (detail::PerChannelFits), so a K-lobe candidate grows from the (K - 1)-lobe one's fits
-// instead of fitting 1 .. K - 1 again.
+// The fits of candidates on the held-out splits. What one candidate's fits of a split found is kept
+// for the next ones: the shared method's compass searches (detail::ShapeSearches: mixed lobes repeat
+// the half-vector and mirror candidates' searches), the per-channel method's fits
+// (detail::PerChannelFits: a K-lobe candidate grows from the (K - 1)-lobe one's fits instead of
+// fitting 1 .. K - 1 again).
 class SplitFitter {
  public:
   SplitFitter(const HeldOutSplits& splits, const FitOptions& options)
-      : splits_(splits), options_(options), perChannel_(splits.size()) {}
+      : splits_(splits), options_(options), searches_(splits.size()), perChannel_(splits.size()) {
+    for (auto& searches : searches_) searches = detail::makeShapeSearches();
+  }
 
   const FitOptions& options() const { return options_; }
 
@@ -403,7 +410,7 @@ class SplitFitter {
 
  private:
   LobeModel fit(std::size_t s, const MeasuredTable& training, const CandidateConfig& config, const LobeModel* start) {
-    if (options_.method == FitMethod::Shared) return fitCandidateModel(training, options_, config, start);
+    if (options_.method == FitMethod::Shared) return fitCandidateModel(training, options_, config, start, searches_[s]);
     auto& fits = perChannel_[s];  // each split is fitted by one task at a time
     if (!fits) fits = std::make_unique<detail::PerChannelFits>(training, candidateOptions(options_, config));
     return fits->model(config.lobes, config.elevation);
@@ -411,6 +418,7 @@ class SplitFitter {
 
   const HeldOutSplits& splits_;
   const FitOptions& options_;
+  std::vector<std::shared_ptr<detail::ShapeSearches>> searches_;
   std::vector<std::unique_ptr<detail::PerChannelFits>> perChannel_;
 };
 

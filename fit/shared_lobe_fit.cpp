@@ -97,6 +97,64 @@ struct Shape {
   double gainAt(int j) const { return j < 2 ? std::exp(logGain[j]) : 1.0; }
 };
 
+// Equal to 1e-12 (relative): a warm start's shapes come back through exp and log.
+bool nearlyEqual(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max({1.0, std::abs(a), std::abs(b)}); }
+
+bool nearlyEqual(const std::vector<Shape>& a, const std::vector<Shape>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    const Shape &x = a[k], &y = b[k];
+    if (x.halfVector != y.halfVector || !nearlyEqual(x.logExponent, y.logExponent) || !nearlyEqual(x.cxy, y.cxy))
+      return false;
+    for (std::size_t j = 0; j < 2; ++j) {
+      if (!nearlyEqual(x.logExponentOffset[j], y.logExponentOffset[j]) || !nearlyEqual(x.logGain[j], y.logGain[j]))
+        return false;
+    }
+  }
+  return true;
+}
+
+// What a compass search depends on besides its start and the table.
+struct SearchSettings {
+  bool varying;    // the varying coordinates move too
+  double penalty;  // the prior's weight on them
+  bool lafortune;  // c_xy moves
+  double maxExponent;
+  int budget;  // shape trials
+  int searchChannels;
+
+  bool matches(const SearchSettings& o) const {
+    return varying == o.varying && nearlyEqual(penalty, o.penalty) && lafortune == o.lafortune &&
+           maxExponent == o.maxExponent && budget == o.budget && searchChannels == o.searchChannels;
+  }
+};
+
+}  // namespace
+
+class ShapeSearches {
+ public:
+  const std::vector<Shape>* find(const SearchSettings& settings, const std::vector<Shape>& start) const {
+    for (const Entry& e : entries_) {
+      if (e.settings.matches(settings) && nearlyEqual(e.start, start)) return &e.result;
+    }
+    return nullptr;
+  }
+  void add(const SearchSettings& settings, std::vector<Shape> start, std::vector<Shape> result) {
+    entries_.push_back({settings, std::move(start), std::move(result)});
+  }
+
+ private:
+  struct Entry {
+    SearchSettings settings;
+    std::vector<Shape> start, result;
+  };
+  std::vector<Entry> entries_;
+};
+
+std::shared_ptr<ShapeSearches> makeShapeSearches() { return std::make_shared<ShapeSearches>(); }
+
+namespace {
+
 // The fitted rows and their targets.
 struct Data {
   std::vector<Row> rows;
@@ -541,6 +599,21 @@ class SharedFitter {
     return shapes;
   }
 
+  // refine, or the same search's result when another fit of this table ran it (SharedFitConfig::searches).
+  std::vector<Shape> search(std::vector<Shape> shapes) {
+    if (!config_.searches) return refine(std::move(shapes));
+    const SearchSettings settings{searchVarying_,
+                                  varyingPenalty_,
+                                  config_.lafortune,
+                                  config_.maxExponent,
+                                  searchVarying_ ? config_.maxVaryingEvaluations : config_.maxEvaluations,
+                                  config_.searchChannels};
+    if (const auto* known = config_.searches->find(settings, shapes)) return *known;
+    std::vector<Shape> result = refine(shapes);
+    config_.searches->add(settings, std::move(shapes), result);
+    return result;
+  }
+
   std::vector<Shape> fitShapes() {
     std::vector<Shape> shapes;
     for (const Lobe& lobe : config_.startLobes) {
@@ -551,11 +624,11 @@ class SharedFitter {
     // from there: the constant fit is a good start that a varying one can only improve on.
     const bool startVaries = std::any_of(shapes.begin(), shapes.end(), [](const Shape& s) { return s.varies(); });
     searchVarying_ = startVaries;
-    for (int k = static_cast<int>(shapes.size()); k < config_.lobes; ++k) shapes = refine(withNewLobe(shapes));
+    for (int k = static_cast<int>(shapes.size()); k < config_.lobes; ++k) shapes = search(withNewLobe(shapes));
     if (config_.varying && !startVaries) {
       varyingPenalty_ = config_.varyingPrior * searchObjective(shapes);
       searchVarying_ = true;
-      shapes = refine(std::move(shapes));
+      shapes = search(std::move(shapes));
     }
     return shapes;
   }

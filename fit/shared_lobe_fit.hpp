@@ -18,9 +18,17 @@
 
 #include <Eigen/Core>
 
+#include <memory>
 #include <vector>
 
 namespace brdfbake::detail {
+
+// The compass searches run on one table by the fits of several candidates (one fit at a time; not
+// thread-safe). A search from the same shapes (to 1e-12) with the same settings returns the same
+// shapes, so a later fit takes them from here instead of searching again: mixed lobes repeat the
+// half-vector and mirror candidates' searches whenever they pick the same axis for a new lobe.
+class ShapeSearches;
+std::shared_ptr<ShapeSearches> makeShapeSearches();
 
 struct SharedFitConfig {
   int lobes = 1;  // 0 = diffuse only
@@ -53,6 +61,8 @@ struct SharedFitConfig {
   // with fewer lobes returned them; the fit adds lobes greedily after these. The greedy steps are
   // the same either way, so a fit warm-started from the (K-1)-lobe fit equals the cold K-lobe fit.
   std::vector<Lobe> startLobes;
+  // Compass searches other fits of the same table ran already (may be null; see ShapeSearches).
+  std::shared_ptr<ShapeSearches> searches;
 };
 
 struct SharedFitOutcome {

@@ -144,6 +144,35 @@ TEST(SharedFitRecovery, GgxCookTorranceIsPredictedOnHeldOutRows) {
   for (const auto& c : fit.candidates) EXPECT_FALSE(c.chosen && c.worseThanLambert());
 }
 
+TEST(FitCandidates, EachScoresAsItsOwnFit) {
+  // Scoring candidates one after another, a fit takes the compass searches earlier candidates ran on
+  // the same split from the same shapes (detail::ShapeSearches; mixed lobes repeat the half-vector and
+  // mirror candidates' searches). Every candidate's score must be what fitting it alone (nothing kept,
+  // no warm start) estimates.
+  const MeasuredTable table = ggxTable(0.02, 23);
+  FitOptions options;
+  options.maxAutoLobes = 2;
+  const FitResult automatic = fitLobes(table, options);
+  int mixed = 0;
+  for (const auto& candidate : automatic.candidates) {
+    mixed += candidate.kind == LobeKindChoice::Mixed;
+    FitOptions alone = options;
+    alone.kind = candidate.kind;
+    alone.lobes = candidate.lobes;
+    alone.elevation =
+        candidate.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
+    alone.maxExponent = candidate.maxExponent;
+    if (candidate.elevation == LobeElevation::Varying) alone.varyingPrior = candidate.varyingPrior;
+    alone.chooseMaxExponent = false;
+    alone.chooseVaryingPrior = false;
+    const FitResult fit = fitLobes(table, alone);
+    ASSERT_TRUE(fit.heldOut.has_value()) << fit.briefReport();
+    EXPECT_NEAR(fit.heldOut->score(), candidate.heldOutScore, 1e-6 * candidate.heldOutScore)
+        << candidate.lobes << " " << toString(candidate.kind) << " " << toString(candidate.elevation);
+  }
+  EXPECT_GE(mixed, 2) << automatic.briefReport();
+}
+
 TEST(HeldOutScore, IsTheWorseOfTheTwoMeasures) {
   HeldOutReport report;
   report.kfold = {"off-mirror", 0.0, 10, 0.2, 1.0};
