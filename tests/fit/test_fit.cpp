@@ -285,28 +285,6 @@ TEST(LobeFit, AutoElevationPrefersVaryingOnlyWhenTheDataVaries) {
   }
 }
 
-TEST(LobeFit, PerChannelCandidatesScoreAsTheirOwnFits) {
-  // Scoring candidates one after another, the per-channel method keeps each split's fits and grows
-  // K lobes from K - 1 (detail::PerChannelFits). A candidate's score must be what fitting that
-  // candidate alone (no kept fits) estimates.
-  const MeasuredTable table = makeSyntheticTable(varyingModel(), 0.01, 9);
-  FitOptions options;
-  options.method = FitMethod::PerChannel;
-  options.maxAutoLobes = 2;
-  const FitResult automatic = fitLobes(table, options);
-  ASSERT_GE(automatic.candidates.size(), 3u) << automatic.briefReport();
-  for (const auto& candidate : automatic.candidates) {
-    FitOptions alone = options;
-    alone.lobes = candidate.lobes;
-    alone.elevation =
-        candidate.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
-    const FitResult fit = fitLobes(table, alone);
-    ASSERT_TRUE(fit.heldOut.has_value()) << fit.briefReport();
-    EXPECT_NEAR(fit.heldOut->score(), candidate.heldOutScore, 1e-9 * candidate.heldOutScore)
-        << candidate.lobes << " " << toString(candidate.elevation);
-  }
-}
-
 TEST(LobeFit, OptionsAreValidatedBeforeWork) {
   const MeasuredTable table = makeSyntheticTable(constantModel(), 0.01, 1);
   for (auto change : std::vector<std::function<void(FitOptions&)>>{

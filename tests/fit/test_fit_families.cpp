@@ -173,6 +173,28 @@ TEST(FitCandidates, EachScoresAsItsOwnFit) {
   EXPECT_GE(mixed, 2) << automatic.briefReport();
 }
 
+TEST(FitCandidates, PerChannelEachScoresAsItsOwnFit) {
+  // Scoring candidates one after another, the per-channel method keeps each split's fits and grows
+  // K lobes from K - 1 (detail::PerChannelFits). A candidate's score must be what fitting that
+  // candidate alone (no kept fits) estimates.
+  const MeasuredTable table = makeSyntheticTable(varyingMirrorModel(), 0.01, 9);
+  FitOptions options;
+  options.method = FitMethod::PerChannel;
+  options.maxAutoLobes = 2;
+  const FitResult automatic = fitLobes(table, options);
+  ASSERT_GE(automatic.candidates.size(), 3u) << automatic.briefReport();
+  for (const auto& candidate : automatic.candidates) {
+    FitOptions alone = options;
+    alone.lobes = candidate.lobes;
+    alone.elevation =
+        candidate.elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
+    const FitResult fit = fitLobes(table, alone);
+    ASSERT_TRUE(fit.heldOut.has_value()) << fit.briefReport();
+    EXPECT_NEAR(fit.heldOut->score(), candidate.heldOutScore, 1e-9 * candidate.heldOutScore)
+        << candidate.lobes << " " << toString(candidate.elevation);
+  }
+}
+
 TEST(HeldOutScore, IsTheWorseOfTheTwoMeasures) {
   HeldOutReport report;
   report.kfold = {"off-mirror", 0.0, 10, 0.2, 1.0};
