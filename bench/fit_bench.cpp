@@ -175,7 +175,6 @@ std::vector<Method> methodsFor(const Case& c, const Settings& settings) {
 struct Run {
   std::string caseName, channels, method, setup, model;
   int threads = 1;
-  bool spectral = false;
   std::vector<double> wall, cpu;
   double kfold = 0.0, elevation = 0.0, score = 0.0;
   std::size_t candidates = 0;
@@ -219,7 +218,6 @@ Run timeMethod(const Case& c, const MeasuredTable& table, const Method& method, 
   Run run;
   run.caseName = c.name, run.channels = channelsLabel(c, table), run.method = method.name, run.setup = method.setup;
   run.threads = threads;
-  run.spectral = c.spectral;
   FitOptions options = method.options;
   options.threads = threads;
   options.heldOut.threads = threads;

@@ -701,9 +701,9 @@ struct PerChannelFits::State {
   tbb::task_arena arena;
 };
 
-PerChannelFits::PerChannelFits(const MeasuredTable& table, const FitOptions& options)
-    : state_(std::make_unique<State>(table, options)) {
+PerChannelFits::PerChannelFits(const MeasuredTable& table, const FitOptions& options) {
   if (table.channelCount() == 0) throw Error(Error::Kind::InvalidInput, tableLabel(table) + ": no channels to fit");
+  state_ = std::make_unique<State>(table, options);
 }
 
 PerChannelFits::~PerChannelFits() = default;
