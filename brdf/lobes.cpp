@@ -16,6 +16,12 @@ LobeElevation parseLobeElevation(std::string_view name) {
   return parseByName(name, std::array{LobeElevation::Constant, LobeElevation::Varying}, "elevation");
 }
 
+std::string_view toString(ColorProfile profile) { return profile == ColorProfile::None ? "none" : "difference_angle"; }
+
+ColorProfile parseColorProfile(std::string_view name) {
+  return parseByName(name, std::array{ColorProfile::None, ColorProfile::DifferenceAngle}, "colour profile");
+}
+
 std::string_view toString(LobeMaterialMode mode) {
   switch (mode) {
     case LobeMaterialMode::Reflectance:
@@ -33,6 +39,34 @@ LobeMaterialMode parseLobeMaterialMode(std::string_view name) {
       name, std::array{LobeMaterialMode::Reflectance, LobeMaterialMode::Lighting, LobeMaterialMode::Prefiltered},
       "mode");
 }
+
+namespace {
+// A colour profile is kColorProfileCount finite coefficients >= 0 where the model has profiles
+// and the term has a weight, empty elsewhere.
+void validateColorProfile(const std::vector<double>& profile, bool expected, const std::string& at) {
+  if (!expected) {
+    require(profile.empty(), at + ": a colour profile where the model has none (or for C_F of a lobe without one)");
+    return;
+  }
+  require(profile.size() == static_cast<std::size_t>(kColorProfileCount),
+          at + ": a colour profile holds " + std::to_string(kColorProfileCount) + " coefficients");
+  for (double p : profile) require(std::isfinite(p) && p >= 0.0, at + ": colour profiles must be finite and >= 0");
+}
+
+void validateColorProfiles(const LobeModel& model) {
+  const bool profiled = model.colorProfile != ColorProfile::None;
+  for (const auto& channel : model.channels) {
+    const std::string where = "lobe model: channel '" + channel.name + "'";
+    validateColorProfile(channel.diffuseProfile, profiled, where + " diffuse");
+    for (std::size_t k = 0; k < channel.lobes.size(); ++k) {
+      const Lobe& lobe = channel.lobes[k];
+      const std::string at = where + " lobe " + std::to_string(k);
+      validateColorProfile(lobe.weightProfile, profiled, at + " weight");
+      validateColorProfile(lobe.fresnelProfile, profiled && lobe.halfVector, at + " fresnel");
+    }
+  }
+}
+}  // namespace
 
 void LobeModel::validate() const {
   require(!channels.empty(), "lobe model: no channels");
@@ -70,6 +104,7 @@ void LobeModel::validate() const {
       }
     }
   }
+  validateColorProfiles(*this);
   if (!wavelengthsNm.empty()) {
     require(wavelengthsNm.size() == channels.size(), "lobe model: one wavelength per channel");
     for (std::size_t i = 0; i < wavelengthsNm.size(); ++i) {
@@ -87,7 +122,13 @@ double LobeModel::elevationCoordinate(double u) const {
 
 double LobeModel::weight(std::size_t channel, std::size_t lobe, double u) const {
   const Lobe& l = channels.at(channel).lobes.at(lobe);
-  return elevationBlend(l.weight.data(), static_cast<int>(l.weight.size()), elevationCoordinate(u));
+  return elevationBlend(l.weight.data(), static_cast<int>(l.weight.size()), elevationCoordinate(u)) *
+         colorProfileFactor(l.weightProfile, LobeGeometry::mirrorDifferenceCoordinate(u));
+}
+
+double LobeModel::fresnel(std::size_t channel, std::size_t lobe, double u) const {
+  const Lobe& l = channels.at(channel).lobes.at(lobe);
+  return l.fresnel * colorProfileFactor(l.fresnelProfile, LobeGeometry::mirrorDifferenceCoordinate(u));
 }
 
 double LobeModel::exponent(std::size_t channel, std::size_t lobe, double u) const {
@@ -112,31 +153,45 @@ LobeModel LobeModel::atElevation(double u) const {
   return result;
 }
 
+LobeModel LobeModel::prefilterFormAt(double u) const {
+  LobeModel result = atElevation(u);
+  if (colorProfile == ColorProfile::None) return result;
+  const double s = LobeGeometry::mirrorDifferenceCoordinate(u);
+  auto factor = [s](std::vector<double>& profile) {
+    const double f = colorProfileFactor(profile, s);
+    profile.clear();
+    return f;
+  };
+  result.colorProfile = ColorProfile::None;
+  for (auto& channel : result.channels) {
+    channel.diffuse *= factor(channel.diffuseProfile);
+    for (auto& lobe : channel.lobes) {
+      lobe.weight[0] *= factor(lobe.weightProfile);
+      lobe.fresnel *= factor(lobe.fresnelProfile);
+    }
+  }
+  return result;
+}
+
 namespace {
-// Evaluates lobeBrdf for one channel from its stored coefficients, plus its half-vector lobes (no
-// allocation: this runs per sample and channel).
+// One channel of the model (see brdf/lobes.hpp) at view cosine u: the diffuse term and every lobe at
+// the elevation coordinate, each weight times its colour profile at theta_d (no allocation: this
+// runs per sample and channel).
 double channelBrdf(const LobeModel& model, const LobeChannel& channel, double u, const LobeGeometry& geometry) {
-  constexpr int kMaxCount = kVaryingDegree + 1;
   const int count = elevationCoefficientCount(model.elevation);
   const double t = model.elevationCoordinate(u);
-  double packed[kMaxModelLobes][2 * kMaxCount];
-  const double* lobes[kMaxModelLobes];
-  double cosToAxis[kMaxModelLobes];
-  int axisLobes = 0;
-  double halfVectorSum = 0.0;
+  const double s = model.colorProfile == ColorProfile::None ? 0.0 : geometry.differenceCoordinate();
+  double value = diffuseTerm(channel.diffuse * colorProfileFactor(channel.diffuseProfile, s));
   for (const auto& lobe : channel.lobes) {
+    const double weight = elevationBlend(lobe.weight.data(), count, t) * colorProfileFactor(lobe.weightProfile, s);
+    const double exponent = elevationBlend(lobe.exponent.data(), count, t);
     if (lobe.halfVector) {
-      halfVectorSum += halfVectorLobe(elevationBlend(lobe.weight.data(), count, t), lobe.fresnel,
-                                      elevationBlend(lobe.exponent.data(), count, t), geometry);
-      continue;
+      value += halfVectorLobe(weight, lobe.fresnel * colorProfileFactor(lobe.fresnelProfile, s), exponent, geometry);
+    } else {
+      value += normalizedLobe(weight, exponent, geometry.cosine(lobe.cxy));
     }
-    if (axisLobes == kMaxModelLobes) continue;  // validate() rejects such models
-    std::copy_n(lobe.weight.begin(), count, packed[axisLobes]);
-    std::copy_n(lobe.exponent.begin(), count, packed[axisLobes] + count);
-    lobes[axisLobes] = packed[axisLobes];
-    cosToAxis[axisLobes++] = geometry.cosine(lobe.cxy);
   }
-  return lobeBrdf(channel.diffuse, lobes, axisLobes, count, t, cosToAxis) + halfVectorSum;
+  return value;
 }
 }  // namespace
 
@@ -184,8 +239,7 @@ LobeMaterial::LobeMaterial(LobeModel model, LobeMaterialMode mode, std::string m
 Rgb LobeMaterial::toRgb(const Eigen::VectorXd& channels) const { return (rgbWeights_ * channels).array(); }
 
 bool LobeMaterial::viewIndependent() const {
-  return mode_ == LobeMaterialMode::Prefiltered && model_.elevation == LobeElevation::Constant &&
-         model_.allAboutMirror();
+  return mode_ == LobeMaterialMode::Prefiltered && !model_.variesWithView() && model_.allAboutMirror();
 }
 
 Rgb LobeMaterial::brdf(const Vec3& normal, const Vec3& view, const Vec3& light) const {
@@ -232,7 +286,7 @@ Rgb LobeMaterial::shade(const ShadingGeometry& g, const Vec3& light) const {
       // light, as Kautz & McCool's prefiltered map); a Lafortune lobe on its own axis.
       if (lobe.halfVector) {
         values[static_cast<Eigen::Index>(c)] +=
-            halfVectorLobe(model_.weight(c, k, u), lobe.fresnel, model_.exponent(c, k, u), geometry);
+            halfVectorLobe(model_.weight(c, k, u), model_.fresnel(c, k, u), model_.exponent(c, k, u), geometry);
         continue;
       }
       const double cosToAxis = lobe.aboutMirror() ? cosToMirror : geometry.cosine(lobe.cxy);
@@ -301,8 +355,8 @@ std::optional<std::vector<ReflectionLobe>> LobeMaterial::reflectionLobes(const S
       const Lobe& lobe = channel.lobes[k];
       const double weight = model_.weight(c, k, u) * channelLuminance, exponent = model_.exponent(c, k, u);
       if (lobe.halfVector) {
-        addMerged(lobes,
-                  {ReflectionLobeShape::BlinnPhong, g.normal, exponent, (weight + lobe.fresnel * channelLuminance)});
+        addMerged(lobes, {ReflectionLobeShape::BlinnPhong, g.normal, exponent,
+                          weight + model_.fresnel(c, k, u) * channelLuminance});
         continue;
       }
       // Lafortune's axis a = c_xy (v - (n.v) n) + (n.v) n; c_xy = -1 is the mirrored view.

@@ -15,14 +15,16 @@ constexpr const char* kFooter = R"(Model, per channel (1/sr):
 with c_k = -1 a Phong lobe about the mirrored view (--kind mirror), other c_k Lafortune et al.
 1997's generalised cosine lobes, or half-vector lobes with a Fresnel weight (--kind half_vector);
 --kind mixed lets each lobe be a half-vector or a mirror lobe. C_k and n_k are constant, or vary
-smoothly with the view's elevation (--elevation varying).
+smoothly with the view's elevation (--elevation varying). With --color-profile difference_angle
+each channel's k_d, C_k (and Fresnel weight) are also multiplied by a cubic polynomial in theta_d,
+the angle between light and half-vector: colours that shift with angle (interference paints).
 --method shared (default): the lobes' shapes (and elevation profiles) are shared by every channel,
 weights by non-negative least squares; --method per_channel: Ceres, each channel on its own.
 The fit estimates its held-out error (log error on rows it did not see: k-fold over rows away from
 the mirror, and each interior incident elevation held out whole, as a ratio to a Lambertian fit)
-and --lobes / --kind / --elevation / --max-exponent / --varying-prior auto choose by it: the
-worse of the two ratios decides. The report also names the best radially symmetric model (mirror
-lobes, which prefilter an environment) and its held-out error. Without -o the fit goes to
+and --lobes / --kind / --elevation / --max-exponent / --varying-prior / --color-profile auto choose
+by it: the worse of the two ratios decides. The report also names the best radially symmetric
+model (mirror lobes, which prefilter an environment) and its held-out error. Without -o the fit goes to
 TABLESTEM_fit.json in the current folder (none with --json, which prints it). Exit status 1 when a
 solve failed: the fit is still written, with "usable": false. Details and fit.json: docs/fitting.md.
 
@@ -36,8 +38,8 @@ struct FitArgs {
   CommonFlags flags;
   FitTableOptions options;
   std::string table, format = "auto", lobes = "auto", elevation = "auto", method = "shared", kind = "auto",
-                     maxExponent = "auto", varyingPrior = "auto", heldOut = "on", channels = "rgb", rgb = "cie1931",
-                     output, report;
+                     maxExponent = "auto", varyingPrior = "auto", colorProfile = "auto", heldOut = "on",
+                     channels = "rgb", rgb = "cie1931", output, report;
 };
 
 void addModelFlags(CLI::App* command, FitArgs& a) {
@@ -54,6 +56,10 @@ void addModelFlags(CLI::App* command, FitArgs& a) {
   command
       ->add_option("--varying-prior", a.varyingPrior,
                    "auto, or a number in [0, 1] that fixes the prior on varying lobes' elevation profiles")
+      ->default_str("auto");
+  command
+      ->add_option("--color-profile", a.colorProfile,
+                   "auto | none | difference_angle (each channel's weights times a cubic in theta_d; shared method)")
       ->default_str("auto");
   command->add_option("--held-out", a.heldOut, "on | off: estimate the fit's held-out error (auto choices need it)")
       ->default_str("on")
@@ -104,6 +110,7 @@ void parseModelFlags(const FitArgs& a, FitOptions& fit) {
     fit.varyingPrior = *prior;
     fit.chooseVaryingPrior = false;
   }
+  fit.colorProfile = parseFlag("--color-profile", a.colorProfile, parseColorProfileChoice);
   fit.estimateHeldOut = a.heldOut == "on";
 }
 

@@ -113,8 +113,9 @@ std::vector<std::pair<double, Rgb>> prefilterLobeModelTerms(const LobeModel& mod
 
 std::vector<Rgb> prefilterLobeModelReferenceAt(const Environment& environment, const LobeModel& model,
                                                const std::vector<Vec3>& axes, int threads) {
-  require(model.elevation == LobeElevation::Constant,
-          "lobes that vary with elevation need a stack of maps over elevation; only constant lobe models prefilter "
+  require(!model.variesWithView(),
+          "lobes that vary with elevation (or with a colour profile) need a stack of maps over elevation; only "
+          "constant lobe models prefilter "
           "into one map");
   const auto terms = prefilterLobeModelTerms(model);
   require(!terms.empty(), "the lobe model has no lobe of non-zero weight to prefilter");

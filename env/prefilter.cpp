@@ -317,10 +317,10 @@ void mergePrefilterSummary(PrefilterSummary& into, const PrefilterSummary& part,
 PrefilteredMap prefilterLobeModel(const Environment& environment, const LobeModel& model, const std::string& name,
                                   const PrefilterOptions& options) {
   model.validate();
-  if (model.elevation != LobeElevation::Constant) {
+  if (model.variesWithView()) {
     throw Error(Error::Kind::InvalidArgument,
                 name +
-                    ": lobes that vary with elevation need a stack of maps over elevation "
+                    ": lobes that vary with elevation (or with a colour profile) need a stack of maps over elevation "
                     "(prefilterLobeModelStack); only constant lobe models prefilter into one map");
   }
   options.validate();

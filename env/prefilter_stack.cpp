@@ -137,11 +137,11 @@ std::vector<double> elevationSliceCosines(const LobeModel& model, int count) {
 PrefilteredStack prefilterLobeModelStack(const Environment& environment, const LobeModel& model,
                                          const std::string& name, const PrefilterOptions& options) {
   model.validate();
-  if (model.elevation != LobeElevation::Varying) {
+  if (!model.variesWithView()) {
     throw Error(Error::Kind::InvalidArgument,
                 name +
                     ": a constant lobe model prefilters into one map (prefilterLobeModel); "
-                    "stacks over elevation are for lobes that vary with elevation");
+                    "stacks over elevation are for lobes that vary with elevation or have a colour profile");
   }
   options.validate();
   const auto start = Clock::now();
@@ -162,7 +162,7 @@ PrefilteredStack prefilterLobeModelStack(const Environment& environment, const L
     label.precision(4);
     label << "elevation " << j << " (cos " << u << ")";
     try {
-      stack.slices.push_back(prefilterLobeModel(environment, model.atElevation(u), name, slice));
+      stack.slices.push_back(prefilterLobeModel(environment, model.prefilterFormAt(u), name, slice));
     } catch (const Error& error) {
       throw Error(error.kind(), label.str() + ": " + error.what());
     }

@@ -131,11 +131,12 @@ nlohmann::ordered_json sourceToJson(const FitSource& source) {
 nlohmann::ordered_json modelToJson(const LobeModel& model) {
   const std::size_t lobes = model.channels.empty() ? 0 : model.channels[0].lobes.size();
   nlohmann::ordered_json m = {
-      {"description", lobeModelDescription(model.elevation)},
+      {"description", lobeModelDescription(model.elevation, model.colorProfile)},
       {"elevation", std::string(toString(model.elevation))},
       {"elevation_range", {{"min_cos", finite(model.minCos, "min_cos")}, {"max_cos", finite(model.maxCos, "max_cos")}}},
       {"lobes", lobes}};
   if (!model.wavelengthsNm.empty()) m["wavelengths_nm"] = numbers(model.wavelengthsNm, "wavelength");
+  if (model.colorProfile != ColorProfile::None) m["color_profile"] = std::string(toString(model.colorProfile));
   return m;
 }
 
@@ -150,6 +151,7 @@ nlohmann::ordered_json candidateToJson(const ModelCandidate& c) {
           {"seconds", finite(c.seconds, "seconds")},
           {"max_exponent", finite(c.maxExponent, "max exponent")},
           {"varying_prior", finite(c.varyingPrior, "varying prior")},
+          {"color_profile", std::string(toString(c.colorProfile))},
           {"chosen", c.chosen}};
 }
 
@@ -170,9 +172,11 @@ nlohmann::ordered_json fitSectionToJson(const FitResult& fit) {
       {"loss", std::string(toString(o.loss))},
       {"loss_scale", finite(o.lossScale, "loss scale")},
       {"auto_margin", finite(o.autoMargin, "auto margin")},
+      {"color_profile_margin", finite(o.colorProfileMargin, "colour profile margin")},
       {"elevation_margin", finite(o.elevationMargin, "elevation margin")},
       {"requested_lobes", requestedLobes(o.lobes)},
       {"requested_elevation", std::string(toString(o.elevation))},
+      {"requested_color_profile", std::string(toString(o.colorProfile))},
       {"seconds", finite(fit.seconds, "seconds")},
       {"usable", fit.usable()},
       {"in_sample_log_error", finite(fit.inSampleError, "in-sample error")},
@@ -194,6 +198,8 @@ nlohmann::ordered_json lobeToJson(const Lobe& lobe) {
   } else if (!lobe.aboutMirror()) {
     entry["cxy"] = finite(lobe.cxy, "lobe cxy");
   }
+  if (!lobe.weightProfile.empty()) entry["weight_profile"] = numbers(lobe.weightProfile, "colour profile");
+  if (!lobe.fresnelProfile.empty()) entry["fresnel_profile"] = numbers(lobe.fresnelProfile, "colour profile");
   return entry;
 }
 
@@ -224,6 +230,7 @@ nlohmann::ordered_json channelToJson(const LobeChannel& channel, const ChannelFi
   for (const auto& lobe : channel.lobes) lobeArray.push_back(lobeToJson(lobe));
   nlohmann::ordered_json entry = {
       {"name", channel.name}, {"diffuse", finite(channel.diffuse, "diffuse")}, {"lobes", lobeArray}};
+  if (!channel.diffuseProfile.empty()) entry["diffuse_profile"] = numbers(channel.diffuseProfile, "colour profile");
   if (stats) entry["stats"] = statsToJson(*stats);
   return entry;
 }
@@ -273,6 +280,7 @@ int readModelShape(JsonObjectReader m, LobeModel& model) {
         throw specError(at, "wavelengths must increase");
     }
   }
+  if (m.has("color_profile")) model.colorProfile = m.parsed("color_profile", parseColorProfile);
   m.finish();
   return lobeCount;
 }
@@ -314,6 +322,7 @@ ModelCandidate readCandidate(JsonObjectReader c, bool fitHasMethod) {
     candidate.seconds = c.number("seconds", 0.0);
     if (c.has("max_exponent")) candidate.maxExponent = c.number("max_exponent", 0.0, kMaxLobeExponent);
     if (c.has("varying_prior")) candidate.varyingPrior = c.number("varying_prior", 0.0);
+    if (c.has("color_profile")) candidate.colorProfile = c.parsed("color_profile", parseColorProfile);
   }
   const auto& chosen = c.require("chosen");
   if (!chosen.is_boolean()) throw specError(c.child("chosen"), "must be true or false");
@@ -343,9 +352,12 @@ void readFitSection(JsonObjectReader fit, FitResult& result) {
   o.loss = fit.parsed("loss", parseRobustLoss);
   o.lossScale = fit.number("loss_scale", 0.0, HUGE_VAL, true);
   o.autoMargin = fit.number("auto_margin", 0.0, 1.0, true);
+  if (fit.has("color_profile_margin")) o.colorProfileMargin = fit.number("color_profile_margin", 0.0, 1.0, true);
   o.elevationMargin = fit.number("elevation_margin", 0.0, 1.0, true);
   o.lobes = readRequestedLobes(fit);
   o.elevation = fit.parsed("requested_elevation", parseElevationChoice);
+  if (fit.has("requested_color_profile"))
+    o.colorProfile = fit.parsed("requested_color_profile", parseColorProfileChoice);
   result.seconds = fit.number("seconds", 0.0);
   fit.require("usable");  // recomputed from the channels' stats
   const auto& candidates = fit.array("candidates");
@@ -354,6 +366,13 @@ void readFitSection(JsonObjectReader fit, FitResult& result) {
         JsonObjectReader(candidates[i], fit.child("candidates") + "[" + std::to_string(i) + "]"), fitHasMethod));
   }
   fit.finish();
+}
+
+// A colour profile (brdf/lobes.hpp): kColorProfileCount numbers >= 0, or empty when `key` is absent
+// (LobeModel::validate then checks that the model's colour profile asks for it).
+std::vector<double> readColorProfile(JsonObjectReader& reader, const std::string& key) {
+  if (!reader.has(key)) return {};
+  return readNumbers(reader, key, kColorProfileCount, 0.0, HUGE_VAL);
 }
 
 // One lobe of a channel, `count` coefficients per weight and exponent.
@@ -371,6 +390,8 @@ Lobe readLobe(JsonObjectReader lobe, std::size_t count) {
     throw specError(lobe.child("axis"),
                     "must be \"lafortune\" (the default) or \"half_vector\", got \"" + printable(axis, 40) + "\"");
   }
+  l.weightProfile = readColorProfile(lobe, "weight_profile");
+  l.fresnelProfile = readColorProfile(lobe, "fresnel_profile");
   lobe.finish();
   return l;
 }
@@ -380,6 +401,7 @@ LobeChannel readChannel(JsonObjectReader ch, int lobeCount, std::size_t count, s
   LobeChannel channel;
   channel.name = ch.string("name");
   channel.diffuse = ch.number("diffuse", 0.0);
+  channel.diffuseProfile = readColorProfile(ch, "diffuse_profile");
   const auto& lobes = ch.array("lobes");
   if (static_cast<int>(lobes.size()) != lobeCount) {
     throw specError(ch.child("lobes"), "model.lobes says " + std::to_string(lobeCount) + " lobe(s), this channel has " +
@@ -424,14 +446,21 @@ void readChannels(JsonObjectReader& root, int lobeCount, FitResult& fit) {
 
 }  // namespace
 
-std::string lobeModelDescription(LobeElevation elevation) {
+std::string lobeModelDescription(LobeElevation elevation, ColorProfile colorProfile) {
   std::string text =
       "f(l, v) = k_d / pi + sum_k C_k (n_k + 2) / (2 pi) max(0, r_v . l)^n_k [1/sr], r_v = view mirrored about the "
       "normal, per channel";
-  if (elevation == LobeElevation::Constant) return text + "; C_k, n_k constant";
+  if (elevation == LobeElevation::Constant) {
+    text += "; C_k, n_k constant";
+  } else {
+    text +=
+        "; C_k, n_k varying with u = cos(theta_view): p(u) = p0^((1-t)^2) p1^(2t(1-t)) p2^(t^2), "
+        "t = ln(u / min_cos) / ln(max_cos / min_cos) clamped to [0, 1]";
+  }
+  if (colorProfile == ColorProfile::None) return text;
   return text +
-         "; C_k, n_k varying with u = cos(theta_view): p(u) = p0^((1-t)^2) p1^(2t(1-t)) p2^(t^2), "
-         "t = ln(u / min_cos) / ln(max_cos / min_cos) clamped to [0, 1]";
+         "; k_d, C_k and C_F each times their profile sum_j p_j binom(3, j) s^j (1 - s)^(3 - j), s = theta_d / 90 "
+         "degrees, cos theta_d = l . h";
 }
 
 nlohmann::ordered_json fitFileToJson(const FitFile& file) {

@@ -35,6 +35,24 @@ ElevationChoice parseElevationChoice(std::string_view name) {
                      "elevation");
 }
 
+std::string_view toString(ColorProfileChoice choice) {
+  switch (choice) {
+    case ColorProfileChoice::Auto:
+      return "auto";
+    case ColorProfileChoice::None:
+      return "none";
+    case ColorProfileChoice::DifferenceAngle:
+      return "difference_angle";
+  }
+  return "auto";
+}
+
+ColorProfileChoice parseColorProfileChoice(std::string_view name) {
+  return parseByName(
+      name, std::array{ColorProfileChoice::Auto, ColorProfileChoice::None, ColorProfileChoice::DifferenceAngle},
+      "colour profile");
+}
+
 std::string_view toString(RobustLoss loss) {
   switch (loss) {
     case RobustLoss::Cauchy:
@@ -66,6 +84,10 @@ void FitOptions::validate() const {
   require(std::isfinite(maxExponent) && maxExponent >= kMinLobeExponent && maxExponent <= kMaxLobeExponent,
           "fit: maxExponent must be in [1, 1e5]");
   require(std::isfinite(varyingPrior) && varyingPrior >= 0.0, "fit: varyingPrior must be finite and >= 0");
+  require(std::isfinite(colorProfileMargin) && colorProfileMargin > 0.0 && colorProfileMargin < 1.0,
+          "fit: colorProfileMargin must be in (0, 1)");
+  require(method == FitMethod::Shared || colorProfile != ColorProfileChoice::DifferenceAngle,
+          "fit: colour profiles are fitted by the shared method only");
   heldOut.validate();
 }
 
@@ -85,7 +107,8 @@ const ModelCandidate* FitResult::bestRadiallySymmetric() const {
 std::string FitResult::briefReport() const {
   std::ostringstream out;
   std::size_t lobes = model.channels.empty() ? 0 : model.channels[0].lobes.size();
-  out << "Lobe fit: " << lobes << " lobe(s), " << toString(model.elevation) << " elevation, " << channels.size()
+  out << "Lobe fit: " << lobes << " lobe(s), " << toString(model.elevation) << " elevation, "
+      << (model.colorProfile == ColorProfile::None ? "" : "colour profile in theta_d, ") << channels.size()
       << " channel(s), " << std::fixed << std::setprecision(2) << seconds << " s, "
       << (usable() ? "usable" : "NOT usable") << "\n";
   for (const auto& c : channels) {
@@ -158,6 +181,7 @@ SharedModel sharedModel(const MeasuredTable& table, const FitOptions& options, L
   config.varying = options.elevation == ElevationChoice::Varying;
   config.maxExponent = options.maxExponent;
   config.varyingPrior = options.varyingPrior;
+  config.colorProfile = options.colorProfile == ColorProfileChoice::DifferenceAngle;
   if (warmStart && !warmStart->channels.empty()) config.startLobes = warmStart->channels[0].lobes;
   config.searches = std::move(searches);
   std::size_t usable = 0;
@@ -167,8 +191,10 @@ SharedModel sharedModel(const MeasuredTable& table, const FitOptions& options, L
   if (usable == 0) {
     throw Error(Error::Kind::InvalidInput, label + ": no sample has both directions above the horizon; nothing to fit");
   }
-  const std::size_t perChannel = 1 + static_cast<std::size_t>(options.lobes) *
-                                         (kind == LobeKindChoice::HalfVector || kind == LobeKindChoice::Mixed ? 2 : 1);
+  const std::size_t perChannel =
+      (1 + static_cast<std::size_t>(options.lobes) *
+               (kind == LobeKindChoice::HalfVector || kind == LobeKindChoice::Mixed ? 2 : 1)) *
+      (config.colorProfile ? kColorProfileCount : 1);
   if (usable < perChannel) {
     throw Error(Error::Kind::InvalidArgument, label + ": " + std::to_string(usable) +
                                                   " usable sample(s) cannot determine " + std::to_string(perChannel) +
@@ -212,6 +238,7 @@ struct CandidateConfig {
   LobeKindChoice kind = LobeKindChoice::Mirror;  // Mirror, Lafortune or HalfVector
   double maxExponent = 0.0;                      // the shared method's cap; 0 = the options'
   double varyingPrior = -1.0;                    // the shared method's prior; < 0 = the options'
+  ColorProfile colorProfile = ColorProfile::None;
 };
 
 // The options with the candidate's choices made explicit.
@@ -222,6 +249,8 @@ FitOptions explicitOptions(FitOptions options, const CandidateConfig& config) {
   options.kind = config.kind;
   if (config.maxExponent > 0.0) options.maxExponent = config.maxExponent;
   if (config.varyingPrior >= 0.0) options.varyingPrior = config.varyingPrior;
+  options.colorProfile = config.colorProfile == ColorProfile::DifferenceAngle ? ColorProfileChoice::DifferenceAngle
+                                                                              : ColorProfileChoice::None;
   return options;
 }
 
@@ -262,7 +291,10 @@ int parameterTotal(const CandidateConfig& config, FitMethod method, std::size_t 
   const bool fresnelWeights = config.kind == LobeKindChoice::HalfVector || config.kind == LobeKindChoice::Mixed;
   const int extraWeights = fresnelWeights ? config.lobes * static_cast<int>(channels) : 0;
   const int shared = method == FitMethod::Shared ? config.lobes * shapeParameters + extraWeights : 0;
-  return perChannel * static_cast<int>(channels) + shared;
+  // A colour profile turns each weight into kColorProfileCount coefficients.
+  const int weights = (1 + config.lobes) * static_cast<int>(channels) + extraWeights;
+  const int profile = config.colorProfile == ColorProfile::None ? 0 : (kColorProfileCount - 1) * weights;
+  return perChannel * static_cast<int>(channels) + shared + profile;
 }
 
 // A kind whose score is more than this factor above the best score so far stops adding lobes:
@@ -313,7 +345,9 @@ struct CandidateSpace {
   std::vector<int> counts;
   std::vector<LobeKindChoice> kinds;
   std::vector<LobeElevation> elevations;
-  bool heldOutFeasible = false;  // enough rows away from the mirror for held-out splits
+  ColorProfile colorProfile = ColorProfile::None;  // of every candidate scored first
+  bool tryColorProfile = false;                    // then the chosen one with a colour profile
+  bool heldOutFeasible = false;                    // enough rows away from the mirror for held-out splits
 
   // The elevations tried for `kind`: an automatic choice of kind and elevation tries Lafortune lobes
   // constant only (varying ones never won on the Cornell tables and cost a c_xy search, docs/fitting.md).
@@ -355,6 +389,10 @@ CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& opti
   for (std::size_t i = 0; i < table.size(); ++i)
     offMirror += mirrorOffsetDegrees(table, i) > options.heldOut.minMirrorOffsetDegrees;
   space.heldOutFeasible = offMirror >= 2 * static_cast<std::size_t>(options.heldOut.folds);
+  if (options.colorProfile == ColorProfileChoice::DifferenceAngle) space.colorProfile = ColorProfile::DifferenceAngle;
+  // With every other choice explicit and no held-out estimate asked for, auto means none.
+  space.tryColorProfile = shared && options.colorProfile == ColorProfileChoice::Auto && space.heldOutFeasible &&
+                          (options.estimateHeldOut || space.size() > 1);
   if (!space.heldOutFeasible) {
     space.counts.resize(1);
     if (space.kinds.size() > 1) space.kinds = {LobeKindChoice::Mirror};  // the fewest parameters
@@ -366,7 +404,7 @@ CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& opti
 // One configuration, every choice made (auto ones without a held-out estimate: the fewest
 // parameters), with its held-out estimate when asked for and feasible.
 FitResult fitOneConfiguration(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
-  const CandidateConfig config{space.counts[0], space.elevations[0], space.kinds[0]};
+  const CandidateConfig config{space.counts[0], space.elevations[0], space.kinds[0], 0.0, -1.0, space.colorProfile};
   FitResult result = fitExplicit(table, explicitOptions(options, config), config.kind);
   if (options.estimateHeldOut && space.heldOutFeasible) {
     result.heldOut = estimateHeldOutError(
@@ -456,7 +494,7 @@ Tried scoreCandidates(SplitFitter& fitter, const CandidateSpace& space) {
         const std::vector<LobeModel>* starts = varying && constantFits ? constantFits
                                                : sequence.fits.empty() ? nullptr
                                                                        : &sequence.fits;
-        tried.push_back(fitter.score({lobes, sequence.elevation, kind}, starts));
+        tried.push_back(fitter.score({lobes, sequence.elevation, kind, 0.0, -1.0, space.colorProfile}, starts));
         sequence.fits = tried.back().splitFits;
         if (!varying) constantFits = &sequence.fits;
         const double score = tried.back().report.score();
@@ -521,14 +559,30 @@ std::size_t weakenVaryingPrior(SplitFitter& fitter, Tried& tried, std::size_t be
                                                                                                : best;
 }
 
+// Colour profiles (ColorProfileChoice::Auto): the chosen candidate with them is scored too, and kept if
+// that lowers the score by FitOptions::colorProfileMargin. Its splits' shapes are the chosen candidate's, whose
+// searches the splits keep (detail::ShapeSearches), so it costs the weights' solves.
+std::size_t addColorProfile(SplitFitter& fitter, Tried& tried, std::size_t best, const CandidateSpace& space) {
+  const FitOptions& options = fitter.options();
+  if (!space.tryColorProfile) return best;
+  CandidateConfig profiled = tried[best].config;
+  profiled.colorProfile = ColorProfile::DifferenceAngle;
+  tried.push_back(fitter.score(profiled));
+  const double needed = (1.0 - options.colorProfileMargin) * tried[best].report.score();
+  return tried.back().report.score() < needed ? tried.size() - 1 : best;
+}
+
 // Scores the candidates by held-out error, fits the chosen one to the whole table and lists them all.
 FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
   const std::size_t channels = table.channelCount();
   const HeldOutSplits splits(table, options.heldOut);
   SplitFitter fitter(splits, options);
   Tried tried = scoreCandidates(fitter, space);
-  const std::size_t best = weakenVaryingPrior(
-      fitter, tried, lowerExponentCap(fitter, tried, fewestParametersWithinMargin(tried, options, channels)));
+  const std::size_t best = addColorProfile(
+      fitter, tried,
+      weakenVaryingPrior(fitter, tried,
+                         lowerExponentCap(fitter, tried, fewestParametersWithinMargin(tried, options, channels))),
+      space);
   FitResult result = fitCandidate(table, options, tried[best].config);
   for (std::size_t i = 0; i < tried.size(); ++i) {
     const auto& [config, report, fits] = tried[i];
@@ -547,6 +601,7 @@ FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& opt
     c.varyingPrior = options.method == FitMethod::Shared && config.elevation == LobeElevation::Varying
                          ? (config.varyingPrior >= 0.0 ? config.varyingPrior : options.varyingPrior)
                          : 0.0;
+    c.colorProfile = config.colorProfile;
     c.chosen = i == best;
     if (c.chosen) c.inSampleError = allRowsError(result.model, table).rms();
     result.candidates.push_back(c);
@@ -562,8 +617,8 @@ FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
   table.validate();
   const auto start = Clock::now();
   const CandidateSpace space = candidateSpace(table, options);
-  FitResult result =
-      space.size() > 1 ? chooseByHeldOutError(table, options, space) : fitOneConfiguration(table, options, space);
+  FitResult result = space.size() > 1 || space.tryColorProfile ? chooseByHeldOutError(table, options, space)
+                                                               : fitOneConfiguration(table, options, space);
   result.options = options;
   result.options.progress = nullptr;
   for (const auto& c : result.candidates) {

@@ -1,5 +1,7 @@
 #include "shared_lobe_fit.hpp"
 
+#include "color_profile_terms.hpp"
+
 #include <brdfbake/core/error.hpp>
 
 #include <Eigen/Dense>
@@ -681,6 +683,37 @@ class SharedFitter {
 
 constexpr double kMinVaryingWeight = 1e-12;
 
+// One channel's diffuse term and lobes from its solution x (columns as SharedFitter::design, expanded
+// by withColorProfiles with config.colorProfile: color_profile_terms.hpp).
+LobeChannel channelOf(const Eigen::VectorXd& x, const std::vector<Shape>& shapes, const SharedFitConfig& config) {
+  LobeChannel channel;
+  const ProfiledTerm diffuse = profiledTerm(x, 0, config.colorProfile);
+  channel.diffuse = diffuse.weight;
+  channel.diffuseProfile = diffuse.profile;
+  Eigen::Index column = 1;
+  for (const auto& shape : shapes) {
+    Lobe lobe;
+    const ProfiledTerm weight = profiledTerm(x, column, config.colorProfile);
+    for (int j = config.varying ? 0 : kVaryingDegree; j <= kVaryingDegree; ++j) {
+      // A varying model's weights must be > 0 (geometric blend): an NNLS zero becomes 1e-12.
+      lobe.weight.push_back(config.varying ? std::max(weight.weight * shape.gainAt(j), kMinVaryingWeight)
+                                           : weight.weight);
+      lobe.exponent.push_back(std::clamp(shape.exponentAt(j), kMinLobeExponent, kMaxLobeExponent));
+    }
+    lobe.weightProfile = weight.profile;
+    lobe.cxy = shape.halfVector ? -1.0 : shape.cxy;
+    lobe.halfVector = shape.halfVector;
+    if (shape.halfVector) {
+      const ProfiledTerm fresnel = profiledTerm(x, column + 1, config.colorProfile);
+      lobe.fresnel = fresnel.weight;
+      lobe.fresnelProfile = fresnel.profile;
+    }
+    column += SharedFitter::columns(shape);
+    channel.lobes.push_back(std::move(lobe));
+  }
+  return channel;
+}
+
 }  // namespace
 
 SharedFitOutcome fitSharedLobes(const MeasuredTable& table, const SharedFitConfig& config, const LobeModel& range) {
@@ -708,37 +741,27 @@ SharedFitOutcome fitSharedLobes(const MeasuredTable& table, const SharedFitConfi
   }
   SharedFitter fitter(std::move(data), config, range);
   const std::vector<Shape> shapes = fitter.fitShapes();
-  const Eigen::MatrixXd a = fitter.design(shapes);
+  Eigen::MatrixXd a = fitter.design(shapes);
+  if (config.colorProfile) {
+    std::vector<double> coordinates;
+    for (const Row& row : fitter.data().rows) coordinates.push_back(row.geometry.differenceCoordinate());
+    a = withColorProfiles(a, coordinates);
+  }
 
   SharedFitOutcome outcome;
   outcome.rows = used.size();
   outcome.model.elevation = config.varying ? LobeElevation::Varying : LobeElevation::Constant;
+  outcome.model.colorProfile = config.colorProfile ? ColorProfile::DifferenceAngle : ColorProfile::None;
   outcome.model.minCos = range.minCos;
   outcome.model.maxCos = range.maxCos;
   if (table.kind == ChannelKind::Spectral) outcome.model.wavelengthsNm = table.wavelengthsNm;
   const auto solved = fitter.solveChannels(a, 8);
   outcome.objective = solved.objective.sum();
   for (Eigen::Index c = 0; c < channels; ++c) {
-    const Eigen::VectorXd x = solved.x.col(c);
-    LobeChannel channel;
+    LobeChannel channel = channelOf(solved.x.col(c), shapes, config);
     channel.name = static_cast<std::size_t>(c) < table.channelNames.size()
                        ? table.channelNames[static_cast<std::size_t>(c)]
                        : std::to_string(c);
-    channel.diffuse = x[0];
-    Eigen::Index column = 1;
-    for (const auto& shape : shapes) {
-      Lobe lobe;
-      for (int j = config.varying ? 0 : kVaryingDegree; j <= kVaryingDegree; ++j) {
-        // A varying model's weights must be > 0 (geometric blend): an NNLS zero becomes 1e-12.
-        lobe.weight.push_back(config.varying ? std::max(x[column] * shape.gainAt(j), kMinVaryingWeight) : x[column]);
-        lobe.exponent.push_back(std::clamp(shape.exponentAt(j), kMinLobeExponent, kMaxLobeExponent));
-      }
-      lobe.cxy = shape.halfVector ? -1.0 : shape.cxy;
-      lobe.halfVector = shape.halfVector;
-      if (shape.halfVector) lobe.fresnel = x[column + 1];
-      column += SharedFitter::columns(shape);
-      channel.lobes.push_back(std::move(lobe));
-    }
     outcome.model.channels.push_back(std::move(channel));
   }
   outcome.evaluations = fitter.evaluations;

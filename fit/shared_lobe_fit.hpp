@@ -61,12 +61,18 @@ struct SharedFitConfig {
   // with fewer lobes returned them; the fit adds lobes greedily after these. The greedy steps are
   // the same either way, so a fit warm-started from the (K-1)-lobe fit equals the cold K-lobe fit.
   std::vector<Lobe> startLobes;
+  // Colour profiles (ColorProfile::DifferenceAngle): the shapes are found without them, then every
+  // weight column is multiplied by the cubic Bernstein polynomials in theta_d / 90 degrees and the
+  // weights are solved again (the columns' non-negative coefficients are the profile's p_j times the
+  // term's weight). The shapes are the same as without, so a profiled fit reuses their searches.
+  bool colorProfile = false;
   // Compass searches other fits of the same table ran already (may be null; see ShapeSearches).
   std::shared_ptr<ShapeSearches> searches;
 };
 
 struct SharedFitOutcome {
-  LobeModel model;         // elevation Constant (Varying with SharedFitConfig::varying), range from `range`
+  LobeModel model;         // elevation Constant (Varying with SharedFitConfig::varying), range from `range`,
+                           // colour profiles with SharedFitConfig::colorProfile
   int evaluations = 0;     // shape trials
   double objective = 0.0;  // sum over channels and fitted rows of r_i^2
   std::size_t rows = 0;    // fitted rows (light and view above the horizon)

@@ -88,8 +88,9 @@ std::string environmentSkipReason(const EnvironmentMapSpec& e) {
   if (e.analyticLobe() && e.analyticLobe()->isMirror()) {
     return "the mirror lobe is a resampling with no reference to chart against; map skipped";
   }
-  if (e.lobeModel() && e.lobeModel()->elevation != LobeElevation::Constant) {
-    return "lobes that vary with elevation prefilter into a stack of maps (one per elevation); chart a slice's "
+  if (e.lobeModel() && e.lobeModel()->variesWithView()) {
+    return "lobes that vary with elevation (or have a colour profile) prefilter into a stack of maps (one per "
+           "elevation); chart a slice's "
            "constant model instead; map skipped";
   }
   if (e.glossChain) return "a gloss chain is one map per level; chart one level's lobe instead; map skipped";

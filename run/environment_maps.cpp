@@ -24,7 +24,7 @@ struct Prefiltered {
 Prefiltered prefilterMap(const MapSpec& map, const EnvironmentMapSpec& e, const Environment& environment,
                          const PrefilterOptions& options) {
   Prefiltered made;
-  if (e.lobeModel() && e.lobeModel()->elevation == LobeElevation::Varying) {
+  if (e.lobeModel() && e.lobeModel()->variesWithView()) {
     made.stack = prefilterLobeModelStack(environment, *e.lobeModel(), e.lobeName, options);
     made.map.summary = made.stack->summary;
     made.map.map = made.stack->slices.front().map;

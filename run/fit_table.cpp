@@ -112,7 +112,8 @@ std::string FitTableResult::briefReport() const {
   if (!fit.candidates.empty()) {
     out << "  models tried (held-out score = the worse of the k-fold and elevation ratios to Lambert):\n";
     auto describe = [&](const ModelCandidate& c) {
-      out << c.lobes << " " << toString(c.kind) << " " << toString(c.elevation) << ", " << c.parameters
+      out << c.lobes << " " << toString(c.kind) << " " << toString(c.elevation)
+          << (c.colorProfile == ColorProfile::None ? "" : " colour-profiled") << ", " << c.parameters
           << " parameters: " << std::setprecision(3) << c.heldOutScore << " (k-fold " << c.kfoldRatio
           << "x, elevations " << c.elevationRatio << "x, " << std::setprecision(1) << c.seconds << " s)";
     };

@@ -129,11 +129,11 @@ void parseEnvironmentOutputs(JsonObjectReader& env, EnvironmentMapSpec& e, const
                         std::to_string(mipLevelCount(spec.resolution)) + " (or leave it out) for resolution " +
                         std::to_string(spec.resolution) + ", got " + std::to_string(e.chainLobes.size()));
   }
-  const bool varying = e.lobeModel() && e.lobeModel()->elevation == LobeElevation::Varying;
+  const bool varying = e.lobeModel() && e.lobeModel()->variesWithView();
   if (env.has("elevations")) {
     if (!varying) {
       throw specError(env.child("elevations"),
-                      "only lobe models that vary with elevation (lobes:FIT.json with a varying "
+                      "only lobe models that vary with elevation (lobes:FIT.json with a varying or colour-profiled "
                       "model) make a stack of maps over elevation");
     }
     e.elevations = env.integer("elevations", 2, 64);
@@ -437,7 +437,7 @@ std::vector<FilePlan::Entry> MapSpec::plannedOutputs() const {
   if (const EnvironmentMapSpec* environment = environmentMap()) {
     const EnvironmentMapSpec& e = *environment;
     PrefilterOutputs shape{parameterization, resolution, e.mips, cubeLayout, e.mipLayout};
-    if (e.lobeModel() && e.lobeModel()->elevation == LobeElevation::Varying) shape.elevationSlices = e.elevations;
+    if (e.lobeModel() && e.lobeModel()->variesWithView()) shape.elevationSlices = e.elevations;
     shape.fresnel = e.fresnel.has_value();
     if (e.glossChain) shape.mips = true, shape.mipLevels = static_cast<int>(e.chainLobes.size());
     for (std::size_t i = 0; i < files.size(); ++i) add(prefilterOutputFiles(files[i], shape, outputJsonPath(i)));

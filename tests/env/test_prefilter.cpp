@@ -515,6 +515,40 @@ TEST(PrefilterStack, FurnaceGivesEachSlicesNormalisation) {
   }
 }
 
+TEST(PrefilterStack, ColourProfilesAreTakenAtTheLobesCentre) {
+  // Constant mirror lobes whose weights follow colour profiles in theta_d (brdf/lobes.hpp): one map
+  // cannot hold them, a stack can; under L = 1 slice j holds Σ_k C_k P_k(s_j) (n_k + 2)/(n_k + 1), the
+  // profile P_k(s) = Σ_i p_i binom(3, i) s^i (1 - s)^(3 - i) at s_j = theta_v / 90 degrees, the
+  // mirror direction's theta_d.
+  LobeModel model;
+  model.colorProfile = ColorProfile::DifferenceAngle;
+  model.minCos = 0.2;
+  const std::vector<std::vector<double>> profiles = {{1.0, 0.8, 0.3, 0.1}, {0.2, 0.5, 0.9, 1.0}, {0.5, 1.0, 1.0, 0.5}};
+  for (int c = 0; c < 3; ++c) {
+    LobeChannel channel{std::string(1, "RGB"[c]), 0.1, {}, {1.0, 1.0, 1.0, 1.0}};
+    channel.lobes.push_back(Lobe{{0.5}, {60.0}, -1.0, false, 0.0, profiles[static_cast<std::size_t>(c)], {}});
+    model.channels.push_back(channel);
+  }
+  PrefilterOptions options;
+  options.parameterization = ParameterizationKind::LatLong;
+  options.resolution = 16;
+  options.elevations = 3;
+  EXPECT_THROW(prefilterLobeModel(furnace(), model, "profiled", options), Error);
+  const PrefilteredStack stack = prefilterLobeModelStack(furnace(), model, "profiled", options);
+  ASSERT_EQ(stack.slices.size(), 3u);
+  for (std::size_t j = 0; j < 3; ++j) {
+    const double s = std::acos(stack.cosines[j]) / (kPi / 2.0), r = 1.0 - s;
+    Rgb expected;
+    for (std::size_t c = 0; c < 3; ++c) {
+      const auto& p = profiles[c];
+      const double profile = p[0] * r * r * r + 3.0 * p[1] * s * r * r + 3.0 * p[2] * s * s * r + p[3] * s * s * s;
+      expected[static_cast<Eigen::Index>(c)] = 0.5 * profile * 62.0 / 61.0;
+    }
+    const Rgb texel = stack.slices[j].levels[0].at(5, 7).head<3>();
+    EXPECT_LT((texel / expected - 1.0).abs().maxCoeff(), 1e-3) << "slice " << j << ": " << texel.transpose();
+  }
+}
+
 TEST(PrefilterStack, EachSliceIsTheModelFrozenAtItsElevation) {
   // Slice j of 3 is at t_j = j / 2: its lobes have C_k = blend(C values, t_j), n_k = blend(n
   // values, t_j) (typed out), so on the linear environment it is linearLobeSum of those.

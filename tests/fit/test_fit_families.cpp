@@ -147,15 +147,16 @@ TEST(SharedFitRecovery, GgxCookTorranceIsPredictedOnHeldOutRows) {
 TEST(FitCandidates, EachScoresAsItsOwnFit) {
   // Scoring candidates one after another, a fit takes the compass searches earlier candidates ran on
   // the same split from the same shapes (detail::ShapeSearches; mixed lobes repeat the half-vector and
-  // mirror candidates' searches). Every candidate's score must be what fitting it alone (nothing kept,
-  // no warm start) estimates.
+  // mirror candidates' searches; a colour-profiled candidate takes its shapes' searches). Every
+  // candidate's score must be what fitting it alone (nothing kept, no warm start) estimates.
   const MeasuredTable table = ggxTable(0.02, 23);
   FitOptions options;
   options.maxAutoLobes = 2;
   const FitResult automatic = fitLobes(table, options);
-  int mixed = 0;
+  int mixed = 0, profiled = 0;
   for (const auto& candidate : automatic.candidates) {
     mixed += candidate.kind == LobeKindChoice::Mixed;
+    profiled += candidate.colorProfile == ColorProfile::DifferenceAngle;
     FitOptions alone = options;
     alone.kind = candidate.kind;
     alone.lobes = candidate.lobes;
@@ -165,12 +166,15 @@ TEST(FitCandidates, EachScoresAsItsOwnFit) {
     if (candidate.elevation == LobeElevation::Varying) alone.varyingPrior = candidate.varyingPrior;
     alone.chooseMaxExponent = false;
     alone.chooseVaryingPrior = false;
+    alone.colorProfile = candidate.colorProfile == ColorProfile::DifferenceAngle ? ColorProfileChoice::DifferenceAngle
+                                                                                 : ColorProfileChoice::None;
     const FitResult fit = fitLobes(table, alone);
     ASSERT_TRUE(fit.heldOut.has_value()) << fit.briefReport();
     EXPECT_NEAR(fit.heldOut->score(), candidate.heldOutScore, 1e-6 * candidate.heldOutScore)
         << candidate.lobes << " " << toString(candidate.kind) << " " << toString(candidate.elevation);
   }
   EXPECT_GE(mixed, 2) << automatic.briefReport();
+  EXPECT_EQ(profiled, 1) << automatic.briefReport();
 }
 
 TEST(FitCandidates, PerChannelEachScoresAsItsOwnFit) {

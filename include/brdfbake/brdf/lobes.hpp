@@ -53,6 +53,20 @@
 /// lies between its smallest and largest value, so bounds on p0..p2 (C > 0, 1 <= n <= 1e5) bound
 /// the functions, and equal values give a constant.
 ///
+/// A model may also give each channel a colour profile (ColorProfile::DifferenceAngle): the
+/// diffuse term and every lobe weight (a half-vector lobe's C and C_F each) of a channel are
+/// multiplied by their own cubic Bernstein polynomial in s = theta_d / 90 degrees,
+///
+///     P(s) = sum_j p_j binom(3, j) s^j (1 - s)^(3 - j),   p_j >= 0,
+///
+/// theta_d the angle between the light and the half-vector (Rusinkiewicz 1998's difference angle,
+/// cos theta_d = l.h = sqrt((1 + l.v) / 2)), the same for l and v, so the model stays reciprocal.
+/// Colour-shifting (interference) paints change colour with theta_d, and the diffuse and haze of
+/// measured paints with it (docs/fitting.md). The profile scales weights only, so a fit stays
+/// linear in them. On the mirror direction theta_d = theta_v; the prefiltered forms
+/// (LobeModel::prefilterFormAt, LobeMaterialMode::Prefiltered) take each lobe's profile there, at
+/// its centre.
+///
 /// The formulas are templates on the parameters' scalar so that the fitter differentiates them
 /// with ceres::Jet and the material evaluates them in double: one implementation.
 
@@ -91,6 +105,20 @@ LobeElevation parseLobeElevation(std::string_view name);
 constexpr int elevationCoefficientCount(LobeElevation elevation) {
   return elevation == LobeElevation::Constant ? 1 : kVaryingDegree + 1;
 }
+
+/// Whether each channel's weights change with the difference angle theta_d (see @file).
+enum class ColorProfile {
+  None,             ///< weights constant in theta_d
+  DifferenceAngle,  ///< diffuse, C and C_F each times a cubic Bernstein polynomial in theta_d / 90 degrees
+};
+/// "none", "difference_angle".
+std::string_view toString(ColorProfile profile);
+/// Inverse of toString; throws Error(InvalidArgument) listing the accepted names for others (core/named_values.hpp).
+ColorProfile parseColorProfile(std::string_view name);
+
+/// Degree of the Bernstein polynomials of ColorProfile::DifferenceAngle, and their coefficient count.
+inline constexpr int kColorProfileDegree = 3;
+inline constexpr int kColorProfileCount = kColorProfileDegree + 1;
 
 /// Bounds the fitter enforces and LobeModel::validate checks.
 inline constexpr double kMinLobeExponent = 1.0;
@@ -174,11 +202,16 @@ struct LobeGeometry {
     const double sum = 2.0 * (1.0 + horizontal + vertical);  // |l + v|^2
     return sum > 0.0 ? (lightZ + viewZ) / std::sqrt(sum) : 0.0;
   }
-  /// Schlick's (1994) Fresnel shape (1 - l.h)^5, l.h = sqrt((1 + l.v) / 2).
-  double schlick() const {
-    const double lh = std::sqrt(std::clamp(0.5 * (1.0 + horizontal + vertical), 0.0, 1.0));
-    return std::pow(1.0 - lh, 5.0);
+  /// cos theta_d = l.h = sqrt((1 + l.v) / 2), theta_d the difference angle (Rusinkiewicz 1998).
+  double cosDifference() const { return std::sqrt(std::clamp(0.5 * (1.0 + horizontal + vertical), 0.0, 1.0)); }
+  /// theta_d / 90 degrees in [0, 1]: the coordinate of colour profiles (see @file).
+  double differenceCoordinate() const { return std::acos(cosDifference()) / (0.5 * std::numbers::pi); }
+  /// theta_d / 90 degrees on the mirror direction seen at view cosine u: theta_d = theta_v there.
+  static double mirrorDifferenceCoordinate(double u) {
+    return std::acos(std::clamp(u, 0.0, 1.0)) / (0.5 * std::numbers::pi);
   }
+  /// Schlick's (1994) Fresnel shape (1 - l.h)^5, l.h = sqrt((1 + l.v) / 2).
+  double schlick() const { return std::pow(1.0 - cosDifference(), 5.0); }
 };
 
 /// A lobe about the half-vector (Lobe::halfVector; docs/fitting.md): Cook & Torrance 1981's
@@ -197,36 +230,26 @@ T halfVectorLobe(const T& weight, const T& fresnelWeight, const T& exponent, con
          T(0.25 / (g.lightZ * g.viewZ));
 }
 
+/// A colour profile's factor at s in [0, 1] (see @file): sum_j p_j B_j(s) over its
+/// kColorProfileCount coefficients; 1 for an empty profile (none).
+inline double colorProfileFactor(const std::vector<double>& profile, double s) {
+  if (profile.empty()) return 1.0;
+  double weights[kColorProfileCount];
+  bernsteinWeights(kColorProfileCount, std::clamp(s, 0.0, 1.0), weights);
+  double factor = 0.0;
+  for (int j = 0; j < kColorProfileCount && j < static_cast<int>(profile.size()); ++j)
+    factor += profile[j] * weights[j];
+  return factor;
+}
+
 /// The diffuse term of a lobe model, diffuse / pi in 1/sr (`diffuse` is an albedo).
 template <class T>
 T diffuseTerm(const T& diffuse) {
   return diffuse * T(1.0 / std::numbers::pi);
 }
 
-/// diffuse / pi plus the lobes of the given weights and exponents (already evaluated at the
-/// elevation), lobe k at cosToAxis[k] (LobeGeometry::cosine of its c_xy).
-template <class T>
-T lobeSum(const T& diffuse, const T* weights, const T* exponents, int lobeCount, const double* cosToAxis) {
-  T value = diffuseTerm(diffuse);
-  for (int k = 0; k < lobeCount; ++k) value += normalizedLobe(weights[k], exponents[k], cosToAxis[k]);
-  return value;
-}
-
-/// Most lobes lobeBrdf evaluates.
+/// Most lobes a LobeModel channel holds.
 inline constexpr int kMaxModelLobes = 16;
-
-/// The model of one channel (see @file) at elevation coordinate `t` (LobeModel::
-/// elevationCoordinate), lobe k at cosToAxis[k]. `lobes[k]` points to lobe k's 2 * count
-/// coefficients: the weight's `count`, then the exponent's `count`. At most kMaxModelLobes lobes.
-template <class T>
-T lobeBrdf(const T& diffuse, const T* const* lobes, int lobeCount, int count, double t, const double* cosToAxis) {
-  T weights[kMaxModelLobes], exponents[kMaxModelLobes];
-  for (int k = 0; k < lobeCount && k < kMaxModelLobes; ++k) {
-    weights[k] = elevationBlend(lobes[k], count, t);
-    exponents[k] = elevationBlend(lobes[k] + count, count, t);
-  }
-  return lobeSum(diffuse, weights, exponents, std::min(lobeCount, kMaxModelLobes), cosToAxis);
-}
 
 /// Largest |c_xy| LobeModel::validate accepts, and the largest growth |a|^n (a the unscaled
 /// Lafortune axis of @file, |a| <= max(1, |c_xy|)) it accepts: n ln max(1, |c_xy|) <= kMaxLobeGrowthLog.
@@ -248,6 +271,10 @@ struct Lobe {
   bool halfVector = false;
   /// C_F of a half-vector lobe (>= 0); 0 for other lobes.
   double fresnel = 0.0;
+  /// ColorProfile::DifferenceAngle: the colour profile of the weight and of C_F (half-vector lobes;
+  /// empty for others), kColorProfileCount coefficients >= 0 each (see @file); empty for None.
+  std::vector<double> weightProfile{};
+  std::vector<double> fresnelProfile{};
   /// True for the Phong lobe about the mirrored view (c_xy = -1).
   bool aboutMirror() const { return cxy == -1.0 && !halfVector; }
 };
@@ -257,6 +284,8 @@ struct LobeChannel {
   std::string name;  ///< "R", "550nm", ...
   double diffuse = 0.0;
   std::vector<Lobe> lobes;
+  /// ColorProfile::DifferenceAngle: the diffuse term's colour profile (see @file); empty for None.
+  std::vector<double> diffuseProfile{};
 };
 
 /// A fitted (or hand-written) lobe model: per channel, the same elevation dependence.
@@ -269,24 +298,40 @@ struct LobeModel {
   std::vector<LobeChannel> channels;
   /// Spectral models: the wavelength (nm) of each channel, strictly increasing; else empty.
   std::vector<double> wavelengthsNm;
+  /// Whether each channel's weights follow a colour profile in theta_d (see @file).
+  ColorProfile colorProfile = ColorProfile::None;
 
   std::size_t channelCount() const { return channels.size(); }
   /// Throws Error(InvalidArgument) naming the channel and lobe for: no channels, a coefficient
   /// count other than elevationCoefficientCount(elevation), negative or non-finite weights or
   /// diffuse (zero weights of Varying lobes too), exponents outside [1, 1e5], a bad elevation
-  /// range, or wavelengths of the wrong count.
+  /// range, wavelengths of the wrong count, or colour profiles that do not match colorProfile
+  /// (kColorProfileCount coefficients, finite and >= 0, for the diffuse term, every weight and every
+  /// half-vector lobe's C_F; none elsewhere).
   void validate() const;
 
   /// The elevation coordinate of the view cosine u: t = ln(u / minCos) / ln(maxCos / minCos)
   /// clamped to [0, 1] (0 at or beyond the most grazing fitted view; 0 when minCos = maxCos).
   double elevationCoordinate(double u) const;
-  /// C_k(u) and n_k(u) of a lobe (u is clamped).
+  /// True when a lobe's weight or shape changes with the view elevation: Varying lobes, or colour
+  /// profiles (which the prefiltered forms take at theta_d = theta_v). Such a model prefilters an
+  /// environment into a stack of maps over elevation (env/prefilter_stack.hpp), not one map.
+  bool variesWithView() const { return elevation == LobeElevation::Varying || colorProfile != ColorProfile::None; }
+  /// C_k(u) of a lobe times its colour profile on the mirror direction (theta_d = theta_v), and
+  /// n_k(u) (u is clamped).
   double weight(std::size_t channel, std::size_t lobe, double u) const;
   double exponent(std::size_t channel, std::size_t lobe, double u) const;
+  /// C_F of a half-vector lobe times its colour profile on the mirror direction (0 for other lobes).
+  double fresnel(std::size_t channel, std::size_t lobe, double u) const;
   /// The model frozen at view cosine u: a Constant model with C_k(u) and n_k(u) of every lobe and
-  /// the same channels, diffuse terms and wavelengths (a Constant model is returned unchanged).
-  /// A parameter whose three values are equal keeps that value exactly (no exp(log) rounding).
+  /// the same channels, diffuse terms, colour profiles and wavelengths (a Constant model is returned
+  /// unchanged). At views of cosine u it evaluates as this model. A parameter whose three values are
+  /// equal keeps that value exactly (no exp(log) rounding).
   LobeModel atElevation(double u) const;
+  /// What a prefiltered map of views at cosine u holds: atElevation(u) with the diffuse terms, C_k and
+  /// C_F times their colour profiles at theta_d = theta_v (the lobes' centre) and no profiles left, so
+  /// variesWithView() is false (a model that does not vary with the view is returned unchanged).
+  LobeModel prefilterFormAt(double u) const;
 
   /// The BRDF (1/sr) of one channel for light `wi` and view `wo` (unit, local frame, z = normal);
   /// 0 when either is at or below the horizon (z <= 0).

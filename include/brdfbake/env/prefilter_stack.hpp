@@ -3,10 +3,11 @@
 /// Prefilter requests that make several maps (docs/prefilter.md):
 ///
 /// - **Elevation stacks** for fitted lobe models whose lobes vary with the view elevation
-///   (LobeElevation::Varying, brdf/lobes.hpp). A varying model's prefiltered form
+///   (LobeElevation::Varying, brdf/lobes.hpp) or whose weights follow a colour profile (taken at the
+///   lobes' centre, theta_d = theta_v: LobeModel::variesWithView). A varying model's prefiltered form
 ///   Σ_k C_k(u) (n_k(u) + 2)/(2 pi) max(0, r.l)^n_k(u) depends on r and on u = n.v, so it needs a
 ///   3-D table: K maps, slice j being the constant-model map (prefilterLobeModel) of the model frozen
-///   at u_j (LobeModel::atElevation). The slices are uniform in the model's own elevation
+///   at u_j (LobeModel::prefilterFormAt). The slices are uniform in the model's own elevation
 ///   coordinate t = ln(u / minCos) / ln(maxCos / minCos) (LobeModel::elevationCoordinate), in which
 ///   ln C and ln n are quadratic: t_j = j / (K - 1), u_j = minCos (maxCos / minCos)^t_j, slice 0 at
 ///   the most grazing fitted view, slice K - 1 at the most normal. A renderer computes t from n.v,
@@ -36,7 +37,7 @@ std::vector<double> elevationSliceCosines(const LobeModel& model, int count);
 struct PrefilteredStack {
   std::vector<double> cosines;         ///< u_j, the view cosine of each slice
   std::vector<double> coordinates;     ///< t_j = j / (K - 1), the model's elevation coordinate
-  std::vector<PrefilteredMap> slices;  ///< slice j: prefilterLobeModel of model.atElevation(u_j)
+  std::vector<PrefilteredMap> slices;  ///< slice j: prefilterLobeModel of model.prefilterFormAt(u_j)
   PrefilterSummary summary;            ///< all slices: the largest error estimate, the total seconds
   double minCos = 0.0, maxCos = 1.0;   ///< the model's fitted elevation range
 };

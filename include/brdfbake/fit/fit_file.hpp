@@ -57,7 +57,7 @@ struct FitFile {
 };
 
 /// One line describing the model formula for `elevation` (the file's model.description).
-std::string lobeModelDescription(LobeElevation elevation);
+std::string lobeModelDescription(LobeElevation elevation, ColorProfile colorProfile = ColorProfile::None);
 
 /// The JSON document, keys in the order of @file. Throws Error(Numerical) if some number is not
 /// finite (never written).

@@ -11,7 +11,7 @@
 /// exponent and a gain on the weights at three nodes) between channels, under a prior
 /// (FitOptions::varyingPrior). FitMethod::PerChannel: Ceres per channel, as follows.
 ///
-/// Automatic choices (lobe count, lobe kind, elevation) are made by the held-out error of
+/// Automatic choices (lobe count, lobe kind, elevation, colour profile) are made by the held-out error of
 /// fit/held_out.hpp (estimateHeldOutError), never by the in-sample error: every candidate is fitted
 /// on each split, and the lowest HeldOutReport::score (the worse of the off-mirror and elevation
 /// ratios) is kept, unless a candidate with fewer parameters is within FitOptions::autoMargin of it.
@@ -84,6 +84,19 @@ enum class ElevationChoice {
 std::string_view toString(ElevationChoice choice);
 ElevationChoice parseElevationChoice(std::string_view name);
 
+/// Whether FitMethod::Shared fits colour profiles (ColorProfile of brdf/lobes.hpp): the chosen
+/// shapes are kept and each channel's weights are solved again with every weight column times the
+/// four cubic Bernstein polynomials in theta_d / 90 degrees (non-negative least squares as before).
+enum class ColorProfileChoice {
+  Auto,             ///< tried after the other choices; kept if it lowers the held-out score by autoMargin
+  None,             ///< ColorProfile::None
+  DifferenceAngle,  ///< ColorProfile::DifferenceAngle (FitMethod::Shared only)
+};
+/// "auto", "none", "difference_angle"; parse throws Error(InvalidArgument) listing the accepted names for others
+/// (core/named_values.hpp).
+std::string_view toString(ColorProfileChoice choice);
+ColorProfileChoice parseColorProfileChoice(std::string_view name);
+
 /// The robust loss applied to each residual (ceres::CauchyLoss, ceres::HuberLoss, or none).
 enum class RobustLoss { Cauchy, Huber, None };
 std::string_view toString(RobustLoss loss);
@@ -117,6 +130,15 @@ struct FitOptions {
   /// FitMethod::Shared with an auto choice that chose varying lobes: the prior is also tried at 0.1
   /// times varyingPrior, and kept if that lowers the held-out score by autoMargin.
   bool chooseVaryingPrior = true;
+  /// Colour profiles in theta_d (see ColorProfileChoice). Auto tries them only with a held-out
+  /// estimate (FitMethod::Shared, enough rows away from the mirror, and estimateHeldOut or another
+  /// auto choice); DifferenceAngle needs FitMethod::Shared.
+  ColorProfileChoice colorProfile = ColorProfileChoice::Auto;
+  /// ColorProfileChoice::Auto: profiles are kept only if they lower the held-out score by this fraction,
+  /// in (0, 1). They quadruple each channel's weights, and on a synthetic table without any colour
+  /// shift they lowered the score by 2 % (tests/fit/test_color_profile.cpp); on the colour-shifting
+  /// Mystique paint by 10 % (docs/fitting.md).
+  double colorProfileMargin = 0.05;
   /// Auto choices: a candidate with more parameters is kept only if its held-out score is below
   /// (1 - autoMargin) times the best score of the candidates with fewer parameters. In (0, 1).
   double autoMargin = 0.01;
@@ -191,6 +213,7 @@ struct ModelCandidate {
   double seconds = 0.0;         ///< wall time of the held-out estimate (every split's fit)
   double maxExponent = 0.0;     ///< the exponent cap of the shared method (0: not recorded)
   double varyingPrior = 0.0;    ///< the prior on varying shapes of the shared method (0: not recorded)
+  ColorProfile colorProfile = ColorProfile::None;
   bool chosen = false;
 
   /// Mirror lobes: radially symmetric about the mirrored view, so they prefilter an environment
