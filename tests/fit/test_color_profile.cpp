@@ -58,8 +58,7 @@ double profiledByHand(const LobeModel& m, std::size_t c, const Vec3& l, const Ve
   const double halfWeight = half.weight[0] * cubicByHand(half.weightProfile, s) +
                             half.fresnel * cubicByHand(half.fresnelProfile, s) * std::pow(1.0 - l.dot(h), 5.0);
   return ch.diffuse * cubicByHand(ch.diffuseProfile, s) / kPi +
-         mirror.weight[0] * cubicByHand(mirror.weightProfile, s) * mirrorLobe +
-         halfWeight * d / (4.0 * l.z() * v.z());
+         mirror.weight[0] * cubicByHand(mirror.weightProfile, s) * mirrorLobe + halfWeight * d / (4.0 * l.z() * v.z());
 }
 
 Vec3 randomDirection(std::mt19937& random) {
