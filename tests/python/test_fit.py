@@ -82,6 +82,32 @@ def test_evaluate_gives_the_model_formula_and_the_tools_eval(table, cli, tmp_pat
     assert np.allclose(fit.evaluate(wi[0], wo[:5]), fit.evaluate(np.tile(wi[0], (5, 1)), wo[:5]))
 
 
+def test_colour_profiles_follow_the_formula_in_theta_d(table):
+    fit = brdfbake.fit(table, lobes=1, kind="mirror", elevation="constant", color_profile="difference_angle",
+                       held_out=False, progress=False)
+    assert fit.model["color_profile"] == "difference_angle"
+    rng = np.random.default_rng(7)
+    l = rng.normal(size=(300, 3)) * [1, 1, 2]
+    v = rng.normal(size=(300, 3)) * [1, 1, 2]
+    l[:, 2], v[:, 2] = np.abs(l[:, 2]) + 0.05, np.abs(v[:, 2]) + 0.05
+    l /= np.linalg.norm(l, axis=1, keepdims=True)
+    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    values = fit.evaluate(l, v)
+    # docs/fitting.md: every weight times sum_j p_j binom(3, j) s^j (1 - s)^(3 - j), s = theta_d / 90 degrees,
+    # theta_d the angle between l and the half-vector.
+    h = (l + v) / np.linalg.norm(l + v, axis=1, keepdims=True)
+    s = np.arccos(np.clip(np.sum(l * h, axis=1), -1, 1)) / (math.pi / 2)
+    bernstein = np.stack([(1 - s) ** 3, 3 * s * (1 - s) ** 2, 3 * s ** 2 * (1 - s), s ** 3], axis=1)
+    r = v * [-1, -1, 1]
+    for c, channel in enumerate(fit.channels):
+        expected = channel["diffuse"] * (bernstein @ channel["diffuse_profile"]) / math.pi
+        lobe = channel["lobes"][0]
+        n = lobe["exponent"][0]
+        expected += (lobe["weight"][0] * (bernstein @ lobe["weight_profile"]) * (n + 2) / (2 * math.pi)
+                     * np.maximum(0.0, np.sum(r * l, axis=1)) ** n)
+        assert np.allclose(values[:, c], expected, rtol=1e-10, atol=1e-14)
+
+
 def test_a_cornell_table_fits_as_the_tool_fits_it(cornell, cli, tmp_path):
     table = cornell / "krylon_blue_RGB.astm"
     tool = run_cli(cli, "fit", table, "--threads", 2)
@@ -107,6 +133,9 @@ def test_a_cornell_table_fits_as_the_tool_fits_it(cornell, cli, tmp_path):
         ({"channels": "cmyk"}, brdfbake.InvalidArgumentError, "channels: "),
         ({"rgb": "srgb"}, brdfbake.InvalidArgumentError, "rgb: "),
         ({"channels": "spectral"}, brdfbake.InvalidArgumentError, "spectral"),
+        ({"color_profile": "theta_h"}, brdfbake.InvalidArgumentError, "color_profile: "),
+        ({"method": "per_channel", "color_profile": "difference_angle"}, brdfbake.InvalidArgumentError,
+         "colour profiles are fitted by the shared method only"),
     ],
 )
 def test_bad_options_raise_errors_naming_them(table, options, error, words):
