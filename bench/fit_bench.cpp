@@ -188,7 +188,7 @@ double median(std::vector<double> values) {
   return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
-// "3 half_vector, cap 3000" or "2 mirror varying".
+// "3 half_vector varying, profiled, cap 3000" or "2 mirror varying".
 std::string modelLabel(const FitResult& fit) {
   const auto chosen =
       std::find_if(fit.candidates.begin(), fit.candidates.end(), [](const ModelCandidate& m) { return m.chosen; });
@@ -198,6 +198,7 @@ std::string modelLabel(const FitResult& fit) {
   if (chosen != fit.candidates.end()) kind = chosen->kind;
   std::ostringstream label;
   label << lobes << " " << toString(kind) << " " << toString(fit.model.elevation);
+  if (fit.model.colorProfile != ColorProfile::None) label << ", profiled";
   if (fit.options.method == FitMethod::Shared) label << ", cap " << fit.options.maxExponent;
   return label.str();
 }
