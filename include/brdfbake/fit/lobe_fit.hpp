@@ -217,7 +217,8 @@ struct ModelCandidate {
   bool chosen = false;
 
   /// Mirror lobes: radially symmetric about the mirrored view, so they prefilter an environment
-  /// (constant: in one pass; varying: into a stack over elevation, docs/prefilter.md).
+  /// (constant: in one pass; varying or colour-profiled: into a stack over elevation, a profile taken
+  /// at the lobes' centre, docs/prefilter.md).
   bool radiallySymmetric() const { return kind == LobeKindChoice::Mirror; }
   /// A held-out ratio at or above 1: no better than a Lambertian fit on that measure. Such a
   /// candidate is never chosen while another is not.
