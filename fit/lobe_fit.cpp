@@ -171,7 +171,7 @@ struct SharedModel {
 
 SharedModel sharedModel(const MeasuredTable& table, const FitOptions& options, LobeKindChoice kind,
                         const LobeModel* warmStart, std::shared_ptr<detail::ShapeSearches> searches = nullptr) {
-  const std::string label = table.sourceFile.empty() ? std::string("table") : table.sourceFile;
+  const std::string label = table.label();
   if (table.channelCount() == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
   detail::SharedFitConfig config;
   config.lobes = options.lobes;

@@ -34,7 +34,7 @@ MirrorDirectionTable strongestNearMirrorTable(const MeasuredTable& table, double
   require(std::isfinite(windowRadians) && windowRadians > 0.0 && windowRadians <= kPi + 1e-12,
           "mirror-direction table: window must be in (0, 180] degrees");
   table.validate();
-  const std::string label = table.sourceFile.empty() ? std::string("table") : table.sourceFile;
+  const std::string label = table.label();
   if (table.size() == 0) throw Error(Error::Kind::InvalidInput, label + ": no samples for a mirror-direction table");
   MirrorDirectionTable result;
   result.thetas = table.incidentThetas();

@@ -640,16 +640,12 @@ LobeModel toModel(const std::vector<Candidate>& chosen, LobeElevation elevation,
   return model;
 }
 
-std::string tableLabel(const MeasuredTable& table) {
-  return table.sourceFile.empty() ? std::string("table") : table.sourceFile;
-}
-
 }  // namespace
 
 // The Ceres per-channel fit of one explicit lobe count and elevation (per_channel_fit.hpp).
 FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options) {
   const auto start = Clock::now();
-  const std::string label = tableLabel(table);
+  const std::string label = table.label();
   const std::size_t channels = table.channelCount();
   if (channels == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
   const LobeModel range = fittedRange(table);
@@ -702,7 +698,7 @@ struct PerChannelFits::State {
 };
 
 PerChannelFits::PerChannelFits(const MeasuredTable& table, const FitOptions& options) {
-  if (table.channelCount() == 0) throw Error(Error::Kind::InvalidInput, tableLabel(table) + ": no channels to fit");
+  if (table.channelCount() == 0) throw Error(Error::Kind::InvalidInput, table.label() + ": no channels to fit");
   state_ = std::make_unique<State>(table, options);
 }
 
@@ -712,7 +708,7 @@ LobeModel PerChannelFits::model(int lobes, LobeElevation elevation) {
   FitOptions asked = state_->options;
   asked.lobes = lobes;
   asked.elevation = elevation == LobeElevation::Constant ? ElevationChoice::Constant : ElevationChoice::Varying;
-  checkDeterminable(state_->sequences, asked, lobes, tableLabel(*state_->table));
+  checkDeterminable(state_->sequences, asked, lobes, state_->table->label());
   state_->sequences.extend(elevation, lobes, state_->arena);
   return toModel(state_->sequences.fitted(elevation, lobes), elevation, lobes, state_->range, *state_->table);
 }

@@ -26,7 +26,7 @@ TableInterpolator::TableInterpolator(MeasuredTable table, int neighbours)
     : table_(std::move(table)), neighbours_(neighbours) {
   require(neighbours >= 1, "table interpolation: neighbours must be >= 1");
   table_.validate();
-  const std::string label = table_.sourceFile.empty() ? std::string("table") : table_.sourceFile;
+  const std::string label = table_.label();
   if (table_.size() == 0) throw Error(Error::Kind::InvalidInput, label + ": no samples to interpolate");
   for (std::size_t i = 0; i < table_.size(); ++i) {
     const auto& a = table_.angles[i];

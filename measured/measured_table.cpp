@@ -170,10 +170,13 @@ MeasuredTable MeasuredTable::withMirroredHalf(double tolerance) const {
   return full;
 }
 
+std::string MeasuredTable::label() const {
+  if (sourceFile.empty()) return "(table)";
+  return sourceFile;
+}
+
 void MeasuredTable::validate() const {
-  const auto fail = [&](const std::string& message) {
-    return measured::malformed(sourceFile.empty() ? "(table)" : sourceFile, 0, message);
-  };
+  const auto fail = [&](const std::string& message) { return measured::malformed(label(), 0, message); };
   if (static_cast<std::size_t>(values.rows()) != angles.size())
     throw fail(std::to_string(angles.size()) + " sample angles but " + std::to_string(values.rows()) + " value rows");
   if (values.cols() < 1) throw fail("no channels");
@@ -198,8 +201,7 @@ void MeasuredTable::validate() const {
   }
   if (!values.allFinite()) throw fail("non-finite values");
   for (std::size_t i = 0; i < angles.size(); ++i)
-    measured::checkAngles(angles[i], sourceFile.empty() ? "(table)" : sourceFile, 0,
-                          "sample " + std::to_string(i) + ": ");
+    measured::checkAngles(angles[i], label(), 0, "sample " + std::to_string(i) + ": ");
 }
 
 }  // namespace brdfbake

@@ -110,6 +110,8 @@ struct MeasuredTable {
   /// some phi_i is not 0.
   MeasuredTable withMirroredHalf(double tolerance = 1e-5) const;
 
+  /// What messages call the table: sourceFile, or "(table)" for a table built in memory.
+  std::string label() const;
   /// Throws Error(InvalidInput) naming sourceFile if the table is inconsistent: sizes, channel
   /// names / wavelengths, non-finite values, theta outside [0, pi/2].
   void validate() const;
