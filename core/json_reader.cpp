@@ -109,6 +109,14 @@ int JsonObjectReader::integer(const std::string& key, int fallback, int minimum,
   return has(key) ? integer(key, minimum, maximum) : fallback;
 }
 
+bool JsonObjectReader::boolean(const std::string& key) {
+  const nlohmann::json& value = require(key);
+  if (!value.is_boolean()) throw specError(child(key), "must be true or false, got " + describe(value));
+  return value.get<bool>();
+}
+
+bool JsonObjectReader::boolean(const std::string& key, bool fallback) { return has(key) ? boolean(key) : fallback; }
+
 Rgb JsonObjectReader::asColor(const nlohmann::json& value, const std::string& path) {
   Rgb c;
   if (value.is_number()) {

@@ -86,10 +86,7 @@ void parseGlossChain(JsonObjectReader& env, EnvironmentMapSpec& e, const MapSpec
   }
   const int available = std::min(16, mipLevelCount(spec.resolution));
   g.levels = chain.integer("levels", available, 1, available);
-  if (const auto* fixup = chain.find("edge_fixup")) {
-    if (!fixup->is_boolean()) throw specError(chain.child("edge_fixup"), "must be true or false");
-    g.edgeFixup = fixup->get<bool>();
-  }
+  g.edgeFixup = chain.boolean("edge_fixup", g.edgeFixup);
   chain.finish();
   try {
     if (g.ggx) {
@@ -107,19 +104,12 @@ void parseGlossChain(JsonObjectReader& env, EnvironmentMapSpec& e, const MapSpec
   e.glossChain = g;
 }
 
-bool parseFlag(JsonObjectReader& object, const std::string& key, bool fallback) {
-  const auto* value = object.find(key);
-  if (!value) return fallback;
-  if (!value->is_boolean()) throw specError(object.child(key), "must be true or false, got " + describe(*value));
-  return value->get<bool>();
-}
-
 // What the environment map makes besides one map: mips, a stack over elevation, a Fresnel
 // decomposition, SH irradiance; and which combinations are refused.
 void parseEnvironmentOutputs(JsonObjectReader& env, EnvironmentMapSpec& e, const MapSpec& spec,
                              const fs::path& baseDirectory) {
   const bool normalLobe = e.analyticLobe() && e.analyticLobe()->indexedByNormal();  // irradiance
-  e.mips = parseFlag(env, "mips", false);
+  e.mips = env.boolean("mips", false);
   // A gloss chain is its own mip chain: "mip_layout": "tiled" puts every level in one file.
   e.mipLayout = materials::parseMipLayout(env, e.mips || e.glossChain.has_value(), spec.output, spec.resolution);
   if (e.glossChain && e.mipLayout == MipLayout::Tiled &&

@@ -51,9 +51,8 @@ MipLayout parseMipLayout(JsonObjectReader& object, bool mips, const fs::path& ou
 void parseMapExtras(JsonObjectReader& map, MapSpec& spec) {
   MaterialMapSpec& m = *spec.materialMap();
   const std::string model = m.modelName();
-  if (const auto* mips = map.find("mips")) {
-    if (!mips->is_boolean()) throw specError(map.child("mips"), "must be true or false, got " + describe(*mips));
-    m.mips = mips->get<bool>();
+  if (map.has("mips")) {
+    m.mips = map.boolean("mips");
     if (m.mips && model != "silhouette") {
       throw specError(map.child("mips"),
                       "only the silhouette model defines its own mip levels (a ring of constant "

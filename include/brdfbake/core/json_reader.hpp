@@ -56,6 +56,9 @@ class JsonObjectReader {
   double number(const std::string& key, double fallback, double minimum, double maximum, bool exclusiveMinimum);
   int integer(const std::string& key, int minimum, int maximum);
   int integer(const std::string& key, int fallback, int minimum, int maximum);
+  /// true or false (no other type is taken for one).
+  bool boolean(const std::string& key);
+  bool boolean(const std::string& key, bool fallback);
   /// [r, g, b] of numbers in [0, kMaxColor], or one number for grey.
   Rgb color(const std::string& key);
   Rgb color(const std::string& key, const Rgb& fallback);
