@@ -63,9 +63,7 @@ ChannelFitStats readStats(JsonObjectReader stats, const std::string& name) {
   s.totalIterations = stats.integer("total_iterations", 0, 1 << 30);
   s.seconds = stats.number("seconds", 0.0);
   s.solver.termination = stats.string("termination");
-  const auto& usable = stats.require("usable");
-  if (!usable.is_boolean()) throw specError(stats.child("usable"), "must be true or false, got " + describe(usable));
-  s.solver.usable = usable.get<bool>();
+  s.solver.usable = stats.boolean("usable");
   s.solver.briefReport = stats.optionalString("brief_report").value_or("");
   stats.finish();
   return s;
@@ -152,6 +150,7 @@ nlohmann::ordered_json candidateToJson(const ModelCandidate& c) {
           {"max_exponent", finite(c.maxExponent, "max exponent")},
           {"varying_prior", finite(c.varyingPrior, "varying prior")},
           {"color_profile", std::string(toString(c.colorProfile))},
+          {"refined", c.refined},
           {"chosen", c.chosen}};
 }
 
@@ -173,6 +172,7 @@ nlohmann::ordered_json fitSectionToJson(const FitResult& fit) {
       {"loss_scale", finite(o.lossScale, "loss scale")},
       {"auto_margin", finite(o.autoMargin, "auto margin")},
       {"color_profile_margin", finite(o.colorProfileMargin, "colour profile margin")},
+      {"refine_candidates", o.refineCandidates},
       {"elevation_margin", finite(o.elevationMargin, "elevation margin")},
       {"requested_lobes", requestedLobes(o.lobes)},
       {"requested_elevation", std::string(toString(o.elevation))},
@@ -323,10 +323,9 @@ ModelCandidate readCandidate(JsonObjectReader c, bool fitHasMethod) {
     if (c.has("max_exponent")) candidate.maxExponent = c.number("max_exponent", 0.0, kMaxLobeExponent);
     if (c.has("varying_prior")) candidate.varyingPrior = c.number("varying_prior", 0.0);
     if (c.has("color_profile")) candidate.colorProfile = c.parsed("color_profile", parseColorProfile);
+    candidate.refined = c.boolean("refined", true);
   }
-  const auto& chosen = c.require("chosen");
-  if (!chosen.is_boolean()) throw specError(c.child("chosen"), "must be true or false");
-  candidate.chosen = chosen.get<bool>();
+  candidate.chosen = c.boolean("chosen");
   c.finish();
   return candidate;
 }
@@ -353,6 +352,7 @@ void readFitSection(JsonObjectReader fit, FitResult& result) {
   o.lossScale = fit.number("loss_scale", 0.0, HUGE_VAL, true);
   o.autoMargin = fit.number("auto_margin", 0.0, 1.0, true);
   if (fit.has("color_profile_margin")) o.colorProfileMargin = fit.number("color_profile_margin", 0.0, 1.0, true);
+  o.refineCandidates = fit.boolean("refine_candidates", false);
   o.elevationMargin = fit.number("elevation_margin", 0.0, 1.0, true);
   o.lobes = readRequestedLobes(fit);
   o.elevation = fit.parsed("requested_elevation", parseElevationChoice);

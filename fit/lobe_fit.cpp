@@ -14,6 +14,7 @@
 #include <iomanip>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <sstream>
 
 namespace brdfbake {
@@ -99,7 +100,8 @@ bool FitResult::usable() const {
 const ModelCandidate* FitResult::bestRadiallySymmetric() const {
   const ModelCandidate* best = nullptr;
   for (const auto& c : candidates) {
-    if (c.radiallySymmetric() && (!best || c.heldOutScore < best->heldOutScore)) best = &c;
+    if (!c.radiallySymmetric() || (best && best->refined && !c.refined)) continue;
+    if (!best || (c.refined && !best->refined) || c.heldOutScore < best->heldOutScore) best = &c;
   }
   return best;
 }
@@ -170,7 +172,8 @@ struct SharedModel {
 };
 
 SharedModel sharedModel(const MeasuredTable& table, const FitOptions& options, LobeKindChoice kind,
-                        const LobeModel* warmStart, std::shared_ptr<detail::ShapeSearches> searches = nullptr) {
+                        const LobeModel* warmStart, std::shared_ptr<detail::ShapeSearches> searches = nullptr,
+                        int gaussNewtonSteps = detail::kGaussNewtonSteps) {
   const std::string label = table.label();
   if (table.channelCount() == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
   detail::SharedFitConfig config;
@@ -184,6 +187,7 @@ SharedModel sharedModel(const MeasuredTable& table, const FitOptions& options, L
   config.colorProfile = options.colorProfile == ColorProfileChoice::DifferenceAngle;
   if (warmStart && !warmStart->channels.empty()) config.startLobes = warmStart->channels[0].lobes;
   config.searches = std::move(searches);
+  config.gaussNewtonSteps = gaussNewtonSteps;
   std::size_t usable = 0;
   for (std::size_t i = 0; i < table.size(); ++i) {
     if (table.incidentDirection(i).z() > 0.0 && table.outgoingDirection(i).z() > 0.0) ++usable;
@@ -273,11 +277,11 @@ FitResult fitCandidate(const MeasuredTable& table, const FitOptions& options, co
 
 // The model alone, for a held-out split (the statistics of a split's fit are never shown).
 LobeModel fitCandidateModel(const MeasuredTable& table, const FitOptions& options, const CandidateConfig& config,
-                            const LobeModel* start = nullptr,
-                            std::shared_ptr<detail::ShapeSearches> searches = nullptr) {
+                            const LobeModel* start = nullptr, std::shared_ptr<detail::ShapeSearches> searches = nullptr,
+                            int gaussNewtonSteps = detail::kGaussNewtonSteps) {
   const FitOptions single = candidateOptions(options, config);
   if (options.method == FitMethod::Shared)
-    return sharedModel(table, single, config.kind, start, std::move(searches)).model;
+    return sharedModel(table, single, config.kind, start, std::move(searches), gaussNewtonSteps).model;
   return detail::fitPerChannel(table, single).model;
 }
 
@@ -300,6 +304,12 @@ int parameterTotal(const CandidateConfig& config, FitMethod method, std::size_t 
 // A kind whose score is more than this factor above the best score so far stops adding lobes:
 // a mixed sequence on the Cayman table scored 0.87 with two lobes and 0.23 with three (docs/fitting.md).
 constexpr double kHopelessScoreFactor = 3.0;
+
+// The Gauss-Newton steps of the split fits that rank the shared method's candidates: none, the
+// weights the shape search ranks shapes by (scoreAsKept scores the chosen one again with the kept
+// fit's, detail::kGaussNewtonSteps). On the seven Cornell tables it changed 4 of the 28 held-out
+// figures of issue 26 (two up, two down) and took 65 to 90 % of the time (docs/fitting.md).
+constexpr int kRankingGaussNewtonSteps = 0;
 
 LogErrorSum allRowsError(const LobeModel& model, const MeasuredTable& table) {
   std::vector<std::size_t> rows(table.size());
@@ -419,6 +429,8 @@ struct TriedCandidate {
   CandidateConfig config;
   HeldOutReport report;
   std::vector<LobeModel> splitFits;
+  std::vector<LobeModel> starts;  // each split's warm start (empty: none)
+  bool final = false;             // the splits' weights solved as the kept fit's (SplitFitter::solveAsKept)
 };
 using Tried = std::vector<TriedCandidate>;
 
@@ -438,7 +450,8 @@ class SplitFitter {
 
   // Scores `config` on every split; split s's fit starts from starts[s] when given (shared method).
   TriedCandidate score(const CandidateConfig& config, const std::vector<LobeModel>* starts = nullptr) {
-    TriedCandidate candidate{config, {}, std::vector<LobeModel>(splits_.size())};
+    TriedCandidate candidate{config, {}, std::vector<LobeModel>(splits_.size()), {}, final_};
+    if (starts) candidate.starts = *starts;
     candidate.report = splits_.estimate([&](std::size_t s, const MeasuredTable& training) {
       candidate.splitFits[s] = fit(s, training, config, starts ? &(*starts)[s] : nullptr);
       return candidate.splitFits[s];
@@ -446,9 +459,17 @@ class SplitFitter {
     return candidate;
   }
 
+  // From here on, split fits solve their weights as the kept fit does. Before, the shared method's
+  // split fits keep the weights its shape search ranks shapes by (kRankingGaussNewtonSteps) unless
+  // FitOptions::refineCandidates; the per-channel method's are final from the start.
+  void solveAsKept() { final_ = true; }
+
  private:
   LobeModel fit(std::size_t s, const MeasuredTable& training, const CandidateConfig& config, const LobeModel* start) {
-    if (options_.method == FitMethod::Shared) return fitCandidateModel(training, options_, config, start, searches_[s]);
+    if (options_.method == FitMethod::Shared) {
+      return fitCandidateModel(training, options_, config, start, searches_[s],
+                               final_ ? detail::kGaussNewtonSteps : kRankingGaussNewtonSteps);
+    }
     auto& fits = perChannel_[s];  // each split is fitted by one task at a time
     if (!fits) fits = std::make_unique<detail::PerChannelFits>(training, candidateOptions(options_, config));
     return fits->model(config.lobes, config.elevation);
@@ -458,6 +479,7 @@ class SplitFitter {
   const FitOptions& options_;
   std::vector<std::shared_ptr<detail::ShapeSearches>> searches_;
   std::vector<std::unique_ptr<detail::PerChannelFits>> perChannel_;
+  bool final_ = options_.method != FitMethod::Shared || options_.refineCandidates;
 };
 
 // Per kind, the lobe count grows; at each count the constant candidate is scored, then the varying
@@ -572,6 +594,24 @@ std::size_t addColorProfile(SplitFitter& fitter, Tried& tried, std::size_t best,
   return tried.back().report.score() < needed ? tried.size() - 1 : best;
 }
 
+// The chosen candidate and the best radially symmetric one (FitResult::bestRadiallySymmetric) scored
+// again with their splits' weights solved as the kept fit's, so the held-out errors reported for them
+// are those of the fits they stand for. Their fits start as they did and reuse the splits' searches.
+void scoreAsKept(SplitFitter& fitter, Tried& tried, std::size_t best) {
+  fitter.solveAsKept();
+  std::optional<std::size_t> radial;
+  for (std::size_t i = 0; i < tried.size(); ++i) {
+    if (tried[i].config.kind != LobeKindChoice::Mirror) continue;
+    if (!radial || tried[i].report.score() < tried[*radial].report.score()) radial = i;
+  }
+  for (std::size_t i = 0; i < tried.size(); ++i) {
+    if (tried[i].final || (i != best && i != radial)) continue;
+    const double ranking = tried[i].report.seconds;
+    tried[i] = fitter.score(tried[i].config, tried[i].starts.empty() ? nullptr : &tried[i].starts);
+    tried[i].report.seconds += ranking;
+  }
+}
+
 // Scores the candidates by held-out error, fits the chosen one to the whole table and lists them all.
 FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
   const std::size_t channels = table.channelCount();
@@ -583,9 +623,10 @@ FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& opt
       weakenVaryingPrior(fitter, tried,
                          lowerExponentCap(fitter, tried, fewestParametersWithinMargin(tried, options, channels))),
       space);
+  scoreAsKept(fitter, tried, best);
   FitResult result = fitCandidate(table, options, tried[best].config);
   for (std::size_t i = 0; i < tried.size(); ++i) {
-    const auto& [config, report, fits] = tried[i];
+    const auto& [config, report, fits, starts, final] = tried[i];
     ModelCandidate c;
     c.lobes = config.lobes;
     c.elevation = config.elevation;
@@ -602,6 +643,7 @@ FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& opt
                          ? (config.varyingPrior >= 0.0 ? config.varyingPrior : options.varyingPrior)
                          : 0.0;
     c.colorProfile = config.colorProfile;
+    c.refined = final;
     c.chosen = i == best;
     if (c.chosen) c.inSampleError = allRowsError(result.model, table).rms();
     result.candidates.push_back(c);

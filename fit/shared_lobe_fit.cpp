@@ -755,7 +755,7 @@ SharedFitOutcome fitSharedLobes(const MeasuredTable& table, const SharedFitConfi
   outcome.model.minCos = range.minCos;
   outcome.model.maxCos = range.maxCos;
   if (table.kind == ChannelKind::Spectral) outcome.model.wavelengthsNm = table.wavelengthsNm;
-  const auto solved = fitter.solveChannels(a, 8);
+  const auto solved = fitter.solveChannels(a, config.gaussNewtonSteps);
   outcome.objective = solved.objective.sum();
   for (Eigen::Index c = 0; c < channels; ++c) {
     LobeChannel channel = channelOf(solved.x.col(c), shapes, config);

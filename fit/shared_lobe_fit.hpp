@@ -30,6 +30,9 @@ namespace brdfbake::detail {
 class ShapeSearches;
 std::shared_ptr<ShapeSearches> makeShapeSearches();
 
+// The Gauss-Newton steps of a fit whose weights are kept (SharedFitConfig::gaussNewtonSteps).
+inline constexpr int kGaussNewtonSteps = 8;
+
 struct SharedFitConfig {
   int lobes = 1;  // 0 = diffuse only
   // Lobe axes a new lobe may take (at least one): Phong lobes about the mirrored view (c_xy = -1),
@@ -68,6 +71,9 @@ struct SharedFitConfig {
   bool colorProfile = false;
   // Compass searches other fits of the same table ran already (may be null; see ShapeSearches).
   std::shared_ptr<ShapeSearches> searches;
+  // Gauss-Newton steps on the weights after the NNLS linearised at the data (each an NNLS of the
+  // residual linearised at the current model). 0 leaves the weights the search ranked shapes by.
+  int gaussNewtonSteps = kGaussNewtonSteps;
 };
 
 struct SharedFitOutcome {

@@ -110,11 +110,12 @@ std::string FitTableResult::briefReport() const {
     out << " (" << std::setprecision(1) << h->seconds << " s)\n";
   }
   if (!fit.candidates.empty()) {
-    out << "  models tried (held-out score = the worse of the k-fold and elevation ratios to Lambert):\n";
+    out << "  models tried (held-out score = the worse of the k-fold and elevation ratios to Lambert; *: weights\n"
+           "  refined as the kept fit's, otherwise linearised at the data as the shape search ranks them):\n";
     auto describe = [&](const ModelCandidate& c) {
       out << c.lobes << " " << toString(c.kind) << " " << toString(c.elevation)
-          << (c.colorProfile == ColorProfile::None ? "" : " colour-profiled") << ", " << c.parameters
-          << " parameters: " << std::setprecision(3) << c.heldOutScore << " (k-fold " << c.kfoldRatio
+          << (c.colorProfile == ColorProfile::None ? "" : " colour-profiled") << (c.refined ? "*" : "") << ", "
+          << c.parameters << " parameters: " << std::setprecision(3) << c.heldOutScore << " (k-fold " << c.kfoldRatio
           << "x, elevations " << c.elevationRatio << "x, " << std::setprecision(1) << c.seconds << " s)";
     };
     for (const auto& c : fit.candidates) {

@@ -255,6 +255,7 @@ TEST(ColorProfileFit, AutoTakesProfilesOnlyWhenTheColoursShift) {
   options.lobes = 1;
   options.kind = LobeKindChoice::HalfVector;
   options.elevation = ElevationChoice::Constant;
+  options.refineCandidates = true;  // the scores compared below are those the choice was made by
   const FitResult shifting = fitLobes(makeSyntheticTable(shiftingModel(), 0.01, 32), options);
   EXPECT_EQ(shifting.model.colorProfile, ColorProfile::DifferenceAngle);
   ASSERT_EQ(shifting.candidates.size(), 2u);

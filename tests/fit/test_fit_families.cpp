@@ -80,6 +80,7 @@ TEST(SharedVaryingFit, AutoTakesVaryingLobesOnlyWhenTheDataVary) {
   FitOptions options;
   options.lobes = 1;
   options.kind = LobeKindChoice::Mirror;
+  options.refineCandidates = true;  // the scores compared below are those the choice was made by
   const FitResult varying = fitLobes(makeSyntheticTable(varyingMirrorModel(), 0.01, 12), options);
   EXPECT_EQ(varying.model.elevation, LobeElevation::Varying);
   const auto chosen = std::find_if(varying.candidates.begin(), varying.candidates.end(),
@@ -152,9 +153,11 @@ TEST(FitCandidates, EachScoresAsItsOwnFit) {
   const MeasuredTable table = ggxTable(0.02, 23);
   FitOptions options;
   options.maxAutoLobes = 2;
+  options.refineCandidates = true;  // every score that of a fit whose weights are kept
   const FitResult automatic = fitLobes(table, options);
   int mixed = 0, profiled = 0;
   for (const auto& candidate : automatic.candidates) {
+    EXPECT_TRUE(candidate.refined);
     mixed += candidate.kind == LobeKindChoice::Mixed;
     profiled += candidate.colorProfile == ColorProfile::DifferenceAngle;
     FitOptions alone = options;
@@ -175,6 +178,38 @@ TEST(FitCandidates, EachScoresAsItsOwnFit) {
   }
   EXPECT_GE(mixed, 2) << automatic.briefReport();
   EXPECT_EQ(profiled, 1) << automatic.briefReport();
+}
+
+TEST(FitCandidates, RankedWithLinearisedWeightsThenTheChosenOneRefined) {
+  // By default the candidates are ranked with the weights the shape search uses; the chosen one and the
+  // best radially symmetric one are scored again with refined weights, and their scores are then what
+  // fitting each alone estimates. On a table whose best model is clear the choice is the one made
+  // with every candidate refined.
+  const MeasuredTable table = ggxTable(0.02, 23);
+  FitOptions options;
+  options.maxAutoLobes = 2;
+  const FitResult ranked = fitLobes(table, options);
+  options.refineCandidates = true;
+  const FitResult refined = fitLobes(table, options);
+  ASSERT_EQ(ranked.candidates.size(), refined.candidates.size()) << ranked.briefReport() << refined.briefReport();
+  const ModelCandidate* radial = ranked.bestRadiallySymmetric();
+  ASSERT_NE(radial, nullptr);
+  EXPECT_TRUE(radial->refined);
+  int refinedCount = 0, differing = 0;
+  for (std::size_t i = 0; i < ranked.candidates.size(); ++i) {
+    const ModelCandidate& c = ranked.candidates[i];
+    EXPECT_EQ(c.chosen, refined.candidates[i].chosen) << i << "\n" << ranked.briefReport() << refined.briefReport();
+    EXPECT_EQ(c.refined, c.chosen || &c == radial) << i;
+    refinedCount += c.refined;
+    if (c.refined) {
+      EXPECT_NEAR(c.heldOutScore, refined.candidates[i].heldOutScore, 1e-9 * c.heldOutScore) << i;
+    } else {
+      differing += std::abs(c.heldOutScore - refined.candidates[i].heldOutScore) > 1e-6 * c.heldOutScore;
+    }
+  }
+  EXPECT_GE(refinedCount, 1);
+  EXPECT_GE(differing, 1);  // the ranking scores are of other weights
+  EXPECT_EQ(ranked.heldOut->score(), refined.heldOut->score());
 }
 
 TEST(FitCandidates, PerChannelEachScoresAsItsOwnFit) {
@@ -215,6 +250,7 @@ TEST(FitCandidates, BestRadiallySymmetricIsReportedAndWritten) {
   const FitResult fit = fitLobes(makeSyntheticTable(truth, 0.01, 14), [] {
     FitOptions o;
     o.maxAutoLobes = 1;
+    o.refineCandidates = true;  // every score comparable with the best one's
     return o;
   }());
   const ModelCandidate* radial = fit.bestRadiallySymmetric();
@@ -233,7 +269,13 @@ TEST(FitCandidates, BestRadiallySymmetricIsReportedAndWritten) {
   EXPECT_EQ(written.at("elevation"), std::string(toString(radial->elevation)));
   EXPECT_NEAR(written.at("held_out_score").get<double>(), radial->heldOutScore, 1e-12);
   const nlohmann::json good = nlohmann::json::parse(json.dump());
-  EXPECT_NO_THROW(fitFileFromJson(good, "fit.json"));
+  const FitFile back = fitFileFromJson(good, "fit.json");
+  EXPECT_TRUE(back.fit.options.refineCandidates);
+  ASSERT_EQ(back.fit.candidates.size(), fit.candidates.size());
+  EXPECT_TRUE(back.fit.candidates[0].refined);
+  nlohmann::json unrefined = good;
+  unrefined["fit"]["candidates"][0]["refined"] = false;
+  EXPECT_FALSE(fitFileFromJson(unrefined, "fit.json").fit.candidates[0].refined);
   // The keys this family added, bad: each error names its JSON path.
   auto expectError = [&](const std::function<void(nlohmann::json&)>& spoil, const std::string& path) {
     nlohmann::json document = good;
@@ -254,6 +296,8 @@ TEST(FitCandidates, BestRadiallySymmetricIsReportedAndWritten) {
               "fit.candidates[0].kfold_ratio");
   expectError([](nlohmann::json& d) { d["fit"]["candidates"][0]["kind"] = "mixxed"; }, "fit.candidates[0].kind");
   expectError([](nlohmann::json& d) { d["fit"]["best_radially_symmetric"] = 3; }, "fit.best_radially_symmetric");
+  expectError([](nlohmann::json& d) { d["fit"]["candidates"][0]["refined"] = 1; }, "fit.candidates[0].refined");
+  expectError([](nlohmann::json& d) { d["fit"]["refine_candidates"] = "yes"; }, "fit.refine_candidates");
 }
 
 TEST(LafortuneFit, CxyStaysWithinTheBound) {
