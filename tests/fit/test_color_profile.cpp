@@ -16,6 +16,7 @@
 #include <numbers>
 #include <random>
 
+#include "fit_file_errors.hpp"
 #include "test_support.hpp"
 
 namespace brdfbake {
@@ -167,15 +168,7 @@ TEST(ColorProfile, FitFileRoundTripsAndNamesBadProfiles) {
     const double expected = profiledByHand(file.fit.model, c, l, v);
     EXPECT_NEAR(back.fit.model.evaluate(c, l, v), expected, 1e-12 * expected);
   }
-  auto expectError = [&](const nlohmann::json& document, const std::string& fragment) {
-    try {
-      fitFileFromJson(document, "fit.json");
-      ADD_FAILURE() << "accepted; expected " << fragment;
-    } catch (const Error& e) {
-      EXPECT_EQ(e.kind(), Error::Kind::InvalidInput);
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-    }
-  };
+  const auto expectError = test::expectFitFileError;
   nlohmann::json d = good;
   d["channels"][0]["diffuse_profile"] = {1.0, 0.5, 0.2};
   expectError(d, "channels[0].diffuse_profile: must hold 4 number(s)");

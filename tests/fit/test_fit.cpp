@@ -20,6 +20,7 @@
 #include <random>
 #include <set>
 
+#include "fit_file_errors.hpp"
 #include "test_support.hpp"
 
 namespace brdfbake {
@@ -459,16 +460,7 @@ TEST(FitFile, ErrorsNameTheJsonPath) {
   file.hasFitInfo = false;
   const nlohmann::json good = nlohmann::json::parse(fitFileToJson(file).dump());
   EXPECT_NO_THROW(fitFileFromJson(good, "fit.json"));
-  auto expectError = [&](nlohmann::json document, const std::string& fragment) {
-    try {
-      fitFileFromJson(document, "fit.json");
-      ADD_FAILURE() << "accepted; expected " << fragment;
-    } catch (const Error& e) {
-      EXPECT_EQ(e.kind(), Error::Kind::InvalidInput);
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-      EXPECT_EQ(std::string(e.what()).rfind("fit.json: ", 0), 0u) << e.what();
-    }
-  };
+  const auto expectError = test::expectFitFileError;
   nlohmann::json d = good;
   d["channels"][1]["lobes"][0]["exponent"][0] = 2e5;
   expectError(d, "channels[1].lobes[0].exponent[0]");
