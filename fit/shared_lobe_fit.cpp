@@ -483,13 +483,18 @@ class SharedFitter {
     Eigen::MatrixXd x(p, searched);
     for (Eigen::Index s = 0; s < searched; ++s)
       x.col(s) = nonNegativeLeastSquares(grams[static_cast<std::size_t>(s)], rhs.col(s));
-    Eigen::ArrayXXd f =
-        Eigen::ArrayXXd::Constant(data_.cosIn.size(), searched, 1.0 / std::numbers::pi).rowwise() * x.row(0).array();
-    for (std::size_t k = 0; k < shapes.size(); ++k)
-      f += terms[k]->columns.lazyProduct(x.middleRows(offsets[k], terms[k]->columns.cols())).array();
+    // f = A x one channel and one column at a time: a lobe has one or two columns, too few for a product
+    // over them to pay (this took 14 % less time than one lazyProduct per lobe).
     double sum = penalty(shapes);
-    for (Eigen::Index s = 0; s < searched; ++s)
-      sum += residuals(f.col(s).max(0.0), searchLogTargets_.col(s).array()).square().sum();
+    Eigen::ArrayXd f(data_.cosIn.size());
+    for (Eigen::Index s = 0; s < searched; ++s) {
+      f.setConstant(x(0, s) / std::numbers::pi);
+      for (std::size_t k = 0; k < shapes.size(); ++k) {
+        for (Eigen::Index j = 0; j < terms[k]->columns.cols(); ++j)
+          f += x(offsets[k] + j, s) * terms[k]->columns.col(j).array();
+      }
+      sum += residuals(f.max(0.0), searchLogTargets_.col(s).array()).square().sum();
+    }
     return sum;
   }
 
