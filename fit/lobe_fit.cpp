@@ -98,10 +98,13 @@ bool FitResult::usable() const {
 }
 
 const ModelCandidate* FitResult::bestRadiallySymmetric() const {
+  // Refined scores first: a ranking score is of other weights than a refined one.
+  const auto better = [](const ModelCandidate& a, const ModelCandidate& b) {
+    return a.refined != b.refined ? a.refined : a.heldOutScore < b.heldOutScore;
+  };
   const ModelCandidate* best = nullptr;
   for (const auto& c : candidates) {
-    if (!c.radiallySymmetric() || (best && best->refined && !c.refined)) continue;
-    if (!best || (c.refined && !best->refined) || c.heldOutScore < best->heldOutScore) best = &c;
+    if (c.radiallySymmetric() && (!best || better(c, *best))) best = &c;
   }
   return best;
 }
@@ -306,7 +309,7 @@ int parameterTotal(const CandidateConfig& config, FitMethod method, std::size_t 
 constexpr double kHopelessScoreFactor = 3.0;
 
 // The Gauss-Newton steps of the split fits that rank the shared method's candidates: none, the
-// weights the shape search ranks shapes by (scoreAsKept scores the chosen one again with the kept
+// weights the shape search ranks shapes by (scoreRefined scores the chosen one again with the kept
 // fit's, detail::kGaussNewtonSteps). On the seven Cornell tables it changed 4 of the 28 held-out
 // figures of issue 26 (two up, two down) and took 65 to 90 % of the time (docs/fitting.md).
 constexpr int kRankingGaussNewtonSteps = 0;
@@ -430,7 +433,7 @@ struct TriedCandidate {
   HeldOutReport report;
   std::vector<LobeModel> splitFits;
   std::vector<LobeModel> starts;  // each split's warm start (empty: none)
-  bool final = false;             // the splits' weights solved as the kept fit's (SplitFitter::solveAsKept)
+  bool refined = false;           // the splits' weights refined as the kept fit's (SplitFitter::refineFromNowOn)
 };
 using Tried = std::vector<TriedCandidate>;
 
@@ -450,7 +453,7 @@ class SplitFitter {
 
   // Scores `config` on every split; split s's fit starts from starts[s] when given (shared method).
   TriedCandidate score(const CandidateConfig& config, const std::vector<LobeModel>* starts = nullptr) {
-    TriedCandidate candidate{config, {}, std::vector<LobeModel>(splits_.size()), {}, final_};
+    TriedCandidate candidate{config, {}, std::vector<LobeModel>(splits_.size()), {}, refined_};
     if (starts) candidate.starts = *starts;
     candidate.report = splits_.estimate([&](std::size_t s, const MeasuredTable& training) {
       candidate.splitFits[s] = fit(s, training, config, starts ? &(*starts)[s] : nullptr);
@@ -459,16 +462,16 @@ class SplitFitter {
     return candidate;
   }
 
-  // From here on, split fits solve their weights as the kept fit does. Before, the shared method's
+  // From here on, split fits refine their weights as the kept fit does. Before, the shared method's
   // split fits keep the weights its shape search ranks shapes by (kRankingGaussNewtonSteps) unless
-  // FitOptions::refineCandidates; the per-channel method's are final from the start.
-  void solveAsKept() { final_ = true; }
+  // FitOptions::refineCandidates; the per-channel method's are refined from the start.
+  void refineFromNowOn() { refined_ = true; }
 
  private:
   LobeModel fit(std::size_t s, const MeasuredTable& training, const CandidateConfig& config, const LobeModel* start) {
     if (options_.method == FitMethod::Shared) {
       return fitCandidateModel(training, options_, config, start, searches_[s],
-                               final_ ? detail::kGaussNewtonSteps : kRankingGaussNewtonSteps);
+                               refined_ ? detail::kGaussNewtonSteps : kRankingGaussNewtonSteps);
     }
     auto& fits = perChannel_[s];  // each split is fitted by one task at a time
     if (!fits) fits = std::make_unique<detail::PerChannelFits>(training, candidateOptions(options_, config));
@@ -479,7 +482,7 @@ class SplitFitter {
   const FitOptions& options_;
   std::vector<std::shared_ptr<detail::ShapeSearches>> searches_;
   std::vector<std::unique_ptr<detail::PerChannelFits>> perChannel_;
-  bool final_ = options_.method != FitMethod::Shared || options_.refineCandidates;
+  bool refined_ = options_.method != FitMethod::Shared || options_.refineCandidates;
 };
 
 // Per kind, the lobe count grows; at each count the constant candidate is scored, then the varying
@@ -595,17 +598,17 @@ std::size_t addColorProfile(SplitFitter& fitter, Tried& tried, std::size_t best,
 }
 
 // The chosen candidate and the best radially symmetric one (FitResult::bestRadiallySymmetric) scored
-// again with their splits' weights solved as the kept fit's, so the held-out errors reported for them
+// again with their splits' weights refined as the kept fit's, so the held-out errors reported for them
 // are those of the fits they stand for. Their fits start as they did and reuse the splits' searches.
-void scoreAsKept(SplitFitter& fitter, Tried& tried, std::size_t best) {
-  fitter.solveAsKept();
+void scoreRefined(SplitFitter& fitter, Tried& tried, std::size_t best) {
+  fitter.refineFromNowOn();
   std::optional<std::size_t> radial;
   for (std::size_t i = 0; i < tried.size(); ++i) {
     if (tried[i].config.kind != LobeKindChoice::Mirror) continue;
     if (!radial || tried[i].report.score() < tried[*radial].report.score()) radial = i;
   }
   for (std::size_t i = 0; i < tried.size(); ++i) {
-    if (tried[i].final || (i != best && i != radial)) continue;
+    if (tried[i].refined || (i != best && i != radial)) continue;
     const double ranking = tried[i].report.seconds;
     tried[i] = fitter.score(tried[i].config, tried[i].starts.empty() ? nullptr : &tried[i].starts);
     tried[i].report.seconds += ranking;
@@ -623,10 +626,10 @@ FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& opt
       weakenVaryingPrior(fitter, tried,
                          lowerExponentCap(fitter, tried, fewestParametersWithinMargin(tried, options, channels))),
       space);
-  scoreAsKept(fitter, tried, best);
+  scoreRefined(fitter, tried, best);
   FitResult result = fitCandidate(table, options, tried[best].config);
   for (std::size_t i = 0; i < tried.size(); ++i) {
-    const auto& [config, report, fits, starts, final] = tried[i];
+    const auto& [config, report, fits, starts, refined] = tried[i];
     ModelCandidate c;
     c.lobes = config.lobes;
     c.elevation = config.elevation;
@@ -643,7 +646,7 @@ FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& opt
                          ? (config.varyingPrior >= 0.0 ? config.varyingPrior : options.varyingPrior)
                          : 0.0;
     c.colorProfile = config.colorProfile;
-    c.refined = final;
+    c.refined = refined;
     c.chosen = i == best;
     if (c.chosen) c.inSampleError = allRowsError(result.model, table).rms();
     result.candidates.push_back(c);

@@ -143,8 +143,8 @@ struct FitOptions {
   /// fit's are (Gauss-Newton steps on the log error). By default candidates are ranked with the
   /// weights the shape search ranks shapes by (linearised at the data), and only the chosen candidate
   /// and the best radially symmetric one are scored again, refined (ModelCandidate::refined): on
-  /// the Cornell tables 15 to 30 % faster with 31 wavelengths, and the same choice on 40 of 42 splits
-  /// (docs/fitting.md).
+  /// the Cornell tables 10 to 25 % faster with 31 wavelengths; 4 of issue 26's 28 held-out figures
+  /// moved, two down and two up (docs/fitting.md).
   bool refineCandidates = false;
   /// Auto choices: a candidate with more parameters is kept only if its held-out score is below
   /// (1 - autoMargin) times the best score of the candidates with fewer parameters. In (0, 1).
