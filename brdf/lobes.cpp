@@ -174,21 +174,39 @@ LobeModel LobeModel::prefilterFormAt(double u) const {
 }
 
 namespace {
-// One channel of the model (see brdf/lobes.hpp) at view cosine u: the diffuse term and every lobe at
-// the elevation coordinate, each weight times its colour profile at theta_d (no allocation: this
-// runs per sample and channel).
-double channelBrdf(const LobeModel& model, const LobeChannel& channel, double u, const LobeGeometry& geometry) {
-  const int count = elevationCoefficientCount(model.elevation);
-  const double t = model.elevationCoordinate(u);
-  const double s = model.colorProfile == ColorProfile::None ? 0.0 : geometry.differenceCoordinate();
-  double value = diffuseTerm(channel.diffuse * colorProfileFactor(channel.diffuseProfile, s));
+// What every channel's value at one pair of directions shares: the geometry, the Bernstein weights at
+// the elevation coordinate and at theta_d's (computed once for all channels: each is a few pow calls,
+// and a spectral model has 31 channels of up to a dozen blends and profiles each).
+struct PointTerms {
+  LobeGeometry geometry;
+  int count = 1;                               // elevationCoefficientCount
+  double elevation[kVaryingDegree + 1] = {};   // Bernstein weights at the elevation coordinate
+  double profile[kColorProfileCount] = {1.0};  // Bernstein weights at theta_d / 90 degrees (0 without profiles)
+};
+
+PointTerms pointTerms(const LobeModel& model, double u, const LobeGeometry& geometry) {
+  PointTerms p{geometry};
+  p.count = elevationCoefficientCount(model.elevation);
+  if (p.count > 1) bernsteinWeights(p.count, model.elevationCoordinate(u), p.elevation);
+  if (model.colorProfile != ColorProfile::None)
+    bernsteinWeights(kColorProfileCount, std::clamp(geometry.differenceCoordinate(), 0.0, 1.0), p.profile);
+  return p;
+}
+
+// One channel of the model (see brdf/lobes.hpp) at one point: the diffuse term and every lobe at the
+// elevation coordinate, each weight times its colour profile at theta_d (no allocation: this runs per
+// sample and channel).
+double channelBrdf(const LobeChannel& channel, const PointTerms& p) {
+  double value = diffuseTerm(channel.diffuse * colorProfileFactorWith(channel.diffuseProfile, p.profile));
   for (const auto& lobe : channel.lobes) {
-    const double weight = elevationBlend(lobe.weight.data(), count, t) * colorProfileFactor(lobe.weightProfile, s);
-    const double exponent = elevationBlend(lobe.exponent.data(), count, t);
+    const double weight = elevationBlendWith(lobe.weight.data(), p.count, p.elevation) *
+                          colorProfileFactorWith(lobe.weightProfile, p.profile);
+    const double exponent = elevationBlendWith(lobe.exponent.data(), p.count, p.elevation);
     if (lobe.halfVector) {
-      value += halfVectorLobe(weight, lobe.fresnel * colorProfileFactor(lobe.fresnelProfile, s), exponent, geometry);
+      const double fresnel = lobe.fresnel * colorProfileFactorWith(lobe.fresnelProfile, p.profile);
+      value += halfVectorLobe(weight, fresnel, exponent, p.geometry);
     } else {
-      value += normalizedLobe(weight, exponent, geometry.cosine(lobe.cxy));
+      value += normalizedLobe(weight, exponent, p.geometry.cosine(lobe.cxy));
     }
   }
   return value;
@@ -197,18 +215,21 @@ double channelBrdf(const LobeModel& model, const LobeChannel& channel, double u,
 
 double LobeModel::evaluate(std::size_t channel, const Vec3& wi, const Vec3& wo) const {
   if (!(wi.z() > 0.0) || !(wo.z() > 0.0)) return 0.0;
-  return channelBrdf(*this, channels.at(channel), wo.z(), LobeGeometry::local(wi, wo));
+  return channelBrdf(channels.at(channel), pointTerms(*this, wo.z(), LobeGeometry::local(wi, wo)));
 }
 
 Eigen::VectorXd LobeModel::evaluate(const Vec3& wi, const Vec3& wo) const {
-  Eigen::VectorXd values(static_cast<Eigen::Index>(channels.size()));
-  for (std::size_t c = 0; c < channels.size(); ++c) values[static_cast<Eigen::Index>(c)] = evaluate(c, wi, wo);
+  Eigen::VectorXd values = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(channels.size()));
+  if (!(wi.z() > 0.0) || !(wo.z() > 0.0)) return values;
+  const PointTerms point = pointTerms(*this, wo.z(), LobeGeometry::local(wi, wo));
+  for (std::size_t c = 0; c < channels.size(); ++c)
+    values[static_cast<Eigen::Index>(c)] = channelBrdf(channels[c], point);
   return values;
 }
 
 double LobeModel::mirrorValue(std::size_t channel, double u) const {
   // l = v mirrored: l_x v_x + l_y v_y = -(1 - u^2), l_z v_z = u^2 (r_v . l = 1), h = n.
-  return channelBrdf(*this, channels.at(channel), u, {-(1.0 - u * u), u * u, u, u});
+  return channelBrdf(channels.at(channel), pointTerms(*this, u, {-(1.0 - u * u), u * u, u, u}));
 }
 
 bool LobeModel::allAboutMirror() const {
@@ -245,10 +266,10 @@ bool LobeMaterial::viewIndependent() const {
 Rgb LobeMaterial::brdf(const Vec3& normal, const Vec3& view, const Vec3& light) const {
   const double nv = normal.dot(view), nl = normal.dot(light);
   if (!(nv > 0.0) || !(nl > 0.0)) return Rgb::Zero();
-  const LobeGeometry geometry = LobeGeometry::of(normal, light, view);
+  const PointTerms point = pointTerms(model_, nv, LobeGeometry::of(normal, light, view));
   Eigen::VectorXd values(static_cast<Eigen::Index>(model_.channelCount()));
   for (std::size_t c = 0; c < model_.channelCount(); ++c) {
-    values[static_cast<Eigen::Index>(c)] = channelBrdf(model_, model_.channels[c], nv, geometry);
+    values[static_cast<Eigen::Index>(c)] = channelBrdf(model_.channels[c], point);
   }
   return toRgb(values);
 }

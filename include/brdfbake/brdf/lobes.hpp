@@ -144,18 +144,26 @@ T geometricBlend(const T* logValues, const double* weights, int count) {
   return exp(logValue);
 }
 
+/// elevationBlend with the Bernstein weights at t given (bernsteinWeights(count, t, weights)), for
+/// many parameters blended at one elevation.
+template <class T>
+T elevationBlendWith(const T* coefficients, int count, const double* weights) {
+  if (count == 1) return coefficients[0];
+  using std::log;
+  T logs[8];
+  for (int j = 0; j < count && j < 8; ++j) logs[j] = log(coefficients[j]);
+  return geometricBlend(logs, weights, count);
+}
+
 /// A lobe parameter at elevation coordinate t in [0, 1] (LobeModel::elevationCoordinate):
 /// `coefficients[0]` when `count` is 1, else geometricBlend of the logarithms of the `count`
 /// coefficients (all > 0) with Bernstein weights of degree count - 1.
 template <class T>
 T elevationBlend(const T* coefficients, int count, double t) {
   if (count == 1) return coefficients[0];
-  using std::log;
   double weights[8];
-  T logs[8];
-  for (int j = 0; j < count && j < 8; ++j) logs[j] = log(coefficients[j]);
   bernsteinWeights(count, t, weights);
-  return geometricBlend(logs, weights, count);
+  return elevationBlendWith(coefficients, count, weights);
 }
 
 /// One normalised lobe at a positive cosine to its axis, given as logCosToAxis = ln cosToAxis:
@@ -232,10 +240,18 @@ T halfVectorLobe(const T& weight, const T& fresnelWeight, const T& exponent, con
 
 /// A colour profile's factor at s in [0, 1] (see @file): sum_j p_j B_j(s) over its
 /// kColorProfileCount coefficients; 1 for an empty profile (none).
+inline double colorProfileFactorWith(const std::vector<double>& profile, const double* weights);
 inline double colorProfileFactor(const std::vector<double>& profile, double s) {
   if (profile.empty()) return 1.0;
   double weights[kColorProfileCount];
   bernsteinWeights(kColorProfileCount, std::clamp(s, 0.0, 1.0), weights);
+  return colorProfileFactorWith(profile, weights);
+}
+
+/// colorProfileFactor with the Bernstein weights at s given (bernsteinWeights(kColorProfileCount,
+/// s, weights), s clamped to [0, 1]), for many profiles at one theta_d.
+inline double colorProfileFactorWith(const std::vector<double>& profile, const double* weights) {
+  if (profile.empty()) return 1.0;
   double factor = 0.0;
   for (int j = 0; j < kColorProfileCount && j < static_cast<int>(profile.size()); ++j)
     factor += profile[j] * weights[j];
