@@ -512,7 +512,10 @@ class SharedFitter {
         for (Eigen::Index j = 0; j < terms[k]->columns.cols(); ++j)
           f += x(offsets[k] + j, s) * terms[k]->columns.col(j).array();
       }
-      sum += searchResiduals(f, s).square().cast<double>().sum();
+      // Squared and summed in double, in packets: the cast in one expression with the sum made it one
+      // scalar chain of additions, a seventh of this function's time.
+      const Eigen::ArrayXd r = searchResiduals(f, s).cast<double>();
+      sum += r.square().sum();
     }
     return sum;
   }
