@@ -78,10 +78,12 @@ TEST(ColorProfile, EvaluatesTheWrittenFormulaReciprocally) {
     Vec3 v = randomDirection(random), l = randomDirection(random);
     if (trial % 2) l = (Vec3(-v.x(), -v.y(), v.z()) + 0.1 * l).normalized();
     if (l.z() <= 0.0) continue;
+    const Eigen::VectorXd all = m.evaluate(l, v);  // every channel at once: the weights computed once
     for (std::size_t c = 0; c < 3; ++c) {
       const double expected = profiledByHand(m, c, l, v);
       EXPECT_NEAR(m.evaluate(c, l, v), expected, 1e-10 * expected) << trial << " channel " << c;
       EXPECT_NEAR(m.evaluate(c, v, l), expected, 1e-10 * expected) << trial << " channel " << c;
+      EXPECT_NEAR(all[static_cast<Eigen::Index>(c)], expected, 1e-10 * expected) << trial << " channel " << c;
     }
   }
 }

@@ -126,6 +126,21 @@ TEST(LobeFormula, VaryingParametersAreGeometricBernsteinBlends) {
   EXPECT_NEAR(m.weight(0, 0, m.minCos), 0.80, 1e-12);
   EXPECT_NEAR(m.weight(0, 0, 0.01), 0.80, 1e-12);
   EXPECT_NEAR(m.exponent(0, 0, 1.0), 25.0, 1e-9);
+  // The whole model, one channel and every channel at once (which blends each value once per point).
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  for (int i = 0; i < 200; ++i) {
+    const Vec3 wo = directionFromAngles(0.5 * kPi * uniform(rng), kTwoPi * uniform(rng));
+    const Vec3 rv(-wo.x(), -wo.y(), wo.z());
+    const Vec3 wi = i % 2 ? (rv + 0.2 * directionFromAngles(kPi * uniform(rng), kTwoPi * uniform(rng))).normalized()
+                          : directionFromAngles(0.5 * kPi * uniform(rng), kTwoPi * uniform(rng));
+    const Eigen::VectorXd all = m.evaluate(wi, wo);
+    for (std::size_t c = 0; c < 3; ++c) {
+      const double expected = modelByHand(m, c, wi, wo);
+      EXPECT_NEAR(m.evaluate(c, wi, wo), expected, 1e-9 * std::max(1.0, expected)) << i << " channel " << c;
+      EXPECT_NEAR(all[static_cast<Eigen::Index>(c)], expected, 1e-9 * std::max(1.0, expected)) << i << " channel " << c;
+    }
+  }
 }
 
 TEST(LobeFormula, NormalisedLobeReflectsItsWeightAboutItsAxis) {
