@@ -179,9 +179,10 @@ namespace {
 // and a spectral model has 31 channels of up to a dozen blends and profiles each).
 struct PointTerms {
   LobeGeometry geometry;
-  int count = 1;                               // elevationCoefficientCount
-  double elevation[kVaryingDegree + 1] = {};   // Bernstein weights at the elevation coordinate
-  double profile[kColorProfileCount] = {1.0};  // Bernstein weights at theta_d / 90 degrees (0 without profiles)
+  int count = 1;                              // elevationCoefficientCount
+  double elevation[kVaryingDegree + 1] = {};  // Bernstein weights at the elevation coordinate
+  double profile[kColorProfileCount] = {
+      1.0};  // Bernstein weights at theta_d / 90 degrees (at 0, unused, without profiles)
 };
 
 PointTerms pointTerms(const LobeModel& model, double u, const LobeGeometry& geometry) {

@@ -238,24 +238,24 @@ T halfVectorLobe(const T& weight, const T& fresnelWeight, const T& exponent, con
          T(0.25 / (g.lightZ * g.viewZ));
 }
 
-/// A colour profile's factor at s in [0, 1] (see @file): sum_j p_j B_j(s) over its
-/// kColorProfileCount coefficients; 1 for an empty profile (none).
-inline double colorProfileFactorWith(const std::vector<double>& profile, const double* weights);
-inline double colorProfileFactor(const std::vector<double>& profile, double s) {
-  if (profile.empty()) return 1.0;
-  double weights[kColorProfileCount];
-  bernsteinWeights(kColorProfileCount, std::clamp(s, 0.0, 1.0), weights);
-  return colorProfileFactorWith(profile, weights);
-}
-
-/// colorProfileFactor with the Bernstein weights at s given (bernsteinWeights(kColorProfileCount,
-/// s, weights), s clamped to [0, 1]), for many profiles at one theta_d.
+/// A colour profile's factor from the Bernstein weights at s (bernsteinWeights(kColorProfileCount, s,
+/// weights), s in [0, 1]): sum_j p_j B_j(s) over its kColorProfileCount coefficients; 1 for an empty
+/// profile (none). For many profiles at one theta_d, the weights computed once.
 inline double colorProfileFactorWith(const std::vector<double>& profile, const double* weights) {
   if (profile.empty()) return 1.0;
   double factor = 0.0;
   for (int j = 0; j < kColorProfileCount && j < static_cast<int>(profile.size()); ++j)
     factor += profile[j] * weights[j];
   return factor;
+}
+
+/// A colour profile's factor at s (see @file), s clamped to [0, 1]: colorProfileFactorWith the
+/// Bernstein weights at s; 1 for an empty profile (none).
+inline double colorProfileFactor(const std::vector<double>& profile, double s) {
+  if (profile.empty()) return 1.0;
+  double weights[kColorProfileCount];
+  bernsteinWeights(kColorProfileCount, std::clamp(s, 0.0, 1.0), weights);
+  return colorProfileFactorWith(profile, weights);
 }
 
 /// The diffuse term of a lobe model, diffuse / pi in 1/sr (`diffuse` is an albedo).
