@@ -181,8 +181,8 @@ struct PointTerms {
   LobeGeometry geometry;
   int count = 1;                              // elevationCoefficientCount
   double elevation[kVaryingDegree + 1] = {};  // Bernstein weights at the elevation coordinate
-  double profile[kColorProfileCount] = {
-      1.0};  // Bernstein weights at theta_d / 90 degrees (at 0, unused, without profiles)
+  // Bernstein weights at theta_d / 90 degrees (those at 0, unused, without profiles).
+  double profile[kColorProfileCount] = {1.0};
 };
 
 PointTerms pointTerms(const LobeModel& model, double u, const LobeGeometry& geometry) {
@@ -193,6 +193,10 @@ PointTerms pointTerms(const LobeModel& model, double u, const LobeGeometry& geom
     bernsteinWeights(kColorProfileCount, std::clamp(geometry.differenceCoordinate(), 0.0, 1.0), p.profile);
   return p;
 }
+
+// The geometry of the light on the view's mirror direction at view cosine u: l_x v_x + l_y v_y =
+// -(1 - u^2), l_z v_z = u^2 (r_v . l = 1), h = n.
+LobeGeometry mirrorGeometry(double u) { return {-(1.0 - u * u), u * u, u, u}; }
 
 // One channel of the model (see brdf/lobes.hpp) at one point: the diffuse term and every lobe at the
 // elevation coordinate, each weight times its colour profile at theta_d (no allocation: this runs per
@@ -229,8 +233,7 @@ Eigen::VectorXd LobeModel::evaluate(const Vec3& wi, const Vec3& wo) const {
 }
 
 double LobeModel::mirrorValue(std::size_t channel, double u) const {
-  // l = v mirrored: l_x v_x + l_y v_y = -(1 - u^2), l_z v_z = u^2 (r_v . l = 1), h = n.
-  return channelBrdf(channels.at(channel), pointTerms(*this, u, {-(1.0 - u * u), u * u, u, u}));
+  return channelBrdf(channels.at(channel), pointTerms(*this, u, mirrorGeometry(u)));
 }
 
 bool LobeModel::allAboutMirror() const {
@@ -276,9 +279,11 @@ Rgb LobeMaterial::brdf(const Vec3& normal, const Vec3& view, const Vec3& light) 
 }
 
 Rgb LobeMaterial::mirrorRgb(double nDotV) const {
+  const double u = clampFinite(nDotV, 0.0, 1.0);
+  const PointTerms point = pointTerms(model_, u, mirrorGeometry(u));  // once for every channel
   Eigen::VectorXd values(static_cast<Eigen::Index>(model_.channelCount()));
   for (std::size_t c = 0; c < model_.channelCount(); ++c) {
-    values[static_cast<Eigen::Index>(c)] = model_.mirrorValue(c, clampFinite(nDotV, 0.0, 1.0));
+    values[static_cast<Eigen::Index>(c)] = channelBrdf(model_.channels[c], point);
   }
   return toRgb(values);
 }
