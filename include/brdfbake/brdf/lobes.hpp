@@ -205,10 +205,12 @@ struct LobeGeometry {
   /// the cosine to the mirrored view (Phong); c_xy = +1 gives l . v, a lobe about the view
   /// (retro-reflection).
   double cosine(double cxy) const { return cxy * horizontal + vertical; }
-  /// n.h, h = (l + v) / |l + v| the half-vector: (n.l + n.v) / sqrt(2 (1 + l.v)); 0 when l = -v.
+  /// n.h, h = (l + v) / |l + v| the half-vector: (n.l + n.v) / sqrt(2 (1 + l.v)), at most 1; 0 when
+  /// l = -v. (Near l = -v, both at the horizon, the rounded quotient can exceed 1 many times over, and
+  /// a lobe's power of it overflow.)
   double cosHalf() const {
     const double sum = 2.0 * (1.0 + horizontal + vertical);  // |l + v|^2
-    return sum > 0.0 ? (lightZ + viewZ) / std::sqrt(sum) : 0.0;
+    return sum > 0.0 ? std::min(1.0, (lightZ + viewZ) / std::sqrt(sum)) : 0.0;
   }
   /// cos theta_d = l.h = sqrt((1 + l.v) / 2), theta_d the difference angle (Rusinkiewicz 1998).
   double cosDifference() const { return std::sqrt(std::clamp(0.5 * (1.0 + horizontal + vertical), 0.0, 1.0)); }
