@@ -198,23 +198,73 @@ PointTerms pointTerms(const LobeModel& model, double u, const LobeGeometry& geom
 // -(1 - u^2), l_z v_z = u^2 (r_v . l = 1), h = n.
 LobeGeometry mirrorGeometry(double u) { return {-(1.0 - u * u), u * u, u, u}; }
 
+// One lobe's value at one point per unit weight, and a half-vector lobe's per unit C_F (0 for others):
+// the model is linear in the weights.
+struct UnitLobe {
+  double perWeight = 0.0;
+  double perFresnel = 0.0;
+};
+
+UnitLobe unitLobe(const Lobe& lobe, const PointTerms& p) {
+  const double exponent = elevationBlendWith(lobe.exponent.data(), p.count, p.elevation);
+  if (lobe.halfVector)
+    return {halfVectorLobe(1.0, 0.0, exponent, p.geometry), halfVectorLobe(0.0, 1.0, exponent, p.geometry)};
+  return {normalizedLobe(1.0, exponent, p.geometry.cosine(lobe.cxy)), 0.0};
+}
+
 // One channel of the model (see brdf/lobes.hpp) at one point: the diffuse term and every lobe at the
-// elevation coordinate, each weight times its colour profile at theta_d (no allocation: this runs per
-// sample and channel).
-double channelBrdf(const LobeChannel& channel, const PointTerms& p) {
+// elevation coordinate, each weight times its colour profile at theta_d, the lobes' values per unit
+// weight from `unit(k, lobe)` (no allocation: this runs per sample and channel).
+template <class UnitLobes>
+double channelBrdf(const LobeChannel& channel, const PointTerms& p, const UnitLobes& unit) {
   double value = diffuseTerm(channel.diffuse * colorProfileFactorWith(channel.diffuseProfile, p.profile));
-  for (const auto& lobe : channel.lobes) {
-    const double weight = elevationBlendWith(lobe.weight.data(), p.count, p.elevation) *
-                          colorProfileFactorWith(lobe.weightProfile, p.profile);
-    const double exponent = elevationBlendWith(lobe.exponent.data(), p.count, p.elevation);
-    if (lobe.halfVector) {
-      const double fresnel = lobe.fresnel * colorProfileFactorWith(lobe.fresnelProfile, p.profile);
-      value += halfVectorLobe(weight, fresnel, exponent, p.geometry);
-    } else {
-      value += normalizedLobe(weight, exponent, p.geometry.cosine(lobe.cxy));
-    }
+  for (std::size_t k = 0; k < channel.lobes.size(); ++k) {
+    const Lobe& lobe = channel.lobes[k];
+    const UnitLobe perUnit = unit(k, lobe);
+    value += elevationBlendWith(lobe.weight.data(), p.count, p.elevation) *
+             colorProfileFactorWith(lobe.weightProfile, p.profile) * perUnit.perWeight;
+    if (lobe.halfVector)
+      value += lobe.fresnel * colorProfileFactorWith(lobe.fresnelProfile, p.profile) * perUnit.perFresnel;
   }
   return value;
+}
+
+double channelBrdf(const LobeChannel& channel, const PointTerms& p) {
+  return channelBrdf(channel, p, [&p](std::size_t, const Lobe& lobe) { return unitLobe(lobe, p); });
+}
+
+// Whether every channel has channel 0's lobe shapes (axis, c_xy and exponents, to the bit), as a
+// shared-shape fit writes them: then a lobe's value per unit weight is the same in every channel.
+bool sharesShapes(const LobeModel& model) {
+  if (model.channels.empty()) return false;
+  const std::vector<Lobe>& first = model.channels.front().lobes;
+  if (first.size() > static_cast<std::size_t>(kMaxModelLobes)) return false;
+  for (const auto& channel : model.channels) {
+    if (channel.lobes.size() != first.size()) return false;
+    for (std::size_t k = 0; k < first.size(); ++k) {
+      const Lobe& a = channel.lobes[k];
+      if (a.halfVector != first[k].halfVector || a.cxy != first[k].cxy || a.exponent != first[k].exponent) return false;
+    }
+  }
+  return true;
+}
+
+// Every channel's value at one point. With shared shapes each lobe's power is taken once for all
+// channels (a 31-wavelength shared fit's value costs the powers of one channel, not 31).
+Eigen::VectorXd channelValues(const LobeModel& model, const PointTerms& p) {
+  Eigen::VectorXd values(static_cast<Eigen::Index>(model.channels.size()));
+  if (!sharesShapes(model)) {
+    for (std::size_t c = 0; c < model.channels.size(); ++c)
+      values[static_cast<Eigen::Index>(c)] = channelBrdf(model.channels[c], p);
+    return values;
+  }
+  std::array<UnitLobe, kMaxModelLobes> units;
+  const std::vector<Lobe>& lobes = model.channels.front().lobes;
+  for (std::size_t k = 0; k < lobes.size(); ++k) units[k] = unitLobe(lobes[k], p);
+  const auto shared = [&units](std::size_t k, const Lobe&) { return units[k]; };
+  for (std::size_t c = 0; c < model.channels.size(); ++c)
+    values[static_cast<Eigen::Index>(c)] = channelBrdf(model.channels[c], p, shared);
+  return values;
 }
 }  // namespace
 
@@ -224,12 +274,8 @@ double LobeModel::evaluate(std::size_t channel, const Vec3& wi, const Vec3& wo) 
 }
 
 Eigen::VectorXd LobeModel::evaluate(const Vec3& wi, const Vec3& wo) const {
-  Eigen::VectorXd values = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(channels.size()));
-  if (!(wi.z() > 0.0) || !(wo.z() > 0.0)) return values;
-  const PointTerms point = pointTerms(*this, wo.z(), LobeGeometry::local(wi, wo));
-  for (std::size_t c = 0; c < channels.size(); ++c)
-    values[static_cast<Eigen::Index>(c)] = channelBrdf(channels[c], point);
-  return values;
+  if (!(wi.z() > 0.0) || !(wo.z() > 0.0)) return Eigen::VectorXd::Zero(static_cast<Eigen::Index>(channels.size()));
+  return channelValues(*this, pointTerms(*this, wo.z(), LobeGeometry::local(wi, wo)));
 }
 
 double LobeModel::mirrorValue(std::size_t channel, double u) const {
@@ -270,22 +316,12 @@ bool LobeMaterial::viewIndependent() const {
 Rgb LobeMaterial::brdf(const Vec3& normal, const Vec3& view, const Vec3& light) const {
   const double nv = normal.dot(view), nl = normal.dot(light);
   if (!(nv > 0.0) || !(nl > 0.0)) return Rgb::Zero();
-  const PointTerms point = pointTerms(model_, nv, LobeGeometry::of(normal, light, view));
-  Eigen::VectorXd values(static_cast<Eigen::Index>(model_.channelCount()));
-  for (std::size_t c = 0; c < model_.channelCount(); ++c) {
-    values[static_cast<Eigen::Index>(c)] = channelBrdf(model_.channels[c], point);
-  }
-  return toRgb(values);
+  return toRgb(channelValues(model_, pointTerms(model_, nv, LobeGeometry::of(normal, light, view))));
 }
 
 Rgb LobeMaterial::mirrorRgb(double nDotV) const {
   const double u = clampFinite(nDotV, 0.0, 1.0);
-  const PointTerms point = pointTerms(model_, u, mirrorGeometry(u));  // once for every channel
-  Eigen::VectorXd values(static_cast<Eigen::Index>(model_.channelCount()));
-  for (std::size_t c = 0; c < model_.channelCount(); ++c) {
-    values[static_cast<Eigen::Index>(c)] = channelBrdf(model_.channels[c], point);
-  }
-  return toRgb(values);
+  return toRgb(channelValues(model_, pointTerms(model_, u, mirrorGeometry(u))));
 }
 
 Rgb LobeMaterial::unlit(const ShadingGeometry& g) const {

@@ -78,7 +78,9 @@ TEST(ColorProfile, EvaluatesTheWrittenFormulaReciprocally) {
     Vec3 v = randomDirection(random), l = randomDirection(random);
     if (trial % 2) l = (Vec3(-v.x(), -v.y(), v.z()) + 0.1 * l).normalized();
     if (l.z() <= 0.0) continue;
-    const Eigen::VectorXd all = m.evaluate(l, v);  // every channel at once: the weights computed once
+    // Every channel at once: the Bernstein weights computed once and, the channels sharing their lobes'
+    // shapes, each lobe's power once for all of them.
+    const Eigen::VectorXd all = m.evaluate(l, v);
     for (std::size_t c = 0; c < 3; ++c) {
       const double expected = profiledByHand(m, c, l, v);
       EXPECT_NEAR(m.evaluate(c, l, v), expected, 1e-10 * expected) << trial << " channel " << c;

@@ -126,7 +126,8 @@ TEST(LobeFormula, VaryingParametersAreGeometricBernsteinBlends) {
   EXPECT_NEAR(m.weight(0, 0, m.minCos), 0.80, 1e-12);
   EXPECT_NEAR(m.weight(0, 0, 0.01), 0.80, 1e-12);
   EXPECT_NEAR(m.exponent(0, 0, 1.0), 25.0, 1e-9);
-  // The whole model, one channel and every channel at once (which blends each value once per point).
+  // The whole model, one channel and every channel at once (which blends each value once per point;
+  // here each channel has its own exponents, so each takes its own powers).
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   for (int i = 0; i < 200; ++i) {
