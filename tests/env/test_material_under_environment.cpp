@@ -268,19 +268,23 @@ TEST(MaterialUnderEnvironment, BadInputIsRefusedClearly) {
 }
 
 TEST(MaterialUnderEnvironment, EveryMapIsFiniteForHardMaterials) {
-  // Half-vector lobes grow as 1 / (n.v) at the rim; a very narrow GGX lobe; a paraboloid map with a
-  // fixed view: every texel finite, and the estimate reported.
+  // Half-vector lobes grow as 1 / (n.v) at the rim; one as narrow as the clear coats fitted to
+  // Cornell lacquers (n = 1e4, where a rounded n.h above 1 overflowed: the matcap of such a fit under
+  // the sample sky failed); a very narrow GGX lobe; a paraboloid map with a fixed view: every texel
+  // finite, and the estimate reported.
   const Environment sky = bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, 32, "sky", 4);
-  LobeModel halfVector;
+  LobeModel halfVector, clearCoat;
   halfVector.channels.push_back({"grey", 0.0, {{{0.5}, {200.0}, -1.0, true, 1.0}}});
+  clearCoat.channels.push_back({"grey", 0.01, {{{0.02}, {1e4}, -1.0, true, 0.1}}});
   const std::vector<std::shared_ptr<const Material>> materials{
       std::make_shared<LobeMaterial>(halfVector, LobeMaterialMode::Lighting),
+      std::make_shared<LobeMaterial>(clearCoat, LobeMaterialMode::Lighting),
       std::make_shared<CookTorranceMaterial>(lighting(MicrofacetDistribution::Ggx, 0.002, copperConductor()))};
   for (const auto& material : materials) {
     for (auto kind : {ParameterizationKind::Sphere, ParameterizationKind::Paraboloid}) {
       UnderEnvironmentOptions options;
       options.parameterization = kind;
-      options.resolution = 16;
+      options.resolution = 64;
       options.samplesPerTexel = 4;
       options.threads = 2;
       if (kind == ParameterizationKind::Paraboloid) options.view = Vec3(0.3, 0.2, 1.0).normalized();
