@@ -10,13 +10,22 @@ mirror, and each of the 30, 50 and 70 degree incident elevations held out whole;
 as a ratio to a per-channel Lambertian fit. Where this predictor beats the lobe fits, the table is
 predictable and the lobe family is what falls short (docs/fitting.md, issue 26's sixth part).
 
-usage: knn_held_out.py TABLE [--neighbours K] [--shared DIR]   (numpy; the shared tool for reading tables)
+Each held-out elevation's figure is also given without its one sample nearest the mirror direction, with that
+sample's measured and predicted values: a Cornell table samples a sharp highlight once per elevation, at an
+offset from its peak that the table's angles do not resolve, and that one sample can hold most of the
+split's error, for a fit and for Lambert alike (docs/fitting.md, issue 26's seventh part). With --brdfbake
+the same figures are given for `brdfbake fit` (default arguments, or those after --).
+
+usage: knn_held_out.py TABLE [--neighbours K] [--shared DIR] [--brdfbake EXE [-- FIT ARGUMENTS]]
+       (numpy; the shared tool for reading tables)
 """
 import argparse
 import math
 import os
 import random
+import subprocess
 import sys
+import tempfile
 
 import numpy as np
 
@@ -49,23 +58,57 @@ def predict(train, held, neighbours):
     return out
 
 
-def ratio(check, channels, splits, neighbours):
+def errors(check, train, held, predicted):
+    """Squared cosine-weighted log errors per held-out row (summed over channels) of a prediction and of
+    the Lambertian fit to the training rows."""
+    lambert = check.lambert_fit(train, len(held[0]) - 4)
+    squares = lambda row, p: sum((math.log1p(max(q, 0.0) * math.cos(row[0]))
+                                  - math.log1p(max(m, 0.0) * math.cos(row[0]))) ** 2 for m, q in zip(row[4:], p))
+    return [squares(r, p) for r, p in zip(held, predicted)], [squares(r, lambert) for r in held]
+
+
+def ratio(check, splits, predictor):
     """sqrt(sum of squared errors / sum of Lambert's), pooled over (train, held) splits."""
     fit = lam = 0.0
     for train, held in splits:
-        e = check.logerr(held, predict(train, held, neighbours))
-        l = check.logerr(held, [check.lambert_fit(train, channels)] * len(held))
-        fit += e * e * len(held)
-        lam += l * l * len(held)
+        e, l = errors(check, train, held, predictor(train, held))
+        fit, lam = fit + sum(e), lam + sum(l)
     return math.sqrt(fit / lam)
 
 
+def elevation_figures(check, train, held, predicted):
+    """The split's ratio, the ratio without the sample nearest the mirror, and that sample (channel means)."""
+    e, l = errors(check, train, held, predicted)
+    m = min(range(len(held)), key=lambda i: check.mirror_offset_deg(held[i]))
+    rest = math.sqrt((sum(e) - e[m]) / (sum(l) - l[m]))
+    mean = lambda values: sum(values) / len(values)
+    return "%.3f (%.3f without the mirror sample: %.3g measured, %.3g predicted, %.0f%% of Lambert's error)" % (
+        math.sqrt(sum(e) / sum(l)), rest, mean(held[m][4:]), mean(predicted[m]), 100.0 * l[m] / sum(l))
+
+
+def brdfbake_predictor(check, exe, wavelengths, fit_args):
+    """Predicts held-out rows with `brdfbake fit` on the training rows and `brdfbake eval` (the shared tool
+    fits a table whose channel names end in "nm" with --channels spectral, others with --channels rgb)."""
+    def predict_with_fit(train, held):
+        with tempfile.TemporaryDirectory(prefix="knn-held-out-") as tmp:
+            check.fit_and_predict(exe, wavelengths, train, held, tmp, fit_args)
+            out = subprocess.run([exe, "eval", tmp + "/fit.json", "--pairs", tmp + "/pairs.txt"],
+                                 capture_output=True, text=True, check=True).stdout
+            values = [[float(x) for x in line.replace(",", " ").split()] for line in out.strip().splitlines()]
+            return [v[-len(wavelengths):] for v in values]
+    return predict_with_fit
+
+
 def main():
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("table")
-    parser.add_argument("--neighbours", type=int, default=4)
-    parser.add_argument("--shared", default=os.path.join(os.path.dirname(__file__), "..", "..", "shared"))
-    args = parser.parse_args()
+    argv = sys.argv[1:]
+    fit_args = tuple(argv[argv.index("--") + 1:]) if "--" in argv else ()
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("table", help="a Cornell table (.astm, spectral or RGB, or pbrt-v2 .brdf)")
+    parser.add_argument("--neighbours", type=int, default=4, help="neighbours averaged (default 4)")
+    parser.add_argument("--shared", default=os.path.join(os.path.dirname(__file__), "..", "..", "shared"),
+                        help="the shared folder, for tools/fit_heldout_check.py (default ../shared)")
+    parser.add_argument("--brdfbake", help="also measure `brdfbake fit` with this executable")
+    args = parser.parse_args(argv[:argv.index("--")] if "--" in argv else argv)
     sys.path.insert(0, os.path.join(args.shared, "tools"))
     import fit_heldout_check as check
 
@@ -77,13 +120,22 @@ def main():
     for k in range(5):
         held = set(off_mirror[k::5])
         folds.append(([r for i, r in enumerate(rows) if i not in held], [rows[i] for i in sorted(held)]))
-    figures = ["off-mirror 5-fold %.3f" % ratio(check, len(wavelengths), folds, args.neighbours)]
-    for theta in (30, 50, 70):
-        at = [abs(math.degrees(r[0]) - theta) < 1.0 for r in rows]
-        split = ([r for r, a in zip(rows, at) if not a], [r for r, a in zip(rows, at) if a])
-        figures.append("%d deg %.3f" % (theta, ratio(check, len(wavelengths), [split], args.neighbours)))
-    print(os.path.basename(args.table) + ": " + ", ".join(figures) + " (x Lambert)")
+    predictors = [("nearest neighbours", lambda train, held: predict(train, held, args.neighbours))]
+    if args.brdfbake:
+        predictors.append(("brdfbake fit", brdfbake_predictor(check, args.brdfbake, wavelengths,
+                                                              fit_args or ("--lobes", "auto"))))
+    print("%s (x Lambert):" % os.path.basename(args.table))
+    for name, predictor in predictors:
+        print("  %s: off-mirror 5-fold %.3f" % (name, ratio(check, folds, predictor)))
+        for theta in (30, 50, 70):
+            at = [abs(math.degrees(r[0]) - theta) < 1.0 for r in rows]
+            train, held = [r for r, a in zip(rows, at) if not a], [r for r, a in zip(rows, at) if a]
+            print("    %d deg held out %s" % (theta, elevation_figures(check, train, held,
+                                                                       predictor(train, held))))
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except (OSError, RuntimeError, subprocess.CalledProcessError) as error:
+        sys.exit("knn_held_out.py: %s" % error)
