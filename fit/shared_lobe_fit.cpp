@@ -16,45 +16,54 @@
 
 namespace brdfbake::detail {
 
-Eigen::VectorXd nonNegativeLeastSquares(const Eigen::MatrixXd& gram, const Eigen::VectorXd& rhs) {
+namespace {
+// nonNegativeLeastSquares with its vectors and matrices of at most MaxP rows held on the stack (MaxP =
+// Eigen::Dynamic: on the heap): the shape search solves a few small problems per trial, and their
+// allocations were a tenth of its time.
+template <int MaxP>
+Eigen::VectorXd nonNegativeLeastSquaresOf(const Eigen::MatrixXd& gram, const Eigen::VectorXd& rhs) {
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, MaxP, 1>;
+  using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, MaxP, MaxP>;
   const Eigen::Index p = rhs.size();
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(p);
-  std::vector<bool> passive(static_cast<std::size_t>(p), false);
+  Vector x = Vector::Zero(p);
+  using Flags = Eigen::Matrix<bool, Eigen::Dynamic, 1, 0, MaxP, 1>;
+  Flags passive = Flags::Constant(p, false);
   const double scale = std::max(gram.diagonal().maxCoeff(), 1e-300);
   const double tolerance = 1e-13 * std::max(rhs.cwiseAbs().maxCoeff(), 1e-300);
   // The unconstrained least-squares solution on the passive set (others 0), a tiny ridge against
   // columns that are (nearly) dependent.
   auto solvePassive = [&] {
-    std::vector<Eigen::Index> index;
+    Eigen::Matrix<Eigen::Index, Eigen::Dynamic, 1, 0, MaxP, 1> index(p);
+    Eigen::Index m = 0;
     for (Eigen::Index j = 0; j < p; ++j)
-      if (passive[static_cast<std::size_t>(j)]) index.push_back(j);
-    const auto m = static_cast<Eigen::Index>(index.size());
-    Eigen::MatrixXd g(m, m);
-    Eigen::VectorXd h(m);
+      if (passive[j]) index[m++] = j;
+    Matrix g(m, m);
+    Vector h(m);
     for (Eigen::Index a = 0; a < m; ++a) {
       h[a] = rhs[index[a]];
       for (Eigen::Index b = 0; b < m; ++b) g(a, b) = gram(index[a], index[b]);
       g(a, a) += 1e-12 * std::max(gram(index[a], index[a]), 1e-300);
     }
-    const Eigen::VectorXd s = g.ldlt().solve(h);
-    Eigen::VectorXd z = Eigen::VectorXd::Zero(p);
+    const Vector s = Eigen::LDLT<Matrix>(g).solve(h);
+    Vector z = Vector::Zero(p);
     for (Eigen::Index a = 0; a < m; ++a) z[index[a]] = s[a];
     return z;
   };
   for (int outer = 0; outer < 3 * p + 3; ++outer) {
-    const Eigen::VectorXd w = rhs - gram * x;
+    Vector w = rhs;
+    w.noalias() -= gram * x;
     Eigen::Index best = -1;
     for (Eigen::Index j = 0; j < p; ++j) {
-      if (!passive[static_cast<std::size_t>(j)] && w[j] > tolerance && (best < 0 || w[j] > w[best])) best = j;
+      if (!passive[j] && w[j] > tolerance && (best < 0 || w[j] > w[best])) best = j;
     }
     if (best < 0) break;
-    passive[static_cast<std::size_t>(best)] = true;
+    passive[best] = true;
     for (int inner = 0; inner < 3 * p + 3; ++inner) {
-      Eigen::VectorXd z = solvePassive();
+      const Vector z = solvePassive();
       bool feasible = true;
       double alpha = 1.0;
       for (Eigen::Index j = 0; j < p; ++j) {
-        if (passive[static_cast<std::size_t>(j)] && z[j] <= 0.0) {
+        if (passive[j] && z[j] <= 0.0) {
           feasible = false;
           const double denominator = x[j] - z[j];
           if (denominator > 0.0) alpha = std::min(alpha, x[j] / denominator);
@@ -66,14 +75,21 @@ Eigen::VectorXd nonNegativeLeastSquares(const Eigen::MatrixXd& gram, const Eigen
       }
       x += alpha * (z - x);
       for (Eigen::Index j = 0; j < p; ++j) {
-        if (passive[static_cast<std::size_t>(j)] && x[j] <= 1e-15 * scale) {
-          passive[static_cast<std::size_t>(j)] = false;
+        if (passive[j] && x[j] <= 1e-15 * scale) {
+          passive[j] = false;
           x[j] = 0.0;
         }
       }
     }
   }
   return x.cwiseMax(0.0);
+}
+}  // namespace
+
+Eigen::VectorXd nonNegativeLeastSquares(const Eigen::MatrixXd& gram, const Eigen::VectorXd& rhs) {
+  if (rhs.size() <= 8) return nonNegativeLeastSquaresOf<8>(gram, rhs);
+  if (rhs.size() <= 32) return nonNegativeLeastSquaresOf<32>(gram, rhs);
+  return nonNegativeLeastSquaresOf<Eigen::Dynamic>(gram, rhs);
 }
 
 namespace {
@@ -470,8 +486,11 @@ class SharedFitter {
   double searchObjective(const std::vector<Shape>& shapes) {
     ++evaluations;
     if (!admissible(shapes)) return HUGE_VAL;
-    std::vector<const LobeTerms*> terms;
-    std::vector<Eigen::Index> offsets;  // each lobe's first column in the design
+    // The buffers are the fitter's, reused from trial to trial (their allocations were a tenth of
+    // this function's time).
+    std::vector<const LobeTerms*>& terms = scratch_.terms;
+    std::vector<Eigen::Index>& offsets = scratch_.offsets;  // each lobe's first column in the design
+    terms.clear(), offsets.clear();
     Eigen::Index p = 1;
     for (const auto& shape : shapes) {
       terms.push_back(&lobeTerms(shape));
@@ -479,8 +498,11 @@ class SharedFitter {
       p += columns(shape);
     }
     const Eigen::Index searched = searchWeights_.cols();
-    std::vector<Eigen::MatrixXd> grams(static_cast<std::size_t>(searched), Eigen::MatrixXd(p, p));
-    Eigen::MatrixXd rhs(p, searched);
+    std::vector<Eigen::MatrixXd>& grams = scratch_.grams;
+    grams.resize(static_cast<std::size_t>(searched));
+    for (auto& g : grams) g.resize(p, p);
+    Eigen::MatrixXd& rhs = scratch_.rhs;
+    rhs.resize(p, searched);
     for (Eigen::Index s = 0; s < searched; ++s) {
       grams[static_cast<std::size_t>(s)](0, 0) = diffuseGram_[s];
       rhs(0, s) = diffuseRhs_[s];
@@ -499,13 +521,15 @@ class SharedFitter {
         }
       }
     }
-    Eigen::MatrixXd x(p, searched);
+    Eigen::MatrixXd& x = scratch_.x;
+    x.resize(p, searched);
     for (Eigen::Index s = 0; s < searched; ++s)
       x.col(s) = nonNegativeLeastSquares(grams[static_cast<std::size_t>(s)], rhs.col(s));
     // f = A x one channel and one column at a time: a lobe has one or two columns, too few for a product
     // over them to pay (this took 14 % less time than one lazyProduct per lobe).
     double sum = penalty(shapes);
-    Eigen::ArrayXd f(data_.cosIn.size());
+    Eigen::ArrayXd& f = scratch_.f;
+    f.resize(data_.cosIn.size());
     for (Eigen::Index s = 0; s < searched; ++s) {
       f.setConstant(x(0, s) / std::numbers::pi);
       for (std::size_t k = 0; k < shapes.size(); ++k) {
@@ -704,6 +728,13 @@ class SharedFitter {
   Eigen::VectorXd diffuseGram_;  // searched: sum_i w_s,i / pi^2
   Eigen::VectorXd diffuseRhs_;   // searched: sum_i w_s,i f_s,i / pi
   std::vector<int> search_;
+  struct SearchScratch {  // searchObjective's buffers
+    std::vector<const LobeTerms*> terms;
+    std::vector<Eigen::Index> offsets;
+    std::vector<Eigen::MatrixXd> grams;
+    Eigen::MatrixXd rhs, x;
+    Eigen::ArrayXd f;
+  } scratch_;
   bool searchVarying_ = false;  // the compass search moves the varying coordinates too
   double varyingPenalty_ = 0.0;
 };
