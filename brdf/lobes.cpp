@@ -195,8 +195,8 @@ PointTerms pointTerms(const LobeModel& model, double u, const LobeGeometry& geom
 }
 
 // The geometry of the light on the view's mirror direction at view cosine u: l_x v_x + l_y v_y =
-// -(1 - u^2), l_z v_z = u^2 (r_v . l = 1), h = n.
-LobeGeometry mirrorGeometry(double u) { return {-(1.0 - u * u), u * u, u, u}; }
+// -(1 - u^2), l_z v_z = u^2 (r_v . l = 1), l + v = 2 u n, h = n.
+LobeGeometry mirrorGeometry(double u) { return {-(1.0 - u * u), u * u, u, u, 4.0 * u * u}; }
 
 // One lobe's value at one point per unit weight, and a half-vector lobe's per unit C_F (0 for others):
 // the model is linear in the weights.
@@ -207,8 +207,10 @@ struct UnitLobe {
 
 UnitLobe unitLobe(const Lobe& lobe, const PointTerms& p) {
   const double exponent = elevationBlendWith(lobe.exponent.data(), p.count, p.elevation);
-  if (lobe.halfVector)
-    return {halfVectorLobe(1.0, 0.0, exponent, p.geometry), halfVectorLobe(0.0, 1.0, exponent, p.geometry)};
+  if (lobe.halfVector) {  // (C + C_F (1 - l.h)^5) D / (4 n.l n.v): C_F's value is C's times (1 - l.h)^5
+    const double perWeight = halfVectorLobe(1.0, 0.0, exponent, p.geometry);
+    return {perWeight, perWeight * p.geometry.schlick()};
+  }
   return {normalizedLobe(1.0, exponent, p.geometry.cosine(lobe.cxy)), 0.0};
 }
 

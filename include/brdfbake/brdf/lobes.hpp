@@ -192,35 +192,40 @@ struct LobeGeometry {
   double vertical = 0.0;
   double lightZ = 0.0;
   double viewZ = 0.0;
+  /// |l + v|^2 from the vectors (local() and of() set it): near l = -v, its other form 2 (1 + l.v)
+  /// keeps none of its digits. A geometry made without it (< 0) takes that form.
+  double sumSquared = -1.0;
   /// From unit light and view directions in the local frame.
   static LobeGeometry local(const Vec3& light, const Vec3& view) {
-    return {light.x() * view.x() + light.y() * view.y(), light.z() * view.z(), light.z(), view.z()};
+    return {light.x() * view.x() + light.y() * view.y(), light.z() * view.z(), light.z(), view.z(),
+            (light + view).squaredNorm()};
   }
   /// From unit normal, light and view in any frame.
   static LobeGeometry of(const Vec3& normal, const Vec3& light, const Vec3& view) {
     const double nl = normal.dot(light), nv = normal.dot(view);
-    return {light.dot(view) - nl * nv, nl * nv, nl, nv};
+    return {light.dot(view) - nl * nv, nl * nv, nl, nv, (light + view).squaredNorm()};
   }
   /// The lobe's argument c_xy (l_x v_x + l_y v_y) + l_z v_z (see @file). c_xy = -1 gives r_v . l,
   /// the cosine to the mirrored view (Phong); c_xy = +1 gives l . v, a lobe about the view
   /// (retro-reflection).
   double cosine(double cxy) const { return cxy * horizontal + vertical; }
-  /// n.h, h = (l + v) / |l + v| the half-vector: (n.l + n.v) / sqrt(2 (1 + l.v)), at most 1; 0 when
-  /// l = -v. (Near l = -v, both at the horizon, the rounded quotient can exceed 1 many times over, and
-  /// a lobe's power of it overflow.)
+  /// |l + v|^2: sumSquared, or 2 (1 + l.v) for a geometry made without it.
+  double lengthSquaredOfSum() const { return sumSquared >= 0.0 ? sumSquared : 2.0 * (1.0 + horizontal + vertical); }
+  /// n.h, h = (l + v) / |l + v| the half-vector: (n.l + n.v) / |l + v|, at most 1 (a bound against
+  /// rounding); 0 when l = -v.
   double cosHalf() const {
-    const double sum = 2.0 * (1.0 + horizontal + vertical);  // |l + v|^2
+    const double sum = lengthSquaredOfSum();
     return sum > 0.0 ? std::min(1.0, (lightZ + viewZ) / std::sqrt(sum)) : 0.0;
   }
-  /// cos theta_d = l.h = sqrt((1 + l.v) / 2), theta_d the difference angle (Rusinkiewicz 1998).
-  double cosDifference() const { return std::sqrt(std::clamp(0.5 * (1.0 + horizontal + vertical), 0.0, 1.0)); }
+  /// cos theta_d = l.h = |l + v| / 2 = sqrt((1 + l.v) / 2), theta_d the difference angle (Rusinkiewicz 1998).
+  double cosDifference() const { return std::sqrt(std::clamp(0.25 * lengthSquaredOfSum(), 0.0, 1.0)); }
   /// theta_d / 90 degrees in [0, 1]: the coordinate of colour profiles (see @file).
   double differenceCoordinate() const { return std::acos(cosDifference()) / (0.5 * std::numbers::pi); }
   /// theta_d / 90 degrees on the mirror direction seen at view cosine u: theta_d = theta_v there.
   static double mirrorDifferenceCoordinate(double u) {
     return std::acos(std::clamp(u, 0.0, 1.0)) / (0.5 * std::numbers::pi);
   }
-  /// Schlick's (1994) Fresnel shape (1 - l.h)^5, l.h = sqrt((1 + l.v) / 2).
+  /// Schlick's (1994) Fresnel shape (1 - l.h)^5, l.h = cosDifference().
   double schlick() const { return std::pow(1.0 - cosDifference(), 5.0); }
 };
 
