@@ -21,7 +21,7 @@ namespace {
 // Eigen::Dynamic: on the heap): the shape search solves a few small problems per trial, and their
 // allocations were a tenth of its time.
 template <int MaxP>
-Eigen::VectorXd nonNegativeLeastSquaresOf(const Eigen::MatrixXd& gram, const Eigen::VectorXd& rhs) {
+Eigen::VectorXd nonNegativeLeastSquaresOf(const Eigen::MatrixXd& gram, const Eigen::Ref<const Eigen::VectorXd>& rhs) {
   using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, MaxP, 1>;
   using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, MaxP, MaxP>;
   const Eigen::Index p = rhs.size();
@@ -86,7 +86,7 @@ Eigen::VectorXd nonNegativeLeastSquaresOf(const Eigen::MatrixXd& gram, const Eig
 }
 }  // namespace
 
-Eigen::VectorXd nonNegativeLeastSquares(const Eigen::MatrixXd& gram, const Eigen::VectorXd& rhs) {
+Eigen::VectorXd nonNegativeLeastSquares(const Eigen::MatrixXd& gram, const Eigen::Ref<const Eigen::VectorXd>& rhs) {
   if (rhs.size() <= 8) return nonNegativeLeastSquaresOf<8>(gram, rhs);
   if (rhs.size() <= 32) return nonNegativeLeastSquaresOf<32>(gram, rhs);
   return nonNegativeLeastSquaresOf<Eigen::Dynamic>(gram, rhs);

@@ -90,6 +90,7 @@ SharedFitOutcome fitSharedLobes(const MeasuredTable& table, const SharedFitConfi
 
 // Non-negative least squares min |A x - b|^2, x >= 0, given G = A^T A and h = A^T b (Lawson &
 // Hanson 1974, chapter 23, on the normal equations). Small problems (a few columns).
-Eigen::VectorXd nonNegativeLeastSquares(const Eigen::MatrixXd& gram, const Eigen::VectorXd& rhs);
+// The right-hand side may be a column of a matrix (no copy).
+Eigen::VectorXd nonNegativeLeastSquares(const Eigen::MatrixXd& gram, const Eigen::Ref<const Eigen::VectorXd>& rhs);
 
 }  // namespace brdfbake::detail
