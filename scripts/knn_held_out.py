@@ -80,20 +80,32 @@ def elevation_figures(check, train, held, predicted):
     """The split's ratio, the ratio without the sample nearest the mirror, and that sample (channel means)."""
     e, l = errors(check, train, held, predicted)
     m = min(range(len(held)), key=lambda i: check.mirror_offset_deg(held[i]))
-    rest = math.sqrt((sum(e) - e[m]) / (sum(l) - l[m]))
+    ratio_of = lambda fit, lam: "%.3f" % math.sqrt(fit / lam) if lam > 0.0 else "n/a"
     mean = lambda values: sum(values) / len(values)
-    return "%.3f (%.3f without the mirror sample: %.3g measured, %.3g predicted, %.0f%% of Lambert's error)" % (
-        math.sqrt(sum(e) / sum(l)), rest, mean(held[m][4:]), mean(predicted[m]), 100.0 * l[m] / sum(l))
+    return "%s (%s without the mirror sample: %.3g measured, %.3g predicted, %.0f%% of Lambert's error)" % (
+        ratio_of(sum(e), sum(l)), ratio_of(sum(e) - e[m], sum(l) - l[m]), mean(held[m][4:]), mean(predicted[m]),
+        100.0 * l[m] / sum(l) if sum(l) > 0.0 else 0.0)
 
 
 def brdfbake_predictor(check, exe, wavelengths, fit_args):
-    """Predicts held-out rows with `brdfbake fit` on the training rows and `brdfbake eval` (the shared tool
-    fits a table whose channel names end in "nm" with --channels spectral, others with --channels rgb)."""
+    """Predicts held-out rows with `brdfbake fit` on the training rows and `brdfbake eval`, as the shared
+    tool does (a table whose channel names end in "nm" is fitted with --channels spectral, others with
+    --channels rgb)."""
+    channels = "spectral" if all(str(w).endswith("nm") for w in wavelengths) else "rgb"
+
+    def run(command):
+        result = subprocess.run(command, capture_output=True, text=True)
+        if result.returncode != 0:
+            raise RuntimeError("%s failed: %s" % (" ".join(command[:2]), (result.stderr or result.stdout).strip()[:300]))
+        return result.stdout
+
     def predict_with_fit(train, held):
         with tempfile.TemporaryDirectory(prefix="knn-held-out-") as tmp:
-            check.fit_and_predict(exe, wavelengths, train, held, tmp, fit_args)
-            out = subprocess.run([exe, "eval", tmp + "/fit.json", "--pairs", tmp + "/pairs.txt"],
-                                 capture_output=True, text=True, check=True).stdout
+            check.write_astm(tmp + "/train.astm", wavelengths, train)
+            run([exe, "fit", tmp + "/train.astm", "--channels", channels, "-o", tmp + "/fit.json", "--quiet", *fit_args])
+            with open(tmp + "/pairs.txt", "w") as pairs:
+                pairs.writelines(" ".join("%.6f" % x for x in row[:4]) + "\n" for row in held)
+            out = run([exe, "eval", tmp + "/fit.json", "--pairs", tmp + "/pairs.txt"])
             values = [[float(x) for x in line.replace(",", " ").split()] for line in out.strip().splitlines()]
             return [v[-len(wavelengths):] for v in values]
     return predict_with_fit
@@ -122,14 +134,17 @@ def main():
         folds.append(([r for i, r in enumerate(rows) if i not in held], [rows[i] for i in sorted(held)]))
     predictors = [("nearest neighbours", lambda train, held: predict(train, held, args.neighbours))]
     if args.brdfbake:
-        predictors.append(("brdfbake fit", brdfbake_predictor(check, args.brdfbake, wavelengths,
-                                                              fit_args or ("--lobes", "auto"))))
+        if "--lobes" not in fit_args:  # as fit_heldout_check.py: --lobes auto unless given
+            fit_args = ("--lobes", "auto", *fit_args)
+        predictors.append(("brdfbake fit", brdfbake_predictor(check, args.brdfbake, wavelengths, fit_args)))
     print("%s (x Lambert):" % os.path.basename(args.table))
     for name, predictor in predictors:
         print("  %s: off-mirror 5-fold %.3f" % (name, ratio(check, folds, predictor)))
         for theta in (30, 50, 70):
-            at = [abs(math.degrees(r[0]) - theta) < 1.0 for r in rows]
-            train, held = [r for r, a in zip(rows, at) if not a], [r for r, a in zip(rows, at) if a]
+            train, held = check.incidence_split(rows, theta)
+            if not held:
+                print("    %d deg: no rows" % theta)
+                continue
             print("    %d deg held out %s" % (theta, elevation_figures(check, train, held,
                                                                        predictor(train, held))))
 
