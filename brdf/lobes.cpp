@@ -200,9 +200,9 @@ LobeGeometry mirrorGeometry(double u) { return {-(1.0 - u * u), u * u, u, u, 4.0
 
 // One lobe's value at one point per unit weight, and a half-vector lobe's per unit C_F (0 for others):
 // the model is linear in the weights.
-struct UnitLobe {
-  double perWeight = 0.0;
-  double perFresnel = 0.0;
+struct UnitLobe {  // no initialisers: channelValues keeps an array of them on the stack per point
+  double perWeight;
+  double perFresnel;
 };
 
 UnitLobe unitLobe(const Lobe& lobe, const PointTerms& p) {
@@ -251,16 +251,16 @@ bool sharesShapes(const LobeModel& model) {
   return true;
 }
 
-// Every channel's value at one point. With shared shapes each lobe's power is taken once for all
-// channels (a 31-wavelength shared fit's value costs the powers of one channel, not 31).
-Eigen::VectorXd channelValues(const LobeModel& model, const PointTerms& p) {
+// Every channel's value at one point. With shared shapes (sharesShapes(model)) each lobe's power is
+// taken once for all channels (a 31-wavelength shared fit's value costs the powers of one channel, not 31).
+Eigen::VectorXd channelValues(const LobeModel& model, bool sharedShapes, const PointTerms& p) {
   Eigen::VectorXd values(static_cast<Eigen::Index>(model.channels.size()));
-  if (!sharesShapes(model)) {
+  if (!sharedShapes) {
     for (std::size_t c = 0; c < model.channels.size(); ++c)
       values[static_cast<Eigen::Index>(c)] = channelBrdf(model.channels[c], p);
     return values;
   }
-  std::array<UnitLobe, kMaxModelLobes> units;
+  std::array<UnitLobe, kMaxModelLobes> units;  // the first lobes.size() set below
   const std::vector<Lobe>& lobes = model.channels.front().lobes;
   for (std::size_t k = 0; k < lobes.size(); ++k) units[k] = unitLobe(lobes[k], p);
   const auto shared = [&units](std::size_t k, const Lobe&) { return units[k]; };
@@ -277,7 +277,7 @@ double LobeModel::evaluate(std::size_t channel, const Vec3& wi, const Vec3& wo) 
 
 Eigen::VectorXd LobeModel::evaluate(const Vec3& wi, const Vec3& wo) const {
   if (!(wi.z() > 0.0) || !(wo.z() > 0.0)) return Eigen::VectorXd::Zero(static_cast<Eigen::Index>(channels.size()));
-  return channelValues(*this, pointTerms(*this, wo.z(), LobeGeometry::local(wi, wo)));
+  return channelValues(*this, sharesShapes(*this), pointTerms(*this, wo.z(), LobeGeometry::local(wi, wo)));
 }
 
 double LobeModel::mirrorValue(std::size_t channel, double u) const {
@@ -307,6 +307,7 @@ LobeMaterial::LobeMaterial(LobeModel model, LobeMaterialMode mode, std::string m
     : model_(std::move(model)), mode_(mode), modelName_(std::move(modelName)) {
   model_.validate();
   rgbWeights_ = model_.rgbWeights();
+  sharedShapes_ = sharesShapes(model_);
 }
 
 Rgb LobeMaterial::toRgb(const Eigen::VectorXd& channels) const { return (rgbWeights_ * channels).array(); }
@@ -318,12 +319,12 @@ bool LobeMaterial::viewIndependent() const {
 Rgb LobeMaterial::brdf(const Vec3& normal, const Vec3& view, const Vec3& light) const {
   const double nv = normal.dot(view), nl = normal.dot(light);
   if (!(nv > 0.0) || !(nl > 0.0)) return Rgb::Zero();
-  return toRgb(channelValues(model_, pointTerms(model_, nv, LobeGeometry::of(normal, light, view))));
+  return toRgb(channelValues(model_, sharedShapes_, pointTerms(model_, nv, LobeGeometry::of(normal, light, view))));
 }
 
 Rgb LobeMaterial::mirrorRgb(double nDotV) const {
   const double u = clampFinite(nDotV, 0.0, 1.0);
-  return toRgb(channelValues(model_, pointTerms(model_, u, mirrorGeometry(u))));
+  return toRgb(channelValues(model_, sharedShapes_, pointTerms(model_, u, mirrorGeometry(u))));
 }
 
 Rgb LobeMaterial::unlit(const ShadingGeometry& g) const {

@@ -428,6 +428,7 @@ class LobeMaterial final : public Material {
   LobeMaterialMode mode_;
   std::string modelName_;
   Eigen::Matrix<double, 3, Eigen::Dynamic> rgbWeights_;
+  bool sharedShapes_ = false;  // every channel has the same lobe shapes (checked once, not per point)
 };
 
 }  // namespace brdfbake
