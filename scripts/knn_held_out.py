@@ -16,6 +16,13 @@ offset from its peak that the table's angles do not resolve, and that one sample
 split's error, for a fit and for Lambert alike (docs/fitting.md, issue 26's seventh part). With --brdfbake
 the same figures are given for `brdfbake fit` (default arguments, or those after --).
 
+A second predictor without lobes, a smooth table: ln f of each channel as a tensor product of 12 hat
+functions of sqrt(theta_h / 90 degrees) and the degree-6 Bernstein polynomials of theta_d / 90 degrees,
+fitted by least squares to ln f of the training rows with a penalty on the second differences of the
+coefficients along both coordinates (1e-2 of the mean diagonal of the normal equations). It uses theta_h and
+theta_d alone (isotropic, no phi_d): the candidate family for tables such as Mystique (issue 26's seventh
+part).
+
 usage: knn_held_out.py TABLE [--neighbours K] [--shared DIR] [--brdfbake EXE [-- FIT ARGUMENTS]]
        (numpy; the shared tool for reading tables)
 """
@@ -56,6 +63,50 @@ def predict(train, held, neighbours):
         w = 1.0 / (distance[nearest] + 1e-3)
         out.append(list(np.exp((w[:, None] * log_f[nearest]).sum(0) / w.sum())))
     return out
+
+
+def half_and_difference_angles(row):
+    """(theta_h, theta_d) of a row (radians): the half-vector's angle to the normal, and the light's to it."""
+    ti, pi, ts, ps = row[:4]
+    wi = np.array([math.sin(ti) * math.cos(pi), math.sin(ti) * math.sin(pi), math.cos(ti)])
+    wo = np.array([math.sin(ts) * math.cos(ps), math.sin(ts) * math.sin(ps), math.cos(ts)])
+    h = (wi + wo) / np.linalg.norm(wi + wo)
+    return math.acos(min(1.0, h[2])), math.acos(max(-1.0, min(1.0, float(wi @ h))))
+
+
+def table_design(rows, hats=12, degree=6):
+    """Rows of the tensor-product basis: hat_k(sqrt(theta_h / 90 deg)) B_j(theta_d / 90 deg), index k (degree + 1) + j."""
+    design = np.zeros((len(rows), hats * (degree + 1)))
+    for i, row in enumerate(rows):
+        theta_h, theta_d = half_and_difference_angles(row)
+        u = math.sqrt(theta_h / (math.pi / 2)) * (hats - 1)
+        k = min(int(u), hats - 2)
+        hat = np.zeros(hats)
+        hat[k], hat[k + 1] = k + 1 - u, u - k
+        s = min(theta_d / (math.pi / 2), 1.0)
+        bernstein = np.array([math.comb(degree, j) * s ** j * (1 - s) ** (degree - j) for j in range(degree + 1)])
+        design[i] = np.outer(hat, bernstein).ravel()
+    return design
+
+
+def table_predict(train, held, hats=12, degree=6, penalty=1e-2):
+    """The smooth table in (theta_h, theta_d) fitted to ln f of the training rows (see the file's comment)."""
+    a = table_design(train, hats, degree)
+    n = a.shape[1]
+    differences = []
+    for k in range(hats):
+        for j in range(degree + 1):
+            for step, limit, index in ((degree + 1, k + 2 < hats, k * (degree + 1) + j), (1, j + 2 <= degree, k * (degree + 1) + j)):
+                if limit:
+                    row = np.zeros(n)
+                    row[index], row[index + step], row[index + 2 * step] = 1.0, -2.0, 1.0
+                    differences.append(row)
+    d = np.array(differences)
+    gram = a.T @ a
+    scale = np.trace(gram) / n
+    gram += penalty * scale * (d.T @ d) + 1e-9 * scale * np.eye(n)
+    coefficients = np.linalg.solve(gram, a.T @ np.log(np.maximum(np.array([r[4:] for r in train]), 1e-6)))
+    return np.exp(np.clip(table_design(held, hats, degree) @ coefficients, -50.0, 50.0)).tolist()
 
 
 def errors(check, train, held, predicted):
@@ -132,7 +183,8 @@ def main():
     for k in range(5):
         held = set(off_mirror[k::5])
         folds.append(([r for i, r in enumerate(rows) if i not in held], [rows[i] for i in sorted(held)]))
-    predictors = [("nearest neighbours", lambda train, held: predict(train, held, args.neighbours))]
+    predictors = [("nearest neighbours", lambda train, held: predict(train, held, args.neighbours)),
+                  ("smooth table in (theta_h, theta_d)", table_predict)]
     if args.brdfbake:
         if "--lobes" not in fit_args:  # as fit_heldout_check.py: --lobes auto unless given
             fit_args = ("--lobes", "auto", *fit_args)
