@@ -37,12 +37,17 @@ import tempfile
 import numpy as np
 
 
-def half_difference(row):
-    """(2 sqrt(theta_h), theta_d, phi_d / 2) of a row [theta_i, phi_i, theta_s, phi_s, ...] (radians)."""
+def light_view_half(row):
+    """Unit light, view and half-vector of a row [theta_i, phi_i, theta_s, phi_s, ...] (radians)."""
     ti, pi, ts, ps = row[:4]
     wi = np.array([math.sin(ti) * math.cos(pi), math.sin(ti) * math.sin(pi), math.cos(ti)])
     wo = np.array([math.sin(ts) * math.cos(ps), math.sin(ts) * math.sin(ps), math.cos(ts)])
-    h = (wi + wo) / np.linalg.norm(wi + wo)
+    return wi, wo, (wi + wo) / np.linalg.norm(wi + wo)
+
+
+def half_difference(row):
+    """(2 sqrt(theta_h), theta_d, phi_d / 2) of a row (radians)."""
+    wi, _, h = light_view_half(row)
     theta_h, phi_h = math.acos(min(1.0, h[2])), math.atan2(h[1], h[0])
     c, s = math.cos(-phi_h), math.sin(-phi_h)  # wi rotated by -phi_h about z, then -theta_h about y
     d = np.array([c * wi[0] - s * wi[1], s * wi[0] + c * wi[1], wi[2]])
@@ -67,10 +72,7 @@ def predict(train, held, neighbours):
 
 def half_and_difference_angles(row):
     """(theta_h, theta_d) of a row (radians): the half-vector's angle to the normal, and the light's to it."""
-    ti, pi, ts, ps = row[:4]
-    wi = np.array([math.sin(ti) * math.cos(pi), math.sin(ti) * math.sin(pi), math.cos(ti)])
-    wo = np.array([math.sin(ts) * math.cos(ps), math.sin(ts) * math.sin(ps), math.cos(ts)])
-    h = (wi + wo) / np.linalg.norm(wi + wo)
+    wi, _, h = light_view_half(row)
     return math.acos(min(1.0, h[2])), math.acos(max(-1.0, min(1.0, float(wi @ h))))
 
 
@@ -93,11 +95,12 @@ def table_predict(train, held, hats=12, degree=6, penalty=1e-2):
     """The smooth table in (theta_h, theta_d) fitted to ln f of the training rows (see the file's comment)."""
     a = table_design(train, hats, degree)
     n = a.shape[1]
-    differences = []
+    differences = []  # second differences along theta_h (step degree + 1) and along theta_d (step 1)
     for k in range(hats):
         for j in range(degree + 1):
-            for step, limit, index in ((degree + 1, k + 2 < hats, k * (degree + 1) + j), (1, j + 2 <= degree, k * (degree + 1) + j)):
-                if limit:
+            index = k * (degree + 1) + j
+            for step, inside in ((degree + 1, k + 2 < hats), (1, j + 2 <= degree)):
+                if inside:
                     row = np.zeros(n)
                     row[index], row[index + step], row[index + 2 * step] = 1.0, -2.0, 1.0
                     differences.append(row)
