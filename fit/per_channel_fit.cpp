@@ -45,6 +45,7 @@ struct ChannelData {
   std::vector<double> measured;  // f_i of the fitted samples
   double eps = 0.0;
   double maxTarget = 0.0;
+  double signal = 0.0;  // sum of cos theta_i max(f_i, 0): how bright the channel is
 };
 
 // Layout of the parameter block: [k_d, lobe 0: weight coefficients, exponent coefficients, lobe 1: ...].
@@ -217,6 +218,28 @@ class ChannelFitter {
     seconds += std::chrono::duration<double>(Clock::now() - start).count();
     return best;
   }
+
+  // One solve from another channel's fit of the same model, its k_d and weights scaled by the
+  // ratio of the channels' signals (a neighbouring wavelength: the same shapes, another brightness).
+  // Empty when the ratio is not usable (a dark channel): then fit from the channel's own starts.
+  std::optional<Candidate> fitFrom(const Candidate& neighbour, double neighbourSignal, int lobes, int count) {
+    const double ratio = data_.signal / neighbourSignal;
+    if (!neighbour.valid || !(ratio > 0.0) || !std::isfinite(ratio)) return std::nullopt;
+    const auto start = Clock::now();
+    std::vector<double> x = neighbour.x;
+    x[0] *= ratio;
+    for (int k = 0; k < lobes; ++k) {
+      for (int j = 0; j < count; ++j) {
+        double& weight = x[static_cast<std::size_t>(1 + k * 2 * count + j)];
+        weight = count > 1 ? weight + std::log(ratio) : weight * ratio;  // varying weights are logarithms
+      }
+    }
+    Candidate fitted = solve(std::move(x), lobes, count);
+    seconds += std::chrono::duration<double>(Clock::now() - start).count();
+    return fitted;
+  }
+
+  double signal() const { return data_.signal; }
 
  private:
   // A start for a varying model from the data itself: constant models fitted separately to three
@@ -434,6 +457,7 @@ ChannelData channelData(const MeasuredTable& table, std::size_t channel, const L
     data.samples.push_back(sample);
     data.measured.push_back(f);
     maxWeighted = std::max(maxWeighted, std::abs(wi.z() * f));
+    data.signal += wi.z() * std::max(f, 0.0);
   }
   data.eps = std::max(1e-6 * maxWeighted, 1e-12);
   for (std::size_t i = 0; i < data.samples.size(); ++i) {
@@ -503,7 +527,10 @@ double jointError(const std::vector<Candidate>& perChannel, std::size_t samples)
 class PerChannelSequences {
  public:
   PerChannelSequences(const MeasuredTable& table, const FitOptions& options, const LobeModel& range, int maxLobes)
-      : options_(options), maxLobes_(maxLobes), channels_(table.channelCount()) {
+      : options_(options),
+        maxLobes_(maxLobes),
+        channels_(table.channelCount()),
+        warmStart_(table.kind == ChannelKind::Spectral) {
     for (std::size_t c = 0; c < channels_; ++c) {
       fitters_.push_back(std::make_unique<ChannelFitter>(channelData(table, c, range), options));
     }
@@ -553,14 +580,34 @@ class PerChannelSequences {
     auto& sequence = fitted_[index(elevation)];
     const int lobes = static_cast<int>(sequence.size()) + 1;
     std::vector<Candidate> current(channels_);
-    arena.execute([&] {
-      tbb::parallel_for(std::size_t(0), channels_, [&](std::size_t c) {
-        current[c] = fitOne(elevation, lobes, c);
-        if (progress) progress->step();
+    // Anchors first, from their own starts; then the others in rounds by their distance from the
+    // nearest anchor, each from its neighbour one channel closer to it, fitted in the round before.
+    for (std::size_t round = 0; round <= kAnchorStride / 2; ++round) {
+      arena.execute([&] {
+        tbb::parallel_for(std::size_t(0), channels_, [&](std::size_t c) {
+          if (toAnchor(c).first != round) return;
+          current[c] = round == 0 ? fitOne(elevation, lobes, c) : fitFromNeighbour(current, elevation, lobes, c);
+          if (progress) progress->step();
+        });
       });
-    });
+    }
     sequence.push_back(std::move(current));
     return sequence.back();
+  }
+
+  // Spectral tables: neighbouring wavelengths reflect alike, so every kAnchorStride-th channel (and
+  // the last) is fitted from its own starts (about ten solves) and each other one in one solve from
+  // its neighbour's fit (docs/fitting.md, "Per-channel fits with Ceres"). Other tables: every channel
+  // from its own starts.
+  static constexpr std::size_t kAnchorStride = 16;
+
+  // The distance of channel c from its nearest anchor (0: an anchor) and its neighbour one channel
+  // closer to it.
+  std::pair<std::size_t, std::size_t> toAnchor(std::size_t c) const {
+    if (!warmStart_ || c + 1 == channels_) return {0, c};
+    const std::size_t below = c - c % kAnchorStride, above = std::min(below + kAnchorStride, channels_ - 1);
+    if (c - below <= above - c) return {c - below, c == below ? c : c - 1};
+    return {above - c, c + 1};
   }
 
   Candidate fitOne(LobeElevation elevation, int lobes, std::size_t c) {
@@ -573,9 +620,19 @@ class PerChannelSequences {
     return fitters_[c]->fitVarying(lobes, start, previous);
   }
 
+  Candidate fitFromNeighbour(const std::vector<Candidate>& current, LobeElevation elevation, int lobes, std::size_t c) {
+    const std::size_t neighbour = toAnchor(c).second;
+    const int count = elevationCoefficientCount(elevation);
+    if (auto fitted = fitters_[c]->fitFrom(current[neighbour], fitters_[neighbour]->signal(), lobes, count)) {
+      if (fitted->valid) return std::move(*fitted);
+    }
+    return fitOne(elevation, lobes, c);
+  }
+
   const FitOptions& options_;
   int maxLobes_;
   std::size_t channels_, samples_ = 0;
+  bool warmStart_;  // spectral: channels between anchors start from a neighbour's fit (toAnchor)
   std::vector<std::unique_ptr<ChannelFitter>> fitters_;
   std::vector<std::vector<Candidate>> fitted_[2];  // [elevation][K - 1][channel]
 };

@@ -1,7 +1,8 @@
 #pragma once
 // Internal to fit/: the per-channel Ceres fit behind FitMethod::PerChannel (docs/fitting.md,
 // "Per-channel fits with Ceres"): each channel its own mirror lobes, constant or varying with the
-// view's elevation, fitted on the cube-root residual with Ceres, K = 1, 2, ... lobes grown greedily.
+// view's elevation, fitted on the cube-root residual with Ceres, K = 1, 2, ... lobes grown greedily;
+// on spectral tables most wavelengths start from a neighbouring wavelength's fit.
 #include <brdfbake/fit/lobe_fit.hpp>
 #include <brdfbake/measured/measured_table.hpp>
 

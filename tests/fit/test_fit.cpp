@@ -273,6 +273,53 @@ TEST(LobeFit, RecoversKnownVaryingLobesFromANoisyCornellTable) {
     expectRecovered(truth, fit.model, std::cos(radians(degreesIn)));
 }
 
+// A spectral table of 20 wavelengths whose lobes change across the spectrum (weights by 3x, the sharp
+// lobe's exponent from 150 to 800), as a paint's do. The per-channel method fits a few channels from
+// their own starts and the others from a neighbouring wavelength's fit: every channel must still be
+// recovered; a black channel fits exactly, and the channel next to it, which would start from it,
+// starts from its own starts instead.
+LobeModel spectralModel(std::size_t black) {
+  LobeModel m;
+  m.elevation = LobeElevation::Constant;
+  for (int c = 0; c < 20; ++c) {
+    const double s = c / 19.0;
+    m.wavelengthsNm.push_back(400.0 + 10.0 * c);
+    LobeChannel channel{std::to_string(400 + 10 * c) + "nm",
+                        0.05 + 0.15 * s,
+                        {{{0.30 - 0.2 * s}, {8.0 + 10.0 * s}}, {{0.2 + 0.4 * s * s}, {150.0 + 650.0 * s}}}};
+    if (static_cast<std::size_t>(c) == black) channel = {channel.name, 0.0, {{{0.0}, {8.0}}, {{0.0}, {150.0}}}};
+    m.channels.push_back(channel);
+  }
+  return m;
+}
+
+TEST(LobeFit, PerChannelRecoversEveryWavelengthOfASpectralTable) {
+  const std::size_t black = 2;
+  const LobeModel truth = spectralModel(black);
+  FitOptions options;
+  options.method = FitMethod::PerChannel;
+  options.lobes = 2;
+  options.elevation = ElevationChoice::Constant;
+  options.estimateHeldOut = false;
+  const FitResult fit = fitLobes(makeSyntheticTable(truth, 0.01, 17), options);
+  ASSERT_TRUE(fit.usable()) << fit.briefReport();
+  ASSERT_EQ(fit.model.channelCount(), truth.channelCount());
+  for (std::size_t c = 0; c < truth.channelCount(); ++c) {
+    if (c == black) {
+      EXPECT_EQ(fit.model.channels[c].diffuse, 0.0);
+      for (std::size_t k = 0; k < 2; ++k) EXPECT_EQ(fit.model.weight(c, k, 0.5), 0.0);
+      continue;
+    }
+    EXPECT_NEAR(fit.model.channels[c].diffuse, truth.channels[c].diffuse, 0.02 * truth.channels[c].diffuse) << c;
+    for (std::size_t k = 0; k < 2; ++k) {
+      const double C = truth.weight(c, k, 0.5), n = truth.exponent(c, k, 0.5);
+      EXPECT_NEAR(fit.model.weight(c, k, 0.5), C, 0.02 * C) << "channel " << c << " lobe " << k;
+      EXPECT_NEAR(fit.model.exponent(c, k, 0.5), n, 0.05 * n) << "channel " << c << " lobe " << k;
+    }
+    EXPECT_LT(fit.channels[c].logRmse, 0.012) << c;
+  }
+}
+
 TEST(LobeFit, AutoElevationPrefersVaryingOnlyWhenTheDataVaries) {
   // The per-channel method with --elevation auto chooses by held-out error (fit/held_out.hpp).
   FitOptions options;

@@ -37,7 +37,9 @@
 /// parameter free, and the better result is kept. A varying model with K lobes has three starts,
 /// of which the two cheapest are refined: the constant K-lobe model (equal values at every
 /// elevation), the varying (K-1)-lobe model plus a greedy lobe, and constant K-lobe models fitted
-/// separately to three slices of elevation, interpolated.
+/// separately to three slices of elevation, interpolated. Spectral tables: only every 16th
+/// wavelength (and the last) is started so; each other one is fitted in one solve from its
+/// neighbouring wavelength's fit, weights scaled by the ratio of the two channels' signals.
 
 #include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/fit/held_out.hpp>
