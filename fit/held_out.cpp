@@ -46,6 +46,17 @@ double HeldOutReport::score() const {
   return std::max(kfold.ratio(), pooledElevations().ratio());
 }
 
+double HeldOutReport::otherScore() const {
+  if (elevations.empty()) return kfold.ratio();
+  return std::min(kfold.ratio(), pooledElevations().ratio());
+}
+
+bool HeldOutReport::improvesOn(const HeldOutReport& other, double margin) const {
+  const double worse = score(), otherWorse = other.score();
+  if (worse < (1.0 - margin) * otherWorse) return true;
+  return worse <= otherWorse && otherScore() < (1.0 - margin) * other.otherScore();
+}
+
 MeasuredTable tableRows(const MeasuredTable& table, const std::vector<std::size_t>& rows) {
   MeasuredTable out;
   out.kind = table.kind;

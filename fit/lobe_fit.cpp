@@ -585,16 +585,16 @@ std::size_t weakenVaryingPrior(SplitFitter& fitter, Tried& tried, std::size_t be
 }
 
 // Colour profiles (ColorProfileChoice::Auto): the chosen candidate with them is scored too, and kept if
-// that lowers the score by FitOptions::colorProfileMargin. Its splits' shapes are the chosen candidate's, whose
-// searches the splits keep (detail::ShapeSearches), so it costs the weights' solves.
+// it improves on it by FitOptions::colorProfileMargin (HeldOutReport::improvesOn: the score, or the other
+// measure at a score no higher). Its splits' shapes are the chosen candidate's, whose searches the splits
+// keep (detail::ShapeSearches), so it costs the weights' solves.
 std::size_t addColorProfile(SplitFitter& fitter, Tried& tried, std::size_t best, const CandidateSpace& space) {
   const FitOptions& options = fitter.options();
   if (!space.tryColorProfile) return best;
   CandidateConfig profiled = tried[best].config;
   profiled.colorProfile = ColorProfile::DifferenceAngle;
   tried.push_back(fitter.score(profiled));
-  const double needed = (1.0 - options.colorProfileMargin) * tried[best].report.score();
-  return tried.back().report.score() < needed ? tried.size() - 1 : best;
+  return tried.back().report.improvesOn(tried[best].report, options.colorProfileMargin) ? tried.size() - 1 : best;
 }
 
 // The chosen candidate and the best radially symmetric one (FitResult::bestRadiallySymmetric) scored

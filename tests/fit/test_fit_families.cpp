@@ -246,6 +246,33 @@ TEST(HeldOutScore, IsTheWorseOfTheTwoMeasures) {
   EXPECT_NEAR(report.score(), 0.9, 1e-8);
 }
 
+// A report with the given k-fold ratio and one held-out elevation of the given ratio.
+HeldOutReport reportOf(double kfoldRatio, double elevationRatio) {
+  HeldOutReport report;
+  report.kfold = {"off-mirror", 0.0, 10, kfoldRatio, 1.0};
+  report.elevations = {{"30", 30.0, 10, elevationRatio, 1.0}};
+  return report;
+}
+
+TEST(HeldOutScore, ImprovesOnTheWorseMeasureFirstThenTheOther) {
+  const HeldOutReport chosen = reportOf(0.48, 0.43);  // score 0.48, other 0.43
+  EXPECT_NEAR(chosen.otherScore(), 0.43, 1e-8);
+  // The score lowered by more than the margin: better, whatever the other measure does.
+  EXPECT_TRUE(reportOf(0.40, 0.45).improvesOn(chosen, 0.05));
+  // The score lowered by less than the margin (2 %), the other measure by 35 %: better.
+  EXPECT_TRUE(reportOf(0.28, 0.47).improvesOn(chosen, 0.05));
+  // ... by 4 % only: not.
+  EXPECT_FALSE(reportOf(0.47, 0.415).improvesOn(chosen, 0.05));
+  // The score higher, the other measure far lower: not (the worse measure comes first).
+  EXPECT_FALSE(reportOf(0.20, 0.49).improvesOn(chosen, 0.05));
+  // The same report: not.
+  EXPECT_FALSE(chosen.improvesOn(chosen, 0.01));
+  // Without held-out elevations both measures are the k-fold ratio.
+  HeldOutReport kfoldOnly;
+  kfoldOnly.kfold = {"off-mirror", 0.0, 10, 0.5, 1.0};
+  EXPECT_NEAR(kfoldOnly.otherScore(), 0.5, 1e-8);
+}
+
 TEST(FitCandidates, BestRadiallySymmetricIsReportedAndWritten) {
   LobeModel truth = varyingMirrorModel();
   const FitResult fit = fitLobes(makeSyntheticTable(truth, 0.01, 14), [] {

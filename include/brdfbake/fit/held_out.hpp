@@ -67,6 +67,15 @@ struct HeldOutReport {
   /// What model selection minimises: the worse of the k-fold ratio and the pooled elevation ratio
   /// (the k-fold ratio alone when no elevation was held out), so that neither hides the other.
   double score() const;
+  /// The other measure: the better of the two ratios (the k-fold ratio when no elevation was held out).
+  double otherScore() const;
+  /// Whether this report is better than `other` by the fraction `margin` in (0, 1), the worse measure
+  /// first: its score() is below (1 - margin) other.score(), or no higher while its otherScore() is
+  /// below (1 - margin) other.otherScore(). The automatic choice of colour profiles keeps them only if
+  /// they improve so: the score alone cannot see them lower one measure while the other stays at a
+  /// floor (Mystique's elevation splits, one sample nearest a clear coat's mirror; docs/fitting.md).
+  /// The other choices compare scores alone.
+  bool improvesOn(const HeldOutReport& other, double margin) const;
 };
 
 /// A fit of a training table (the channels of the table given to estimateHeldOutError).

@@ -90,7 +90,7 @@ ElevationChoice parseElevationChoice(std::string_view name);
 /// shapes are kept and each channel's weights are solved again with every weight column times the
 /// four cubic Bernstein polynomials in theta_d / 90 degrees (non-negative least squares as before).
 enum class ColorProfileChoice {
-  Auto,             ///< tried after the other choices; kept if it lowers the held-out score by autoMargin
+  Auto,             ///< tried after the other choices; kept if it improves on them by colorProfileMargin
   None,             ///< ColorProfile::None
   DifferenceAngle,  ///< ColorProfile::DifferenceAngle (FitMethod::Shared only)
 };
@@ -136,8 +136,9 @@ struct FitOptions {
   /// estimate (FitMethod::Shared, enough rows away from the mirror, and estimateHeldOut or another
   /// auto choice); DifferenceAngle needs FitMethod::Shared.
   ColorProfileChoice colorProfile = ColorProfileChoice::Auto;
-  /// ColorProfileChoice::Auto: profiles are kept only if they lower the held-out score by this fraction,
-  /// in (0, 1). They quadruple each channel's weights, and on a synthetic table without any colour
+  /// ColorProfileChoice::Auto: profiles are kept only if they improve on the model without them by this
+  /// fraction, in (0, 1), as HeldOutReport::improvesOn says (the score, or the other measure at a score
+  /// no higher). They quadruple each channel's weights, and on a synthetic table without any colour
   /// shift they lowered the score by 2 % (tests/fit/test_color_profile.cpp); on the colour-shifting
   /// Mystique paint by 10 % (docs/fitting.md).
   double colorProfileMargin = 0.05;
