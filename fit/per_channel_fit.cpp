@@ -49,6 +49,9 @@ struct ChannelData {
 };
 
 // Layout of the parameter block: [k_d, lobe 0: weight coefficients, exponent coefficients, lobe 1: ...].
+
+// A channel starts from its neighbour's fit only if their signals differ by at most this factor.
+constexpr double kMaxNeighbourRatio = 10.0;
 int parameterCount(int lobes, int count) { return 1 + lobes * 2 * count; }
 
 // Smallest weight coefficient of a varying lobe (they are interpolated geometrically, so > 0).
@@ -221,10 +224,11 @@ class ChannelFitter {
 
   // One solve from another channel's fit of the same model, its k_d and weights scaled by the
   // ratio of the channels' signals (a neighbouring wavelength: the same shapes, another brightness).
-  // Empty when the ratio is not usable (a dark channel): then fit from the channel's own starts.
+  // Empty when the channels differ by more than kMaxNeighbourRatio in signal (a dark or nearly dark
+  // channel, whose neighbour's fit is no start for it): then fit from the channel's own starts.
   std::optional<Candidate> fitFrom(const Candidate& neighbour, double neighbourSignal, int lobes, int count) {
     const double ratio = data_.signal / neighbourSignal;
-    if (!neighbour.valid || !(ratio > 0.0) || !std::isfinite(ratio)) return std::nullopt;
+    if (!neighbour.valid || !(ratio >= 1.0 / kMaxNeighbourRatio && ratio <= kMaxNeighbourRatio)) return std::nullopt;
     const auto start = Clock::now();
     std::vector<double> x = neighbour.x;
     x[0] *= ratio;
@@ -596,7 +600,8 @@ class PerChannelSequences {
   }
 
   // Spectral tables: neighbouring wavelengths reflect alike, so every kAnchorStride-th channel (and
-  // the last) is fitted from its own starts (about ten solves) and each other one in one solve from
+  // the last) is fitted from its own starts (2 solves per lobe count, and the slices' fits for varying
+  // lobes) and each other one in one solve from
   // its neighbour's fit (docs/fitting.md, "Per-channel fits with Ceres"). Other tables: every channel
   // from its own starts.
   static constexpr std::size_t kAnchorStride = 16;

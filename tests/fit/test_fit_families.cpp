@@ -259,7 +259,8 @@ TEST(HeldOutScore, ImprovesOnTheWorseMeasureFirstThenTheOther) {
   EXPECT_NEAR(chosen.otherScore(), 0.43, 1e-8);
   // The score lowered by more than the margin: better, whatever the other measure does.
   EXPECT_TRUE(reportOf(0.40, 0.45).improvesOn(chosen, 0.05));
-  // The score lowered by less than the margin (2 %), the other measure by 35 %: better.
+  // The worse ratio lowered by less than the margin (0.48 -> 0.47, 2 %), the better one by 35 % (0.43 ->
+  // 0.28): better, ordered worst first, though the elevation ratio itself rose from 0.43 to 0.47.
   EXPECT_TRUE(reportOf(0.28, 0.47).improvesOn(chosen, 0.05));
   // ... by 4 % only: not.
   EXPECT_FALSE(reportOf(0.47, 0.415).improvesOn(chosen, 0.05));
@@ -271,6 +272,12 @@ TEST(HeldOutScore, ImprovesOnTheWorseMeasureFirstThenTheOther) {
   HeldOutReport kfoldOnly;
   kfoldOnly.kfold = {"off-mirror", 0.0, 10, 0.5, 1.0};
   EXPECT_NEAR(kfoldOnly.otherScore(), 0.5, 1e-8);
+  // ... so improving means lowering the k-fold ratio by the margin.
+  HeldOutReport lower = kfoldOnly;
+  lower.kfold.error = 0.48;
+  EXPECT_FALSE(lower.improvesOn(kfoldOnly, 0.05));
+  lower.kfold.error = 0.47;
+  EXPECT_TRUE(lower.improvesOn(kfoldOnly, 0.05));
 }
 
 TEST(FitCandidates, BestRadiallySymmetricIsReportedAndWritten) {

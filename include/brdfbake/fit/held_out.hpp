@@ -67,14 +67,18 @@ struct HeldOutReport {
   /// What model selection minimises: the worse of the k-fold ratio and the pooled elevation ratio
   /// (the k-fold ratio alone when no elevation was held out), so that neither hides the other.
   double score() const;
-  /// The other measure: the better of the two ratios (the k-fold ratio when no elevation was held out).
+  /// The better of the two ratios (the k-fold ratio when no elevation was held out): the second
+  /// entry when the two are ordered worst first.
   double otherScore() const;
-  /// Whether this report is better than `other` by the fraction `margin` in (0, 1), the worse measure
-  /// first: its score() is below (1 - margin) other.score(), or no higher while its otherScore() is
-  /// below (1 - margin) other.otherScore(). The automatic choice of colour profiles keeps them only if
-  /// they improve so: the score alone cannot see them lower one measure while the other stays at a
-  /// floor (Mystique's elevation splits, one sample nearest a clear coat's mirror; docs/fitting.md).
-  /// The other choices compare scores alone.
+  /// Whether this report is better than `other` by the fraction `margin` in (0, 1), comparing the two
+  /// ratios ordered worst first (a lexicographic minimax): its score() is below (1 - margin)
+  /// other.score(), or no higher while its otherScore() is below (1 - margin) other.otherScore().
+  /// The worse and the better ratio may be different measures in the two reports (k-fold 0.48 and
+  /// elevations 0.43 are improved on by 0.28 and 0.47: worst 0.48 -> 0.47, better 0.43 -> 0.28), so
+  /// one measure may rise as long as it stays below the other report's worse one. The automatic
+  /// choice of colour profiles keeps them only if they improve so: the score alone cannot see them
+  /// lower one measure while the other stays at a floor (Mystique's elevation splits, one sample
+  /// nearest a clear coat's mirror; docs/fitting.md). The other choices compare scores alone.
   bool improvesOn(const HeldOutReport& other, double margin) const;
 };
 
