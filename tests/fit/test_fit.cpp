@@ -223,6 +223,16 @@ TEST(SyntheticTable, IsTheModelWithRelativeNoise) {
   EXPECT_NEAR(std::sqrt(sumSquares / count), 0.01, 0.0005);
 }
 
+// The per-channel method with `lobes` lobes of `elevation`, without a held-out estimate.
+FitOptions perChannelOptions(int lobes, ElevationChoice elevation) {
+  FitOptions options;
+  options.method = FitMethod::PerChannel;
+  options.lobes = lobes;
+  options.elevation = elevation;
+  options.estimateHeldOut = false;
+  return options;
+}
+
 // C within 2 %, n within 5 %, for every lobe of every channel.
 void expectRecovered(const LobeModel& truth, const LobeModel& fitted, double u) {
   ASSERT_EQ(fitted.channelCount(), truth.channelCount());
@@ -240,11 +250,7 @@ TEST(LobeFit, RecoversKnownConstantLobesFromANoisyCornellTable) {
   const LobeModel truth = constantModel();
   const MeasuredTable table = makeSyntheticTable(truth, 0.01, 7);
   // Each channel has its own exponents: the per-channel method (the shared one shares them).
-  FitOptions options;
-  options.method = FitMethod::PerChannel;
-  options.lobes = 2;
-  options.elevation = ElevationChoice::Constant;
-  options.estimateHeldOut = false;
+  const FitOptions options = perChannelOptions(2, ElevationChoice::Constant);
   const FitResult fit = fitLobes(table, options);
   ASSERT_TRUE(fit.usable()) << fit.briefReport();
   EXPECT_EQ(fit.model.elevation, LobeElevation::Constant) << fit.briefReport();
@@ -260,11 +266,7 @@ TEST(LobeFit, RecoversKnownConstantLobesFromANoisyCornellTable) {
 TEST(LobeFit, RecoversKnownVaryingLobesFromANoisyCornellTable) {
   const LobeModel truth = varyingModel();
   const MeasuredTable table = makeSyntheticTable(truth, 0.01, 11);
-  FitOptions options;
-  options.method = FitMethod::PerChannel;
-  options.lobes = 1;
-  options.elevation = ElevationChoice::Varying;
-  options.estimateHeldOut = false;
+  const FitOptions options = perChannelOptions(1, ElevationChoice::Varying);
   const FitResult fit = fitLobes(table, options);
   ASSERT_TRUE(fit.usable()) << fit.briefReport();
   EXPECT_NEAR(fit.model.minCos, truth.minCos, 1e-6);
@@ -296,11 +298,7 @@ LobeModel spectralModel(std::size_t black) {
 TEST(LobeFit, PerChannelRecoversEveryWavelengthOfASpectralTable) {
   const std::size_t black = 2;
   const LobeModel truth = spectralModel(black);
-  FitOptions options;
-  options.method = FitMethod::PerChannel;
-  options.lobes = 2;
-  options.elevation = ElevationChoice::Constant;
-  options.estimateHeldOut = false;
+  const FitOptions options = perChannelOptions(2, ElevationChoice::Constant);
   const FitResult fit = fitLobes(makeSyntheticTable(truth, 0.01, 17), options);
   ASSERT_TRUE(fit.usable()) << fit.briefReport();
   ASSERT_EQ(fit.model.channelCount(), truth.channelCount());
@@ -338,11 +336,7 @@ TEST(LobeFit, PerChannelRecoversVaryingLobesAtEveryWavelength) {
     for (double& n : channel.lobes[0].exponent) n *= 1.0 + s;
     truth.channels.push_back(channel);
   }
-  FitOptions options;
-  options.method = FitMethod::PerChannel;
-  options.lobes = 1;
-  options.elevation = ElevationChoice::Varying;
-  options.estimateHeldOut = false;
+  const FitOptions options = perChannelOptions(1, ElevationChoice::Varying);
   const FitResult fit = fitLobes(makeSyntheticTable(truth, 0.01, 19), options);
   ASSERT_TRUE(fit.usable()) << fit.briefReport();
   for (int degreesIn = 10; degreesIn <= 80; degreesIn += 10)
@@ -823,11 +817,7 @@ INSTANTIATE_TEST_SUITE_P(Cornell, RealTable,
 TEST(RealTableSpectral, EveryWavelengthFits) {
   BRDFBAKE_REQUIRE_SHARED(dir, "data/cornell");
   const MeasuredTable table = readTableForFitting(dir / "krylon_blue.astm");
-  FitOptions options;
-  options.method = FitMethod::PerChannel;
-  options.lobes = 1;
-  options.elevation = ElevationChoice::Varying;
-  options.estimateHeldOut = false;
+  const FitOptions options = perChannelOptions(1, ElevationChoice::Varying);
   const FitResult fit = fitLobes(table, options);
   ASSERT_TRUE(fit.usable()) << fit.briefReport();
   ASSERT_EQ(fit.channels.size(), 31u);
