@@ -585,8 +585,8 @@ std::size_t weakenVaryingPrior(SplitFitter& fitter, Tried& tried, std::size_t be
 }
 
 // Colour profiles (ColorProfileChoice::Auto): the chosen candidate with them is scored too, and kept if
-// it improves on it by FitOptions::colorProfileMargin (HeldOutReport::improvesOn: the score, or the other
-// measure at a score no higher). Its splits' shapes are the chosen candidate's, whose searches the splits
+// it improves on it by FitOptions::colorProfileMargin (HeldOutReport::improvesOn: the score, or the better
+// of the two ratios at a score no higher). Its splits' shapes are the chosen candidate's, whose searches the splits
 // keep (detail::ShapeSearches), so it costs the weights' solves.
 std::size_t addColorProfile(SplitFitter& fitter, Tried& tried, std::size_t best, const CandidateSpace& space) {
   const FitOptions& options = fitter.options();

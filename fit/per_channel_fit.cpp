@@ -48,10 +48,10 @@ struct ChannelData {
   double signal = 0.0;  // sum of cos theta_i max(f_i, 0): how bright the channel is
 };
 
-// Layout of the parameter block: [k_d, lobe 0: weight coefficients, exponent coefficients, lobe 1: ...].
-
 // A channel starts from its neighbour's fit only if their signals differ by at most this factor.
 constexpr double kMaxNeighbourRatio = 10.0;
+
+// Layout of the parameter block: [k_d, lobe 0: weight coefficients, exponent coefficients, lobe 1: ...].
 int parameterCount(int lobes, int count) { return 1 + lobes * 2 * count; }
 
 // Smallest weight coefficient of a varying lobe (they are interpolated geometrically, so > 0).
@@ -601,9 +601,8 @@ class PerChannelSequences {
 
   // Spectral tables: neighbouring wavelengths reflect alike, so every kAnchorStride-th channel (and
   // the last) is fitted from its own starts (2 solves per lobe count, and the slices' fits for varying
-  // lobes) and each other one in one solve from
-  // its neighbour's fit (docs/fitting.md, "Per-channel fits with Ceres"). Other tables: every channel
-  // from its own starts.
+  // lobes) and each other one in one solve from its neighbour's fit (docs/fitting.md, "Per-channel
+  // fits with Ceres"). Other tables: every channel from its own starts.
   static constexpr std::size_t kAnchorStride = 16;
 
   // The distance of channel c from its nearest anchor (0: an anchor) and its neighbour one channel

@@ -137,8 +137,8 @@ struct FitOptions {
   /// auto choice); DifferenceAngle needs FitMethod::Shared.
   ColorProfileChoice colorProfile = ColorProfileChoice::Auto;
   /// ColorProfileChoice::Auto: profiles are kept only if they improve on the model without them by this
-  /// fraction, in (0, 1), as HeldOutReport::improvesOn says (the score, or the other measure at a score
-  /// no higher). They quadruple each channel's weights, and on a synthetic table without any colour
+  /// fraction, in (0, 1), as HeldOutReport::improvesOn says (the score, or the better of the two ratios
+  /// at a score no higher). They quadruple each channel's weights, and on a synthetic table without any colour
   /// shift they lowered the score by 2 % (tests/fit/test_color_profile.cpp); on the colour-shifting
   /// Mystique paint by 10 % (docs/fitting.md).
   double colorProfileMargin = 0.05;
