@@ -5,9 +5,8 @@
 // CIE 1931, garnet_red_RGB.astm, krylon_blue_RGB.astm, krylon_blue.brdf as its 31 wavelengths) it
 // runs
 //   - the default fit, fitLobes(table) (shared shapes, lobes and kind auto, exponent cap chosen), and
-//   - the per-channel Ceres fit (FitMethod::PerChannel): lobes and elevation auto on RGB tables;
-//     on spectral tables a fixed 2 varying lobes (--per-channel-spectral-lobes, the count its auto
-//     choice takes on both RGB conversions), since its auto search takes minutes per table there,
+//   - the per-channel Ceres fit (FitMethod::PerChannel): lobes and elevation auto (on spectral tables
+//     --per-channel-spectral-lobes K fixes K varying lobes instead),
 // each with 1 and 2 threads, --repetitions times (default 3), and prints a Markdown table (machine,
 // date and load average at the top): median wall seconds and their spread (min-max), median process
 // CPU seconds (getrusage, every thread), and the held-out figures of FitResult::heldOut (off-mirror
@@ -17,7 +16,7 @@
 // docs/images/fit_speed_error.png unless --chart says otherwise.
 //
 //   fit_bench [--shared ../shared/data/cornell] [--repetitions 3] [--tables a,b] [--quick]
-//             [--per-channel-spectral-lobes 2] [--chart docs/images/fit_speed_error.png]
+//             [--per-channel-spectral-lobes auto|K] [--chart docs/images/fit_speed_error.png]
 //   fit_bench --samples data_samples     (the synthetic tables and fits of data_samples/)
 //
 // --tables: case names (garnet_red.astm, garnet_red.astm:rgb, ...; a file name alone selects each
@@ -39,6 +38,7 @@
 #include <iostream>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -144,7 +144,7 @@ struct Settings {
   fs::path shared = "../shared/data/cornell";
   fs::path chart = "docs/images/fit_speed_error.png";
   int repetitions = 3;
-  int perChannelSpectralLobes = 2;
+  int perChannelSpectralLobes = 0;  // 0: auto
   bool quick = false;
   std::vector<std::string> tables;  // empty = every case
 };
@@ -162,7 +162,7 @@ std::vector<Method> methodsFor(const Case& c, const Settings& settings) {
   if (c.spectral && settings.quick) return methods;
   Method perChannel{"per-channel", "--method per_channel", FitOptions{}};
   perChannel.options.method = FitMethod::PerChannel;
-  if (c.spectral) {
+  if (c.spectral && settings.perChannelSpectralLobes > 0) {
     perChannel.options.lobes = settings.perChannelSpectralLobes;
     perChannel.options.elevation = ElevationChoice::Varying;
     perChannel.setup += " --lobes " + std::to_string(settings.perChannelSpectralLobes) + " --elevation varying";
@@ -449,7 +449,7 @@ int runBench(const Settings& settings) {
 
 int usage() {
   std::cerr << "usage: fit_bench [--shared DIR] [--repetitions N] [--tables a,b] [--quick] "
-               "[--per-channel-spectral-lobes K] [--chart PNG]\n"
+               "[--per-channel-spectral-lobes auto|K] [--chart PNG]\n"
                "       fit_bench --samples DIR\n";
   return 2;
 }
@@ -470,7 +470,7 @@ int main(int argc, char** argv) {
       else if (arg == "--repetitions" && value)
         settings.repetitions = std::stoi(argv[++i]);
       else if (arg == "--per-channel-spectral-lobes" && value)
-        settings.perChannelSpectralLobes = std::stoi(argv[++i]);
+        settings.perChannelSpectralLobes = std::string_view(argv[++i]) == "auto" ? 0 : std::stoi(argv[i]);
       else if (arg == "--tables" && value)
         settings.tables = splitList(argv[++i]);
       else if (arg == "--quick")
@@ -479,9 +479,9 @@ int main(int argc, char** argv) {
         return usage();
     }
     if (settings.repetitions < 1) throw Error(Error::Kind::InvalidArgument, "--repetitions must be >= 1");
-    if (settings.perChannelSpectralLobes < 1 || settings.perChannelSpectralLobes > kMaxFitLobes) {
+    if (settings.perChannelSpectralLobes < 0 || settings.perChannelSpectralLobes > kMaxFitLobes) {
       throw Error(Error::Kind::InvalidArgument,
-                  "--per-channel-spectral-lobes must be 1.." + std::to_string(kMaxFitLobes));
+                  "--per-channel-spectral-lobes must be auto or 1.." + std::to_string(kMaxFitLobes));
     }
     if (!fs::is_directory(settings.shared)) {
       std::cerr << "fit_bench: " << settings.shared.string() << " not found; pass --shared DIR\n";

@@ -1,10 +1,14 @@
 // Catmull-Rom weights (core/math.hpp) against facts that do not come from the formula: a partition
 // of unity, interpolation of the samples, exact reproduction of quadratics and the curve's tangent
-// at a sample (half the difference of its neighbours).
+// at a sample (half the difference of its neighbours). cubeRoot against the C library's std::cbrt
+// and exact cubes.
 #include <gtest/gtest.h>
 #include <brdfbake/core/math.hpp>
 
 #include <array>
+#include <cmath>
+#include <limits>
+#include <random>
 
 namespace brdfbake {
 namespace {
@@ -60,6 +64,29 @@ TEST(CatmullRomWeights, InFloatTheyReproduceAQuadraticWithinRounding) {
     for (int k = 0; k < 4; ++k) value += w[k] * samples[k];
     EXPECT_NEAR(value, 3.0 * t * t - 2.0 * t + 0.5, 1e-5) << "t = " << t;
   }
+}
+
+TEST(CubeRoot, AgreesWithTheCLibraryOverItsWholeRange) {
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> decade(-300.0, 300.0);
+  double worst = 0.0;
+  for (int i = 0; i < 200000; ++i) {
+    const double x = std::pow(10.0, decade(random)), expected = std::cbrt(x);
+    worst = std::max(worst, std::abs(cubeRoot(x) - expected) / expected);
+  }
+  EXPECT_LT(worst, 1e-14);
+}
+
+TEST(CubeRoot, GivesExactCubesTheirRoots) {
+  for (double k : {1.0, 2.0, 3.0, 10.0, 1e-3, 1e5}) EXPECT_NEAR(cubeRoot(k * k * k), k, 1e-14 * k) << k;
+}
+
+TEST(CubeRoot, LeavesTheEdgesToTheCLibrary) {
+  EXPECT_EQ(cubeRoot(0.0), 0.0);
+  EXPECT_EQ(cubeRoot(-27.0), -3.0);
+  EXPECT_EQ(cubeRoot(1e-310), std::cbrt(1e-310));  // subnormal
+  EXPECT_TRUE(std::isinf(cubeRoot(std::numeric_limits<double>::infinity())));
+  EXPECT_TRUE(std::isnan(cubeRoot(std::numeric_limits<double>::quiet_NaN())));
 }
 
 }  // namespace

