@@ -21,6 +21,7 @@
 #include <memory>
 #include <numeric>
 #include <optional>
+#include <type_traits>
 #include <utility>
 
 namespace brdfbake::detail {
@@ -99,6 +100,9 @@ class ChannelCost final : public ceres::CostFunction {
       : data_(data), lobes_(lobes), loss_(loss) {
     set_num_residuals(static_cast<int>(data.samples.size()) + 1);
     mutable_parameter_block_sizes()->push_back(parameterCount(lobes, Count));
+    last_.root.resize(data.samples.size());
+    last_.scale.resize(data.samples.size());
+    last_.residual.resize(data.samples.size());
     std::map<double, std::size_t> index;
     for (const auto& sample : data.samples) {
       const auto [it, added] = index.emplace(sample.u, elevations_.size());
@@ -108,51 +112,78 @@ class ChannelCost final : public ceres::CostFunction {
   }
 
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    using Jet = ceres::Jet<double, 2 * Count>;
-    const double* x = parameters[0];
-    double* jacobian = jacobians && jacobians[0] ? jacobians[0] : nullptr;
-    const int size = parameterCount(lobes_, Count);
-    const std::vector<Jet> blended = blendedParameters(x);  // [lobe][elevation] weight, exponent
-    const std::size_t elevations = elevations_.size(), samples = data_.samples.size();
-    double slack = 0.0;
-    for (std::size_t i = 0; i < samples; ++i) {
-      const FitSample& s = data_.samples[i];
-      double* row = jacobian ? jacobian + i * static_cast<std::size_t>(size) : nullptr;
-      double f = diffuseTerm(x[0]);
-      if (row) row[0] = diffuseTerm(1.0);
-      for (int k = 0; k < lobes_; ++k) {
-        const std::size_t at = 2 * (static_cast<std::size_t>(k) * elevations + elevationOf_[i]);
-        const Jet value =
-            s.cosToMirror > 0.0 ? normalizedLobeOfLog(blended[at], blended[at + 1], s.logCosToMirror) : Jet(0.0);
-        f += value.a;
-        if (row) std::copy(value.v.data(), value.v.data() + 2 * Count, row + 1 + k * 2 * Count);
-      }
-      const double root = cubeRoot(s.cosIn * f + data_.eps), r = root - s.target;
-      const Robust robust = robustified(r);
-      residuals[i] = robust.scale * r;
-      slack += robust.slack;
-      if (!std::isfinite(residuals[i])) return false;
-      if (!row) continue;
-      const double scale = robust.scale * s.cosIn / (3.0 * root * root);  // d residual / d f
-      double sum = 0.0;                                                   // not finite if an entry is not
-      for (int j = 0; j < size; ++j) sum += (row[j] *= scale);
-      // A step that overflows is rejected by the solver (not an error): report it as a failed evaluation.
-      if (!std::isfinite(sum)) return false;
-    }
-    residuals[samples] = std::sqrt(slack);
-    if (jacobian) std::fill_n(jacobian + samples * static_cast<std::size_t>(size), size, 0.0);
-    return std::isfinite(residuals[samples]);
+    // Trial steps need the residuals only: plain doubles there, Jets where the Jacobian is asked for.
+    if (jacobians && jacobians[0])
+      return evaluate<ceres::Jet<double, 2 * Count>>(parameters[0], residuals, jacobians[0]);
+    return evaluate<double>(parameters[0], residuals, nullptr);
   }
 
  private:
-  // Each lobe's weight and exponent at each elevation, as Jets of the lobe's parameters.
-  std::vector<ceres::Jet<double, 2 * Count>> blendedParameters(const double* x) const {
-    using Jet = ceres::Jet<double, 2 * Count>;
-    std::vector<Jet> blended(2 * static_cast<std::size_t>(lobes_) * elevations_.size());
+  template <class T>
+  bool evaluate(const double* x, double* residuals, double* jacobian) const {
+    constexpr bool withJacobian = !std::is_same_v<T, double>;
+    const int size = parameterCount(lobes_, Count);
+    const std::size_t elevations = elevations_.size(), samples = data_.samples.size();
+    const bool known = withJacobian && std::equal(x, x + size, last_.x.begin(), last_.x.end());
+    if (!known) last_.x.clear();                             // filled again below if this evaluation succeeds
+    const std::vector<T> blended = blendedParameters<T>(x);  // [lobe][elevation] weight, exponent
+    double slack = 0.0;
+    for (std::size_t i = 0; i < samples; ++i) {
+      const FitSample& s = data_.samples[i];
+      double* row = withJacobian ? jacobian + i * static_cast<std::size_t>(size) : nullptr;
+      double f = diffuseTerm(x[0]);
+      if constexpr (withJacobian) row[0] = diffuseTerm(1.0);
+      for (int k = 0; k < lobes_; ++k) {
+        const std::size_t at = 2 * (static_cast<std::size_t>(k) * elevations + elevationOf_[i]);
+        const T value =
+            s.cosToMirror > 0.0 ? normalizedLobeOfLog(blended[at], blended[at + 1], s.logCosToMirror) : T(0.0);
+        if constexpr (withJacobian) {
+          f += value.a;
+          std::copy(value.v.data(), value.v.data() + 2 * Count, row + 1 + k * 2 * Count);
+        } else {
+          f += value;
+        }
+      }
+      if (!known) {
+        last_.root[i] = cubeRoot(s.cosIn * f + data_.eps);
+        const double r = last_.root[i] - s.target;
+        const Robust robust = robustified(r);
+        last_.scale[i] = robust.scale;
+        last_.residual[i] = robust.scale * r;
+        slack += robust.slack;
+        if (!std::isfinite(last_.residual[i])) return false;
+      }
+      residuals[i] = last_.residual[i];
+      if constexpr (withJacobian) {
+        const double root = last_.root[i];
+        const double scale = last_.scale[i] * s.cosIn / (3.0 * root * root);  // d residual / d f
+        double sum = 0.0;                                                     // not finite if an entry is not
+        for (int j = 0; j < size; ++j) sum += (row[j] *= scale);
+        // A step that overflows is rejected by the solver (not an error): report it as a failed evaluation.
+        if (!std::isfinite(sum)) return false;
+      }
+    }
+    residuals[samples] = known ? last_.slackRoot : std::sqrt(slack);
+    if (!std::isfinite(residuals[samples])) return false;
+    if (withJacobian) std::fill_n(jacobian + samples * static_cast<std::size_t>(size), size, 0.0);
+    if (!known) last_.x.assign(x, x + size), last_.slackRoot = residuals[samples];
+    return true;
+  }
+
+  // Each lobe's weight and exponent at each elevation (as Jets of the lobe's parameters, or values).
+  template <class T>
+  std::vector<T> blendedParameters(const double* x) const {
+    std::vector<T> blended(2 * static_cast<std::size_t>(lobes_) * elevations_.size());
     for (int k = 0; k < lobes_; ++k) {
       const double* p = x + 1 + k * 2 * Count;
-      Jet q[2 * Count];
-      for (int j = 0; j < 2 * Count; ++j) q[j] = Jet(p[j], j);
+      T q[2 * Count];
+      for (int j = 0; j < 2 * Count; ++j) {
+        if constexpr (std::is_same_v<T, double>) {
+          q[j] = p[j];
+        } else {
+          q[j] = T(p[j], j);
+        }
+      }
       for (std::size_t e = 0; e < elevations_.size(); ++e) {
         const std::size_t at = 2 * (static_cast<std::size_t>(k) * elevations_.size() + e);
         blended[at] = Count == 1 ? q[0] : geometricBlend(q, elevations_[e]->data(), Count);
@@ -177,6 +208,14 @@ class ChannelCost final : public ceres::CostFunction {
   const ChannelData& data_;
   int lobes_;
   const ceres::LossFunction* loss_;
+  // The last residual-only evaluation, per sample. Ceres evaluates a trial step's residuals, then, if it
+  // takes the step, the Jacobian at the same parameters, which reuses the cube roots and the loss (the
+  // loss's logarithm was a sixth of the fit's time). Ceres runs one solve on one thread (num_threads 1).
+  struct Evaluation {
+    std::vector<double> x, root, scale, residual;
+    double slackRoot = 0.0;
+  };
+  mutable Evaluation last_;
   std::vector<const std::array<double, kVaryingCount>*> elevations_;  // Bernstein weights of each elevation
   std::vector<std::size_t> elevationOf_;                              // each sample's elevation
 };
