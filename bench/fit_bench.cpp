@@ -442,9 +442,15 @@ int runBench(const Settings& settings) {
     return 0;
   }
   writeChart(runs, settings.chart,
-             "Cornell tables: fit time against held-out score (" + machine + ", " + started + ", load average " +
-                 loadBefore + ", " + std::to_string(repetitions) + " repetition(s))");
+             "Cornell tables, fit time against held-out score (" + machine + ", " + started + ", load " + loadBefore +
+                 ", " + std::to_string(repetitions) + " rep.)");
   return 0;
+}
+
+// A lobe count from text, -1 (refused below) if it is less than 1.
+int countOrInvalid(const std::string& text) {
+  const int count = std::stoi(text);
+  return count >= 1 ? count : -1;
 }
 
 int usage() {
@@ -470,7 +476,7 @@ int main(int argc, char** argv) {
       else if (arg == "--repetitions" && value)
         settings.repetitions = std::stoi(argv[++i]);
       else if (arg == "--per-channel-spectral-lobes" && value)
-        settings.perChannelSpectralLobes = std::string_view(argv[++i]) == "auto" ? 0 : std::stoi(argv[i]);
+        settings.perChannelSpectralLobes = std::string_view(argv[++i]) == "auto" ? 0 : countOrInvalid(argv[i]);
       else if (arg == "--tables" && value)
         settings.tables = splitList(argv[++i]);
       else if (arg == "--quick")

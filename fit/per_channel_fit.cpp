@@ -5,6 +5,7 @@
 #include <brdfbake/core/progress.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 
+#include "per_channel_cost.hpp"
 #include "per_channel_fit.hpp"
 
 #include <ceres/ceres.h>
@@ -17,11 +18,9 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <map>
 #include <memory>
 #include <numeric>
 #include <optional>
-#include <type_traits>
 #include <utility>
 
 namespace brdfbake::detail {
@@ -30,31 +29,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr int kVaryingCount = elevationCoefficientCount(LobeElevation::Varying);
-
-// Per-sample quantities the residual needs; the geometry is data, never differentiated.
-struct FitSample {
-  double cosIn;           // cos theta_i, the cosine weight
-  double u;               // elevation coordinate of the view (outgoing) direction (LobeModel::elevationCoordinate)
-  double cosToMirror;     // r_v . l
-  double logCosToMirror;  // ln(r_v . l) where r_v . l > 0
-  double target;          // cbrt(cos theta_i f_measured + eps)
-  std::array<double, kVaryingCount> bernstein;  // Bernstein weights at u
-};
-
-struct ChannelData {
-  std::vector<FitSample> samples;
-  std::vector<double> measured;  // f_i of the fitted samples
-  double eps = 0.0;
-  double maxTarget = 0.0;
-  double signal = 0.0;  // sum of cos theta_i max(f_i, 0): how bright the channel is
-};
-
 // A channel starts from its neighbour's fit only if their signals differ by at most this factor.
 constexpr double kMaxNeighbourRatio = 10.0;
-
-// Layout of the parameter block: [k_d, lobe 0: weight coefficients, exponent coefficients, lobe 1: ...].
-int parameterCount(int lobes, int count) { return 1 + lobes * 2 * count; }
 
 // Smallest weight coefficient of a varying lobe (they are interpolated geometrically, so > 0).
 constexpr double kMinVaryingWeight = 1e-12;
@@ -62,180 +38,12 @@ constexpr double kMinVaryingWeight = 1e-12;
 // any physical reflectance).
 constexpr double kMaxVaryingWeight = 1e6;
 
-// One lobe's value at sample s from its parameters p (the weight's `count` values, then the
-// exponent's), through the same formulas as LobeModel. Constant lobes are optimised as C and n
-// themselves (bounds C >= 0, 1 <= n <= 1e5); varying lobes as ln C_j and ln n_j (bounds
-// 1e-12 <= C_j <= 1e6, 1 <= n_j <= 1e5), the natural scale of their geometric interpolation, with the
-// sample's Bernstein weights precomputed.
-template <class T>
-T lobeValue(const T* p, int count, const FitSample& s) {
-  if (!(s.cosToMirror > 0.0)) return T(0.0);
-  const T weight = count == 1 ? p[0] : geometricBlend(p, s.bernstein.data(), count);
-  const T exponent = count == 1 ? p[1] : geometricBlend(p + count, s.bernstein.data(), count);
-  return normalizedLobeOfLog(weight, exponent, s.logCosToMirror);
-}
-
-// The channel's BRDF at sample s from the optimiser's parameters (see parameterCount).
-double channelValue(const double* x, int lobes, int count, const FitSample& s) {
-  double value = diffuseTerm(x[0]);
-  for (int k = 0; k < lobes; ++k) value += lobeValue(x + 1 + k * 2 * count, count, s);
-  return value;
-}
-
-// Every sample's residual of one channel in one cost function, with its Jacobian: one block instead of
-// one per sample, whose preparing, checking and copying by Ceres was a quarter of the fit's time. The
-// residual of sample i is r_i = cbrt(cos theta_i f_i + eps) - target_i under the robust loss rho, applied
-// here as Ceres applies it to a block of one residual whose rho'' <= 0 (Cauchy, Huber, none: Ceres'
-// Corrector, which leaves out Triggs et al. 2000's curvature term there): the residual sqrt(rho'_i) r_i,
-// its Jacobian scaled by sqrt(rho'_i). One more residual, sqrt(sum_i (rho_i - rho'_i r_i^2)) (>= 0 for
-// a concave rho with rho(0) = 0) with a zero Jacobian row, makes Ceres' cost half the sum of all squares
-// = sum 1/2 rho(r_i^2), as with a loss per block: the same steps as a block per sample. A varying lobe's
-// weight and exponent depend on the view's elevation only, so they are blended once per elevation of
-// the table (10 on the Cornell grid) with Jets of the lobe's 2 Count parameters (lobes share no
-// parameter), not once per sample.
-template <int Count>
-class ChannelCost final : public ceres::CostFunction {
- public:
-  ChannelCost(const ChannelData& data, int lobes, const ceres::LossFunction* loss)
-      : data_(data), lobes_(lobes), loss_(loss) {
-    set_num_residuals(static_cast<int>(data.samples.size()) + 1);
-    mutable_parameter_block_sizes()->push_back(parameterCount(lobes, Count));
-    last_.root.resize(data.samples.size());
-    last_.scale.resize(data.samples.size());
-    last_.residual.resize(data.samples.size());
-    std::map<double, std::size_t> index;
-    for (const auto& sample : data.samples) {
-      const auto [it, added] = index.emplace(sample.u, elevations_.size());
-      if (added) elevations_.push_back(&sample.bernstein);
-      elevationOf_.push_back(it->second);
-    }
-  }
-
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
-    // Trial steps need the residuals only: plain doubles there, Jets where the Jacobian is asked for.
-    if (jacobians && jacobians[0])
-      return evaluate<ceres::Jet<double, 2 * Count>>(parameters[0], residuals, jacobians[0]);
-    return evaluate<double>(parameters[0], residuals, nullptr);
-  }
-
- private:
-  template <class T>
-  bool evaluate(const double* x, double* residuals, double* jacobian) const {
-    constexpr bool withJacobian = !std::is_same_v<T, double>;
-    const int size = parameterCount(lobes_, Count);
-    const std::size_t elevations = elevations_.size(), samples = data_.samples.size();
-    const bool known = withJacobian && std::equal(x, x + size, last_.x.begin(), last_.x.end());
-    if (!known) last_.x.clear();                             // filled again below if this evaluation succeeds
-    const std::vector<T> blended = blendedParameters<T>(x);  // [lobe][elevation] weight, exponent
-    double slack = 0.0;
-    for (std::size_t i = 0; i < samples; ++i) {
-      const FitSample& s = data_.samples[i];
-      double* row = withJacobian ? jacobian + i * static_cast<std::size_t>(size) : nullptr;
-      double f = diffuseTerm(x[0]);
-      if constexpr (withJacobian) row[0] = diffuseTerm(1.0);
-      for (int k = 0; k < lobes_; ++k) {
-        const std::size_t at = 2 * (static_cast<std::size_t>(k) * elevations + elevationOf_[i]);
-        const T value =
-            s.cosToMirror > 0.0 ? normalizedLobeOfLog(blended[at], blended[at + 1], s.logCosToMirror) : T(0.0);
-        if constexpr (withJacobian) {
-          f += value.a;
-          std::copy(value.v.data(), value.v.data() + 2 * Count, row + 1 + k * 2 * Count);
-        } else {
-          f += value;
-        }
-      }
-      if (!known) {
-        last_.root[i] = cubeRoot(s.cosIn * f + data_.eps);
-        const double r = last_.root[i] - s.target;
-        const Robust robust = robustified(r);
-        last_.scale[i] = robust.scale;
-        last_.residual[i] = robust.scale * r;
-        slack += robust.slack;
-        if (!std::isfinite(last_.residual[i])) return false;
-      }
-      residuals[i] = last_.residual[i];
-      if constexpr (withJacobian) {
-        const double root = last_.root[i];
-        const double scale = last_.scale[i] * s.cosIn / (3.0 * root * root);  // d residual / d f
-        double sum = 0.0;                                                     // not finite if an entry is not
-        for (int j = 0; j < size; ++j) sum += (row[j] *= scale);
-        // A step that overflows is rejected by the solver (not an error): report it as a failed evaluation.
-        if (!std::isfinite(sum)) return false;
-      }
-    }
-    residuals[samples] = known ? last_.slackRoot : std::sqrt(slack);
-    if (!std::isfinite(residuals[samples])) return false;
-    if (withJacobian) std::fill_n(jacobian + samples * static_cast<std::size_t>(size), size, 0.0);
-    if (!known) last_.x.assign(x, x + size), last_.slackRoot = residuals[samples];
-    return true;
-  }
-
-  // Each lobe's weight and exponent at each elevation (as Jets of the lobe's parameters, or values).
-  template <class T>
-  std::vector<T> blendedParameters(const double* x) const {
-    std::vector<T> blended(2 * static_cast<std::size_t>(lobes_) * elevations_.size());
-    for (int k = 0; k < lobes_; ++k) {
-      const double* p = x + 1 + k * 2 * Count;
-      T q[2 * Count];
-      for (int j = 0; j < 2 * Count; ++j) {
-        if constexpr (std::is_same_v<T, double>) {
-          q[j] = p[j];
-        } else {
-          q[j] = T(p[j], j);
-        }
-      }
-      for (std::size_t e = 0; e < elevations_.size(); ++e) {
-        const std::size_t at = 2 * (static_cast<std::size_t>(k) * elevations_.size() + e);
-        blended[at] = Count == 1 ? q[0] : geometricBlend(q, elevations_[e]->data(), Count);
-        blended[at + 1] = Count == 1 ? q[1] : geometricBlend(q + Count, elevations_[e]->data(), Count);
-      }
-    }
-    return blended;
-  }
-
-  // The factor sqrt(rho'(r^2)) on a residual r and its Jacobian, and rho(r^2) - rho'(r^2) r^2, what
-  // the scaled square leaves of rho (1 and 0 without a loss).
-  struct Robust {
-    double scale = 1.0, slack = 0.0;
-  };
-  Robust robustified(double r) const {
-    if (!loss_) return {};
-    double rho[3];
-    loss_->Evaluate(r * r, rho);
-    return {std::sqrt(rho[1]), std::max(0.0, rho[0] - rho[1] * r * r)};
-  }
-
-  const ChannelData& data_;
-  int lobes_;
-  const ceres::LossFunction* loss_;
-  // The last residual-only evaluation, per sample. Ceres evaluates a trial step's residuals, then, if it
-  // takes the step, the Jacobian at the same parameters, which reuses the cube roots and the loss (the
-  // loss's logarithm was a sixth of the fit's time). Ceres runs one solve on one thread (num_threads 1).
-  struct Evaluation {
-    std::vector<double> x, root, scale, residual;
-    double slackRoot = 0.0;
-  };
-  mutable Evaluation last_;
-  std::vector<const std::array<double, kVaryingCount>*> elevations_;  // Bernstein weights of each elevation
-  std::vector<std::size_t> elevationOf_;                              // each sample's elevation
-};
-
-ceres::CostFunction* makeCost(const ChannelData& data, int lobes, int count, const ceres::LossFunction* loss) {
-  if (count == 1) return new ChannelCost<1>(data, lobes, loss);
-  if (count == kVaryingCount) return new ChannelCost<kVaryingCount>(data, lobes, loss);
-  throw Error(Error::Kind::InvalidArgument, "fit: unsupported coefficient count " + std::to_string(count));
-}
-
-double modelValue(const std::vector<double>& x, int lobes, int count, const FitSample& s) {
-  return channelValue(x.data(), lobes, count, s);
-}
-
 // sum_i 1/2 rho(r_i^2), Ceres' cost of parameters x.
 double robustCost(const ChannelData& data, const std::vector<double>& x, int lobes, int count,
                   const ceres::LossFunction* loss, double eps) {
   double cost = 0.0;
   for (const auto& s : data.samples) {
-    const double r = cubeRoot(s.cosIn * modelValue(x, lobes, count, s) + eps) - s.target;
+    const double r = cubeRoot(s.cosIn * channelValue(x.data(), lobes, count, s) + eps) - s.target;
     double rho[3] = {r * r, 1.0, 0.0};
     if (loss) loss->Evaluate(r * r, rho);
     cost += 0.5 * rho[0];
@@ -435,7 +243,7 @@ class ChannelFitter {
                                                    int count = 1) const {
     const auto& samples = data_.samples;
     std::vector<double> current(samples.size());
-    for (std::size_t i = 0; i < samples.size(); ++i) current[i] = modelValue(x, existing, count, samples[i]);
+    for (std::size_t i = 0; i < samples.size(); ++i) current[i] = channelValue(x.data(), existing, count, samples[i]);
     // Weights of the linearised cube-root residual: (cos d cbrt(y)/dy)^2, y floored at 1e-3 of the peak.
     const double floor = std::max(1e-3 * data_.maxTarget * data_.maxTarget * data_.maxTarget, 1e-300);
     std::vector<std::pair<double, std::vector<double>>> scored;
@@ -478,8 +286,8 @@ class ChannelFitter {
   Candidate solve(std::vector<double> x, int lobes, int count) {
     Candidate result;
     ceres::Problem problem;
-    problem.AddResidualBlock(makeCost(data_, lobes, count, loss_.get()), nullptr, x.data());
-    // Bounds (see lobeValue); the start is moved inside them first.
+    problem.AddResidualBlock(makeChannelCost(data_, lobes, count, loss_.get()), nullptr, x.data());
+    // Bounds (see lobeValue in per_channel_cost.cpp); the start is moved inside them first.
     auto bound = [&](int index, double lower, double upper) {
       problem.SetParameterLowerBound(x.data(), index, lower);
       if (upper < HUGE_VAL) problem.SetParameterUpperBound(x.data(), index, upper);
@@ -533,34 +341,6 @@ class ChannelFitter {
   std::vector<Candidate> sliceFits_;
   Eigen::Matrix3d sliceBasis_ = Eigen::Matrix3d::Zero();
 };
-
-// The fitted samples of one channel: light and view above the horizon. `range` gives the
-// elevation coordinate.
-ChannelData channelData(const MeasuredTable& table, std::size_t channel, const LobeModel& range) {
-  ChannelData data;
-  double maxWeighted = 0.0;
-  for (std::size_t i = 0; i < table.size(); ++i) {
-    const Vec3 wi = table.incidentDirection(i), wo = table.outgoingDirection(i);
-    if (!(wi.z() > 0.0) || !(wo.z() > 0.0)) continue;
-    const double f = table.values(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(channel));
-    const double cosToMirror = reflect(wo, Vec3(Vec3::UnitZ())).dot(wi);
-    FitSample sample{wi.z(),      range.elevationCoordinate(wo.z()),
-                     cosToMirror, cosToMirror > 0.0 ? std::log(cosToMirror) : 0.0,
-                     0.0,         {}};
-    bernsteinWeights(kVaryingCount, sample.u, sample.bernstein.data());
-    data.samples.push_back(sample);
-    data.measured.push_back(f);
-    maxWeighted = std::max(maxWeighted, std::abs(wi.z() * f));
-    data.signal += wi.z() * std::max(f, 0.0);
-  }
-  data.eps = std::max(1e-6 * maxWeighted, 1e-12);
-  for (std::size_t i = 0; i < data.samples.size(); ++i) {
-    auto& s = data.samples[i];
-    s.target = cubeRoot(s.cosIn * data.measured[i] + data.eps);
-    data.maxTarget = std::max(data.maxTarget, std::abs(s.target));
-  }
-  return data;
-}
 
 LobeChannel toChannel(const std::vector<double>& x, int lobes, int count, std::string name) {
   LobeChannel channel;

@@ -363,6 +363,7 @@ TEST(LobeFit, PerChannelReportsTheRobustCostOfItsModel) {
       const double cosIn = std::cos(table.angles[i].thetaIn);
       eps = std::max(eps, 1e-6 * std::abs(cosIn * table.values(static_cast<Eigen::Index>(i), column)));
     }
+    eps = std::max(eps, 1e-12);
     std::vector<double> r;
     for (std::size_t i = 0; i < table.size(); ++i) {
       const double cosIn = std::cos(table.angles[i].thetaIn);

@@ -45,9 +45,10 @@ inline Vec3 anyPerpendicular(const Vec3& a) {
 }
 
 /// The cube root of x, within 1e-14 of std::cbrt relative to it for x in [1e-300, 1e300] (std::cbrt
-/// itself elsewhere), in a third of its time: the bit pattern of x divided by 3 as the start (within
-/// 4 %, after Kahan's cube root), then two steps of Halley's iteration y <- y (y^3 + 2x) / (2y^3 + x),
-/// whose error cubes at each step. For residuals evaluated many times (the per-channel fit).
+/// itself elsewhere), and faster (the per-channel fit took 6 to 8 % less time than with std::cbrt): the
+/// bit pattern of x divided by 3 plus fdlibm's constant as the start (within 3.2 %, after Kahan's cube
+/// root), then two steps of Halley's iteration y <- y (y^3 + 2x) / (2y^3 + x), which take an error e to
+/// about (2/3) e^3 each (7e-15 at most, measured over 1e7 random x). For residuals evaluated many times.
 inline double cubeRoot(double x) {
   if (!(x >= 1e-300 && x <= 1e300)) return std::cbrt(x);
   double y = std::bit_cast<double>(std::bit_cast<std::uint64_t>(x) / 3 + 0x2A9F7893782DA1CEull);
