@@ -74,7 +74,7 @@ class ChannelCost final : public ceres::CostFunction {
     const int size = parameterCount(lobes_, Count);
     const std::size_t elevations = elevations_.size(), samples = data_.samples.size();
     const bool cached = withJacobian && std::equal(x, x + size, last_.x.begin(), last_.x.end());
-    if (!cached) last_.x.clear();                             // filled again below if this evaluation succeeds
+    if (!cached) last_.x.clear();                            // filled again below if this evaluation succeeds
     const std::vector<T> blended = blendedParameters<T>(x);  // [lobe][elevation] weight, exponent
     double slack = 0.0;
     for (std::size_t i = 0; i < samples; ++i) {
@@ -167,7 +167,7 @@ class ChannelCost final : public ceres::CostFunction {
   };
   mutable Evaluation last_;
   std::vector<std::array<double, kVaryingCount>> elevations_;  // Bernstein weights of each elevation
-  std::vector<std::size_t> elevationOf_;                              // each sample's elevation
+  std::vector<std::size_t> elevationOf_;                       // each sample's elevation
 };
 
 }  // namespace
@@ -204,12 +204,10 @@ double channelValue(const double* x, int lobes, int count, const FitSample& s) {
   return value;
 }
 
-
 ceres::CostFunction* makeChannelCost(const ChannelData& data, int lobes, int count, const ceres::LossFunction* loss) {
   if (count == 1) return new ChannelCost<1>(data, lobes, loss);
   if (count == kVaryingCount) return new ChannelCost<kVaryingCount>(data, lobes, loss);
   throw Error(Error::Kind::InvalidArgument, "fit: unsupported coefficient count " + std::to_string(count));
 }
-
 
 }  // namespace brdfbake::detail

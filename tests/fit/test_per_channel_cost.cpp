@@ -69,14 +69,13 @@ Evaluation evaluate(ceres::Problem& problem) {
 }
 
 // One block per sample with `loss` (may be null), as the fit was before.
-Evaluation perSample(const ChannelData& data, std::vector<double> x, int lobes, int count,
-                     ceres::LossFunction* loss) {
+Evaluation perSample(const ChannelData& data, std::vector<double> x, int lobes, int count, ceres::LossFunction* loss) {
   ceres::Problem::Options options;
   options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   ceres::Problem problem(options);
   for (const auto& sample : data.samples) {
-    auto* cost = new ceres::DynamicAutoDiffCostFunction<SampleResidual>(
-        new SampleResidual{sample, lobes, count, data.eps});
+    auto* cost =
+        new ceres::DynamicAutoDiffCostFunction<SampleResidual>(new SampleResidual{sample, lobes, count, data.eps});
     cost->AddParameterBlock(static_cast<int>(x.size()));
     cost->SetNumResiduals(1);
     problem.AddResidualBlock(cost, loss, x.data());
@@ -129,7 +128,8 @@ std::vector<std::vector<double>> parameterVectors(int count) {
     std::vector<double> x = {0.15 * factor};
     for (auto [weight, exponent] : {std::pair{0.25, 14.0}, std::pair{0.6, 160.0}}) {
       for (int j = 0; j < count; ++j) x.push_back(count == 1 ? weight * factor : std::log(weight * factor) - 0.1 * j);
-      for (int j = 0; j < count; ++j) x.push_back(count == 1 ? exponent / factor : std::log(exponent / factor) + 0.2 * j);
+      for (int j = 0; j < count; ++j)
+        x.push_back(count == 1 ? exponent / factor : std::log(exponent / factor) + 0.2 * j);
     }
     vectors.push_back(x);
   }
@@ -145,8 +145,8 @@ TEST(PerChannelCost, IsOneBlockPerSampleWithCeresLoss) {
                                                      std::make_unique<ceres::HuberLoss>(scale), nullptr};
     for (const auto& loss : losses) {
       for (const auto& x : parameterVectors(count)) {
-        const std::string what = "count " + std::to_string(count) + (loss ? "" : " no loss") + " x0 " +
-                                 std::to_string(x[0]);
+        const std::string what =
+            "count " + std::to_string(count) + (loss ? "" : " no loss") + " x0 " + std::to_string(x[0]);
         expectSame(perSample(data, x, 2, count, loss.get()), oneBlock(data, x, 2, count, loss.get()), what);
       }
     }
@@ -185,8 +185,8 @@ TEST(PerChannelCost, EveryOrderOfEvaluationGivesWhatAFreshOneGives) {
   std::unique_ptr<ceres::CostFunction> reused(makeChannelCost(data, 2, kVaryingCount, &cauchy));
   // First a Jacobian, then residuals and the Jacobian at the same point (the cache), then a Jacobian
   // at another point, then back.
-  const std::pair<int, bool> order[] = {{0, true}, {1, false}, {1, true}, {2, true}, {2, false},
-                                        {0, true}, {0, false}, {1, true}};
+  const std::pair<int, bool> order[] = {{0, true},  {1, false}, {1, true},  {2, true},
+                                        {2, false}, {0, true},  {0, false}, {1, true}};
   for (const auto& [which, jacobian] : order) {
     std::unique_ptr<ceres::CostFunction> fresh(makeChannelCost(data, 2, kVaryingCount, &cauchy));
     const auto& x = vectors[static_cast<std::size_t>(which)];
