@@ -38,10 +38,9 @@ double lobeValue(const double* p, int count, const FitSample& s) {
 // its Jacobian scaled by sqrt(rho'_i). One more residual, sqrt(sum_i (rho_i - rho'_i r_i^2)) (>= 0 for
 // a concave rho with rho(0) = 0) with a zero Jacobian row, makes Ceres' cost half the sum of all squares
 // = sum 1/2 rho(r_i^2), as with a loss per block: the same model, gradient and cost as a block per
-// sample. A varying lobe's
-// weight and exponent depend on the view's elevation only, so they are blended once per elevation of
-// the table (10 on the Cornell grid) with Jets of the lobe's 2 Count parameters (lobes share no
-// parameter), not once per sample.
+// sample. A varying lobe's weight and exponent depend on the view's elevation only, so they are
+// blended once per elevation of the table (10 on the Cornell grid) with Jets of the lobe's 2 Count
+// parameters (lobes share no parameter), not once per sample.
 template <int Count>
 class ChannelCost final : public ceres::CostFunction {
  public:
