@@ -18,6 +18,9 @@ with c_k = -1 a Phong lobe about the mirrored view (--kind mirror), other c_k La
 smoothly with the view's elevation (--elevation varying). With --color-profile difference_angle
 each channel's k_d, C_k (and Fresnel weight) are also multiplied by a cubic polynomial in theta_d,
 the angle between light and half-vector: colours that shift with angle (interference paints).
+Where no lobes follow a table, a smooth table of ln f over the half and difference angles
+(theta_h, theta_d) may (--kind table); with --kind auto and --lobes auto, --tables auto (default)
+scores it after the lobes and keeps it only if it does better held out.
 --method shared (default): the lobes' shapes (and elevation profiles) are shared by every channel,
 weights by non-negative least squares; --method per_channel: Ceres, each channel on its own.
 The fit estimates its held-out error (log error on rows it did not see: k-fold over rows away from
@@ -38,14 +41,17 @@ struct FitArgs {
   CommonFlags flags;
   FitTableOptions options;
   std::string table, format = "auto", lobes = "auto", elevation = "auto", method = "shared", kind = "auto",
-                     maxExponent = "auto", varyingPrior = "auto", colorProfile = "auto", heldOut = "on",
-                     channels = "rgb", rgb = "cie1931", output, report;
+                     maxExponent = "auto", varyingPrior = "auto", colorProfile = "auto", tables = "auto",
+                     heldOut = "on", channels = "rgb", rgb = "cie1931", output, report;
 };
 
 void addModelFlags(CLI::App* command, FitArgs& a) {
   command->add_option("--lobes", a.lobes, "Lobes per channel: auto or 1.." + std::to_string(kMaxFitLobes))
       ->default_str("auto");
-  command->add_option("--kind", a.kind, "auto | mirror | lafortune | half_vector | mixed (the shared method's lobes)")
+  command
+      ->add_option(
+          "--kind", a.kind,
+          "auto | mirror | lafortune | half_vector | mixed | table (the shared method's lobes, or a table alone)")
       ->default_str("auto");
   command->add_option("--elevation", a.elevation, "auto | constant | varying (with the view's elevation)")
       ->default_str("auto");
@@ -61,6 +67,11 @@ void addModelFlags(CLI::App* command, FitArgs& a) {
       ->add_option("--color-profile", a.colorProfile,
                    "auto | none | difference_angle (each channel's weights times a cubic in theta_d; shared method)")
       ->default_str("auto");
+  command
+      ->add_option("--tables", a.tables,
+                   "auto | none: --kind auto also scores a half-difference table (docs/fitting.md)")
+      ->default_str("auto")
+      ->check(CLI::IsMember({"auto", "none"}));
   command->add_option("--held-out", a.heldOut, "on | off: estimate the fit's held-out error (auto choices need it)")
       ->default_str("on")
       ->check(CLI::IsMember({"on", "off"}));
@@ -111,6 +122,7 @@ void parseModelFlags(const FitArgs& a, FitOptions& fit) {
     fit.chooseVaryingPrior = false;
   }
   fit.colorProfile = parseFlag("--color-profile", a.colorProfile, parseColorProfileChoice);
+  fit.tables = a.tables == "auto";
   fit.estimateHeldOut = a.heldOut == "on";
 }
 

@@ -6,6 +6,7 @@
 
 #include "per_channel_fit.hpp"
 #include "shared_lobe_fit.hpp"
+#include "table_fit.hpp"
 
 #include <algorithm>
 #include <array>
@@ -89,6 +90,13 @@ void FitOptions::validate() const {
           "fit: colorProfileMargin must be in (0, 1)");
   require(method == FitMethod::Shared || colorProfile != ColorProfileChoice::DifferenceAngle,
           "fit: colour profiles are fitted by the shared method only");
+  if (kind == LobeKindChoice::Table) {
+    require(method == FitMethod::Shared, "fit: a half-difference table is fitted by the shared method only");
+    require(lobes == 0, "fit: a half-difference table has no lobes (lobes must be auto)");
+    require(elevation != ElevationChoice::Varying && colorProfile != ColorProfileChoice::DifferenceAngle,
+            "fit: a half-difference table has neither varying lobes nor colour profiles (its theta_d dependence is "
+            "its own)");
+  }
   heldOut.validate();
 }
 
@@ -179,6 +187,7 @@ SharedModel sharedModel(const MeasuredTable& table, const FitOptions& options, L
                         int gaussNewtonSteps = detail::kGaussNewtonSteps) {
   const std::string label = table.label();
   if (table.channelCount() == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
+  if (kind == LobeKindChoice::Table) return {detail::fitHalfDifferenceTable(table), 0};
   detail::SharedFitConfig config;
   config.lobes = options.lobes;
   config.mirror = kind == LobeKindChoice::Mirror || kind == LobeKindChoice::Mixed;
@@ -229,7 +238,9 @@ FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeK
     stats.solver.termination = "CONVERGENCE";
     stats.solver.usable = true;
     stats.solver.iterations = fitted.evaluations;
-    stats.solver.briefReport = "shared shapes: " + std::to_string(fitted.evaluations) + " shape trials, NNLS weights";
+    stats.solver.briefReport = kind == LobeKindChoice::Table ? "half-difference table: penalised least squares on ln f"
+                                                             : "shared shapes: " + std::to_string(fitted.evaluations) +
+                                                                   " shape trials, NNLS weights";
     stats.totalIterations = fitted.evaluations;
     stats.seconds = seconds;
     result.channels.push_back(std::move(stats));
@@ -289,6 +300,8 @@ LobeModel fitCandidateModel(const MeasuredTable& table, const FitOptions& option
 }
 
 int parameterTotal(const CandidateConfig& config, FitMethod method, std::size_t channels) {
+  if (config.kind == LobeKindChoice::Table)
+    return detail::kFittedTableShape.coefficientCount() * static_cast<int>(channels);
   const int count = elevationCoefficientCount(config.elevation);
   const int perChannel = 1 + config.lobes * (method == FitMethod::Shared ? 1 : 2 * count);
   // Shared: a Lafortune lobe's n and c_xy, a half-vector lobe's n (and one more weight per channel, C_F);
@@ -340,6 +353,8 @@ std::string_view toString(LobeKindChoice kind) {
       return "half_vector";
     case LobeKindChoice::Mixed:
       return "mixed";
+    case LobeKindChoice::Table:
+      return "table";
   }
   return "auto";
 }
@@ -347,7 +362,7 @@ std::string_view toString(LobeKindChoice kind) {
 LobeKindChoice parseLobeKindChoice(std::string_view name) {
   return parseByName(name,
                      std::array{LobeKindChoice::Auto, LobeKindChoice::Mirror, LobeKindChoice::Lafortune,
-                                LobeKindChoice::HalfVector, LobeKindChoice::Mixed},
+                                LobeKindChoice::HalfVector, LobeKindChoice::Mixed, LobeKindChoice::Table},
                      "lobe kind");
 }
 
@@ -361,6 +376,7 @@ struct CandidateSpace {
   ColorProfile colorProfile = ColorProfile::None;  // of every candidate scored first
   bool tryColorProfile = false;                    // then the chosen one with a colour profile
   bool heldOutFeasible = false;                    // enough rows away from the mirror for held-out splits
+  bool tryTable = false;                           // last, a half-difference table against the chosen lobes
 
   // The elevations tried for `kind`: an automatic choice of kind and elevation tries Lafortune lobes
   // constant only (varying ones never won on the Cornell tables and cost a c_xy search, docs/fitting.md).
@@ -379,7 +395,9 @@ struct CandidateSpace {
 CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& options) {
   const bool shared = options.method == FitMethod::Shared;
   CandidateSpace space;
-  if (options.lobes > 0)
+  if (options.kind == LobeKindChoice::Table)
+    space.counts = {0};
+  else if (options.lobes > 0)
     space.counts = {options.lobes};
   else
     for (int k = 1; k <= options.maxAutoLobes; ++k) space.counts.push_back(k);
@@ -390,7 +408,7 @@ CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& opti
   else
     space.kinds = {LobeKindChoice::HalfVector, LobeKindChoice::Mirror, LobeKindChoice::Mixed,
                    LobeKindChoice::Lafortune};  // likeliest first
-  if (options.elevation == ElevationChoice::Constant)
+  if (options.elevation == ElevationChoice::Constant || options.kind == LobeKindChoice::Table)
     space.elevations = {LobeElevation::Constant};
   else if (options.elevation == ElevationChoice::Varying)
     space.elevations = {LobeElevation::Varying};
@@ -405,7 +423,11 @@ CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& opti
   if (options.colorProfile == ColorProfileChoice::DifferenceAngle) space.colorProfile = ColorProfile::DifferenceAngle;
   // With every other choice explicit and no held-out estimate asked for, auto means none.
   space.tryColorProfile = shared && options.colorProfile == ColorProfileChoice::Auto && space.heldOutFeasible &&
-                          (options.estimateHeldOut || space.size() > 1);
+                          options.kind != LobeKindChoice::Table && (options.estimateHeldOut || space.size() > 1);
+  // An explicit kind asks for those lobes (--kind mirror: radially symmetric ones, to prefilter).
+  space.tryTable = options.tables && space.heldOutFeasible && options.kind == LobeKindChoice::Auto && shared &&
+                   options.lobes == 0 && options.elevation != ElevationChoice::Varying &&
+                   options.colorProfile != ColorProfileChoice::DifferenceAngle;
   if (!space.heldOutFeasible) {
     space.counts.resize(1);
     if (space.kinds.size() > 1) space.kinds = {LobeKindChoice::Mirror};  // the fewest parameters
@@ -615,18 +637,31 @@ void scoreRefined(SplitFitter& fitter, Tried& tried, std::size_t best) {
   }
 }
 
+// The half-difference table (FitOptions::tables, CandidateSpace::tryTable), scored after the lobes are
+// chosen and refined, kept if its score is below (1 - autoMargin) times theirs, as any candidate with
+// more parameters: it has far more than the lobes, and on tables the lobes follow it loses
+// (docs/fitting.md).
+std::size_t addTable(SplitFitter& fitter, Tried& tried, std::size_t best, const CandidateSpace& space) {
+  if (!space.tryTable) return best;
+  tried.push_back(fitter.score({0, LobeElevation::Constant, LobeKindChoice::Table, 0.0, -1.0, ColorProfile::None}));
+  tried.back().refined = true;  // nothing to refine: the kept fit is the same least squares
+  const double margin = 1.0 - fitter.options().autoMargin;
+  return tried.back().report.score() < margin * tried[best].report.score() ? tried.size() - 1 : best;
+}
+
 // Scores the candidates by held-out error, fits the chosen one to the whole table and lists them all.
 FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
   const std::size_t channels = table.channelCount();
   const HeldOutSplits splits(table, options.heldOut);
   SplitFitter fitter(splits, options);
   Tried tried = scoreCandidates(fitter, space);
-  const std::size_t best = addColorProfile(
+  std::size_t best = addColorProfile(
       fitter, tried,
       weakenVaryingPrior(fitter, tried,
                          lowerExponentCap(fitter, tried, fewestParametersWithinMargin(tried, options, channels))),
       space);
   scoreRefined(fitter, tried, best);
+  best = addTable(fitter, tried, best, space);
   FitResult result = fitCandidate(table, options, tried[best].config);
   for (std::size_t i = 0; i < tried.size(); ++i) {
     const auto& [config, report, fits, starts, refined] = tried[i];
@@ -639,7 +674,7 @@ FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& opt
     c.kfoldRatio = report.kfold.ratio();
     c.elevationRatio = report.pooledElevations().ratio();
     c.seconds = report.seconds;
-    c.maxExponent = options.method == FitMethod::Shared
+    c.maxExponent = options.method == FitMethod::Shared && config.kind != LobeKindChoice::Table
                         ? (config.maxExponent > 0.0 ? config.maxExponent : options.maxExponent)
                         : 0.0;
     c.varyingPrior = options.method == FitMethod::Shared && config.elevation == LobeElevation::Varying

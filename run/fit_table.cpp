@@ -50,8 +50,12 @@ MeasuredTable fittedChannels(const FitTableOptions& options, const MeasuredTable
 
 std::string reportTitle(const FitTableOptions& options, const FitResult& fit) {
   std::ostringstream title;
-  title << options.table.filename().string() << ": " << fit.model.channels[0].lobes.size() << " "
-        << toString(fit.model.elevation) << lobeKindName(fit.model) << " lobe(s)";
+  title << options.table.filename().string() << ": ";
+  if (fit.model.hasTable())
+    title << "half-difference table";
+  else
+    title << fit.model.channels[0].lobes.size() << " " << toString(fit.model.elevation) << lobeKindName(fit.model)
+          << " lobe(s)";
   if (const auto& h = fit.heldOut) {
     title.precision(2);
     title << std::fixed << "; held-out / Lambert: k-fold " << h->kfold.ratio() << "x, elevations";

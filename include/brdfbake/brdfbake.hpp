@@ -26,6 +26,7 @@
 #include <brdfbake/brdf/blinn_conversion.hpp>
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/brdf/fresnel.hpp>
+#include <brdfbake/brdf/half_difference_table.hpp>
 #include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/brdf/material.hpp>
 #include <brdfbake/brdf/npr.hpp>

@@ -67,9 +67,16 @@
 /// (LobeModel::prefilterFormAt, LobeMaterialMode::Prefiltered) take each lobe's profile there, at
 /// its centre.
 ///
+/// A model may also hold a half-difference table (LobeModel::table, brdf/half_difference_table.hpp):
+/// each channel adds exp(sum a_kj hat_k(sqrt(theta_h / 90 degrees)) B_j(theta_d / 90 degrees)), a
+/// smooth function of Rusinkiewicz 1998's half and difference angles that `brdfbake fit` chooses
+/// where no lobe family follows a table (fitted alone: no diffuse term, no lobes). Such a model is evaluated and baked
+/// through its BRDF (lighting and reflectance maps); it has no prefiltered form.
+///
 /// The formulas are templates on the parameters' scalar so that the fitter differentiates them
 /// with ceres::Jet and the material evaluates them in double: one implementation.
 
+#include <brdfbake/brdf/half_difference_table.hpp>
 #include <brdfbake/brdf/material.hpp>
 #include <brdfbake/brdf/phong.hpp>
 
@@ -123,16 +130,6 @@ inline constexpr int kColorProfileCount = kColorProfileDegree + 1;
 /// Bounds the fitter enforces and LobeModel::validate checks.
 inline constexpr double kMinLobeExponent = 1.0;
 inline constexpr double kMaxLobeExponent = 1e5;
-
-/// The Bernstein weights binom(count - 1, j) t^j (1 - t)^(count - 1 - j), j = 0..count-1, at t.
-inline void bernsteinWeights(int count, double t, double* weights) {
-  const int degree = count - 1;
-  double binomial = 1.0;
-  for (int j = 0; j <= degree; ++j) {
-    weights[j] = binomial * std::pow(t, j) * std::pow(1.0 - t, degree - j);
-    binomial = binomial * (degree - j) / (j + 1);
-  }
-}
 
 /// A varying lobe parameter from the logarithms of its values and the Bernstein weights at the
 /// elevation (see @file): exp(sum_j weights[j] logValues[j]).
@@ -309,6 +306,9 @@ struct LobeChannel {
   std::vector<Lobe> lobes;
   /// ColorProfile::DifferenceAngle: the diffuse term's colour profile (see @file); empty for None.
   std::vector<double> diffuseProfile{};
+  /// The coefficients a_kj of the channel's half-difference table (LobeModel::table's
+  /// coefficientCount, index k (D + 1) + j, |a_kj| <= kMaxTableLogValue); empty without a table.
+  std::vector<double> tableCoefficients{};
 };
 
 /// A fitted (or hand-written) lobe model: per channel, the same elevation dependence.
@@ -323,6 +323,8 @@ struct LobeModel {
   std::vector<double> wavelengthsNm;
   /// Whether each channel's weights follow a colour profile in theta_d (see @file).
   ColorProfile colorProfile = ColorProfile::None;
+  /// The shape of every channel's half-difference table (see @file); empty (no table) by default.
+  HalfDifferenceTableShape table{};
 
   std::size_t channelCount() const { return channels.size(); }
   /// Throws Error(InvalidArgument) naming the channel and lobe for: no channels, a coefficient
@@ -330,7 +332,7 @@ struct LobeModel {
   /// diffuse (zero weights of Varying lobes too), exponents outside [1, 1e5], a bad elevation
   /// range, wavelengths of the wrong count, or colour profiles that do not match colorProfile
   /// (kColorProfileCount coefficients, finite and >= 0, for the diffuse term, every weight and every
-  /// half-vector lobe's C_F; none elsewhere).
+  /// half-vector lobe's C_F; none elsewhere), or table coefficients that do not match `table`.
   void validate() const;
 
   /// The elevation coordinate of the view cosine u: t = ln(u / minCos) / ln(maxCos / minCos)
@@ -365,8 +367,10 @@ struct LobeModel {
   /// cosine u: k_d / pi + sum_k C_k(u) (n_k(u) + 2) / (2 pi) for mirror lobes (a Lafortune lobe
   /// contributes at its argument c_xy (u^2 - 1) + u^2). Heidrich 2000's reflectance map profile.
   double mirrorValue(std::size_t channel, double u) const;
-  /// True when every lobe is a Phong lobe about the mirrored view (c_xy = -1).
+  /// True when every lobe is a Phong lobe about the mirrored view (c_xy = -1) and there is no table.
   bool allAboutMirror() const;
+  /// True when the model holds a half-difference table (see @file).
+  bool hasTable() const { return !table.empty(); }
 
   /// The 3 x channelCount() matrix taking channel values to linear sRGB: identity for channels R,
   /// G, B; the CIE 1931 / D65 weights (SpectrumToRgb) for spectral models; a column of ones for
@@ -397,7 +401,8 @@ LobeMaterialMode parseLobeMaterialMode(std::string_view name);
 /// A Material evaluating a LobeModel, channels converted to linear sRGB by LobeModel::rgbWeights.
 class LobeMaterial final : public Material {
  public:
-  /// Validates the model (Error(InvalidArgument)). `modelName` is what model() reports ("lobes",
+  /// Validates the model (Error(InvalidArgument); also for LobeMaterialMode::Prefiltered of a model
+  /// with a table, which has no prefiltered form). `modelName` is what model() reports ("lobes",
   /// "measured").
   LobeMaterial(LobeModel model, LobeMaterialMode mode, std::string modelName = "lobes");
 
@@ -411,7 +416,8 @@ class LobeMaterial final : public Material {
   /// Lighting mode: every lobe at the view's elevation (Phong lobes about the mirrored view as
   /// power cosines, Lafortune lobes about their axes, half-vector lobes as Blinn-Phong shapes) and
   /// the diffuse term, weighted by C (|a|^n for Lafortune) times the channel's luminance, lobes of one
-  /// shape and axis with exponents within a factor 1.5 merged. nullopt in the other modes.
+  /// shape and axis with exponents within a factor 1.5 merged; a half-difference table as a diffuse
+  /// part and a Blinn-Phong lobe of its highlight's width. nullopt in the other modes.
   std::optional<std::vector<ReflectionLobe>> reflectionLobes(const ShadingGeometry& g) const override;
 
   /// The BRDF in linear sRGB (1/sr) for unit normal, view and light: 0 when n.l <= 0 or n.v <= 0.

@@ -38,6 +38,17 @@ Vec3T<T> reflect(const Vec3T<T>& v, const Vec3T<T>& n) {
 /// Clamp to [lo, hi]; unlike std::clamp it also maps NaN to lo.
 inline double clampFinite(double x, double lo, double hi) { return x >= lo ? (x <= hi ? x : hi) : lo; }
 
+/// The Bernstein weights binom(count - 1, j) t^j (1 - t)^(count - 1 - j), j = 0..count-1, at t
+/// (weights holds count values).
+inline void bernsteinWeights(int count, double t, double* weights) {
+  const int degree = count - 1;
+  double binomial = 1.0;
+  for (int j = 0; j <= degree; ++j) {
+    weights[j] = binomial * std::pow(t, j) * std::pow(1.0 - t, degree - j);
+    binomial = binomial * (degree - j) / (j + 1);
+  }
+}
+
 /// A unit vector perpendicular to the unit vector `a` (deterministic, branch-free of NaN).
 inline Vec3 anyPerpendicular(const Vec3& a) {
   const Vec3 helper = std::abs(a.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
