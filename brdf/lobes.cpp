@@ -56,14 +56,21 @@ void validateColorProfile(const std::vector<double>& profile, bool expected, con
 // Every channel's table coefficients match the model's table: coefficientCount finite numbers
 // within kMaxTableLogValue, or none without a table.
 void validateTable(const LobeModel& model) {
-  model.table.validate();
-  const auto count = static_cast<std::size_t>(model.hasTable() ? model.table.coefficientCount() : 0);
+  model.halfDifference.validate();
+  if (model.hasHalfDifference()) {
+    require(model.elevation == LobeElevation::Constant && model.colorProfile == ColorProfile::None,
+            "lobe model: a half-difference table has constant elevation and no colour profile");
+    for (const auto& channel : model.channels)
+      require(channel.lobes.empty() && channel.diffuse == 0.0,
+              "lobe model: channel '" + channel.name + "': a half-difference table has no diffuse term and no lobes");
+  }
+  const auto count = static_cast<std::size_t>(model.hasHalfDifference() ? model.halfDifference.coefficientCount() : 0);
   for (const auto& channel : model.channels) {
     const std::string where = "lobe model: channel '" + channel.name + "' table";
-    require(channel.tableCoefficients.size() == count, where + ": " + std::to_string(count) +
-                                                           " coefficient(s) expected (the model's table), got " +
-                                                           std::to_string(channel.tableCoefficients.size()));
-    for (double a : channel.tableCoefficients)
+    require(channel.halfDifferenceCoefficients.size() == count,
+            where + ": " + std::to_string(count) + " coefficient(s) expected (the model's table), got " +
+                std::to_string(channel.halfDifferenceCoefficients.size()));
+    for (double a : channel.halfDifferenceCoefficients)
       require(
           std::isfinite(a) && std::abs(a) <= kMaxTableLogValue,
           where + ": coefficients must be finite with |a| <= " + std::to_string(static_cast<int>(kMaxTableLogValue)));
@@ -211,8 +218,9 @@ PointTerms pointTerms(const LobeModel& model, double u, const LobeGeometry& geom
   if (p.count > 1) bernsteinWeights(p.count, model.elevationCoordinate(u), p.elevation);
   if (model.colorProfile != ColorProfile::None)
     bernsteinWeights(kColorProfileCount, std::clamp(geometry.differenceCoordinate(), 0.0, 1.0), p.profile);
-  if (model.hasTable())
-    p.table = HalfDifferenceBasis::at(model.table, std::acos(geometry.cosHalf()), std::acos(geometry.cosDifference()));
+  if (model.hasHalfDifference())
+    p.table = HalfDifferenceBasis::at(model.halfDifference, std::acos(geometry.cosHalf()),
+                                      std::acos(geometry.cosDifference()));
   return p;
 }
 
@@ -250,7 +258,8 @@ double channelBrdf(const LobeChannel& channel, const PointTerms& p, const UnitLo
     if (lobe.halfVector)
       value += lobe.fresnel * colorProfileFactorWith(lobe.fresnelProfile, p.profile) * perUnit.perFresnel;
   }
-  if (!channel.tableCoefficients.empty()) value += std::exp(p.table.logValue(channel.tableCoefficients));
+  if (!channel.halfDifferenceCoefficients.empty())
+    value += std::exp(p.table.logValue(channel.halfDifferenceCoefficients));
   return value;
 }
 
@@ -308,7 +317,7 @@ double LobeModel::mirrorValue(std::size_t channel, double u) const {
 }
 
 bool LobeModel::allAboutMirror() const {
-  if (hasTable()) return false;
+  if (hasHalfDifference()) return false;
   for (const auto& channel : channels)
     for (const auto& lobe : channel.lobes)
       if (!lobe.aboutMirror()) return false;
@@ -330,7 +339,7 @@ Eigen::Matrix<double, 3, Eigen::Dynamic> LobeModel::rgbWeights() const {
 LobeMaterial::LobeMaterial(LobeModel model, LobeMaterialMode mode, std::string modelName)
     : model_(std::move(model)), mode_(mode), modelName_(std::move(modelName)) {
   model_.validate();
-  require(!(model_.hasTable() && mode_ == LobeMaterialMode::Prefiltered),
+  require(!(model_.hasHalfDifference() && mode_ == LobeMaterialMode::Prefiltered),
           "a lobe model with a half-difference table has no prefiltered form (use the lighting or reflectance mode)");
   rgbWeights_ = model_.rgbWeights();
   sharedShapes_ = sharesShapes(model_);
@@ -434,18 +443,19 @@ void addMerged(std::vector<ReflectionLobe>& lobes, const ReflectionLobe& lobe) {
 // A half-difference table's share for sampling at view cosine u: its value far from the highlight
 // (theta_h = 45 degrees) as a diffuse albedo pi f, and what rises above that towards theta_h = 0 as a
 // Blinn-Phong lobe whose exponent puts its half maximum where the table's rise falls to half (the
-// first of theta_h = 0.5, 1, 2, ... 32 degrees), its weight C from f = C D / (4 u^2) at the peak.
+// first of theta_h = 0.05, 0.1, 0.2, ... 25.6 degrees), its weight C from f = C D / (4 u^2) at the peak.
 void addTableLobes(const LobeModel& model, const LobeChannel& channel, double u, double luminance, const Vec3& normal,
                    std::vector<ReflectionLobe>& lobes, double& diffuse) {
   const double thetaV = std::acos(std::clamp(u, 0.0, 1.0));
   const auto value = [&](double thetaH) {
-    return std::exp(HalfDifferenceBasis::at(model.table, thetaH, thetaV).logValue(channel.tableCoefficients));
+    return std::exp(
+        HalfDifferenceBasis::at(model.halfDifference, thetaH, thetaV).logValue(channel.halfDifferenceCoefficients));
   };
   const double wide = value(radians(45.0)), rise = value(0.0) - wide;
   diffuse += kPi * wide * luminance;
   if (!(rise > 0.0)) return;
   double halfWidth = radians(32.0);
-  for (double degreesOff = 0.5; degreesOff < 32.0; degreesOff *= 2.0) {
+  for (double degreesOff = 0.05; degreesOff < 32.0; degreesOff *= 2.0) {
     if (value(radians(degreesOff)) - wide < 0.5 * rise) {
       halfWidth = radians(degreesOff);
       break;
@@ -483,7 +493,7 @@ std::optional<std::vector<ReflectionLobe>> LobeMaterial::reflectionLobes(const S
       const double growth = std::exp(std::min(exponent * std::log(length), 50.0));
       addMerged(lobes, {ReflectionLobeShape::PowerCosine, a / length, exponent, weight * growth});
     }
-    if (model_.hasTable()) addTableLobes(model_, channel, u, channelLuminance, g.normal, lobes, diffuse);
+    if (model_.hasHalfDifference()) addTableLobes(model_, channel, u, channelLuminance, g.normal, lobes, diffuse);
   }
   if (diffuse > 0.0 || lobes.empty())
     lobes.push_back({ReflectionLobeShape::Cosine, g.normal, 0.0, std::max(diffuse, 1e-3)});

@@ -19,8 +19,9 @@ smoothly with the view's elevation (--elevation varying). With --color-profile d
 each channel's k_d, C_k (and Fresnel weight) are also multiplied by a cubic polynomial in theta_d,
 the angle between light and half-vector: colours that shift with angle (interference paints).
 Where no lobes follow a table, a smooth table of ln f over the half and difference angles
-(theta_h, theta_d) may (--kind table); with --kind auto and --lobes auto, --tables auto (default)
-scores it after the lobes and keeps it only if it does better held out.
+(theta_h, theta_d) may (--kind half_difference); with --kind auto and --lobes auto (and neither
+--elevation varying nor --color-profile difference_angle), --half-difference auto (default) scores
+it after the lobes and keeps it only if it does better held out.
 --method shared (default): the lobes' shapes (and elevation profiles) are shared by every channel,
 weights by non-negative least squares; --method per_channel: Ceres, each channel on its own.
 The fit estimates its held-out error (log error on rows it did not see: k-fold over rows away from
@@ -41,7 +42,7 @@ struct FitArgs {
   CommonFlags flags;
   FitTableOptions options;
   std::string table, format = "auto", lobes = "auto", elevation = "auto", method = "shared", kind = "auto",
-                     maxExponent = "auto", varyingPrior = "auto", colorProfile = "auto", tables = "auto",
+                     maxExponent = "auto", varyingPrior = "auto", colorProfile = "auto", halfDifference = "auto",
                      heldOut = "on", channels = "rgb", rgb = "cie1931", output, report;
 };
 
@@ -49,9 +50,9 @@ void addModelFlags(CLI::App* command, FitArgs& a) {
   command->add_option("--lobes", a.lobes, "Lobes per channel: auto or 1.." + std::to_string(kMaxFitLobes))
       ->default_str("auto");
   command
-      ->add_option(
-          "--kind", a.kind,
-          "auto | mirror | lafortune | half_vector | mixed | table (the shared method's lobes, or a table alone)")
+      ->add_option("--kind", a.kind,
+                   "auto | mirror | lafortune | half_vector | mixed | half_difference (the shared method's lobes, or a "
+                   "half-difference table)")
       ->default_str("auto");
   command->add_option("--elevation", a.elevation, "auto | constant | varying (with the view's elevation)")
       ->default_str("auto");
@@ -68,7 +69,7 @@ void addModelFlags(CLI::App* command, FitArgs& a) {
                    "auto | none | difference_angle (each channel's weights times a cubic in theta_d; shared method)")
       ->default_str("auto");
   command
-      ->add_option("--tables", a.tables,
+      ->add_option("--half-difference", a.halfDifference,
                    "auto | none: --kind auto also scores a half-difference table (docs/fitting.md)")
       ->default_str("auto")
       ->check(CLI::IsMember({"auto", "none"}));
@@ -122,7 +123,7 @@ void parseModelFlags(const FitArgs& a, FitOptions& fit) {
     fit.chooseVaryingPrior = false;
   }
   fit.colorProfile = parseFlag("--color-profile", a.colorProfile, parseColorProfileChoice);
-  fit.tables = a.tables == "auto";
+  fit.halfDifference = a.halfDifference == "auto";
   fit.estimateHeldOut = a.heldOut == "on";
 }
 

@@ -96,8 +96,9 @@ std::vector<std::pair<double, Rgb>> prefilterLobeModelTerms(const LobeModel& mod
   // A Lafortune lobe (c_xy != -1) is the same radial filter looked up about its own axis a(v) with
   // the amplitude |a|^n (brdf/lobes.hpp), not about the reflected direction: not prefiltered here yet.
   require(model.allAboutMirror(),
-          "the lobe model has Lafortune lobes (cxy != -1), which prefilter about their own axis, or half-vector lobes, "
-          "which are not radially symmetric; prefiltering supports mirror lobes only (fit with --kind mirror)");
+          "the lobe model has Lafortune lobes (cxy != -1), which prefilter about their own axis, or half-vector lobes "
+          "or a half-difference table, which are not radially symmetric; prefiltering supports mirror lobes only (fit "
+          "with --kind mirror)");
   const Eigen::Matrix<double, 3, Eigen::Dynamic> toRgb = model.rgbWeights();
   std::map<double, Rgb> terms;
   for (std::size_t c = 0; c < model.channelCount(); ++c) {

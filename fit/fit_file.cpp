@@ -135,10 +135,10 @@ nlohmann::ordered_json modelToJson(const LobeModel& model) {
       {"lobes", lobes}};
   if (!model.wavelengthsNm.empty()) m["wavelengths_nm"] = numbers(model.wavelengthsNm, "wavelength");
   if (model.colorProfile != ColorProfile::None) m["color_profile"] = std::string(toString(model.colorProfile));
-  if (model.hasTable()) {
+  if (model.hasHalfDifference()) {
     m["description"] = halfDifferenceTableDescription();
-    m["table"] = {{"half_angle_knots", model.table.halfAngleKnots},
-                  {"difference_degree", model.table.differenceDegree}};
+    m["half_difference"] = {{"half_angle_knots", model.halfDifference.halfAngleKnots},
+                            {"difference_degree", model.halfDifference.differenceDegree}};
   }
   return m;
 }
@@ -178,7 +178,7 @@ nlohmann::ordered_json fitSectionToJson(const FitResult& fit) {
       {"auto_margin", finite(o.autoMargin, "auto margin")},
       {"color_profile_margin", finite(o.colorProfileMargin, "colour profile margin")},
       {"refine_candidates", o.refineCandidates},
-      {"tables", o.tables},
+      {"half_difference", o.halfDifference},
       {"elevation_margin", finite(o.elevationMargin, "elevation margin")},
       {"requested_lobes", requestedLobes(o.lobes)},
       {"requested_elevation", std::string(toString(o.elevation))},
@@ -237,7 +237,8 @@ nlohmann::ordered_json channelToJson(const LobeChannel& channel, const ChannelFi
   nlohmann::ordered_json entry = {
       {"name", channel.name}, {"diffuse", finite(channel.diffuse, "diffuse")}, {"lobes", lobeArray}};
   if (!channel.diffuseProfile.empty()) entry["diffuse_profile"] = numbers(channel.diffuseProfile, "colour profile");
-  if (!channel.tableCoefficients.empty()) entry["table"] = numbers(channel.tableCoefficients, "table coefficient");
+  if (!channel.halfDifferenceCoefficients.empty())
+    entry["half_difference"] = numbers(channel.halfDifferenceCoefficients, "half-difference coefficient");
   if (stats) entry["stats"] = statsToJson(*stats);
   return entry;
 }
@@ -288,10 +289,10 @@ int readModelShape(JsonObjectReader m, LobeModel& model) {
     }
   }
   if (m.has("color_profile")) model.colorProfile = m.parsed("color_profile", parseColorProfile);
-  if (m.has("table")) {
-    JsonObjectReader table = m.object("table");
-    model.table.halfAngleKnots = table.integer("half_angle_knots", 2, 64);
-    model.table.differenceDegree = table.integer("difference_degree", 0, kMaxTableDegree);
+  if (m.has("half_difference")) {
+    JsonObjectReader table = m.object("half_difference");
+    model.halfDifference.halfAngleKnots = table.integer("half_angle_knots", 2, 64);
+    model.halfDifference.differenceDegree = table.integer("difference_degree", 0, kMaxTableDegree);
     table.finish();
   }
   m.finish();
@@ -317,20 +318,21 @@ int readRequestedLobes(JsonObjectReader& fit) {
 // candidates are {"lobes", "elevation", "error" (in-sample), "chosen"}.
 ModelCandidate readCandidate(JsonObjectReader c, bool fitHasMethod) {
   ModelCandidate candidate;
-  candidate.lobes = c.integer("lobes", 0, kMaxModelLobes);  // 0: a half-difference table
+  candidate.lobes = c.integer("lobes", fitHasMethod ? 0 : 1, kMaxModelLobes);  // 0: a half-difference table
   candidate.elevation = c.parsed("elevation", parseLobeElevation);
   if (!fitHasMethod) {
     c.number("error", 0.0);
   } else {
     const std::string kind = c.string("kind");
-    if (kind != "mirror" && kind != "lafortune" && kind != "half_vector" && kind != "mixed" && kind != "table") {
+    if (kind != "mirror" && kind != "lafortune" && kind != "half_vector" && kind != "mixed" &&
+        kind != "half_difference") {
       throw specError(c.child("kind"),
-                      "must be \"mirror\", \"lafortune\", \"half_vector\", \"mixed\" or \"table\", got \"" +
+                      "must be \"mirror\", \"lafortune\", \"half_vector\", \"mixed\" or \"half_difference\", got \"" +
                           printable(kind, 40) + "\"");
     }
     candidate.kind = parseLobeKindChoice(kind);
-    if ((candidate.kind == LobeKindChoice::Table) != (candidate.lobes == 0))
-      throw specError(c.child("lobes"), "must be 0 for a table and at least 1 for lobes");
+    if ((candidate.kind == LobeKindChoice::HalfDifference) != (candidate.lobes == 0))
+      throw specError(c.child("lobes"), "must be 0 for a half-difference table and at least 1 for lobes");
     candidate.parameters = c.integer("parameters", 0, 1 << 30);
     candidate.heldOutScore = c.number("held_out_score", 0.0);
     candidate.kfoldRatio = c.number("kfold_ratio", 0.0);
@@ -369,7 +371,7 @@ void readFitSection(JsonObjectReader fit, FitResult& result) {
   o.autoMargin = fit.number("auto_margin", 0.0, 1.0, true);
   if (fit.has("color_profile_margin")) o.colorProfileMargin = fit.number("color_profile_margin", 0.0, 1.0, true);
   o.refineCandidates = fit.boolean("refine_candidates", false);
-  o.tables = fit.boolean("tables", false);  // files written before tables: none tried
+  o.halfDifference = fit.boolean("half_difference", false);  // files written before it: not tried
   o.elevationMargin = fit.number("elevation_margin", 0.0, 1.0, true);
   o.lobes = readRequestedLobes(fit);
   o.elevation = fit.parsed("requested_elevation", parseElevationChoice);
@@ -422,9 +424,11 @@ LobeChannel readChannel(JsonObjectReader ch, int lobeCount, std::size_t count, s
   channel.diffuse = ch.number("diffuse", 0.0);
   channel.diffuseProfile = readColorProfile(ch, "diffuse_profile");
   if (tableCount > 0)
-    channel.tableCoefficients = readNumbers(ch, "table", tableCount, -kMaxTableLogValue, kMaxTableLogValue);
-  else if (ch.has("table"))
-    throw specError(ch.child("table"), "a table where model.table has none");
+    channel.halfDifferenceCoefficients =
+        readNumbers(ch, "half_difference", tableCount, -kMaxTableLogValue, kMaxTableLogValue);
+  else if (ch.has("half_difference"))
+    throw specError(ch.child("half_difference"),
+                    "coefficients of a half-difference table the model has not (model.half_difference)");
   const auto& lobes = ch.array("lobes");
   if (static_cast<int>(lobes.size()) != lobeCount) {
     throw specError(ch.child("lobes"), "model.lobes says " + std::to_string(lobeCount) + " lobe(s), this channel has " +
@@ -446,7 +450,8 @@ void readChannels(JsonObjectReader& root, int lobeCount, FitResult& fit) {
   const auto& channels = root.array("channels");
   if (channels.empty()) throw specError("channels", "must hold at least one channel");
   const std::size_t count = static_cast<std::size_t>(elevationCoefficientCount(model.elevation));
-  const std::size_t tableCount = model.hasTable() ? static_cast<std::size_t>(model.table.coefficientCount()) : 0;
+  const std::size_t tableCount =
+      model.hasHalfDifference() ? static_cast<std::size_t>(model.halfDifference.coefficientCount()) : 0;
   bool allStats = true, anyStats = false;
   std::vector<ChannelFitStats> stats;
   for (std::size_t c = 0; c < channels.size(); ++c) {
@@ -473,7 +478,7 @@ void readChannels(JsonObjectReader& root, int lobeCount, FitResult& fit) {
 std::string halfDifferenceTableDescription() {
   return "f(l, v) = exp(sum_kj a_kj hat_k(x) B_j(s)) [1/sr] per channel, x = sqrt(theta_h / 90 degrees) (K - 1), s = "
          "theta_d / 90 degrees, hat_k the hat of knot k, B_j the Bernstein polynomials of degree D, theta_h and "
-         "theta_d Rusinkiewicz's half and difference angles; a_kj in channels[].table at k (D + 1) + j";
+         "theta_d Rusinkiewicz's half and difference angles; a_kj in channels[].half_difference at k (D + 1) + j";
 }
 
 std::string lobeModelDescription(LobeElevation elevation, ColorProfile colorProfile) {

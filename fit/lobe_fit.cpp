@@ -90,7 +90,7 @@ void FitOptions::validate() const {
           "fit: colorProfileMargin must be in (0, 1)");
   require(method == FitMethod::Shared || colorProfile != ColorProfileChoice::DifferenceAngle,
           "fit: colour profiles are fitted by the shared method only");
-  if (kind == LobeKindChoice::Table) {
+  if (kind == LobeKindChoice::HalfDifference) {
     require(method == FitMethod::Shared, "fit: a half-difference table is fitted by the shared method only");
     require(lobes == 0, "fit: a half-difference table has no lobes (lobes must be auto)");
     require(elevation != ElevationChoice::Varying && colorProfile != ColorProfileChoice::DifferenceAngle,
@@ -120,8 +120,11 @@ const ModelCandidate* FitResult::bestRadiallySymmetric() const {
 std::string FitResult::briefReport() const {
   std::ostringstream out;
   std::size_t lobes = model.channels.empty() ? 0 : model.channels[0].lobes.size();
-  out << "Lobe fit: " << lobes << " lobe(s), " << toString(model.elevation) << " elevation, "
-      << (model.colorProfile == ColorProfile::None ? "" : "colour profile in theta_d, ") << channels.size()
+  if (model.hasHalfDifference())
+    out << "Fit: a half-difference table, ";
+  else
+    out << "Lobe fit: " << lobes << " lobe(s), " << toString(model.elevation) << " elevation, ";
+  out << (model.colorProfile == ColorProfile::None ? "" : "colour profile in theta_d, ") << channels.size()
       << " channel(s), " << std::fixed << std::setprecision(2) << seconds << " s, "
       << (usable() ? "usable" : "NOT usable") << "\n";
   for (const auto& c : channels) {
@@ -187,7 +190,7 @@ SharedModel sharedModel(const MeasuredTable& table, const FitOptions& options, L
                         int gaussNewtonSteps = detail::kGaussNewtonSteps) {
   const std::string label = table.label();
   if (table.channelCount() == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
-  if (kind == LobeKindChoice::Table) return {detail::fitHalfDifferenceTable(table), 0};
+  if (kind == LobeKindChoice::HalfDifference) return {detail::fitHalfDifferenceTable(table), 0};
   detail::SharedFitConfig config;
   config.lobes = options.lobes;
   config.mirror = kind == LobeKindChoice::Mirror || kind == LobeKindChoice::Mixed;
@@ -200,10 +203,7 @@ SharedModel sharedModel(const MeasuredTable& table, const FitOptions& options, L
   if (warmStart && !warmStart->channels.empty()) config.startLobes = warmStart->channels[0].lobes;
   config.searches = std::move(searches);
   config.gaussNewtonSteps = gaussNewtonSteps;
-  std::size_t usable = 0;
-  for (std::size_t i = 0; i < table.size(); ++i) {
-    if (table.incidentDirection(i).z() > 0.0 && table.outgoingDirection(i).z() > 0.0) ++usable;
-  }
+  const std::size_t usable = detail::usableRows(table);
   if (usable == 0) {
     throw Error(Error::Kind::InvalidInput, label + ": no sample has both directions above the horizon; nothing to fit");
   }
@@ -238,9 +238,10 @@ FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeK
     stats.solver.termination = "CONVERGENCE";
     stats.solver.usable = true;
     stats.solver.iterations = fitted.evaluations;
-    stats.solver.briefReport = kind == LobeKindChoice::Table ? "half-difference table: penalised least squares on ln f"
-                                                             : "shared shapes: " + std::to_string(fitted.evaluations) +
-                                                                   " shape trials, NNLS weights";
+    stats.solver.briefReport =
+        kind == LobeKindChoice::HalfDifference
+            ? "half-difference table: penalised least squares on ln f"
+            : "shared shapes: " + std::to_string(fitted.evaluations) + " shape trials, NNLS weights";
     stats.totalIterations = fitted.evaluations;
     stats.seconds = seconds;
     result.channels.push_back(std::move(stats));
@@ -300,7 +301,7 @@ LobeModel fitCandidateModel(const MeasuredTable& table, const FitOptions& option
 }
 
 int parameterTotal(const CandidateConfig& config, FitMethod method, std::size_t channels) {
-  if (config.kind == LobeKindChoice::Table)
+  if (config.kind == LobeKindChoice::HalfDifference)
     return detail::kFittedTableShape.coefficientCount() * static_cast<int>(channels);
   const int count = elevationCoefficientCount(config.elevation);
   const int perChannel = 1 + config.lobes * (method == FitMethod::Shared ? 1 : 2 * count);
@@ -353,8 +354,8 @@ std::string_view toString(LobeKindChoice kind) {
       return "half_vector";
     case LobeKindChoice::Mixed:
       return "mixed";
-    case LobeKindChoice::Table:
-      return "table";
+    case LobeKindChoice::HalfDifference:
+      return "half_difference";
   }
   return "auto";
 }
@@ -362,7 +363,7 @@ std::string_view toString(LobeKindChoice kind) {
 LobeKindChoice parseLobeKindChoice(std::string_view name) {
   return parseByName(name,
                      std::array{LobeKindChoice::Auto, LobeKindChoice::Mirror, LobeKindChoice::Lafortune,
-                                LobeKindChoice::HalfVector, LobeKindChoice::Mixed, LobeKindChoice::Table},
+                                LobeKindChoice::HalfVector, LobeKindChoice::Mixed, LobeKindChoice::HalfDifference},
                      "lobe kind");
 }
 
@@ -395,7 +396,7 @@ struct CandidateSpace {
 CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& options) {
   const bool shared = options.method == FitMethod::Shared;
   CandidateSpace space;
-  if (options.kind == LobeKindChoice::Table)
+  if (options.kind == LobeKindChoice::HalfDifference)
     space.counts = {0};
   else if (options.lobes > 0)
     space.counts = {options.lobes};
@@ -408,7 +409,7 @@ CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& opti
   else
     space.kinds = {LobeKindChoice::HalfVector, LobeKindChoice::Mirror, LobeKindChoice::Mixed,
                    LobeKindChoice::Lafortune};  // likeliest first
-  if (options.elevation == ElevationChoice::Constant || options.kind == LobeKindChoice::Table)
+  if (options.elevation == ElevationChoice::Constant || options.kind == LobeKindChoice::HalfDifference)
     space.elevations = {LobeElevation::Constant};
   else if (options.elevation == ElevationChoice::Varying)
     space.elevations = {LobeElevation::Varying};
@@ -423,9 +424,10 @@ CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& opti
   if (options.colorProfile == ColorProfileChoice::DifferenceAngle) space.colorProfile = ColorProfile::DifferenceAngle;
   // With every other choice explicit and no held-out estimate asked for, auto means none.
   space.tryColorProfile = shared && options.colorProfile == ColorProfileChoice::Auto && space.heldOutFeasible &&
-                          options.kind != LobeKindChoice::Table && (options.estimateHeldOut || space.size() > 1);
+                          options.kind != LobeKindChoice::HalfDifference &&
+                          (options.estimateHeldOut || space.size() > 1);
   // An explicit kind asks for those lobes (--kind mirror: radially symmetric ones, to prefilter).
-  space.tryTable = options.tables && space.heldOutFeasible && options.kind == LobeKindChoice::Auto && shared &&
+  space.tryTable = options.halfDifference && space.heldOutFeasible && options.kind == LobeKindChoice::Auto && shared &&
                    options.lobes == 0 && options.elevation != ElevationChoice::Varying &&
                    options.colorProfile != ColorProfileChoice::DifferenceAngle;
   if (!space.heldOutFeasible) {
@@ -641,9 +643,13 @@ void scoreRefined(SplitFitter& fitter, Tried& tried, std::size_t best) {
 // chosen and refined, kept if its score is below (1 - autoMargin) times theirs, as any candidate with
 // more parameters: it has far more than the lobes, and on tables the lobes follow it loses
 // (docs/fitting.md).
-std::size_t addTable(SplitFitter& fitter, Tried& tried, std::size_t best, const CandidateSpace& space) {
+std::size_t addTable(SplitFitter& fitter, Tried& tried, std::size_t best, const CandidateSpace& space,
+                     const HeldOutSplits& splits) {
   if (!space.tryTable) return best;
-  tried.push_back(fitter.score({0, LobeElevation::Constant, LobeKindChoice::Table, 0.0, -1.0, ColorProfile::None}));
+  for (std::size_t s = 0; s < splits.size(); ++s)  // a small table: too few rows for the table's coefficients
+    if (!detail::canFitHalfDifferenceTable(splits.training(s))) return best;
+  tried.push_back(
+      fitter.score({0, LobeElevation::Constant, LobeKindChoice::HalfDifference, 0.0, -1.0, ColorProfile::None}));
   tried.back().refined = true;  // nothing to refine: the kept fit is the same least squares
   const double margin = 1.0 - fitter.options().autoMargin;
   return tried.back().report.score() < margin * tried[best].report.score() ? tried.size() - 1 : best;
@@ -661,7 +667,7 @@ FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& opt
                          lowerExponentCap(fitter, tried, fewestParametersWithinMargin(tried, options, channels))),
       space);
   scoreRefined(fitter, tried, best);
-  best = addTable(fitter, tried, best, space);
+  best = addTable(fitter, tried, best, space, splits);
   FitResult result = fitCandidate(table, options, tried[best].config);
   for (std::size_t i = 0; i < tried.size(); ++i) {
     const auto& [config, report, fits, starts, refined] = tried[i];
@@ -674,7 +680,7 @@ FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& opt
     c.kfoldRatio = report.kfold.ratio();
     c.elevationRatio = report.pooledElevations().ratio();
     c.seconds = report.seconds;
-    c.maxExponent = options.method == FitMethod::Shared && config.kind != LobeKindChoice::Table
+    c.maxExponent = options.method == FitMethod::Shared && config.kind != LobeKindChoice::HalfDifference
                         ? (config.maxExponent > 0.0 ? config.maxExponent : options.maxExponent)
                         : 0.0;
     c.varyingPrior = options.method == FitMethod::Shared && config.elevation == LobeElevation::Varying

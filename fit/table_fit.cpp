@@ -77,9 +77,9 @@ Eigen::MatrixXd solveTable(const MeasuredTable& table) {
   const int n = kFittedTableShape.coefficientCount();
   NormalEquations eq = dataTerm(table);
   if (eq.rows < static_cast<std::size_t>(n)) {
-    throw Error(Error::Kind::InvalidInput, table.label() + ": " + std::to_string(eq.rows) +
-                                               " usable sample(s) cannot determine a half-difference table of " +
-                                               std::to_string(n) + " coefficients per channel");
+    throw Error(Error::Kind::InvalidArgument, table.label() + ": " + std::to_string(eq.rows) +
+                                                  " usable sample(s) cannot determine a half-difference table of " +
+                                                  std::to_string(n) + " coefficients per channel");
   }
   const double scale = std::max(eq.gram.trace() / n, 1e-300);
   eq.gram += kTableSmoothing * scale * smoothnessPenalty();
@@ -101,16 +101,27 @@ std::vector<double> channelCoefficients(const Eigen::MatrixXd& coefficients, Eig
 
 }  // namespace
 
+std::size_t usableRows(const MeasuredTable& table) {
+  std::size_t usable = 0;
+  for (std::size_t i = 0; i < table.size(); ++i)
+    usable += table.incidentDirection(i).z() > 0.0 && table.outgoingDirection(i).z() > 0.0;
+  return usable;
+}
+
+bool canFitHalfDifferenceTable(const MeasuredTable& table) {
+  return usableRows(table) >= static_cast<std::size_t>(kFittedTableShape.coefficientCount());
+}
+
 LobeModel fitHalfDifferenceTable(const MeasuredTable& table) {
   const Eigen::MatrixXd coefficients = solveTable(table);
   LobeModel model;
-  model.table = kFittedTableShape;
+  model.halfDifference = kFittedTableShape;
   if (table.kind == ChannelKind::Spectral) model.wavelengthsNm = table.wavelengthsNm;
   for (Eigen::Index c = 0; c < coefficients.cols(); ++c) {
     LobeChannel channel;
     const auto index = static_cast<std::size_t>(c);
     channel.name = index < table.channelNames.size() ? table.channelNames[index] : std::to_string(c);
-    channel.tableCoefficients = channelCoefficients(coefficients, c);
+    channel.halfDifferenceCoefficients = channelCoefficients(coefficients, c);
     model.channels.push_back(std::move(channel));
   }
   model.validate();

@@ -1,6 +1,6 @@
 #pragma once
 // Internal to fit/: the half-difference table (brdf/half_difference_table.hpp) fitted to a measured
-// table, LobeKindChoice::Table (docs/fitting.md, "Half-difference tables").
+// table, LobeKindChoice::HalfDifference (docs/fitting.md, "Half-difference tables").
 #include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/measured/measured_table.hpp>
 
@@ -24,8 +24,15 @@ inline constexpr double kTableRangeMargin = 1.0;
 // are then clamped to the range of its fitted ln max(f_i, kTableFloor) widened by kTableRangeMargin
 // (ln f is a weighted mean of them, so the table stays within a factor e of the values it was fitted
 // to: unclamped, its extrapolation to grazing mirror directions, beyond the last measured elevation,
-// reached 250 times Mystique's largest sample), and to kMaxTableLogValue. The model has no diffuse term and no lobes.
-// Throws Error(InvalidInput) when fewer rows than coefficients per channel are usable.
+// reached 250 times Mystique's largest sample), and to kMaxTableLogValue. The model has no diffuse
+// term and no lobes. Throws Error(InvalidArgument) when fewer rows than coefficients per channel are
+// usable (canFitHalfDifferenceTable).
 LobeModel fitHalfDifferenceTable(const MeasuredTable& table);
+
+// Rows of `table` with light and view above the horizon: what every fit can use.
+std::size_t usableRows(const MeasuredTable& table);
+
+// Whether `table` has as many usable rows as a half-difference table has coefficients per channel.
+bool canFitHalfDifferenceTable(const MeasuredTable& table);
 
 }  // namespace brdfbake::detail

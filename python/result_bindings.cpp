@@ -189,8 +189,11 @@ void bindFitResult(py::module_& module) {
           "fit.json document under \"fit\".")
       .def("brief_report", &FitTableResult::briefReport, "The text `brdfbake fit` prints.")
       .def("__repr__", [](const FitTableResult& f) {
-        return "<brdfbake.Fit '" + f.table.string() + "': " + std::to_string(f.file.fit.model.channels.size()) +
-               " channel(s), " + std::to_string(f.file.fit.model.channels.front().lobes.size()) + " lobe(s)>";
+        const LobeModel& model = f.file.fit.model;
+        return "<brdfbake.Fit '" + f.table.string() + "': " + std::to_string(model.channels.size()) + " channel(s), " +
+               (model.hasHalfDifference() ? std::string("a half-difference table")
+                                          : std::to_string(model.channels.front().lobes.size()) + " lobe(s)") +
+               ">";
       });
 }
 

@@ -51,7 +51,7 @@ MeasuredTable fittedChannels(const FitTableOptions& options, const MeasuredTable
 std::string reportTitle(const FitTableOptions& options, const FitResult& fit) {
   std::ostringstream title;
   title << options.table.filename().string() << ": ";
-  if (fit.model.hasTable())
+  if (fit.model.hasHalfDifference())
     title << "half-difference table";
   else
     title << fit.model.channels[0].lobes.size() << " " << toString(fit.model.elevation) << lobeKindName(fit.model)

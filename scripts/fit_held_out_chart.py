@@ -28,7 +28,7 @@ def candidates(table, per_channel):
         for k in (1, 2, 3):
             out.append((f"{kind} {elevation}", ["--method", "shared", "--kind", kind, "--elevation", elevation,
                                                 "--lobes", str(k)], k))
-    out.append(("table", ["--method", "shared", "--kind", "table"], 0))  # a half-difference table, no lobes
+    out.append(("half_difference", ["--method", "shared", "--kind", "half_difference"], 0))  # no lobes
     if per_channel and "RGB" in table:
         for elevation, ks in (("constant", (1, 2)), ("varying", (1,))):
             for k in ks:
@@ -48,8 +48,8 @@ def run(exe, path, args, tmp):
 def parameters(fit):
     """Free parameters over all channels (as fit.json's candidates count them)."""
     model = fit["channels"]
-    if "table" in fit["model"]:  # a half-difference table: K (D + 1) coefficients per channel
-        return len(model[0]["table"]) * len(model)
+    if "half_difference" in fit["model"]:  # a half-difference table: K (D + 1) coefficients per channel
+        return len(model[0]["half_difference"]) * len(model)
     lafortune = sum("cxy" in lobe for lobe in model[0]["lobes"])
     fresnel = sum("fresnel" in lobe for lobe in model[0]["lobes"])  # half-vector lobes: C and C_F per channel
     shared = fit["fit"]["method"] == "shared"
@@ -118,7 +118,7 @@ def plot(csv, tables, png):
                                  ("half_vector constant", "pt 12 lc 7"), ("half_vector varying", "pt 13 lc 7"),
                                  ("mixed varying", "pt 9 lc 3"), ("lafortune constant", "pt 5 lc 2"),
                                  ("per-channel constant", "pt 8 lc 4"), ("per-channel varying", "pt 11 lc 4"),
-                                 ("table", "pt 3 ps 2 lc 8")):
+                                 ("half_difference", "pt 3 ps 2 lc 8")):
                 if label not in present.get(table, ()):
                     continue
                 series.append(f"'{csv}' using (strcol(1) eq '{table}' && strcol(2) eq '{label}' ? ${column} : 1/0):10 "

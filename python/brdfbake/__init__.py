@@ -150,7 +150,7 @@ def fit(
     """Fits lobes to a measured table, as ``brdfbake fit TABLE`` does (docs/fitting.md).
 
     table: .astm (Cornell), .brdf (pbrt-v2), .binary (MERL) or .mat; format: auto | astm | pbrt | merl | mat.
-    lobes: "auto" or 1..6 per channel. kind: auto | mirror | lafortune | half_vector | mixed | table (a
+    lobes: "auto" or 1..6 per channel. kind: auto | mirror | lafortune | half_vector | mixed | half_difference (a
     half-difference table alone, docs/fitting.md).
     elevation: auto | constant | varying (with the view's elevation). method: shared | per_channel.
     max_exponent: "auto" or a cap in [1, 1e5]. varying_prior: "auto" or a prior in [0, 1] on varying lobes'

@@ -38,6 +38,9 @@ std::shared_ptr<const Material> parseLobes(JsonObjectReader& m, const MaterialCo
   } catch (const Error& e) {
     throw specError(m.child("file"), e.what());
   }
+  if (fit.fit.model.hasHalfDifference() && mode == LobeMaterialMode::Prefiltered)
+    throw specError(m.child("mode"), "a half-difference table (" + printable(file.string()) +
+                                         ") has no prefiltered form: use \"lighting\" or \"reflectance\"");
   return std::make_shared<LobeMaterial>(std::move(fit.fit.model), mode, "lobes");
 }
 

@@ -59,7 +59,7 @@ std::shared_ptr<const Material> parseMeasured(JsonObjectReader& m, const Materia
     if (options.elevation == ElevationChoice::Varying) options.method = FitMethod::PerChannel;
     options.estimateHeldOut = false;  // a bake needs the model only (auto choices still estimate it)
     mode = parseLobeMode(m, context.underEnvironment);
-    options.tables = mode != LobeMaterialMode::Prefiltered;  // a half-difference table has no prefiltered form
+    options.halfDifference = mode != LobeMaterialMode::Prefiltered;  // a half-difference table has no prefiltered form
   }
 
   MeasuredTable table;

@@ -40,10 +40,10 @@ double typedOutLog(const std::vector<double>& a, int knots, const Vec3& l, const
 
 LobeModel tableModel(int knots, std::vector<double> coefficients) {
   LobeModel model;
-  model.table = {knots, 3};
+  model.halfDifference = {knots, 3};
   LobeChannel channel;
   channel.name = "Y";
-  channel.tableCoefficients = std::move(coefficients);
+  channel.halfDifferenceCoefficients = std::move(coefficients);
   model.channels.push_back(channel);
   model.validate();
   return model;
@@ -104,19 +104,28 @@ TEST(HalfDifferenceTable, ValidationNamesWhatIsWrong) {
     return std::string("accepted");
   };
   LobeModel model = tableModel(4, std::vector<double>(16, 0.0));
-  model.channels[0].tableCoefficients.pop_back();
+  model.channels[0].halfDifferenceCoefficients.pop_back();
   EXPECT_NE(message(model).find("channel 'Y' table: 16 coefficient(s) expected"), std::string::npos) << message(model);
-  model.channels[0].tableCoefficients = std::vector<double>(16, 0.0);
-  model.channels[0].tableCoefficients[3] = 51.0;
+  model.channels[0].halfDifferenceCoefficients = std::vector<double>(16, 0.0);
+  model.channels[0].halfDifferenceCoefficients[3] = 51.0;
   EXPECT_NE(message(model).find("|a| <= 50"), std::string::npos) << message(model);
-  model.channels[0].tableCoefficients[3] = std::nan("");
+  model.channels[0].halfDifferenceCoefficients[3] = std::nan("");
   EXPECT_NE(message(model).find("finite"), std::string::npos) << message(model);
-  model.table = {};
-  model.channels[0].tableCoefficients = {1.0};
+  model.channels[0].halfDifferenceCoefficients = std::vector<double>(16, 0.0);
+  model.channels[0].diffuse = 0.1;
+  EXPECT_NE(message(model).find("channel 'Y': a half-difference table has no diffuse term and no lobes"),
+            std::string::npos)
+      << message(model);
+  model.channels[0].diffuse = 0.0;
+  model.elevation = LobeElevation::Varying;
+  EXPECT_NE(message(model).find("constant elevation and no colour profile"), std::string::npos) << message(model);
+  model.elevation = LobeElevation::Constant;
+  model.halfDifference = {};
+  model.channels[0].halfDifferenceCoefficients = {1.0};
   EXPECT_NE(message(model).find("0 coefficient(s) expected"), std::string::npos) << message(model);
-  model.table = {1, 3};
+  model.halfDifference = {1, 3};
   EXPECT_NE(message(model).find("2 to 64 knots"), std::string::npos) << message(model);
-  model.table = {4, kMaxTableDegree + 1};
+  model.halfDifference = {4, kMaxTableDegree + 1};
   EXPECT_NE(message(model).find("degree in theta_d"), std::string::npos) << message(model);
 }
 
@@ -134,13 +143,14 @@ TEST(HalfDifferenceTable, HasNoPrefilteredFormAndSamplesWhereItsValueIs) {
   g.reflected = Vec3(-0.6, 0.0, 0.8);
   const auto lobes = material.reflectionLobes(g);
   ASSERT_TRUE(lobes.has_value());
-  // A diffuse part and a Blinn-Phong highlight: the table's value falls to half its rise within 1 to 2
-  // degrees of theta_h (the first knot at 0.74 degrees, ln f falling 1.5 per knot).
+  // A diffuse part and a Blinn-Phong highlight: the table's value falls to half its rise at theta_h =
+  // 0.16 degrees (ln f falling 1.5 per knot: at x = ln 2 / 1.5 = 0.46 of the first knot, 0.74 degrees
+  // away); the lobe's half width is the first of 0.05, 0.1, 0.2, ... degrees past it, 0.2, an exponent
+  // of 1.1e5 held to kMaxLobeExponent.
   ASSERT_EQ(lobes->size(), 2u);
   const ReflectionLobe& highlight = lobes->at(0);
   EXPECT_EQ(highlight.shape, ReflectionLobeShape::BlinnPhong);
-  EXPECT_GT(highlight.parameter, std::log(0.5) / std::log(std::cos(radians(2.0))) * 0.99);
-  EXPECT_LT(highlight.parameter, std::log(0.5) / std::log(std::cos(radians(0.5))) * 1.01);
+  EXPECT_EQ(highlight.parameter, kMaxLobeExponent);
   EXPECT_EQ(lobes->at(1).shape, ReflectionLobeShape::Cosine);
   EXPECT_GT(highlight.weight, 0.0);
   EXPECT_GT(lobes->at(1).weight, 0.0);

@@ -249,7 +249,7 @@ TEST(ColorProfileFit, RecoversAColourShiftAndPredictsHeldOutRows) {
 TEST(ColorProfileFit, AutoTakesProfilesOnlyWhenTheColoursShift) {
   FitOptions options;
   options.chooseMaxExponent = false;  // the profile is then the one choice: two candidates
-  options.tables = false;
+  options.halfDifference = false;
   options.lobes = 1;
   options.kind = LobeKindChoice::HalfVector;
   options.elevation = ElevationChoice::Constant;

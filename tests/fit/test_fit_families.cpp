@@ -153,7 +153,7 @@ TEST(FitCandidates, EachScoresAsItsOwnFit) {
   // candidate's score must be what fitting it alone (nothing kept, no warm start) estimates.
   const MeasuredTable table = ggxTable(0.02, 23);
   FitOptions options;
-  options.tables = false;  // the lobe candidates alone (tables: test_table_fit.cpp)
+  options.halfDifference = false;  // the lobe candidates alone (tables: test_table_fit.cpp)
   options.maxAutoLobes = 2;
   options.refineCandidates = true;  // every score that of a fit whose weights are kept
   const FitResult automatic = fitLobes(table, options);
@@ -189,7 +189,7 @@ TEST(FitCandidates, RankedWithLinearisedWeightsThenTheChosenOneRefined) {
   // with every candidate refined.
   const MeasuredTable table = ggxTable(0.02, 23);
   FitOptions options;
-  options.tables = false;  // the lobe candidates alone (tables: test_table_fit.cpp)
+  options.halfDifference = false;  // the lobe candidates alone (tables: test_table_fit.cpp)
   options.maxAutoLobes = 2;
   const FitResult ranked = fitLobes(table, options);
   options.refineCandidates = true;
@@ -221,7 +221,7 @@ TEST(FitCandidates, PerChannelEachScoresAsItsOwnFit) {
   // candidate alone (no kept fits) estimates.
   const MeasuredTable table = makeSyntheticTable(varyingMirrorModel(), 0.01, 9);
   FitOptions options;
-  options.tables = false;  // the lobe candidates alone (tables: test_table_fit.cpp)
+  options.halfDifference = false;  // the lobe candidates alone (tables: test_table_fit.cpp)
   options.method = FitMethod::PerChannel;
   options.maxAutoLobes = 2;
   const FitResult automatic = fitLobes(table, options);

@@ -1,4 +1,4 @@
-// Half-difference tables fitted to measured tables (fit/table_fit.hpp, LobeKindChoice::Table,
+// Half-difference tables fitted to measured tables (fit/table_fit.hpp, LobeKindChoice::HalfDifference,
 // FitOptions::tables): recovery of a known table on the Cornell grid, the automatic choice, fit.json.
 #include <gtest/gtest.h>
 
@@ -6,6 +6,7 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/cornell_grid.hpp>
 #include <brdfbake/fit/fit_file.hpp>
+#include <brdfbake/fit/held_out.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 
 #include <cmath>
@@ -30,12 +31,12 @@ std::vector<double> linearCoefficients(double base, double perKnot, double perDe
 // A highlight (ln f falling 0.45 per knot from 1.5, 1.0, 0.5) whose colour turns with theta_d.
 LobeModel rgbTable() {
   LobeModel model;
-  model.table = detail::kFittedTableShape;
+  model.halfDifference = detail::kFittedTableShape;
   const double bases[3] = {1.5, 1.0, 0.5};
   for (int c = 0; c < 3; ++c) {
     LobeChannel channel;
     channel.name = std::string(1, "RGB"[c]);
-    channel.tableCoefficients = linearCoefficients(bases[c], -0.45, 0.15 * c);
+    channel.halfDifferenceCoefficients = linearCoefficients(bases[c], -0.45, 0.15 * c);
     model.channels.push_back(channel);
   }
   model.validate();
@@ -45,14 +46,14 @@ LobeModel rgbTable() {
 TEST(TableFit, RecoversATableTheGridSamples) {
   const LobeModel truth = rgbTable();
   FitOptions options;
-  options.kind = LobeKindChoice::Table;
+  options.kind = LobeKindChoice::HalfDifference;
   options.estimateHeldOut = false;
   const FitResult fit = fitLobes(makeSyntheticTable(truth, 0.0, 1), options);
-  ASSERT_TRUE(fit.model.hasTable());
+  ASSERT_TRUE(fit.model.hasHalfDifference());
   EXPECT_TRUE(fit.model.channels[0].lobes.empty());
   for (std::size_t c = 0; c < 3; ++c) {
-    const auto& fitted = fit.model.channels[c].tableCoefficients;
-    const auto& known = truth.channels[c].tableCoefficients;
+    const auto& fitted = fit.model.channels[c].halfDifferenceCoefficients;
+    const auto& known = truth.channels[c].halfDifferenceCoefficients;
     ASSERT_EQ(fitted.size(), known.size());
     for (std::size_t k = 0; k < known.size(); ++k)
       EXPECT_NEAR(fitted[k], known[k], 1e-5) << c << " " << k;  // 1e-9 ridge
@@ -64,12 +65,12 @@ TEST(TableFit, StaysWithinAFactorEOfTheValuesItWasFittedTo) {
   // has no sample, the table made from it climbs above every sample. The fit stays within a factor e
   // (detail::kTableRangeMargin) of the samples' range everywhere.
   LobeModel truth;
-  truth.table = detail::kFittedTableShape;
+  truth.halfDifference = detail::kFittedTableShape;
   truth.channels.push_back({"Y", 0.0, {}, {}, linearCoefficients(-4.0, -0.3, 2.0)});
   const MeasuredTable table = makeSyntheticTable(truth, 0.0, 1);
   const double largest = table.values.maxCoeff(), smallest = table.values.minCoeff();
   FitOptions options;
-  options.kind = LobeKindChoice::Table;
+  options.kind = LobeKindChoice::HalfDifference;
   options.estimateHeldOut = false;
   const LobeModel fit = fitLobes(table, options).model;
   std::mt19937 rng(11);
@@ -92,15 +93,15 @@ TEST(TableFit, StaysWithinAFactorEOfTheValuesItWasFittedTo) {
 TEST(TableFit, AutoChoosesATableOnlyWhereItPredictsBetter) {
   // A table the lobes cannot follow (a highlight with a colour that turns with theta_d), 2 % noise:
   // auto keeps a table, and its held-out score is the table candidate's. A table made from two mirror
-  // lobes: auto keeps the lobes, with both table candidates scored and listed.
+  // lobes: auto keeps the lobes, with the table scored and listed.
   FitOptions options;
   options.maxAutoLobes = 2;
   const FitResult onTable = fitLobes(makeSyntheticTable(rgbTable(), 0.02, 3), options);
   ASSERT_TRUE(onTable.heldOut);
-  EXPECT_TRUE(onTable.model.hasTable()) << onTable.briefReport();
+  EXPECT_TRUE(onTable.model.hasHalfDifference()) << onTable.briefReport();
   const ModelCandidate* table = nullptr;
   for (const auto& c : onTable.candidates)
-    if (c.kind == LobeKindChoice::Table) table = &c;
+    if (c.kind == LobeKindChoice::HalfDifference) table = &c;
   ASSERT_NE(table, nullptr);
   EXPECT_LT(onTable.heldOut->score(), 0.5);
 
@@ -113,17 +114,17 @@ TEST(TableFit, AutoChoosesATableOnlyWhereItPredictsBetter) {
     lobes.channels.push_back(channel);
   }
   const FitResult onLobes = fitLobes(makeSyntheticTable(lobes, 0.01, 4), options);
-  EXPECT_FALSE(onLobes.model.hasTable()) << onLobes.briefReport();
+  EXPECT_FALSE(onLobes.model.hasHalfDifference()) << onLobes.briefReport();
   int tables = 0;
-  for (const auto& c : onLobes.candidates) tables += c.kind == LobeKindChoice::Table;
+  for (const auto& c : onLobes.candidates) tables += c.kind == LobeKindChoice::HalfDifference;
   EXPECT_EQ(tables, 1);
-  options.tables = false;
+  options.halfDifference = false;
   for (const auto& c : fitLobes(makeSyntheticTable(lobes, 0.01, 4), options).candidates)
-    EXPECT_NE(c.kind, LobeKindChoice::Table);
-  options.tables = true;
+    EXPECT_NE(c.kind, LobeKindChoice::HalfDifference);
+  options.halfDifference = true;
   options.kind = LobeKindChoice::Mirror;  // an explicit kind: those lobes, no table
   for (const auto& c : fitLobes(makeSyntheticTable(lobes, 0.01, 4), options).candidates)
-    EXPECT_NE(c.kind, LobeKindChoice::Table);
+    EXPECT_NE(c.kind, LobeKindChoice::HalfDifference);
 }
 
 TEST(TableFit, TheTableCandidateScoresAsItsOwnFit) {
@@ -131,12 +132,12 @@ TEST(TableFit, TheTableCandidateScoresAsItsOwnFit) {
   FitOptions options;
   options.maxAutoLobes = 1;
   const FitResult automatic = fitLobes(table, options);
-  options.kind = LobeKindChoice::Table;
+  options.kind = LobeKindChoice::HalfDifference;
   const FitResult alone = fitLobes(table, options);
   ASSERT_TRUE(alone.heldOut);
   bool found = false;
   for (const auto& c : automatic.candidates) {
-    if (c.kind != LobeKindChoice::Table) continue;
+    if (c.kind != LobeKindChoice::HalfDifference) continue;
     found = true;
     EXPECT_NEAR(c.heldOutScore, alone.heldOut->score(), 1e-9);
     EXPECT_EQ(c.lobes, 0);
@@ -145,10 +146,33 @@ TEST(TableFit, TheTableCandidateScoresAsItsOwnFit) {
   EXPECT_TRUE(found);
 }
 
+TEST(TableFit, ASmallTableIsFittedWithoutOne) {
+  // 60 rows: enough for the lobes' held-out splits, too few for the table's 84 coefficients per channel.
+  // The default fit leaves the table out; asking for it is an error that says why.
+  const MeasuredTable full = makeSyntheticTable(rgbTable(), 0.02, 6);
+  std::vector<std::size_t> rows;
+  for (std::size_t i = 0; i < full.size() && rows.size() < 60; i += full.size() / 60) rows.push_back(i);
+  const MeasuredTable small = tableRows(full, rows);
+  FitOptions options;
+  options.maxAutoLobes = 1;
+  const FitResult fit = fitLobes(small, options);
+  EXPECT_FALSE(fit.model.hasHalfDifference());
+  for (const auto& c : fit.candidates) EXPECT_NE(c.kind, LobeKindChoice::HalfDifference);
+  options.kind = LobeKindChoice::HalfDifference;
+  try {
+    fitLobes(small, options);
+    FAIL() << "84 coefficients fitted to 60 rows";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot determine a half-difference table of 84 coefficients"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(TableFit, OptionsThatATableCannotHonourAreRefused) {
   const MeasuredTable table = makeSyntheticTable(rgbTable(), 0.0, 1);
   FitOptions options;
-  options.kind = LobeKindChoice::Table;
+  options.kind = LobeKindChoice::HalfDifference;
   options.lobes = 2;
   EXPECT_THROW(fitLobes(table, options), Error);
   options.lobes = 0;
@@ -166,8 +190,8 @@ TEST(TableFit, FitJsonKeepsTablesAndNamesWhatIsWrong) {
     file.hasSource = file.hasFitInfo = false;
     const nlohmann::json document = nlohmann::json::parse(fitFileToJson(file).dump());
     const LobeModel read = fitFileFromJson(document, "fit.json").fit.model;
-    EXPECT_EQ(read.table.halfAngleKnots, 12);
-    EXPECT_EQ(read.table.differenceDegree, 6);
+    EXPECT_EQ(read.halfDifference.halfAngleKnots, 12);
+    EXPECT_EQ(read.halfDifference.differenceDegree, 6);
     std::mt19937 rng(9);
     std::uniform_real_distribution<double> u(-0.7, 0.7);
     for (int i = 0; i < 200; ++i) {
@@ -183,19 +207,28 @@ TEST(TableFit, FitJsonKeepsTablesAndNamesWhatIsWrong) {
       return std::string("accepted");
     };
     nlohmann::json bad = document;
-    bad["channels"][1]["table"].erase(0);
-    EXPECT_NE(message(bad).find("fit.json: channels[1].table: must hold 84 number(s), got 83"), std::string::npos)
+    bad["channels"][1]["half_difference"].erase(0);
+    EXPECT_NE(message(bad).find("fit.json: channels[1].half_difference: must hold 84 number(s), got 83"),
+              std::string::npos)
         << message(bad);
     bad = document;
-    bad["channels"][0]["table"][5] = 60.0;
-    EXPECT_NE(message(bad).find("fit.json: channels[0].table[5]: must be <= 50"), std::string::npos) << message(bad);
-    bad = document;
-    bad["model"].erase("table");
-    EXPECT_NE(message(bad).find("fit.json: channels[0].table: a table where model.table has none"), std::string::npos)
+    bad["channels"][0]["half_difference"][5] = 60.0;
+    EXPECT_NE(message(bad).find("fit.json: channels[0].half_difference[5]: must be <= 50"), std::string::npos)
         << message(bad);
     bad = document;
-    bad["model"]["table"]["half_angle_knots"] = 1;
-    EXPECT_NE(message(bad).find("fit.json: model.table.half_angle_knots"), std::string::npos) << message(bad);
+    bad["model"].erase("half_difference");
+    EXPECT_NE(message(bad).find(
+                  "fit.json: channels[0].half_difference: coefficients of a half-difference table the model has not"),
+              std::string::npos)
+        << message(bad);
+    bad = document;
+    bad["channels"][2]["diffuse"] = 0.1;
+    EXPECT_NE(message(bad).find("channel 'B': a half-difference table has no diffuse term and no lobes"),
+              std::string::npos)
+        << message(bad);
+    bad = document;
+    bad["model"]["half_difference"]["half_angle_knots"] = 1;
+    EXPECT_NE(message(bad).find("fit.json: model.half_difference.half_angle_knots"), std::string::npos) << message(bad);
   }
 }
 

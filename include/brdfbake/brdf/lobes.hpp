@@ -67,7 +67,7 @@
 /// (LobeModel::prefilterFormAt, LobeMaterialMode::Prefiltered) take each lobe's profile there, at
 /// its centre.
 ///
-/// A model may also hold a half-difference table (LobeModel::table, brdf/half_difference_table.hpp):
+/// A model may also hold a half-difference table (LobeModel::halfDifference, brdf/half_difference_table.hpp):
 /// each channel adds exp(sum a_kj hat_k(sqrt(theta_h / 90 degrees)) B_j(theta_d / 90 degrees)), a
 /// smooth function of Rusinkiewicz 1998's half and difference angles that `brdfbake fit` chooses
 /// where no lobe family follows a table (fitted alone: no diffuse term, no lobes). Such a model is evaluated and baked
@@ -306,9 +306,9 @@ struct LobeChannel {
   std::vector<Lobe> lobes;
   /// ColorProfile::DifferenceAngle: the diffuse term's colour profile (see @file); empty for None.
   std::vector<double> diffuseProfile{};
-  /// The coefficients a_kj of the channel's half-difference table (LobeModel::table's
+  /// The coefficients a_kj of the channel's half-difference table (LobeModel::halfDifference's
   /// coefficientCount, index k (D + 1) + j, |a_kj| <= kMaxTableLogValue); empty without a table.
-  std::vector<double> tableCoefficients{};
+  std::vector<double> halfDifferenceCoefficients{};
 };
 
 /// A fitted (or hand-written) lobe model: per channel, the same elevation dependence.
@@ -324,7 +324,7 @@ struct LobeModel {
   /// Whether each channel's weights follow a colour profile in theta_d (see @file).
   ColorProfile colorProfile = ColorProfile::None;
   /// The shape of every channel's half-difference table (see @file); empty (no table) by default.
-  HalfDifferenceTableShape table{};
+  HalfDifferenceTableShape halfDifference{};
 
   std::size_t channelCount() const { return channels.size(); }
   /// Throws Error(InvalidArgument) naming the channel and lobe for: no channels, a coefficient
@@ -332,7 +332,8 @@ struct LobeModel {
   /// diffuse (zero weights of Varying lobes too), exponents outside [1, 1e5], a bad elevation
   /// range, wavelengths of the wrong count, or colour profiles that do not match colorProfile
   /// (kColorProfileCount coefficients, finite and >= 0, for the diffuse term, every weight and every
-  /// half-vector lobe's C_F; none elsewhere), or table coefficients that do not match `table`.
+  /// half-vector lobe's C_F; none elsewhere), or half-difference coefficients that do not match
+  /// `halfDifference` (a model with them has no diffuse term, no lobes, no colour profile and constant elevation).
   void validate() const;
 
   /// The elevation coordinate of the view cosine u: t = ln(u / minCos) / ln(maxCos / minCos)
@@ -370,7 +371,7 @@ struct LobeModel {
   /// True when every lobe is a Phong lobe about the mirrored view (c_xy = -1) and there is no table.
   bool allAboutMirror() const;
   /// True when the model holds a half-difference table (see @file).
-  bool hasTable() const { return !table.empty(); }
+  bool hasHalfDifference() const { return !halfDifference.empty(); }
 
   /// The 3 x channelCount() matrix taking channel values to linear sRGB: identity for channels R,
   /// G, B; the CIE 1931 / D65 weights (SpectrumToRgb) for spectral models; a column of ones for

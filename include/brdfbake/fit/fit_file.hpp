@@ -9,11 +9,11 @@
 ///      "model": {"description", "elevation": "constant" | "varying",
 ///                "elevation_range": {"min_cos", "max_cos"}, "lobes": K,
 ///                "wavelengths_nm": [...],                                              optional key
-///                "table": {"half_angle_knots": K, "difference_degree": D}},            optional key
+///                "half_difference": {"half_angle_knots": K, "difference_degree": D}},  optional key
 ///      "fit": {"residual", "loss", "loss_scale", "auto_margin", "elevation_margin", "requested_lobes",
 ///              "requested_elevation", "seconds", "usable", "candidates": [...]},       optional
 ///      "channels": [{"name", "diffuse", "lobes": [{"weight": [...], "exponent": [...]}],
-///                    "table": [K (D + 1) numbers, with model.table only],
+///                    "half_difference": [K (D + 1) numbers, with model.half_difference only],
 ///                    "stats": {"samples", "rms_cosine_weighted", "log_rmse", "cube_root_rmse",
 ///                              "worst_sample": {"index", "theta_i", "phi_i", "theta_s",
 ///                                               "phi_s", "measured", "fitted"},
@@ -22,8 +22,8 @@
 ///
 /// Units: BRDF values 1/sr, angles radians, weights dimensionless, seconds of wall time. "weight"
 /// and "exponent" hold one value (constant) or three (varying: the values p0, p1, p2 of
-/// brdf/lobes.hpp); "table" the coefficients a_kj of brdf/half_difference_table.hpp at k (D + 1) + j. Optional parts
-/// may be left out of hand-written files; everything present is validated.
+/// brdf/lobes.hpp); "half_difference" the coefficients a_kj of brdf/half_difference_table.hpp at k (D + 1) + j.
+/// Optional parts may be left out of hand-written files; everything present is validated.
 
 #include <brdfbake/fit/lobe_fit.hpp>
 

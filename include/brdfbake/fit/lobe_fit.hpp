@@ -72,10 +72,10 @@ enum class LobeKindChoice {
   /// No lobes: a half-difference table (brdf/half_difference_table.hpp) fitted by penalised least
   /// squares on ln f (fit/table_fit.hpp). Auto scores it last, against the lobes chosen, and keeps it
   /// only if its held-out score is lower by autoMargin (it has far more parameters).
-  Table,
+  HalfDifference,
 };
-/// "auto", "mirror", "lafortune", "half_vector", "mixed", "table"; parse throws Error(InvalidArgument) listing the
-/// accepted names for others (core/named_values.hpp).
+/// "auto", "mirror", "lafortune", "half_vector", "mixed", "half_difference"; parse throws Error(InvalidArgument)
+/// listing the accepted names for others (core/named_values.hpp).
 std::string_view toString(LobeKindChoice kind);
 LobeKindChoice parseLobeKindChoice(std::string_view name);
 
@@ -120,8 +120,8 @@ struct FitOptions {
   int maxAutoLobes = 3;
   ElevationChoice elevation = ElevationChoice::Auto;
   /// FitMethod::Shared: mirror, Lafortune, half-vector or mixed lobes, a table, or auto (by held-out
-  /// error; the table is a candidate when `lobes` is 0). Table: `lobes` 0, elevation auto or constant, no
-  /// colour profile (the table's theta_d dependence is its own).
+  /// error; the half-difference table is a candidate when `lobes` is 0). HalfDifference: `lobes` 0,
+  /// elevation auto or constant, no colour profile (the table's theta_d dependence is its own).
   LobeKindChoice kind = LobeKindChoice::Auto;
   /// FitMethod::Shared: largest lobe exponent, in [1, 1e5]. 1e4 (a lobe 0.7 degrees wide at half
   /// maximum) is as sharp as the Cornell grid's spacing near the mirror can support.
@@ -156,9 +156,9 @@ struct FitOptions {
   /// moved, two down and two up (docs/fitting.md).
   bool refineCandidates = false;
   /// Auto choices with `kind` Auto and `lobes` 0 (FitMethod::Shared; an explicit kind asks for those
-  /// lobes): after the lobes are chosen, also score a half-difference table (LobeKindChoice::Table),
+  /// lobes): after the lobes are chosen, also score a half-difference table (LobeKindChoice::HalfDifference),
   /// kept only if its held-out score is below (1 - autoMargin) times theirs (it has far more parameters).
-  bool tables = true;
+  bool halfDifference = true;
   /// Auto choices: a candidate with more parameters is kept only if its held-out score is below
   /// (1 - autoMargin) times the best score of the candidates with fewer parameters. In (0, 1).
   double autoMargin = 0.01;
@@ -224,7 +224,7 @@ struct ChannelFitStats {
 struct ModelCandidate {
   int lobes = 0;
   LobeElevation elevation = LobeElevation::Constant;
-  LobeKindChoice kind = LobeKindChoice::Mirror;  ///< Mirror, Lafortune, HalfVector, Mixed or Table (lobes 0)
+  LobeKindChoice kind = LobeKindChoice::Mirror;  ///< Mirror, Lafortune, HalfVector, Mixed or HalfDifference (lobes 0)
   int parameters = 0;                            ///< free parameters of the model, all channels
   double inSampleError = 0.0;   ///< E of fit/held_out.hpp on every row of the table, fitted on all of them
   double heldOutScore = 0.0;    ///< HeldOutReport::score
