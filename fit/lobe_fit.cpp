@@ -639,7 +639,7 @@ void scoreRefined(SplitFitter& fitter, Tried& tried, std::size_t best) {
   }
 }
 
-// The half-difference table (FitOptions::tables, CandidateSpace::tryTable), scored after the lobes are
+// The half-difference table (FitOptions::halfDifference, CandidateSpace::tryTable), scored after the lobes are
 // chosen and refined, kept if its score is below (1 - autoMargin) times theirs, as any candidate with
 // more parameters: it has far more than the lobes, and on tables the lobes follow it loses
 // (docs/fitting.md).

@@ -1,5 +1,5 @@
 // Half-difference tables fitted to measured tables (fit/table_fit.hpp, LobeKindChoice::HalfDifference,
-// FitOptions::tables): recovery of a known table on the Cornell grid, the automatic choice, fit.json.
+// FitOptions::halfDifference): recovery of a known table on the Cornell grid, the automatic choice, fit.json.
 #include <gtest/gtest.h>
 
 #include <brdfbake/brdf/lobes.hpp>

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// A smooth table of ln f over Rusinkiewicz 1998's half and difference angles: a term of a lobe model
-/// (LobeModel::table, brdf/lobes.hpp) that `brdfbake fit` chooses where no lobe family follows a
+/// (LobeModel::halfDifference, brdf/lobes.hpp) that `brdfbake fit` chooses where no lobe family follows a
 /// table (docs/fitting.md, "Half-difference tables").
 ///
 /// theta_h is the angle between the half-vector h = (l + v) / |l + v| and the normal, theta_d the

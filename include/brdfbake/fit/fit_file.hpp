@@ -60,7 +60,7 @@ struct FitFile {
 
 /// One line describing the model formula for `elevation` (the file's model.description).
 std::string lobeModelDescription(LobeElevation elevation, ColorProfile colorProfile = ColorProfile::None);
-/// The same for a model that is a half-difference table (LobeModel::table).
+/// The same for a model that is a half-difference table (LobeModel::halfDifference).
 std::string halfDifferenceTableDescription();
 
 /// The JSON document, keys in the order of @file. Throws Error(Numerical) if some number is not
