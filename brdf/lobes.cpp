@@ -218,9 +218,7 @@ PointTerms pointTerms(const LobeModel& model, double u, const LobeGeometry& geom
   if (p.count > 1) bernsteinWeights(p.count, model.elevationCoordinate(u), p.elevation);
   if (model.colorProfile != ColorProfile::None)
     bernsteinWeights(kColorProfileCount, std::clamp(geometry.differenceCoordinate(), 0.0, 1.0), p.profile);
-  if (model.hasHalfDifference())
-    p.table = HalfDifferenceBasis::at(model.halfDifference, std::acos(geometry.cosHalf()),
-                                      std::acos(geometry.cosDifference()));
+  if (model.hasHalfDifference()) p.table = halfDifferenceBasis(model.halfDifference, geometry);
   return p;
 }
 

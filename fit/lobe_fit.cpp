@@ -218,7 +218,7 @@ SharedModel sharedModel(const MeasuredTable& table, const FitOptions& options, L
   }
   auto outcome = detail::fitSharedLobes(table, config, detail::fittedRange(table));
   for (std::size_t c = 0; c < table.channelCount(); ++c) {
-    outcome.model.channels[c].name = c < table.channelNames.size() ? table.channelNames[c] : std::to_string(c);
+    outcome.model.channels[c].name = table.channelName(c);
   }
   outcome.model.validate();
   return {std::move(outcome.model), outcome.evaluations};

@@ -564,7 +564,7 @@ LobeModel toModel(const std::vector<Candidate>& chosen, LobeElevation elevation,
   model.maxCos = range.maxCos;
   if (table.kind == ChannelKind::Spectral) model.wavelengthsNm = table.wavelengthsNm;
   for (std::size_t c = 0; c < chosen.size(); ++c) {
-    const std::string name = c < table.channelNames.size() ? table.channelNames[c] : std::to_string(c);
+    const std::string name = table.channelName(c);
     model.channels.push_back(toChannel(chosen[c].x, lobes, count, name));
   }
   model.validate();

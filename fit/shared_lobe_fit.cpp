@@ -836,9 +836,7 @@ SharedFitOutcome fitSharedLobes(const MeasuredTable& table, const SharedFitConfi
   outcome.objective = solved.objective.sum();
   for (Eigen::Index c = 0; c < channels; ++c) {
     LobeChannel channel = channelOf(solved.x.col(c), shapes, config);
-    channel.name = static_cast<std::size_t>(c) < table.channelNames.size()
-                       ? table.channelNames[static_cast<std::size_t>(c)]
-                       : std::to_string(c);
+    channel.name = table.channelName(static_cast<std::size_t>(c));
     outcome.model.channels.push_back(std::move(channel));
   }
   outcome.evaluations = fitter.evaluations;

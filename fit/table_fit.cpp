@@ -35,8 +35,7 @@ NormalEquations dataTerm(const MeasuredTable& table) {
     for (Eigen::Index c = 0; c < channels; ++c) target[c] = std::log(std::max(table.values(row, c), kTableFloor));
     eq.lowest = eq.lowest.cwiseMin(target);
     eq.highest = eq.highest.cwiseMax(target);
-    const auto basis =
-        HalfDifferenceBasis::at(kFittedTableShape, std::acos(geometry.cosHalf()), std::acos(geometry.cosDifference()));
+    const auto basis = halfDifferenceBasis(kFittedTableShape, geometry);
     int terms = 0;
     basis.forEachTerm([&](int k, double v) {
       index[terms] = k;
@@ -119,8 +118,7 @@ LobeModel fitHalfDifferenceTable(const MeasuredTable& table) {
   if (table.kind == ChannelKind::Spectral) model.wavelengthsNm = table.wavelengthsNm;
   for (Eigen::Index c = 0; c < coefficients.cols(); ++c) {
     LobeChannel channel;
-    const auto index = static_cast<std::size_t>(c);
-    channel.name = index < table.channelNames.size() ? table.channelNames[index] : std::to_string(c);
+    channel.name = table.channelName(static_cast<std::size_t>(c));
     channel.halfDifferenceCoefficients = channelCoefficients(coefficients, c);
     model.channels.push_back(std::move(channel));
   }

@@ -91,6 +91,10 @@ std::vector<std::size_t> MeasuredTable::samplesAtIncidentTheta(double thetaIn, d
   return indices;
 }
 
+std::string MeasuredTable::channelName(std::size_t c) const {
+  return c < channelNames.size() ? channelNames[c] : std::to_string(c);
+}
+
 std::optional<std::size_t> MeasuredTable::channelIndex(std::string_view name) const {
   for (std::size_t c = 0; c < channelNames.size(); ++c)
     if (equalsIgnoringCase(channelNames[c], name)) return c;

@@ -78,8 +78,9 @@ std::optional<double> autoOrNumber(const py::object& value, const char* keyword,
 
 FitTableResult fitTableJob(const std::filesystem::path& table, const py::object& lobes, const std::string& kind,
                            const std::string& elevation, const std::string& method, const py::object& maxExponent,
-                           const py::object& varyingPrior, const std::string& colorProfile, bool heldOut, int folds,
-                           const std::string& channels, const std::string& rgb, const std::string& format,
+                           const py::object& varyingPrior, const std::string& colorProfile,
+                           const std::string& halfDifference, bool heldOut, int folds, const std::string& channels,
+                           const std::string& rgb, const std::string& format,
                            const std::optional<std::filesystem::path>& output,
                            const std::optional<std::filesystem::path>& report, int threads,
                            const py::object& progress) {
@@ -101,6 +102,9 @@ FitTableResult fitTableJob(const std::filesystem::path& table, const py::object&
     fit.chooseVaryingPrior = false;
   }
   fit.colorProfile = parseNamed("color_profile", colorProfile, parseColorProfileChoice);
+  require(halfDifference == "auto" || halfDifference == "none",
+          "half_difference: expected auto or none, got '" + halfDifference + "'");
+  fit.halfDifference = halfDifference == "auto";
   fit.estimateHeldOut = heldOut;
   require(folds >= 2 && folds <= 20, "folds: expected 2..20, got " + std::to_string(folds));
   fit.heldOut.folds = folds;
@@ -228,8 +232,8 @@ void bindJobs(py::module_& module) {
              "runSpec (run/spec_runner.hpp) on a spec file or a document; use brdfbake.bake.");
   module.def("fit_table", &fitTableJob, py::arg("table"), py::arg("lobes"), py::arg("kind"), py::arg("elevation"),
              py::arg("method"), py::arg("max_exponent"), py::arg("varying_prior"), py::arg("color_profile"),
-             py::arg("held_out"), py::arg("folds"), py::arg("channels"), py::arg("rgb"), py::arg("format"),
-             py::arg("output"), py::arg("report"), py::arg("threads"), py::arg("progress"),
+             py::arg("half_difference"), py::arg("held_out"), py::arg("folds"), py::arg("channels"), py::arg("rgb"),
+             py::arg("format"), py::arg("output"), py::arg("report"), py::arg("threads"), py::arg("progress"),
              "fitTable (run/fit_table.hpp); use brdfbake.fit.");
   bindPrefilter(module);
   module.def(

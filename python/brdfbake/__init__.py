@@ -137,6 +137,7 @@ def fit(
     max_exponent: Union[float, str] = "auto",
     varying_prior: Union[float, str] = "auto",
     color_profile: str = "auto",
+    half_difference: str = "auto",
     held_out: bool = True,
     folds: int = 5,
     channels: str = "rgb",
@@ -155,8 +156,9 @@ def fit(
     elevation: auto | constant | varying (with the view's elevation). method: shared | per_channel.
     max_exponent: "auto" or a cap in [1, 1e5]. varying_prior: "auto" or a prior in [0, 1] on varying lobes'
     elevation profiles (FitOptions::varyingPrior). color_profile: auto | none | difference_angle (each channel's
-    weights times a cubic in theta_d, the angle between light and half-vector; shared method). held_out: estimate the held-out error (auto choices need it);
-    folds: of the off-mirror split, 2..20. channels: rgb | spectral. rgb: cie1931 | single_wavelengths.
+    weights times a cubic in theta_d, the angle between light and half-vector; shared method).
+    half_difference: auto | none (kind "auto" also scores a half-difference table, docs/fitting.md).
+    held_out: estimate the held-out error (auto choices need it); folds: of the off-mirror split, 2..20. channels: rgb | spectral. rgb: cie1931 | single_wavelengths.
     output: also write fit.json there; report: also a PNG of measured against fitted values (gnuplot).
     threads, progress: as for bake().
 
@@ -166,8 +168,8 @@ def fit(
     threads, folds = _whole(threads, "threads"), _whole(folds, "folds")
     with progress_callback(progress) as callback:
         return _core.fit_table(
-            table, lobes, kind, elevation, method, max_exponent, varying_prior, color_profile, held_out, folds, channels,
-            rgb, format, output, report, threads, callback,
+            table, lobes, kind, elevation, method, max_exponent, varying_prior, color_profile, half_difference,
+            held_out, folds, channels, rgb, format, output, report, threads, callback,
         )
 
 

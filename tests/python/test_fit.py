@@ -108,6 +108,36 @@ def test_colour_profiles_follow_the_formula_in_theta_d(table):
         assert np.allclose(values[:, c], expected, rtol=1e-10, atol=1e-14)
 
 
+def test_the_half_difference_table_follows_its_formula(table):
+    fit = brdfbake.fit(table, kind="half_difference", held_out=False, progress=False)
+    shape = fit.model["half_difference"]
+    knots, degree = shape["half_angle_knots"], shape["difference_degree"]
+    rng = np.random.default_rng(11)
+    l, v = rng.normal(size=(300, 3)), rng.normal(size=(300, 3))
+    l[:, 2], v[:, 2] = np.abs(l[:, 2]) + 0.05, np.abs(v[:, 2]) + 0.05
+    l /= np.linalg.norm(l, axis=1, keepdims=True)
+    v /= np.linalg.norm(v, axis=1, keepdims=True)
+    values = fit.evaluate(l, v)
+    # docs/fitting.md: ln f = sum_kj a_kj hat_k(sqrt(theta_h / 90 deg) (K - 1)) B_j(theta_d / 90 deg), index k (D + 1) + j.
+    h = (l + v) / np.linalg.norm(l + v, axis=1, keepdims=True)
+    x = np.sqrt(np.arccos(np.clip(h[:, 2], -1, 1)) / (math.pi / 2)) * (knots - 1)
+    s = np.arccos(np.clip(np.sum(l * h, axis=1), -1, 1)) / (math.pi / 2)
+    hats = np.maximum(0.0, 1.0 - np.abs(x[:, None] - np.arange(knots)[None, :]))
+    bernstein = np.stack([math.comb(degree, j) * s ** j * (1 - s) ** (degree - j) for j in range(degree + 1)], axis=1)
+    basis = (hats[:, :, None] * bernstein[:, None, :]).reshape(len(x), -1)
+    for c, channel in enumerate(fit.channels):
+        assert len(channel["half_difference"]) == knots * (degree + 1)
+        assert np.allclose(values[:, c], np.exp(basis @ channel["half_difference"]), rtol=1e-10, atol=0)
+
+
+def test_half_difference_none_leaves_the_table_out(cornell):
+    table = cornell / "krylon_blue_RGB.astm"
+    with_table = brdfbake.fit(table, threads=2, progress=False)
+    without = brdfbake.fit(table, half_difference="none", threads=2, progress=False)
+    assert [c["kind"] for c in with_table.candidates].count("half_difference") == 1
+    assert "half_difference" not in [c["kind"] for c in without.candidates]
+
+
 def test_a_cornell_table_fits_as_the_tool_fits_it(cornell, cli, tmp_path):
     table = cornell / "krylon_blue_RGB.astm"
     tool = run_cli(cli, "fit", table, "--threads", 2)
@@ -134,6 +164,7 @@ def test_a_cornell_table_fits_as_the_tool_fits_it(cornell, cli, tmp_path):
         ({"rgb": "srgb"}, brdfbake.InvalidArgumentError, "rgb: "),
         ({"channels": "spectral"}, brdfbake.InvalidArgumentError, "spectral"),
         ({"color_profile": "theta_h"}, brdfbake.InvalidArgumentError, "color_profile: "),
+        ({"half_difference": "yes"}, brdfbake.InvalidArgumentError, "half_difference: expected auto or none"),
         ({"method": "per_channel", "color_profile": "difference_angle"}, brdfbake.InvalidArgumentError,
          "colour profiles are fitted by the shared method only"),
     ],

@@ -226,6 +226,12 @@ struct LobeGeometry {
   double schlick() const { return std::pow(1.0 - cosDifference(), 5.0); }
 };
 
+/// The half-difference table's basis (brdf/half_difference_table.hpp) at the geometry's theta_h
+/// (the half-vector's angle to the normal) and theta_d (cosDifference()'s angle).
+inline HalfDifferenceBasis halfDifferenceBasis(const HalfDifferenceTableShape& shape, const LobeGeometry& g) {
+  return HalfDifferenceBasis::at(shape, std::acos(g.cosHalf()), std::acos(g.cosDifference()));
+}
+
 /// A lobe about the half-vector (Lobe::halfVector; docs/fitting.md): Cook & Torrance 1981's
 /// microfacet form with Blinn 1977's normalised distribution D = (n + 2) / (2 pi) (n.h)^n
 /// (integral of D (n.h) over the hemisphere of h = 1), Schlick's (1994) Fresnel shape with free

@@ -95,6 +95,8 @@ struct MeasuredTable {
   /// Indices of the samples whose theta_i is within `tolerance` of `thetaIn`.
   std::vector<std::size_t> samplesAtIncidentTheta(double thetaIn, double tolerance = 1e-5) const;
 
+  /// Channel c's name as in the file, or its index written out when the table has no names for it.
+  std::string channelName(std::size_t c) const;
   /// The index of a channel by name (e.g. "550nm", "G"); std::nullopt if there is no such channel.
   std::optional<std::size_t> channelIndex(std::string_view name) const;
 
