@@ -60,6 +60,41 @@ TEST(TableFit, RecoversATableTheGridSamples) {
   }
 }
 
+TEST(TableFit, ThePenaltyContinuesTheTableLinearlyWhereNoRowReaches) {
+  // Only the grid's rows within 15 degrees of the half-vector's highlight (theta_h < 15 degrees: knots 0
+  // to 5 of 12): the data determine nothing beyond. The penalty on second differences is 0 on
+  // coefficients linear in the knot, so it continues them linearly there; a penalty on first
+  // differences (or none, with the ridge) would hold them level or at 0. Slopes small enough that the
+  // continued coefficients stay within the clamp (a factor e of the rows' values).
+  LobeModel truth;
+  truth.halfDifference = detail::kFittedTableShape;
+  truth.channels.push_back({"Y", 0.0, {}, {}, linearCoefficients(1.5, -0.08, 0.1)});
+  const MeasuredTable grid = makeSyntheticTable(truth, 0.0, 1);
+  MeasuredTable near = grid;
+  near.angles.clear();
+  std::vector<Eigen::Index> kept;
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    const Vec3 h = (grid.incidentDirection(i) + grid.outgoingDirection(i)).normalized();
+    if (h.z() > std::cos(15.0 * kPi / 180.0)) {
+      near.angles.push_back(grid.angles[i]);
+      kept.push_back(static_cast<Eigen::Index>(i));
+    }
+  }
+  near.values = grid.values(kept, Eigen::all);
+  ASSERT_GE(near.size(), 84u);
+  FitOptions options;
+  options.kind = LobeKindChoice::HalfDifference;
+  options.estimateHeldOut = false;
+  const auto& fitted = fitLobes(near, options).model.channels[0].halfDifferenceCoefficients;
+  const auto& known = truth.channels[0].halfDifferenceCoefficients;
+  const int stride = detail::kFittedTableShape.differenceDegree + 1;
+  for (int k = 6; k < detail::kFittedTableShape.halfAngleKnots; ++k)  // knots no row reaches
+    for (int j = 0; j < stride; ++j)
+      EXPECT_NEAR(fitted[static_cast<std::size_t>(k * stride + j)], known[static_cast<std::size_t>(k * stride + j)],
+                  1e-4)
+          << "knot " << k << " degree " << j;
+}
+
 TEST(TableFit, StaysWithinAFactorEOfTheValuesItWasFittedTo) {
   // ln f rising 2 per Bernstein degree in theta_d: towards theta_d = 90 degrees, where the Cornell grid
   // has no sample, the table made from it climbs above every sample. The fit stays within a factor e
