@@ -70,12 +70,20 @@ ChannelFitStats readStats(JsonObjectReader stats, const std::string& name) {
 }
 
 nlohmann::ordered_json splitToJson(const HeldOutSplit& split) {
+  const SampleAngles& row = split.largestRow;
   return {{"name", split.name},
           {"elevation_deg", finite(split.elevationDegrees, "elevation")},
           {"held_rows", split.heldRows},
           {"log_error", finite(split.error, "held-out error")},
           {"lambert_log_error", finite(split.lambertError, "Lambert error")},
-          {"ratio_to_lambert", finite(split.ratio(), "held-out ratio")}};
+          {"ratio_to_lambert", finite(split.ratio(), "held-out ratio")},
+          {"largest_row",
+           {{"share", finite(split.largestRowShare, "share")},
+            {"theta_i", finite(row.thetaIn, "angle")},
+            {"phi_i", finite(row.phiIn, "angle")},
+            {"theta_s", finite(row.thetaOut, "angle")},
+            {"phi_s", finite(row.phiOut, "angle")},
+            {"mirror_offset_deg", finite(split.largestRowMirrorOffset, "angle")}}}};
 }
 
 HeldOutSplit splitFromJson(JsonObjectReader r) {
@@ -86,6 +94,13 @@ HeldOutSplit splitFromJson(JsonObjectReader r) {
   split.error = r.number("log_error", 0.0);
   split.lambertError = r.number("lambert_log_error", 0.0);
   r.number("ratio_to_lambert", 0.0);  // recomputed
+  if (r.has("largest_row")) {         // absent in files written before it
+    JsonObjectReader row = r.object("largest_row");
+    split.largestRowShare = row.number("share", 0.0, 1.0);
+    split.largestRow = {row.number("theta_i"), row.number("phi_i"), row.number("theta_s"), row.number("phi_s")};
+    split.largestRowMirrorOffset = row.number("mirror_offset_deg", 0.0, 180.0);
+    row.finish();
+  }
   r.finish();
   return split;
 }

@@ -105,11 +105,14 @@ LogErrorSum cosineLogError(const LobeModel& model, const MeasuredTable& table, c
     const double c = cosIncident(table, i);
     const Vec3 wo = table.outgoingDirection(i);
     const Eigen::VectorXd fitted = atView(wo.z()).evaluate(table.incidentDirection(i), wo);
+    double rowSquares = 0.0;
     for (Eigen::Index ch = 0; ch < table.values.cols(); ++ch) {
       const double r = logTerm(c, fitted[ch]) - logTerm(c, table.values(static_cast<Eigen::Index>(i), ch));
-      sum.squares += r * r;
+      rowSquares += r * r;
       ++sum.terms;
     }
+    sum.squares += rowSquares;
+    if (rowSquares > sum.largestRowSquares) sum.largestRowSquares = rowSquares, sum.largestRow = i;
   }
   return sum;
 }
@@ -260,6 +263,16 @@ HeldOutSplits::HeldOutSplits(const MeasuredTable& table, const HeldOutOptions& o
   });
 }
 
+namespace {
+// The split's largest row (HeldOutSplit::largestRowShare) from its fit's error sum.
+void setLargestRow(HeldOutSplit& split, const LogErrorSum& fitted, const MeasuredTable& table) {
+  if (!(fitted.squares > 0.0)) return;
+  split.largestRowShare = fitted.largestRowSquares / fitted.squares;
+  split.largestRow = table.angles[fitted.largestRow];
+  split.largestRowMirrorOffset = mirrorOffsetDegrees(table, fitted.largestRow);
+}
+}  // namespace
+
 HeldOutReport HeldOutSplits::estimate(const SplitFitter& fit) const {
   const auto start = std::chrono::steady_clock::now();
   std::vector<LogErrorSum> fitted(splits_.size());
@@ -275,6 +288,8 @@ HeldOutReport HeldOutSplits::estimate(const SplitFitter& fit) const {
     const Split& split = splits_[s];
     if (split.entry < 0) {
       kfoldFit.squares += fitted[s].squares, kfoldFit.terms += fitted[s].terms;
+      if (fitted[s].largestRowSquares > kfoldFit.largestRowSquares)
+        kfoldFit.largestRowSquares = fitted[s].largestRowSquares, kfoldFit.largestRow = fitted[s].largestRow;
       kfoldLambert.squares += split.lambert.squares, kfoldLambert.terms += split.lambert.terms;
       report.kfold.heldRows += split.held.size();
     } else {
@@ -282,10 +297,12 @@ HeldOutReport HeldOutSplits::estimate(const SplitFitter& fit) const {
       e.heldRows = split.held.size();
       e.error = fitted[s].rms();
       e.lambertError = split.lambert.rms();
+      setLargestRow(e, fitted[s], *table_);
     }
   }
   report.kfold.error = kfoldFit.rms();
   report.kfold.lambertError = kfoldLambert.rms();
+  setLargestRow(report.kfold, kfoldFit, *table_);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }

@@ -64,6 +64,18 @@ std::string reportTitle(const FitTableOptions& options, const FitResult& fit) {
   return title.str();
 }
 
+// The splits whose held-out error is mostly one sample's (HeldOutSplit::largestRowShare at least a half).
+void describeLargestRows(std::ostream& out, const HeldOutReport& report) {
+  std::vector<const HeldOutSplit*> splits{&report.kfold};
+  for (const auto& e : report.elevations) splits.push_back(&e);
+  for (const HeldOutSplit* split : splits) {
+    if (split->largestRowShare < 0.5) continue;
+    out << std::fixed << std::setprecision(0) << "  " << split->name << ": " << 100.0 * split->largestRowShare
+        << " % of the held-out error is one sample's (theta_s " << std::setprecision(1)
+        << degrees(split->largestRow.thetaOut) << " deg, " << split->largestRowMirrorOffset
+        << " deg from the mirror direction)\n";
+  }
+}
 }  // namespace
 
 void FitTableOptions::validate() const {
@@ -112,6 +124,7 @@ std::string FitTableResult::briefReport() const {
         << "x";
     for (const auto& e : h->elevations) out << ", " << e.name << " " << e.ratio() << "x";
     out << " (" << std::setprecision(1) << h->seconds << " s)\n";
+    describeLargestRows(out, *h);
   }
   if (!fit.candidates.empty()) {
     out << "  models tried (held-out score = the worse of the k-fold and elevation ratios to Lambert; *: weights\n"

@@ -323,9 +323,10 @@ TEST(HeldOut, ErrorAndSplitsMatchSumsTypedOut) {
   const LobeModel truth = sharedModel();
   const MeasuredTable table = makeSyntheticTable(truth, 0.05, 3);
   const HeldOutReport report = estimateHeldOutError(table, [&](const MeasuredTable&) { return truth; });
-  double offSquares = 0.0;
-  std::size_t offRows = 0;
+  double offSquares = 0.0, offLargest = 0.0;
+  std::size_t offRows = 0, offLargestRow = 0;
   std::map<long, std::pair<double, std::size_t>> perElevation;
+  std::map<long, std::pair<double, std::size_t>> largestPerElevation;  // the largest row's squares, its index
   for (std::size_t i = 0; i < table.size(); ++i) {
     const auto& a = table.angles[i];
     const Vec3 wi = cornellDirection(a.thetaIn, a.phiIn), wo = cornellDirection(a.thetaOut, a.phiOut);
@@ -336,10 +337,25 @@ TEST(HeldOut, ErrorAndSplitsMatchSumsTypedOut) {
                        logTerm(wi.z(), table.values(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(c)));
       squares += r * r;
     }
-    if (std::acos(std::clamp(mirror.dot(wo), -1.0, 1.0)) > radians(5.0)) offSquares += squares, ++offRows;
+    if (std::acos(std::clamp(mirror.dot(wo), -1.0, 1.0)) > radians(5.0)) {
+      offSquares += squares, ++offRows;
+      if (squares > offLargest) offLargest = squares, offLargestRow = i;
+    }
     auto& e = perElevation[std::lround(degrees(a.thetaIn))];
     e.first += squares, ++e.second;
+    auto& largest = largestPerElevation[std::lround(degrees(a.thetaIn))];
+    if (squares > largest.first) largest = {squares, i};
   }
+  // The row holding the largest part of a split's squares, and its angle from the mirror direction.
+  const auto expectLargestRow = [&](const HeldOutSplit& split, double squares, double total, std::size_t row) {
+    EXPECT_NEAR(split.largestRowShare, squares / total, 1e-12) << split.name;
+    EXPECT_EQ(split.largestRow.thetaOut, table.angles[row].thetaOut) << split.name;
+    EXPECT_EQ(split.largestRow.phiOut, table.angles[row].phiOut) << split.name;
+    const Vec3 wi = cornellDirection(table.angles[row].thetaIn, table.angles[row].phiIn);
+    const Vec3 wo = cornellDirection(table.angles[row].thetaOut, table.angles[row].phiOut);
+    EXPECT_NEAR(split.largestRowMirrorOffset, degrees(std::acos(Vec3(-wi.x(), -wi.y(), wi.z()).dot(wo))), 1e-9);
+  };
+  expectLargestRow(report.kfold, offLargest, offSquares, offLargestRow);
   EXPECT_EQ(report.kfold.heldRows, offRows);
   EXPECT_NEAR(report.kfold.error, std::sqrt(offSquares / (3.0 * offRows)), 1e-12);
   // Interior elevations: 20 .. 70 degrees.
@@ -348,7 +364,45 @@ TEST(HeldOut, ErrorAndSplitsMatchSumsTypedOut) {
     const auto& [squares, rows] = perElevation.at(std::lround(e.elevationDegrees));
     EXPECT_EQ(e.heldRows, rows);
     EXPECT_NEAR(e.error, std::sqrt(squares / (3.0 * rows)), 1e-12) << e.name;
+    const auto& [largest, row] = largestPerElevation.at(std::lround(e.elevationDegrees));
+    expectLargestRow(e, largest, squares, row);
   }
+}
+
+TEST(HeldOut, OneSampleTheFitMissesHoldsItsSplitsError) {
+  // A Lambertian table whose 50-degree mirror sample reads 100 times the rest (a highlight narrower
+  // than the grid's steps): a constant fit to the other elevations predicts every other row of that
+  // split exactly, so that sample holds all of the split's error; fit.json keeps it.
+  LobeModel lambert;
+  lambert.channels = {{"Y", 0.5, {}}};
+  MeasuredTable table = makeSyntheticTable(lambert, 0.0, 1);
+  std::size_t spike = table.size();
+  for (std::size_t i : table.samplesAtIncidentTheta(radians(50.0), 1e-4))
+    if (spike == table.size() || mirrorOffsetDegrees(table, i) < mirrorOffsetDegrees(table, spike)) spike = i;
+  ASSERT_LT(spike, table.size());
+  table.values(static_cast<Eigen::Index>(spike), 0) *= 100.0;
+  const HeldOutReport report = estimateHeldOutError(table, [](const MeasuredTable& training) {
+    LobeModel constant;
+    constant.channels = {{"Y", kPi * training.values.minCoeff(), {}}};
+    return constant;
+  });
+  const HeldOutSplit& fifty = report.elevations.at(3);
+  ASSERT_EQ(std::lround(fifty.elevationDegrees), 50);
+  EXPECT_NEAR(fifty.largestRowShare, 1.0, 1e-12);
+  EXPECT_EQ(fifty.largestRow.thetaOut, table.angles[spike].thetaOut);
+  EXPECT_LT(fifty.largestRowMirrorOffset, 1.0);             // the Cornell grid's 50-degree sample: 0.2 degrees off
+  EXPECT_EQ(report.elevations.at(0).largestRowShare, 0.0);  // 20 degrees: predicted exactly
+  test::TempDir dir;
+  FitFile file;
+  file.hasSource = false;
+  file.fit.model = lambert;
+  file.fit.heldOut = report;
+  writeFitFile(dir / "fit.json", file);
+  const HeldOutSplit back = readFitFile(dir / "fit.json").fit.heldOut->elevations.at(3);
+  EXPECT_EQ(back.largestRowShare, fifty.largestRowShare);
+  EXPECT_EQ(back.largestRow.thetaIn, fifty.largestRow.thetaIn);
+  EXPECT_EQ(back.largestRow.phiOut, fifty.largestRow.phiOut);
+  EXPECT_EQ(back.largestRowMirrorOffset, fifty.largestRowMirrorOffset);
 }
 
 // HeldOutSplits makes the splits once: k-fold splits first, then one per interior elevation in

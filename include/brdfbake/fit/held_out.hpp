@@ -55,7 +55,14 @@ struct HeldOutSplit {
   double lambertError = 0.0;    ///< E of the Lambertian fits on the same rows
   /// error / lambertError, both offset by 1e-9 so that a table Lambert fits exactly (a constant
   /// BRDF) gives a finite ratio, 1 when both vanish.
-  double ratio() const { return (error + 1e-9) / (lambertError + 1e-9); }
+  double ratio() const {
+    return (error + 1e-9) / (lambertError + 1e-9);
+  }  /// The held-out row whose terms hold the largest part of `error`'s squares, and that part (0..1;
+  /// 0 when the fit's error is 0). Near 1 the split's figure is one sample's: a highlight narrower
+  /// than the table's steps, sampled once per elevation (docs/fitting.md, "what one sample decides").
+  double largestRowShare = 0.0;
+  SampleAngles largestRow{};            ///< its angles (radians), as in the table
+  double largestRowMirrorOffset = 0.0;  ///< its outgoing direction's angle from the mirror direction, degrees
 };
 
 struct HeldOutReport {
@@ -100,6 +107,8 @@ double mirrorOffsetDegrees(const MeasuredTable& table, std::size_t row);
 struct LogErrorSum {
   double squares = 0.0;
   std::size_t terms = 0;
+  double largestRowSquares = 0.0;  ///< the largest sum of one row's squares (over its channels)
+  std::size_t largestRow = 0;      ///< that row's index in the table
   double rms() const { return terms ? std::sqrt(squares / static_cast<double>(terms)) : 0.0; }
 };
 LogErrorSum cosineLogError(const LobeModel& model, const MeasuredTable& table, const std::vector<std::size_t>& rows);
