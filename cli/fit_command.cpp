@@ -28,7 +28,8 @@ The fit estimates its held-out error (log error on rows it did not see: k-fold o
 the mirror, and each interior incident elevation held out whole, as a ratio to a Lambertian fit)
 and --lobes / --kind / --elevation / --max-exponent / --varying-prior / --color-profile auto choose
 by it: the worse of the two ratios decides. The report also names the best radially symmetric
-model (mirror lobes, which prefilter an environment) and its held-out error. Without -o the fit goes to
+model (mirror lobes, which prefilter an environment) and its held-out error, and each split where
+one sample holds half or more of the held-out error (a highlight sampled once). Without -o the fit goes to
 TABLESTEM_fit.json in the current folder (none with --json, which prints it). Exit status 1 when a
 solve failed: the fit is still written, with "usable": false. Details and fit.json: docs/fitting.md.
 
