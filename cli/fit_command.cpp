@@ -29,7 +29,8 @@ the mirror, and each interior incident elevation held out whole, as a ratio to a
 and --lobes / --kind / --elevation / --max-exponent / --varying-prior / --color-profile auto choose
 by it: the worse of the two ratios decides. The report also names the best radially symmetric
 model (mirror lobes, which prefilter an environment) and its held-out error, and each split where
-one sample holds half or more of the held-out error (a highlight sampled once). Without -o the fit goes to
+one row holds half or more of the squared held-out error (a highlight sampled once), with the ratio
+without it. Without -o the fit goes to
 TABLESTEM_fit.json in the current folder (none with --json, which prints it). Exit status 1 when a
 solve failed: the fit is still written, with "usable": false. Details and fit.json: docs/fitting.md.
 

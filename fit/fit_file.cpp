@@ -70,20 +70,24 @@ ChannelFitStats readStats(JsonObjectReader stats, const std::string& name) {
 }
 
 nlohmann::ordered_json splitToJson(const HeldOutSplit& split) {
-  const SampleAngles& row = split.largestRow;
-  return {{"name", split.name},
-          {"elevation_deg", finite(split.elevationDegrees, "elevation")},
-          {"held_rows", split.heldRows},
-          {"log_error", finite(split.error, "held-out error")},
-          {"lambert_log_error", finite(split.lambertError, "Lambert error")},
-          {"ratio_to_lambert", finite(split.ratio(), "held-out ratio")},
-          {"largest_row",
-           {{"share", finite(split.largestRowShare, "share")},
-            {"theta_i", finite(row.thetaIn, "angle")},
-            {"phi_i", finite(row.phiIn, "angle")},
-            {"theta_s", finite(row.thetaOut, "angle")},
-            {"phi_s", finite(row.phiOut, "angle")},
-            {"mirror_offset_deg", finite(split.largestRowMirrorOffset, "angle")}}}};
+  nlohmann::ordered_json json = {{"name", split.name},
+                                 {"elevation_deg", finite(split.elevationDegrees, "elevation")},
+                                 {"held_rows", split.heldRows},
+                                 {"log_error", finite(split.error, "held-out error")},
+                                 {"lambert_log_error", finite(split.lambertError, "Lambert error")},
+                                 {"ratio_to_lambert", finite(split.ratio(), "held-out ratio")}};
+  if (split.largestRowShare > 0.0) {  // none when the fit's error is 0
+    const SampleAngles& row = split.largestRow;
+    json["largest_row"] = {{"share", finite(split.largestRowShare, "largest row's share")},
+                           {"lambert_share", finite(split.largestRowLambertShare, "largest row's share")},
+                           {"theta_i", finite(row.thetaIn, "angle")},
+                           {"phi_i", finite(row.phiIn, "angle")},
+                           {"theta_s", finite(row.thetaOut, "angle")},
+                           {"phi_s", finite(row.phiOut, "angle")},
+                           {"mirror_offset_deg", finite(split.largestRowMirrorOffset, "angle")},
+                           {"ratio_without", finite(split.ratioWithoutLargestRow(), "held-out ratio")}};
+  }
+  return json;
 }
 
 HeldOutSplit splitFromJson(JsonObjectReader r) {
@@ -94,11 +98,14 @@ HeldOutSplit splitFromJson(JsonObjectReader r) {
   split.error = r.number("log_error", 0.0);
   split.lambertError = r.number("lambert_log_error", 0.0);
   r.number("ratio_to_lambert", 0.0);  // recomputed
-  if (r.has("largest_row")) {         // absent in files written before it
+  if (r.has("largest_row")) {         // absent when the fit's error is 0, and in files written before it
     JsonObjectReader row = r.object("largest_row");
     split.largestRowShare = row.number("share", 0.0, 1.0);
-    split.largestRow = {row.number("theta_i"), row.number("phi_i"), row.number("theta_s"), row.number("phi_s")};
+    split.largestRowLambertShare = row.number("lambert_share", 0.0, 1.0);
+    split.largestRow = {row.number("theta_i", 0.0, kPi / 2), row.number("phi_i"), row.number("theta_s", 0.0, kPi / 2),
+                        row.number("phi_s")};
     split.largestRowMirrorOffset = row.number("mirror_offset_deg", 0.0, 180.0);
+    row.number("ratio_without", 0.0);  // recomputed
     row.finish();
   }
   r.finish();

@@ -258,20 +258,32 @@ HeldOutSplits::HeldOutSplits(const MeasuredTable& table, const HeldOutOptions& o
     tbb::parallel_for(std::size_t(0), splits_.size(), [&](std::size_t s) {
       Split& split = splits_[s];
       split.training = tableRows(table, split.train);
-      split.lambert = lambertianLogError(lambertianFit(table, split.train), table, split.held);
+      split.lambertConstants = lambertianFit(table, split.train);
+      split.lambert = lambertianLogError(split.lambertConstants, table, split.held);
     });
   });
 }
 
 namespace {
-// The split's largest row (HeldOutSplit::largestRowShare) from its fit's error sum.
-void setLargestRow(HeldOutSplit& split, const LogErrorSum& fitted, const MeasuredTable& table) {
-  if (!(fitted.squares > 0.0)) return;
-  split.largestRowShare = fitted.largestRowSquares / fitted.squares;
+// The split's largest row (HeldOutSplit::largestRowShare) from its fit's error sum, and the part of
+// Lambert's error (`lambert`, with the constants `k`) that row holds.
+void setLargestRow(HeldOutSplit& split, const LogErrorSum& fitted, const LogErrorSum& lambert,
+                   const std::vector<double>& k, const MeasuredTable& table) {
+  if (!(std::isfinite(fitted.squares) && fitted.squares > 0.0)) return;
+  split.largestRowShare = std::min(fitted.largestRowSquares / fitted.squares, 1.0);
+  if (lambert.squares > 0.0) {
+    const double rowSquares = lambertianLogError(k, table, {fitted.largestRow}).squares;
+    split.largestRowLambertShare = std::min(rowSquares / lambert.squares, 1.0);
+  }
   split.largestRow = table.angles[fitted.largestRow];
   split.largestRowMirrorOffset = mirrorOffsetDegrees(table, fitted.largestRow);
 }
 }  // namespace
+
+double HeldOutSplit::ratioWithoutLargestRow() const {
+  const double rest = 1.0 - largestRowLambertShare;
+  return rest > 1e-12 ? ratio() * std::sqrt(std::max(1.0 - largestRowShare, 0.0) / rest) : ratio();
+}
 
 HeldOutReport HeldOutSplits::estimate(const SplitFitter& fit) const {
   const auto start = std::chrono::steady_clock::now();
@@ -284,12 +296,15 @@ HeldOutReport HeldOutSplits::estimate(const SplitFitter& fit) const {
   });
   HeldOutReport report = entries_;
   LogErrorSum kfoldFit, kfoldLambert;
+  std::size_t kfoldLargest = 0;  // the fold whose held-out rows hold the k-fold split's largest row
   for (std::size_t s = 0; s < splits_.size(); ++s) {
     const Split& split = splits_[s];
     if (split.entry < 0) {
       kfoldFit.squares += fitted[s].squares, kfoldFit.terms += fitted[s].terms;
-      if (fitted[s].largestRowSquares > kfoldFit.largestRowSquares)
+      if (fitted[s].largestRowSquares > kfoldFit.largestRowSquares) {
         kfoldFit.largestRowSquares = fitted[s].largestRowSquares, kfoldFit.largestRow = fitted[s].largestRow;
+        kfoldLargest = s;
+      }
       kfoldLambert.squares += split.lambert.squares, kfoldLambert.terms += split.lambert.terms;
       report.kfold.heldRows += split.held.size();
     } else {
@@ -297,12 +312,13 @@ HeldOutReport HeldOutSplits::estimate(const SplitFitter& fit) const {
       e.heldRows = split.held.size();
       e.error = fitted[s].rms();
       e.lambertError = split.lambert.rms();
-      setLargestRow(e, fitted[s], *table_);
+      setLargestRow(e, fitted[s], split.lambert, split.lambertConstants, *table_);
     }
   }
   report.kfold.error = kfoldFit.rms();
   report.kfold.lambertError = kfoldLambert.rms();
-  setLargestRow(report.kfold, kfoldFit, *table_);
+  if (!splits_.empty())
+    setLargestRow(report.kfold, kfoldFit, kfoldLambert, splits_[kfoldLargest].lambertConstants, *table_);
   report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <iomanip>
 #include <sstream>
+#include <vector>
 
 namespace brdfbake {
 namespace fs = std::filesystem;
@@ -64,16 +65,19 @@ std::string reportTitle(const FitTableOptions& options, const FitResult& fit) {
   return title.str();
 }
 
-// The splits whose held-out error is mostly one sample's (HeldOutSplit::largestRowShare at least a half).
+// The splits where one row holds half or more of the fit's squared error (HeldOutSplit::largestRowShare).
 void describeLargestRows(std::ostream& out, const HeldOutReport& report) {
   std::vector<const HeldOutSplit*> splits{&report.kfold};
   for (const auto& e : report.elevations) splits.push_back(&e);
   for (const HeldOutSplit* split : splits) {
-    if (split->largestRowShare < 0.5) continue;
-    out << std::fixed << std::setprecision(0) << "  " << split->name << ": " << 100.0 * split->largestRowShare
-        << " % of the held-out error is one sample's (theta_s " << std::setprecision(1)
-        << degrees(split->largestRow.thetaOut) << " deg, " << split->largestRowMirrorOffset
-        << " deg from the mirror direction)\n";
+    if (!(split->largestRowShare >= 0.5)) continue;
+    const SampleAngles& row = split->largestRow;
+    out << std::fixed << std::setprecision(0) << "  " << split->name << ": one row holds "
+        << 100.0 * split->largestRowShare << " % of the squared error and " << 100.0 * split->largestRowLambertShare
+        << " % of Lambert's (theta_i " << std::setprecision(1) << degrees(row.thetaIn) << ", theta_s "
+        << degrees(row.thetaOut) << " deg: " << split->largestRowMirrorOffset
+        << " deg from the mirror direction); without it " << std::setprecision(2) << split->ratioWithoutLargestRow()
+        << "x\n";
   }
 }
 }  // namespace

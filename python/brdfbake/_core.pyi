@@ -146,6 +146,8 @@ def fit_table(
     method: str,
     max_exponent: Union[float, str],
     varying_prior: Union[float, str],
+    color_profile: str,
+    half_difference: str,
     held_out: bool,
     folds: int,
     channels: str,

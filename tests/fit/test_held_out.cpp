@@ -349,11 +349,13 @@ TEST(HeldOut, ErrorAndSplitsMatchSumsTypedOut) {
   // The row holding the largest part of a split's squares, and its angle from the mirror direction.
   const auto expectLargestRow = [&](const HeldOutSplit& split, double squares, double total, std::size_t row) {
     EXPECT_NEAR(split.largestRowShare, squares / total, 1e-12) << split.name;
+    EXPECT_EQ(split.largestRow.thetaIn, table.angles[row].thetaIn) << split.name;
     EXPECT_EQ(split.largestRow.thetaOut, table.angles[row].thetaOut) << split.name;
     EXPECT_EQ(split.largestRow.phiOut, table.angles[row].phiOut) << split.name;
     const Vec3 wi = cornellDirection(table.angles[row].thetaIn, table.angles[row].phiIn);
     const Vec3 wo = cornellDirection(table.angles[row].thetaOut, table.angles[row].phiOut);
-    EXPECT_NEAR(split.largestRowMirrorOffset, degrees(std::acos(Vec3(-wi.x(), -wi.y(), wi.z()).dot(wo))), 1e-9);
+    const double cosine = std::clamp(Vec3(-wi.x(), -wi.y(), wi.z()).dot(wo), -1.0, 1.0);
+    EXPECT_NEAR(split.largestRowMirrorOffset, degrees(std::acos(cosine)), 1e-9);
   };
   expectLargestRow(report.kfold, offLargest, offSquares, offLargestRow);
   EXPECT_EQ(report.kfold.heldRows, offRows);
@@ -366,6 +368,26 @@ TEST(HeldOut, ErrorAndSplitsMatchSumsTypedOut) {
     EXPECT_NEAR(e.error, std::sqrt(squares / (3.0 * rows)), 1e-12) << e.name;
     const auto& [largest, row] = largestPerElevation.at(std::lround(e.elevationDegrees));
     expectLargestRow(e, largest, squares, row);
+    // Lambert's part of that row, and the ratio without it, from the split's Lambertian constants.
+    std::vector<std::size_t> train, held;
+    for (std::size_t i = 0; i < table.size(); ++i)
+      (std::lround(degrees(table.angles[i].thetaIn)) == std::lround(e.elevationDegrees) ? held : train).push_back(i);
+    const std::vector<double> k = lambertianFit(table, train);
+    double lambertTotal = 0.0, lambertRow = 0.0;
+    for (std::size_t i : held) {
+      double rowSquares = 0.0;
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double cosIn = std::cos(table.angles[i].thetaIn);
+        rowSquares += std::pow(logTerm(cosIn, k[c]) - logTerm(cosIn, table.values(static_cast<Eigen::Index>(i),
+                                                                                  static_cast<Eigen::Index>(c))),
+                               2);
+      }
+      lambertTotal += rowSquares;
+      if (i == row) lambertRow = rowSquares;
+    }
+    EXPECT_NEAR(e.largestRowLambertShare, lambertRow / lambertTotal, 1e-9) << e.name;
+    EXPECT_NEAR(e.ratioWithoutLargestRow(), std::sqrt((squares - largest) / (lambertTotal - lambertRow)), 1e-6)
+        << e.name;
   }
 }
 
@@ -389,9 +411,10 @@ TEST(HeldOut, OneSampleTheFitMissesHoldsItsSplitsError) {
   const HeldOutSplit& fifty = report.elevations.at(3);
   ASSERT_EQ(std::lround(fifty.elevationDegrees), 50);
   EXPECT_NEAR(fifty.largestRowShare, 1.0, 1e-12);
+  EXPECT_GT(fifty.largestRowLambertShare, 0.999);  // Lambert's constant, fitted without it, misses it too
   EXPECT_EQ(fifty.largestRow.thetaOut, table.angles[spike].thetaOut);
-  EXPECT_LT(fifty.largestRowMirrorOffset, 1.0);             // the Cornell grid's 50-degree sample: 0.2 degrees off
-  EXPECT_EQ(report.elevations.at(0).largestRowShare, 0.0);  // 20 degrees: predicted exactly
+  EXPECT_LT(fifty.largestRowMirrorOffset, 1.0);     // the Cornell grid's 50-degree sample: 0.2 degrees off
+  EXPECT_LT(report.elevations.at(0).error, 1e-12);  // 20 degrees: predicted exactly
   test::TempDir dir;
   FitFile file;
   file.hasSource = false;
@@ -400,9 +423,47 @@ TEST(HeldOut, OneSampleTheFitMissesHoldsItsSplitsError) {
   writeFitFile(dir / "fit.json", file);
   const HeldOutSplit back = readFitFile(dir / "fit.json").fit.heldOut->elevations.at(3);
   EXPECT_EQ(back.largestRowShare, fifty.largestRowShare);
+  EXPECT_EQ(back.largestRowLambertShare, fifty.largestRowLambertShare);
   EXPECT_EQ(back.largestRow.thetaIn, fifty.largestRow.thetaIn);
+  EXPECT_EQ(back.largestRow.phiIn, fifty.largestRow.phiIn);
+  EXPECT_EQ(back.largestRow.thetaOut, fifty.largestRow.thetaOut);
   EXPECT_EQ(back.largestRow.phiOut, fifty.largestRow.phiOut);
   EXPECT_EQ(back.largestRowMirrorOffset, fifty.largestRowMirrorOffset);
+}
+
+TEST(HeldOut, FitJsonNamesWhatIsWrongWithALargestRow) {
+  FitFile file;
+  file.hasSource = false;
+  file.fit.model.channels = {{"Y", 0.5, {}}};
+  HeldOutReport report;
+  report.kfold = {"off-mirror 5-fold", 0.0, 10, 0.0, 0.1};  // predicted exactly: no largest row
+  report.elevations = {{"theta_i 30 deg", 30.0, 10, 0.2, 0.4, 0.9, 0.8, {0.5, 0.0, 0.6, 3.1}, 3.0}};
+  file.fit.heldOut = report;
+  const nlohmann::ordered_json good = fitFileToJson(file);
+  EXPECT_FALSE(good["fit"]["held_out"]["kfold"].contains("largest_row"));
+  const auto& row = good["fit"]["held_out"]["elevations"][0]["largest_row"];
+  // ratio() sqrt((1 - 0.9) / (1 - 0.8)), the offsets of 1e-9 aside.
+  EXPECT_NEAR(row["ratio_without"].get<double>(), 0.5 * std::sqrt(0.1 / 0.2), 1e-8);
+  const HeldOutReport back = *fitFileFromJson(good, "fit.json").fit.heldOut;
+  EXPECT_EQ(back.kfold.largestRowShare, 0.0);
+  EXPECT_EQ(back.elevations[0].largestRowLambertShare, 0.8);
+  const auto refused = [&](const std::string& key, const nlohmann::json& value, const std::string& words) {
+    nlohmann::json bad = good;
+    bad["fit"]["held_out"]["elevations"][0]["largest_row"][key] = value;
+    try {
+      fitFileFromJson(bad, "fit.json");
+      ADD_FAILURE() << key << " accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("fit.held_out.elevations[0].largest_row." + key), std::string::npos)
+          << e.what();
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  refused("share", 1.5, "1.5");
+  refused("lambert_share", -0.1, "-0.1");
+  refused("theta_s", 2.0, "2");
+  refused("mirror_offset_deg", 200.0, "200");
+  refused("theta_x", 0.1, "unknown key");
 }
 
 // HeldOutSplits makes the splits once: k-fold splits first, then one per interior elevation in

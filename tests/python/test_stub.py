@@ -4,6 +4,7 @@ holds: every class, method, property and function, no more, no less."""
 import ast
 import inspect
 import pathlib
+import re
 
 import brdfbake
 from brdfbake import _core
@@ -30,6 +31,15 @@ def test_the_stub_lists_every_class_member_and_function():
     for name, node in classes.items():
         stubbed = {item.name for item in node.body if isinstance(item, ast.FunctionDef)}
         assert public(stubbed) == public(dir(getattr(_core, name))) - {"_pybind11_conduit_v1_"}, name
+
+
+def test_the_stub_functions_take_the_extensions_arguments_in_order():
+    # pybind11's signature line, "name(a: T, b: U = ...) -> R": the names before each ": ".
+    for node in stub_tree().body:
+        if isinstance(node, ast.FunctionDef) and not node.name.startswith("__"):
+            line = getattr(_core, node.name).__doc__.splitlines()[0]
+            runtime = re.findall(r"(\w+): ", line[line.index("(") + 1:line.rindex(") ->")])
+            assert [a.arg for a in node.args.args + node.args.kwonlyargs] == runtime, node.name
 
 
 def test_the_package_exports_what_it_documents():

@@ -76,6 +76,22 @@ TEST(FitJob, FitsASyntheticTableAndEvalMatchesTheFormula) {
   }
 }
 
+TEST(FitJob, TheReportNamesASplitThatOneRowDecides) {
+  FitTableResult result;
+  result.file.fit.model.channels = {{"Y", 0.5, {}}};
+  HeldOutReport report;
+  report.kfold = {"off-mirror 5-fold", 0.0, 10, 0.1, 0.3, 0.4, 0.3, {0.2, 0.0, 0.3, 1.0}, 9.0};  // 40 %: no line
+  report.elevations = {{"theta_i 30 deg", 30.0, 10, 0.2, 0.4, 0.9, 0.8, {0.5, 0.0, 0.6, 3.1}, 3.0}};
+  result.file.fit.heldOut = report;
+  const std::string text = result.briefReport();
+  // theta_i 0.5 rad = 28.6 deg, theta_s 0.6 rad = 34.4 deg; without it 0.5 sqrt(0.1 / 0.2) = 0.35.
+  EXPECT_NE(text.find("  theta_i 30 deg: one row holds 90 % of the squared error and 80 % of Lambert's (theta_i "
+                      "28.6, theta_s 34.4 deg: 3.0 deg from the mirror direction); without it 0.35x\n"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("off-mirror 5-fold: one row"), std::string::npos) << text;
+}
+
 TEST(FitJob, EvalPairsGivesOneRowPerInputLine) {
   test::TempDir dir;
   const fs::path fitFile = test::sourcePath("data_samples/fits/synthetic_two_lobes.json");

@@ -55,14 +55,19 @@ struct HeldOutSplit {
   double lambertError = 0.0;    ///< E of the Lambertian fits on the same rows
   /// error / lambertError, both offset by 1e-9 so that a table Lambert fits exactly (a constant
   /// BRDF) gives a finite ratio, 1 when both vanish.
-  double ratio() const {
-    return (error + 1e-9) / (lambertError + 1e-9);
-  }  /// The held-out row whose terms hold the largest part of `error`'s squares, and that part (0..1;
-  /// 0 when the fit's error is 0). Near 1 the split's figure is one sample's: a highlight narrower
-  /// than the table's steps, sampled once per elevation (docs/fitting.md, "what one sample decides").
+  double ratio() const { return (error + 1e-9) / (lambertError + 1e-9); }
+
+  /// The held-out row that holds the largest part of the squares of `error`, and that part (0..1; 0,
+  /// and no row, when the fit's error is 0). Near 1 the split's figure is one row's: a highlight
+  /// narrower than the table's steps, sampled once per elevation (docs/fitting.md, "What one row decides").
   double largestRowShare = 0.0;
+  /// The part of the squares of `lambertError` the same row holds (0..1).
+  double largestRowLambertShare = 0.0;
   SampleAngles largestRow{};            ///< its angles (radians), as in the table
   double largestRowMirrorOffset = 0.0;  ///< its outgoing direction's angle from the mirror direction, degrees
+  /// ratio() with the largest row left out of both errors: ratio() sqrt((1 - share) / (1 - Lambert's
+  /// share)); ratio() when Lambert's error has nothing else.
+  double ratioWithoutLargestRow() const;
 };
 
 struct HeldOutReport {
@@ -107,8 +112,8 @@ double mirrorOffsetDegrees(const MeasuredTable& table, std::size_t row);
 struct LogErrorSum {
   double squares = 0.0;
   std::size_t terms = 0;
-  double largestRowSquares = 0.0;  ///< the largest sum of one row's squares (over its channels)
-  std::size_t largestRow = 0;      ///< that row's index in the table
+  double largestRowSquares = 0.0;  ///< the largest sum of one row's squares (over its channels);
+  std::size_t largestRow = 0;      ///< that row's index in the table (cosineLogError only)
   double rms() const { return terms ? std::sqrt(squares / static_cast<double>(terms)) : 0.0; }
 };
 LogErrorSum cosineLogError(const LobeModel& model, const MeasuredTable& table, const std::vector<std::size_t>& rows);
@@ -142,7 +147,8 @@ class HeldOutSplits {
     std::vector<std::size_t> train, held;
     int entry = -1;  // -1 = k-fold, else index into the report's elevations
     MeasuredTable training;
-    LogErrorSum lambert;  // the Lambertian fit of `train`, on `held`
+    std::vector<double> lambertConstants;  // the Lambertian fit of `train`
+    LogErrorSum lambert;                   // its error on `held`
   };
   const MeasuredTable* table_;
   HeldOutOptions options_;
