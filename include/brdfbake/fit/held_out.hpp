@@ -112,7 +112,7 @@ double mirrorOffsetDegrees(const MeasuredTable& table, std::size_t row);
 struct LogErrorSum {
   double squares = 0.0;
   std::size_t terms = 0;
-  double largestRowSquares = 0.0;  ///< the largest sum of one row's squares (over its channels);
+  double largestRowSquares = 0.0;  ///< the largest sum of one row's squares (over its channels)
   std::size_t largestRow = 0;      ///< that row's index in the table (cosineLogError only)
   double rms() const { return terms ? std::sqrt(squares / static_cast<double>(terms)) : 0.0; }
 };
