@@ -85,7 +85,8 @@ TEST(TableFit, ThePenaltyContinuesTheTableLinearlyWhereNoRowReaches) {
   FitOptions options;
   options.kind = LobeKindChoice::HalfDifference;
   options.estimateHeldOut = false;
-  const auto& fitted = fitLobes(near, options).model.channels[0].halfDifferenceCoefficients;
+  const FitResult fit = fitLobes(near, options);
+  const auto& fitted = fit.model.channels[0].halfDifferenceCoefficients;
   const auto& known = truth.channels[0].halfDifferenceCoefficients;
   const int stride = detail::kFittedTableShape.differenceDegree + 1;
   for (int k = 6; k < detail::kFittedTableShape.halfAngleKnots; ++k)  // knots no row reaches
