@@ -300,12 +300,9 @@ HeldOutReport HeldOutSplits::estimate(const SplitFitter& fit) const {
   for (std::size_t s = 0; s < splits_.size(); ++s) {
     const Split& split = splits_[s];
     if (split.entry < 0) {
-      kfoldFit.squares += fitted[s].squares, kfoldFit.terms += fitted[s].terms;
-      if (fitted[s].largestRowSquares > kfoldFit.largestRowSquares) {
-        kfoldFit.largestRowSquares = fitted[s].largestRowSquares, kfoldFit.largestRow = fitted[s].largestRow;
-        kfoldLargest = s;
-      }
-      kfoldLambert.squares += split.lambert.squares, kfoldLambert.terms += split.lambert.terms;
+      if (fitted[s].largestRowSquares > kfoldFit.largestRowSquares) kfoldLargest = s;
+      kfoldFit.add(fitted[s]);
+      kfoldLambert.add(split.lambert);
       report.kfold.heldRows += split.held.size();
     } else {
       HeldOutSplit& e = report.elevations[static_cast<std::size_t>(split.entry)];

@@ -115,6 +115,14 @@ struct LogErrorSum {
   double largestRowSquares = 0.0;  ///< the largest sum of one row's squares (over its channels)
   std::size_t largestRow = 0;      ///< that row's index in the table (cosineLogError only)
   double rms() const { return terms ? std::sqrt(squares / static_cast<double>(terms)) : 0.0; }
+  /// Pools `other` into this sum (splits' rows are disjoint): squares and terms add, the larger
+  /// largest row is kept.
+  void add(const LogErrorSum& other) {
+    squares += other.squares;
+    terms += other.terms;
+    if (other.largestRowSquares > largestRowSquares)
+      largestRowSquares = other.largestRowSquares, largestRow = other.largestRow;
+  }
 };
 LogErrorSum cosineLogError(const LobeModel& model, const MeasuredTable& table, const std::vector<std::size_t>& rows);
 
