@@ -1,10 +1,11 @@
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/bake/baker.hpp>
+#include <brdfbake/core/context.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
-#include <brdfbake/core/run_options.hpp>
 #include <brdfbake/maps/cube_map.hpp>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -207,7 +208,7 @@ std::vector<Vec3> ErrorProbes::directions(bool visibleSphere) const {
 ErrorStats measureSparseLookups(const ErrorProbes& probes, long long texelCount,
                                 const std::function<void(const Vec3&, TexelTaps&)>& taps,
                                 const std::function<Rgb(long long)>& texel, double rimCos, bool visibleSphere,
-                                int threads) {
+                                const Context& context) {
   require(texelCount >= 1, "a map needs at least one texel");
   // Each texel any probe reads gets an id, in the order first read: a table over the texels
   // while it is small, a hash map beyond.
@@ -231,10 +232,14 @@ ErrorStats measureSparseLookups(const ErrorProbes& probes, long long texelCount,
     for (int k = 0; k < read[i].count; ++k) read[i].index[k] = idOf(read[i].index[k]);
   }
   std::vector<Rgb> texels(keys.size());
-  requireThreadCount(threads);
-  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-  arena.execute(
-      [&] { tbb::parallel_for(std::size_t(0), keys.size(), [&](std::size_t i) { texels[i] = texel(keys[i]); }); });
+  tbb::task_arena arena(context.arenaThreads());
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size()),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        context.checkCancelled();
+                        for (std::size_t i = range.begin(); i < range.end(); ++i) texels[i] = texel(keys[i]);
+                      });
+  });
   std::vector<Rgb> looked(directions.size(), Rgb::Zero());
   for (std::size_t i = 0; i < directions.size(); ++i)
     for (int k = 0; k < read[i].count; ++k)
@@ -260,8 +265,10 @@ bool visibleLookups(const Parameterization& map, bool visibleSphere) {
 
 double mapRimCos(ParameterizationKind kind, int resolution) {
   if (kind != ParameterizationKind::Sphere) return 2.0;
-  // The angle two rim texels span, 4 sqrt(2/N) (docs/conventions.md).
-  return std::cos(std::min(kPi, 4.0 * std::sqrt(2.0 / resolution)));
+  // The angle two rim texels span, 4 sqrt(2/N) (docs/conventions.md); below 4 texels across it would
+  // cover the whole sphere, and nothing is left out.
+  const double band = 4.0 * std::sqrt(2.0 / resolution);
+  return band < kPi ? std::cos(band) : 2.0;
 }
 
 ErrorStats measureMapError(const Image& image, const Parameterization& map, const ErrorProbes& probes,
@@ -271,7 +278,7 @@ ErrorStats measureMapError(const Image& image, const Parameterization& map, cons
 }
 
 ErrorStats estimateMapError(const Parameterization& map, const MapFunction& function, int samplesPerTexel,
-                            const ErrorProbes& probes, bool visibleSphere, int threads) {
+                            const ErrorProbes& probes, bool visibleSphere, const Context& context) {
   require(samplesPerTexel >= 1, "samples per texel must be >= 1");
   const long long width = map.width();
   auto taps = [&](const Vec3& r, TexelTaps& out) {
@@ -288,7 +295,7 @@ ErrorStats estimateMapError(const Parameterization& map, const MapFunction& func
     return value.cast<float>().cast<double>();  // as an Image stores it
   };
   return measureSparseLookups(probes, width * map.height(), taps, texel, mapRimCos(map.kind(), map.resolution()),
-                              visibleLookups(map, visibleSphere), threads);
+                              visibleLookups(map, visibleSphere), context);
 }
 
 ErrorStats measureMapError(const Image& image, const Parameterization& map, const MapFunction& exact,

@@ -76,9 +76,10 @@ Key keyOf(const MapConfiguration& c, int order) { return {c.cost(), c.samplesPer
 
 class Search {
  public:
-  Search(const MapFunction& function, const AutoOptions& options)
+  Search(const MapFunction& function, const AutoOptions& options, const Context& context)
       : function_(function),
         options_(options),
+        context_(context),
         axis_(options.allowRadialProfile ? function.symmetryAxis() : std::nullopt),
         probes_(function, options.error) {
     makeFamilies();
@@ -100,7 +101,7 @@ class Search {
 
   bool withinBudget(const MapConfiguration& c) const {
     const long long texels = c.texels();
-    const bool fits = (texels <= options_.bake.maxTexels || options_.bake.allowLarge) &&
+    const bool fits = (texels <= kMaxTexels || context_.allowLarge()) &&
                       16.0 * static_cast<double>(texels) <= static_cast<double>(memoryBudgetBytes());
     return fits;
   }
@@ -133,14 +134,14 @@ class Search {
     if (families_.empty()) {
       throw Error(Error::Kind::Resource,
                   "every auto candidate exceeds the memory budget (" +
-                      formatBytes(16.0 * static_cast<double>(options_.bake.maxTexels)) +
+                      formatBytes(16.0 * static_cast<double>(kMaxTexels)) +
                       " of float RGBA per map); allow smaller resolutions or large maps (--allow-large)");
     }
   }
 
   void report(double fraction) {
     progress_ = std::max(progress_, fraction);
-    if (options_.progress) options_.progress(progress_);
+    context_.report(progress_);
   }
 
   // The error of a configuration from the texels the probes read (estimateMapError), cached.
@@ -150,15 +151,15 @@ class Search {
       if (e.order == family.order && e.configuration.resolution == resolution &&
           e.configuration.samplesPerTexel == c.samplesPerTexel)
         return e.error;
-    const int threads = options_.bake.threads;
     const bool visible = options_.error.visibleSphere;
     double error;
     if (c.radialProfile) {
       error = autoErrorMeasure(
-          estimateProfileError(function_, *axis_, resolution, c.samplesPerTexel, probes_, visible, threads), c, *axis_);
+          estimateProfileError(function_, *axis_, resolution, c.samplesPerTexel, probes_, visible, context_), c,
+          *axis_);
     } else {
       const auto map = makeParameterization(c.parameterization, resolution);
-      error = autoErrorMeasure(estimateMapError(*map, function_, c.samplesPerTexel, probes_, visible, threads),
+      error = autoErrorMeasure(estimateMapError(*map, function_, c.samplesPerTexel, probes_, visible, context_),
                                c.parameterization);
     }
     estimates_.push_back({c, family.order, error});
@@ -222,17 +223,17 @@ class Search {
     const double start = progress_, share = 0.9 * (1.0 - progress_);
     BakeOptions bakeOptions = options_.bake;
     bakeOptions.samplesPerTexel = c.samplesPerTexel;
-    bakeOptions.progress = [this, start, share](double fraction) { report(start + share * fraction); };
+    const Context bakeContext = context_.part(start, start + share);
     ++result.bakes;
     Baked baked;
     if (c.radialProfile) {
-      RadialProfile profile = bakeRadialProfile(function_, *axis_, c.resolution, c.samplesPerTexel, bakeOptions);
+      RadialProfile profile = bakeRadialProfile(function_, *axis_, c.resolution, c.samplesPerTexel, bakeContext);
       baked.error = autoErrorMeasure(measureProfileError(profile, probes_, options_.error.visibleSphere), c, *axis_);
       baked.image = profile.toImage();
       baked.profile = std::move(profile);
     } else {
       const auto map = makeParameterization(c.parameterization, c.resolution);
-      baked.image = bake(*map, function_, bakeOptions);
+      baked.image = bake(*map, function_, bakeOptions, bakeContext);
       baked.error = autoErrorMeasure(measureMapError(baked.image, *map, probes_, options_.error.visibleSphere),
                                      c.parameterization);
     }
@@ -307,6 +308,7 @@ class Search {
 
   const MapFunction& function_;
   const AutoOptions& options_;
+  const Context& context_;
   const std::optional<Vec3> axis_;
   const ErrorProbes probes_;
   std::vector<Family> families_;
@@ -319,9 +321,9 @@ class Search {
 
 }  // namespace
 
-AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& options) {
+AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& options, const Context& context) {
   options.validate();
-  Search search(function, options);
+  Search search(function, options, context);
   return search.run();
 }
 

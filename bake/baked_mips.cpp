@@ -4,7 +4,7 @@
 namespace brdfbake {
 
 std::vector<Image> bakeMipChain(ParameterizationKind kind, int resolution, const MipLevelFunction& levelFunction,
-                                const BakeOptions& options) {
+                                const BakeOptions& options, const Context& context) {
   const int levels = mipLevelCount(resolution);
   std::vector<Image> chain;
   chain.reserve(static_cast<std::size_t>(levels));
@@ -13,19 +13,20 @@ std::vector<Image> bakeMipChain(ParameterizationKind kind, int resolution, const
     const auto map = makeParameterization(kind, levelResolution);
     const auto function = levelFunction(level, levelResolution);
     require(function != nullptr, "mip level function returned null");
-    chain.push_back(bake(*map, *function, options));
+    chain.push_back(bake(*map, *function, options, context.part(double(level) / levels, double(level + 1) / levels)));
   }
   return chain;
 }
 
-std::vector<Image> silhouetteMipChain(const SilhouetteMaterial& material, int resolution, const BakeOptions& options) {
+std::vector<Image> silhouetteMipChain(const SilhouetteMaterial& material, int resolution, const BakeOptions& options,
+                                      const Context& context) {
   return bakeMipChain(
       ParameterizationKind::Sphere, resolution,
       [&](int, int levelResolution) -> std::shared_ptr<const MapFunction> {
         auto level = std::make_shared<SilhouetteMaterial>(material.forMipLevel(resolution, levelResolution));
         return std::make_shared<MaterialMapFunction>(level, std::vector<DirectionalLight>{}, Vec3::UnitZ());
       },
-      options);
+      options, context);
 }
 
 }  // namespace brdfbake

@@ -49,9 +49,9 @@ class GeneralPath final : public RowPath {
 // ---------------------------------------------------------------------------------------------
 // Running a path over the rows, and the summary.
 
-void bakeRows(const Parameterization& map, const RowPath& path, const BakeOptions& options, Image& image) {
-  ProgressCounter progress(options.progress, static_cast<std::size_t>(map.height()));
-  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+void bakeRows(const Parameterization& map, const RowPath& path, const Context& context, Image& image) {
+  ProgressCounter progress(context.progress(), static_cast<std::size_t>(map.height()));
+  tbb::task_arena arena(context.arenaThreads());
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, map.height()), [&](const tbb::blocked_range<int>& rows) {
       for (int y = rows.begin(); y < rows.end(); ++y) {
@@ -75,7 +75,6 @@ void describeLobes(const std::vector<TabulatedLobe>& lobes, BakeSummary& summary
 void BakeOptions::validate() const {
   require(samplesPerTexel >= 1 && samplesPerTexel <= 4096,
           "samples_per_texel must be in [1, 4096], got " + std::to_string(samplesPerTexel));
-  validateRun();
   require(profileTolerance > 0.0 && profileTolerance < 1.0, "profile tolerance must be in (0, 1)");
 }
 
@@ -87,9 +86,10 @@ std::string BakeSummary::briefReport() const {
   return out.str();
 }
 
-BakedMap bakeMap(const Parameterization& map, const MapFunction& function, const BakeOptions& options) {
+BakedMap bakeMap(const Parameterization& map, const MapFunction& function, const BakeOptions& options,
+                 const Context& context) {
   options.validate();
-  options.requireImageSize(map.width(), map.height());
+  context.requireImageSize(map.width(), map.height());
   const auto start = std::chrono::steady_clock::now();
   BakedMap result{Image(map.width(), map.height()), BakeSummary{}};
   BakeSummary& summary = result.summary;
@@ -99,13 +99,13 @@ BakedMap bakeMap(const Parameterization& map, const MapFunction& function, const
     const std::vector<TabulatedLobe> lobes = tabulateLobes(*radial, map, options);
     if (allAboutViewAxis(map, lobes)) {
       summary.path = "radial-view-axis";
-      bakeRows(map, *makeViewAxisPath(map, lobes, layout), options, result.image);
+      bakeRows(map, *makeViewAxisPath(map, lobes, layout), context, result.image);
     } else if (map.kind() == ParameterizationKind::Sphere) {
       summary.path = "radial";
-      bakeRows(map, *makeSphereRadialPath(map, lobes, layout), options, result.image);
+      bakeRows(map, *makeSphereRadialPath(map, lobes, layout), context, result.image);
     } else {
       summary.path = "radial";
-      bakeRows(map, *makeRadialPath(map, lobes, layout), options, result.image);
+      bakeRows(map, *makeRadialPath(map, lobes, layout), context, result.image);
     }
     summary.deltaLobes = depositDeltaLobes(map, lobes, result.image);
     describeLobes(lobes, summary);
@@ -114,9 +114,9 @@ BakedMap bakeMap(const Parameterization& map, const MapFunction& function, const
     summary.path = "microfacet";
     const Vec3& view = microfacet->front().view;
     if (map.kind() == ParameterizationKind::Sphere && (view - Vec3::UnitZ()).squaredNorm() < 1e-30) {
-      bakeRows(map, *makeSphereMicrofacetPath(map, lobes, layout), options, result.image);
+      bakeRows(map, *makeSphereMicrofacetPath(map, lobes, layout), context, result.image);
     } else {
-      bakeRows(map, *makeMicrofacetPath(map, function, view, lobes, layout), options, result.image);
+      bakeRows(map, *makeMicrofacetPath(map, function, view, lobes, layout), context, result.image);
     }
     summary.lobes = static_cast<int>(lobes.size());
     for (const auto& lobe : lobes) {
@@ -125,7 +125,7 @@ BakedMap bakeMap(const Parameterization& map, const MapFunction& function, const
     }
   } else {
     summary.path = "general";
-    bakeRows(map, GeneralPath(map, function, layout), options, result.image);
+    bakeRows(map, GeneralPath(map, function, layout), context, result.image);
   }
 
   summary.samples = static_cast<long long>(map.width()) * map.height() * options.samplesPerTexel;
@@ -154,8 +154,9 @@ Rgb bakeTexel(const Parameterization& map, const MapFunction& function, int x, i
   return counted > 0 ? Rgb(sum / counted) : Rgb::Zero();
 }
 
-Image bake(const Parameterization& map, const MapFunction& function, const BakeOptions& options) {
-  return bakeMap(map, function, options).image;
+Image bake(const Parameterization& map, const MapFunction& function, const BakeOptions& options,
+           const Context& context) {
+  return bakeMap(map, function, options, context).image;
 }
 
 }  // namespace brdfbake

@@ -1,6 +1,6 @@
 #include <brdfbake/bake/radial_profile.hpp>
+#include <brdfbake/core/context.hpp>
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/core/run_options.hpp>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -82,20 +82,20 @@ double profileRimCos(const Vec3& axis, int resolution) {
 }  // namespace
 
 RadialProfile bakeRadialProfile(const MapFunction& function, const Vec3& axis, int resolution, int samplesPerTexel,
-                                const BakeOptions& options) {
+                                const Context& context) {
   require(resolution >= 1, "profile resolution must be >= 1");
   require(samplesPerTexel >= 1, "samples per texel must be >= 1");
-  requireThreadCount(options.threads);
   const RadialProfile frame = profileFrame(axis);
   std::vector<Rgb> texels(static_cast<std::size_t>(resolution), Rgb::Zero());
-  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  tbb::task_arena arena(context.arenaThreads());
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, resolution), [&](const tbb::blocked_range<int>& range) {
+      context.checkCancelled();
       for (int i = range.begin(); i < range.end(); ++i)
         texels[static_cast<std::size_t>(i)] = profileTexel(function, frame, i, resolution, samplesPerTexel);
     });
   });
-  if (options.progress) options.progress(1.0);
+  context.report(1.0);
   return RadialProfile(axis, std::move(texels));
 }
 
@@ -106,7 +106,7 @@ ErrorStats measureProfileError(const RadialProfile& profile, const ErrorProbes& 
 }
 
 ErrorStats estimateProfileError(const MapFunction& function, const Vec3& axis, int resolution, int samplesPerTexel,
-                                const ErrorProbes& probes, bool visibleSphere, int threads) {
+                                const ErrorProbes& probes, bool visibleSphere, const Context& context) {
   require(resolution >= 1, "profile resolution must be >= 1");
   require(samplesPerTexel >= 1, "samples per texel must be >= 1");
   const RadialProfile frame = profileFrame(axis);
@@ -120,7 +120,7 @@ ErrorStats estimateProfileError(const MapFunction& function, const Vec3& axis, i
     return profileTexel(function, frame, static_cast<int>(i), resolution, samplesPerTexel);
   };
   return measureSparseLookups(probes, resolution, taps, texel, profileRimCos(axis, resolution),
-                              aboutView(axis) && visibleSphere, threads);
+                              aboutView(axis) && visibleSphere, context);
 }
 
 ErrorStats measureProfileError(const RadialProfile& profile, const MapFunction& exact, const ErrorOptions& options) {

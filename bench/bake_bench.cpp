@@ -43,12 +43,12 @@ void BakeMap(benchmark::State& state) {
   const int resolution = static_cast<int>(state.range(2));
   BakeOptions options;
   options.samplesPerTexel = static_cast<int>(state.range(3));
-  options.threads = static_cast<int>(state.range(4));
+  const Context context({.threads = static_cast<int>(state.range(4))});
   const auto map = makeParameterization(kind, resolution);
   const auto function = model == 0 ? phongFunction() : cookTorranceFunction();
   Image image;
   for (auto _ : state) {
-    image = bake(*map, function, options);
+    image = bake(*map, function, options, context);
     benchmark::DoNotOptimize(image.data());
   }
   const double samples = double(map->width()) * map->height() * options.samplesPerTexel;
@@ -108,10 +108,10 @@ void TargetBrdfbake(benchmark::State& state) {
   const auto function = phongFunction();
   BakeOptions options;
   options.samplesPerTexel = 16;
-  options.threads = static_cast<int>(state.range(0));
+  const Context context({.threads = static_cast<int>(state.range(0))});
   Image image;
   for (auto _ : state) {
-    image = bake(map, function, options);
+    image = bake(map, function, options, context);
     benchmark::DoNotOptimize(image.data());
   }
   state.counters["samples/s"] =

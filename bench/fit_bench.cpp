@@ -23,11 +23,11 @@
 // of its cases). --quick: one repetition, and no per-channel fit of the spectral tables (they take
 // more than half of a run).
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/core/gnuplot.hpp>
 #include <brdfbake/fit/cornell_grid.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 #include <brdfbake/measured/measured_io.hpp>
+#include <brdfbake/run/gnuplot.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -219,13 +219,12 @@ Run timeMethod(const Case& c, const MeasuredTable& table, const Method& method, 
   Run run;
   run.caseName = c.name, run.channels = channelsLabel(c, table), run.method = method.name, run.setup = method.setup;
   run.threads = threads;
-  FitOptions options = method.options;
-  options.threads = threads;
-  options.heldOut.threads = threads;
+  const FitOptions& options = method.options;
+  const Context context({.threads = threads});
   for (int r = 0; r < repetitions; ++r) {
     const double cpu0 = processCpuSeconds();
     const auto start = Clock::now();
-    const FitResult fit = fitLobes(table, options);
+    const FitResult fit = fitLobes(table, options, context);
     const double wall = std::chrono::duration<double>(Clock::now() - start).count();
     const double cpu = processCpuSeconds() - cpu0;
     recordHeldOut(run, fit);

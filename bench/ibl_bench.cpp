@@ -22,8 +22,8 @@
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/env/prefilter_stack.hpp>
+#include <brdfbake/io/image_io.hpp>
 #include <brdfbake/maps/cube_map.hpp>
-#include <brdfbake/maps/image_io.hpp>
 
 #include <OpenImageIO/imageio.h>
 
@@ -72,7 +72,7 @@ std::vector<Texel> randomTexels(int size, int count, unsigned seed) {
 // The error of `values` at `axes` against the reference sum of `lobe` there.
 PrefilterError levelError(const Environment& sky, const PrefilterLobe& lobe, const std::vector<Vec3>& axes,
                           const std::vector<Rgb>& values, const std::vector<double>& weights, int threads) {
-  return prefilterPointsError(values, prefilterReferenceAt(sky, lobe, axes, threads), weights,
+  return prefilterPointsError(values, prefilterReferenceAt(sky, lobe, axes, Context({.threads = threads})), weights,
                               prefilterErrorFloor(sky, lobe));
 }
 
@@ -91,10 +91,9 @@ ChainRun brdfbakeChain(const Environment& sky, const std::vector<double>& roughn
   PrefilterOptions options;
   options.parameterization = ParameterizationKind::Cube;
   options.resolution = faceSize;
-  options.threads = threads;
   options.cubeEdgeFixup = false;
   const auto start = Clock::now();
-  const PrefilteredMap chain = prefilterGlossChain(sky, lobes, options);
+  const PrefilteredMap chain = prefilterGlossChain(sky, lobes, options, Context({.threads = threads}));
   ChainRun run{"brdfbake", since(start), roughness, {PrefilterError{}}};
   for (std::size_t k = 1; k < lobes.size(); ++k) {
     const int size = std::max(1, faceSize >> k);
@@ -191,7 +190,8 @@ int main(int argc, char** argv) {
   }
   try {
     const int rows = quick ? 128 : 512, faceSize = quick ? 64 : 256;
-    const Environment sky = bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, rows, "sky", 16, threads);
+    const Environment sky = bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, rows, "sky", 16,
+                                            Context({.threads = threads}));
     const fs::path work = fs::temp_directory_path() / ("brdfbake-ibl-bench-" + std::to_string(::getpid()));
     fs::create_directories(work);
     if (useCmgen && !haveProgram("cmgen")) {

@@ -8,7 +8,7 @@
 // plain images (no brdfbake metadata), so `prefilter` reads them by their aspect ratio.
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/env/environment.hpp>
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/image_io.hpp>
 
 #include <iostream>
 #include <string>

@@ -18,7 +18,7 @@
 #include <brdfbake/core/progress.hpp>
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/env/material_under_environment.hpp>
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/image_io.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
 
 #include <tbb/global_control.h>
@@ -246,7 +246,7 @@ int run(int argc, char** argv) {
   const auto material = materialNamed(args["--material"]);
   UnderEnvironmentOptions options;
   options.resolution = std::stoi(args["--resolution"]);
-  options.threads = threads;
+  const Context context({.threads = threads});
   if (args.count("--samples"))
     options.method = UnderEnvironmentMethod::Sampled, options.importanceSamples = std::stoi(args["--samples"]);
   if (args.count("--grid"))
@@ -258,7 +258,7 @@ int run(int argc, char** argv) {
   std::vector<double> seconds;
   for (int r = 0; r < std::stoi(args["--repeat"]); ++r) {
     const auto start = Clock::now();
-    result = shadeUnderEnvironment(environment, *material, options);
+    result = shadeUnderEnvironment(environment, *material, options, context);
     seconds.push_back(secondsSince(start));
   }
   std::sort(seconds.begin(), seconds.end());

@@ -4,7 +4,7 @@
 #include <brdfbake/brdf/fresnel.hpp>
 #include <brdfbake/brdf/smith.hpp>
 #include <brdfbake/core/progress.hpp>
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/image_io.hpp>
 
 #include <chrono>
 #include <cstdio>

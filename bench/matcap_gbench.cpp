@@ -17,7 +17,7 @@ using namespace brdfbake;
 
 const Environment& sky() {
   static const Environment environment =
-      bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, 512, "sky", 16, 0);
+      bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, 512, "sky", 16);
   return environment;
 }
 
@@ -37,11 +37,11 @@ void Matcap(benchmark::State& state) {
   const auto m = material(static_cast<int>(state.range(0)));
   UnderEnvironmentOptions options;
   options.resolution = static_cast<int>(state.range(1));
-  options.threads = static_cast<int>(state.range(2));
+  const Context context({.threads = static_cast<int>(state.range(2))});
   const Environment& environment = sky();
   UnderEnvironmentSummary summary;
   for (auto _ : state) {
-    MaterialUnderEnvironment made = shadeUnderEnvironment(environment, *m, options);
+    MaterialUnderEnvironment made = shadeUnderEnvironment(environment, *m, options, context);
     benchmark::DoNotOptimize(made.image.data());
     summary = made.summary;
   }

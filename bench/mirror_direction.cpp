@@ -6,10 +6,10 @@
 //
 //   mirror_direction [--shared ../shared/data/cornell] [--chart docs/images/mirror_direction.png]
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/core/gnuplot.hpp>
 #include <brdfbake/fit/cornell_grid.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 #include <brdfbake/fit/mirror_direction.hpp>
+#include <brdfbake/run/gnuplot.hpp>
 
 #include <iomanip>
 #include <iostream>

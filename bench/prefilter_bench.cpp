@@ -35,8 +35,8 @@
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/env/prefilter_stack.hpp>
+#include <brdfbake/io/image_io.hpp>
 #include <brdfbake/maps/cube_map.hpp>
-#include <brdfbake/maps/image_io.hpp>
 
 #include <OpenImageIO/imageio.h>
 
@@ -83,9 +83,10 @@ std::string format(double value, int precision = 3) {
 
 // The whole map by one configuration, timed, compared on the subset.
 Row run(const Environment& environment, const PrefilterLobe& lobe, PrefilterOptions options,
-        const PrefilterCheckPoints& subset, const std::vector<Rgb>& reference, double floor, const std::string& group) {
+        const PrefilterCheckPoints& subset, const std::vector<Rgb>& reference, double floor, const std::string& group,
+        int threads) {
   const auto start = Clock::now();
-  const PrefilteredMap map = prefilter(environment, lobe, options);
+  const PrefilteredMap map = prefilter(environment, lobe, options, Context({.threads = threads}));
   Row row;
   row.seconds = since(start);
   row.group = group;
@@ -116,22 +117,21 @@ void ggxComparison(const Environment& environment, int faceSize, int subsetSize,
     PrefilterOptions options;
     options.parameterization = ParameterizationKind::Cube;
     options.resolution = faceSize;
-    options.threads = threads;
     const PrefilterCheckPoints subset = prefilterTexelSubset(cube, lobe, options, subsetSize, 11);
     auto referenceStart = Clock::now();
-    const auto reference = prefilterReferenceAt(environment, lobe, subset.axes, threads);
+    const auto reference = prefilterReferenceAt(environment, lobe, subset.axes, Context({.threads = threads}));
     Row ref;
     ref.group = group, ref.tool = "brdfbake", ref.method = "reference", ref.extrapolated = true;
     ref.seconds = since(referenceStart) * 6.0 * faceSize * faceSize / subset.axes.size();
     rows.push_back(ref);
-    rows.push_back(run(environment, lobe, options, subset, reference, floor, group));
+    rows.push_back(run(environment, lobe, options, subset, reference, floor, group, threads));
     for (int samples : {256, 1024}) {
       PrefilterOptions o = options;
       o.method = PrefilterMethod::Importance;
       o.importanceSamples = samples;
       o.estimateError = false;
       o.interpolate = false;
-      rows.push_back(run(environment, lobe, o, subset, reference, floor, group));
+      rows.push_back(run(environment, lobe, o, subset, reference, floor, group, threads));
     }
     for (double q : {2.0, 4.0}) {
       PrefilterOptions o = options;
@@ -139,7 +139,7 @@ void ggxComparison(const Environment& environment, int faceSize, int subsetSize,
       o.directTexelsPerWidth = q;
       o.estimateError = false;
       o.interpolate = false;
-      rows.push_back(run(environment, lobe, o, subset, reference, floor, group));
+      rows.push_back(run(environment, lobe, o, subset, reference, floor, group, threads));
     }
     if (!useCmgen) continue;
     const fs::path out = work / ("cmgen_" + format(roughness));
@@ -170,7 +170,7 @@ void ggxComparison(const Environment& environment, int faceSize, int subsetSize,
       const TexelRect r = cube.region(f);
       weights.push_back(cube.texelSolidAngle(r.x0 + x, r.y0 + y));
     }
-    const auto cmgenReference = prefilterReferenceAt(environment, lobe, axes, threads);
+    const auto cmgenReference = prefilterReferenceAt(environment, lobe, axes, Context({.threads = threads}));
     Row row;
     row.group = group, row.tool = "cmgen", row.method = "cmgen",
     row.detail = "roughnessFilter, 1024 samples, half-float faces";
@@ -284,7 +284,8 @@ std::vector<ChainLevel> chainCheckPoints(const Environment& environment, const s
       const TexelRect r = cube.region(0);
       level.weights.push_back(cube.texelSolidAngle(r.x0 + x, r.y0 + y));
     }
-    level.reference = prefilterReferenceAt(environment, PrefilterLobe::phong(level.exponent), level.axes, threads);
+    level.reference = prefilterReferenceAt(environment, PrefilterLobe::phong(level.exponent), level.axes,
+                                           Context({.threads = threads}));
     levels.push_back(std::move(level));
   }
   return levels;
@@ -323,11 +324,10 @@ void cmftComparison(const Environment& environment, const fs::path& cmftSource, 
     PrefilterOptions options;
     options.parameterization = ParameterizationKind::Cube;
     options.resolution = faceSize;
-    options.threads = threads;
     options.cubeEdgeFixup = false;  // as cmft's --edgeFixup none: every texel its own value
     const double cpu0 = cpuSeconds(RUSAGE_SELF);
     const auto start = Clock::now();
-    const PrefilteredMap chain = prefilterGlossChain(environment, lobes, options);
+    const PrefilteredMap chain = prefilterGlossChain(environment, lobes, options, Context({.threads = threads}));
     ChainResult r;
     r.seconds = since(start);
     r.cpu = cpuSeconds(RUSAGE_SELF) - cpu0;
@@ -509,8 +509,8 @@ int main(int argc, char** argv) {
   try {
     const int rowsOfSky = quick ? 128 : 512, outputResolution = quick ? 64 : 256;
     auto start = Clock::now();
-    const Environment sky =
-        bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, rowsOfSky, "sky", 16, threads);
+    const Environment sky = bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, rowsOfSky, "sky", 16,
+                                            Context({.threads = threads}));
     std::cerr << "sky " << sky.image.width() << "x" << sky.image.height() << " in " << since(start) << " s\n";
     if (chainOnly) {
       cmftComparison(sky, cmftSource, outputResolution, subsetSize, threads);
@@ -527,17 +527,16 @@ int main(int argc, char** argv) {
         PrefilterOptions options;
         options.parameterization = kind;
         options.resolution = outputResolution;
-        options.threads = threads;
         const auto map = makeParameterization(kind, outputResolution);
         const PrefilterCheckPoints subset = prefilterTexelSubset(*map, lobe, options, subsetSize, 7);
         start = Clock::now();
-        const auto reference = prefilterReferenceAt(sky, lobe, subset.axes, threads);
+        const auto reference = prefilterReferenceAt(sky, lobe, subset.axes, Context({.threads = threads}));
         Row ref;
         ref.group = group, ref.tool = "brdfbake", ref.method = "reference", ref.extrapolated = true;
         ref.seconds = since(start) * map->width() * map->height() / subset.axes.size();
         rows.push_back(ref);
         std::cerr << group << ": reference ~" << ref.seconds << " s\n";
-        rows.push_back(run(sky, lobe, options, subset, reference, floor, group));
+        rows.push_back(run(sky, lobe, options, subset, reference, floor, group, threads));
         std::cerr << "  auto " << rows.back().seconds << " s, rms " << rows.back().rms << " (estimate "
                   << rows.back().estimate << ")\n";
         auto fixed = [&](PrefilterMethod method, int order, int samples, double q) {
@@ -545,7 +544,7 @@ int main(int argc, char** argv) {
           o.method = method, o.shOrder = order, o.importanceSamples = samples, o.directTexelsPerWidth = q;
           o.estimateError = false;
           o.interpolate = false;  // each method alone, at every output texel
-          rows.push_back(run(sky, lobe, o, subset, reference, floor, group));
+          rows.push_back(run(sky, lobe, o, subset, reference, floor, group, threads));
           std::cerr << "  " << rows.back().method << " " << rows.back().detail << ": " << rows.back().seconds
                     << " s, rms " << rows.back().rms << "\n";
         };

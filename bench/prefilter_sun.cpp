@@ -33,14 +33,13 @@ int run(int argc, char** argv) {
   sky.sunRadiance = Rgb::Constant(2000.0);
   const int threads = std::stoi(args["--threads"]);
   const Environment environment = bakeEnvironment(SkyEnvironment(sky), ParameterizationKind::LatLong,
-                                                  std::stoi(args["--rows"]), "sky", 16, threads);
+                                                  std::stoi(args["--rows"]), "sky", 16, Context({.threads = threads}));
   const PrefilterLobe lobe = PrefilterLobe::parse(args["--lobe"]);
   PrefilterOptions options;
   options.parameterization = parseParameterizationKind(args["--to"]);
   options.resolution = std::stoi(args["--resolution"]);
-  options.threads = threads;
   const auto start = std::chrono::steady_clock::now();
-  const PrefilteredMap map = prefilter(environment, lobe, options);
+  const PrefilteredMap map = prefilter(environment, lobe, options, Context({.threads = threads}));
   std::cout << "environment " << environment.image.width() << " x " << environment.image.height() << ", sun "
             << args["--sun-radius"] << " degrees; " << lobe.name() << " into " << args["--to"] << " "
             << options.resolution << ": " << secondsSince(start) << " s\n  " << map.summary.briefReport() << "\n";
@@ -72,7 +71,7 @@ int run(int argc, char** argv) {
        {std::pair{"random", random}, std::pair{"within 5 degrees of the sun", nearSun}}) {
     std::vector<Vec3> axes;
     for (const Vec3& d : directions) axes.push_back(prefilterAxis(d, lobe, options));
-    const auto reference = prefilterReferenceAt(environment, lobe, axes, threads);
+    const auto reference = prefilterReferenceAt(environment, lobe, axes, Context({.threads = threads}));
     std::vector<Rgb> looked;
     for (const Vec3& d : directions) looked.push_back(sampleBilinear(map.levels[0], *map.map, d).head<3>());
     const PrefilterError e =

@@ -37,12 +37,12 @@ int runConvert(ConvertArgs a) {
   options.output = a.outputs.first();
   options.moreOutputs = a.outputs.rest();
   if (a.texelFormat) options.texelFormat = parseFlag("--texel-format", *a.texelFormat, parseTexelFormat);
-  const FlagNames names = {{"cos_view", "--cos-view"},
-                           {"to:", "--to:"},
-                           {"resolution:", "--resolution:"},
-                           {"texel format:", "--texel-format:"},
-                           {"output: ", "-o: "}};
-  return printResult(namingFlags(names, [&] { return withProgress(a.flags, options, convertOutput); }), a.flags);
+  const FieldFlags names = {{"cos_view", "--cos-view"},
+                            {"to", "--to"},
+                            {"resolution", "--resolution"},
+                            {"texel format", "--texel-format"},
+                            {"output", "-o"}};
+  return printResult(namingFields(names, [&] { return withProgress(a.flags, options, convertOutput); }), a.flags);
 }
 
 }  // namespace

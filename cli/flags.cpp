@@ -1,11 +1,12 @@
 #include "flags.hpp"
 
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/core/files.hpp>
 #include <brdfbake/core/printable.hpp>
+#include <brdfbake/io/files.hpp>
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -42,7 +43,7 @@ void addOutputFlags(CLI::App* command, CommonFlags& flags, const std::string& ho
 void addComputeFlags(CLI::App* command, CommonFlags& flags, bool makesMaps) {
   command->add_option("--threads", flags.threads, "Worker threads (0 = every core)")
       ->default_val(0)
-      ->check(CLI::Range(0, JobOptions::kMaxThreads));
+      ->check(CLI::Range(0, kMaxThreads));
   if (makesMaps) {
     command->add_flag("--allow-large", flags.allowLarge, "Allow maps over 8192^2 texels (1 GiB of float RGBA)");
   }
@@ -100,12 +101,8 @@ void ProgressPrinter::report(const std::string& task, double fraction) {
   std::fflush(stderr);
 }
 
-JobOptions jobOptions(const CommonFlags& flags, ProgressPrinter& progress) {
-  JobOptions options;
-  options.threads = flags.threads;
-  options.allowLarge = flags.allowLarge;
-  options.progress = progress.sink();
-  return options;
+Context jobContext(const CommonFlags& flags, ProgressPrinter& progress) {
+  return Context({.threads = flags.threads, .allowLarge = flags.allowLarge, .progress = progress.sink()});
 }
 
 void printJsonOrText(const nlohmann::json& json, const std::string& text, const CommonFlags& flags, int indent) {
@@ -192,14 +189,6 @@ void addTexelFormatOption(CLI::App* command, std::optional<std::string>& texelFo
                       ".ktx2 .ktx .dds texels: rgba16f (default) | rgba32f | rgb16f | rgb32f | rgb9e5 | rg11b10f");
 }
 
-std::vector<std::pair<std::string, std::string>> outputFlagNames(const std::string& label) {
-  std::vector<std::pair<std::string, std::string>> names;
-  for (int i = 0; i < 16; ++i) names.emplace_back(label + ": maps[0].outputs[" + std::to_string(i) + "]", "-o");
-  names.emplace_back(label + ": maps[0].output", "-o");
-  names.emplace_back(label + ": maps[0].texel_format", "--texel-format");
-  return names;
-}
-
 void addEnvironmentFromOption(CLI::App* command, std::optional<std::string>& from) {
   command->add_option("--from", from, "Parameterization of a plain environment image (default: metadata, shape)");
 }
@@ -225,14 +214,21 @@ void addSamplesPerTexelOption(CLI::App* command, int& samples, const std::string
   if (oldSpelling) command->add_option("--samples", samples, "(old spelling of --samples-per-texel)")->group("");
 }
 
-Error renameSpecPaths(const Error& error, const FlagNames& names) {
-  std::string message = error.what();
-  for (const auto& [path, flag] : names) {
-    for (std::size_t at = message.find(path); at != std::string::npos; at = message.find(path, at + flag.size())) {
-      message.replace(at, path.size(), flag);
-    }
+std::string flagFor(const std::string& field, const FieldFlags& renamed) {
+  for (const auto& [name, flag] : renamed)
+    if (name == field) return flag;
+  std::string flag = "--" + field;
+  std::replace(flag.begin(), flag.end(), '_', '-');
+  return flag;
+}
+
+Error namedByFlag(const Error& error, const FieldFlags& renamed) {
+  if (!error.field().empty()) return Error(error.kind(), flagFor(error.field(), renamed) + ": " + error.problem());
+  const std::string message = error.what();
+  for (const auto& [field, flag] : renamed) {
+    if (message.rfind(field + ": ", 0) == 0) return Error(error.kind(), flag + message.substr(field.size()));
   }
-  return Error(error.kind(), message);
+  return error;
 }
 
 }  // namespace brdfbake::cli

@@ -3,7 +3,7 @@
 // and printing a job's result. The commands only parse flags and call one library job each.
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
-#include <brdfbake/core/text_io.hpp>
+#include <brdfbake/io/text_io.hpp>
 #include <brdfbake/run/job.hpp>
 
 #include <CLI/CLI.hpp>
@@ -49,25 +49,17 @@ class ProgressPrinter {
   double lastLine_ = 0.0, started_ = 0.0;
 };
 
-/// The JobOptions the flags ask for, with `progress`'s sink.
-JobOptions jobOptions(const CommonFlags& flags, ProgressPrinter& progress);
+/// The Context the flags ask for (threads, large maps), reporting to `progress`.
+Context jobContext(const CommonFlags& flags, ProgressPrinter& progress);
 
-/// job(JobOptions) with the options the flags ask for and progress on stderr, cleared before the
-/// result is returned (to be printed).
-template <class Job>
-auto withProgress(const CommonFlags& flags, Job job) {
+/// job(request, context) with the context the flags ask for and progress on stderr, cleared before
+/// the result is returned (to be printed).
+template <class Request, class Job>
+auto withProgress(const CommonFlags& flags, const Request& request, Job job) {
   ProgressPrinter progress(flags);
-  auto result = job(jobOptions(flags, progress));
+  auto result = job(request, jobContext(flags, progress));
   progress.finish();
   return result;
-}
-/// job(options), the JobOptions part of `options` set as the flags ask, with progress on stderr.
-template <class Options, class Job>
-auto withProgress(const CommonFlags& flags, Options& options, Job job) {
-  return withProgress(flags, [&](const JobOptions& common) {
-    static_cast<JobOptions&>(options) = common;
-    return job(options);
-  });
 }
 
 /// Prints JSON (when not null; `indent` as nlohmann's dump) or else the text unless --quiet, checked.
@@ -152,27 +144,28 @@ struct OutputFiles {
   std::vector<std::string> files;
   std::string first() const { return files.empty() ? std::string() : files.front(); }
   std::vector<std::filesystem::path> rest() const { return {files.begin() + (files.empty() ? 0 : 1), files.end()}; }
+  std::vector<std::filesystem::path> paths() const { return {files.begin(), files.end()}; }
 };
 /// -o,--output FILE (required; repeat it to write the one map in several formats), `what` the help's noun.
 void addOutputFileOption(CLI::App* command, OutputFiles& outputs, const std::string& what);
 /// --texel-format NAME: how .ktx2, .ktx and .dds outputs store texels; the help lists the names.
 void addTexelFormatOption(CLI::App* command, std::optional<std::string>& texelFormat);
-/// (the JSON path of each output of a one-map spec, "-o") for renameSpecPaths: "LABEL: maps[0].outputs[i]"
-/// for every i, then "LABEL: maps[0].output" and "LABEL: maps[0].texel_format" (--texel-format).
-std::vector<std::pair<std::string, std::string>> outputFlagNames(const std::string& label);
+/// How a command names the fields of its request that are not "--" + the field with '-' for '_'
+/// (field, flag): {"parameterization", "--to"}, {"outputs", "-o"}.
+using FieldFlags = std::vector<std::pair<std::string, std::string>>;
+/// The flag of a request field: `renamed`'s, else "--max-error" for "max_error".
+std::string flagFor(const std::string& field, const FieldFlags& renamed = {});
+/// The error with the request field it names (Error::field, or a message starting "FIELD: " for a
+/// field of `renamed`) written as its flag: "--max-error: must be in (0, 0.5], got 2".
+Error namedByFlag(const Error& error, const FieldFlags& renamed);
 
-/// Renames the JSON paths of a spec the command built from its flags to the flags, in an error
-/// message: each pair is (JSON path or quoted key, flag).
-using FlagNames = std::vector<std::pair<std::string, std::string>>;
-Error renameSpecPaths(const Error& error, const FlagNames& names);
-
-/// f(), its errors' JSON paths renamed to the flags (renameSpecPaths).
+/// f(), its errors naming request fields by their flags (namedByFlag).
 template <class F>
-auto namingFlags(const FlagNames& names, F&& f) {
+auto namingFields(const FieldFlags& renamed, F&& f) {
   try {
     return f();
   } catch (const Error& error) {
-    throw renameSpecPaths(error, names);
+    throw namedByFlag(error, renamed);
   }
 }
 

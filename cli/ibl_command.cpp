@@ -22,32 +22,23 @@ own estimate against the reference sum; --json lists each file with its role.
 Example:
   brdfbake ibl data_samples/environments/sky_latlong.exr --out-dir out/ibl --json)";
 
-const FlagNames kFlagNames = {
-    {"ibl: maps[0].environment.gloss_chain.levels", "--levels"},
-    {"ibl: maps[0].environment.file", "ENV"},
-    {"ibl: maps[1].environment.file", "ENV"},
-    {"ibl: maps[2].environment.file", "ENV"},
-    {"ibl: maps[0].environment.from", "--from"},
-    {"ibl: maps[0].resolution", "--resolution"},
-    {"ibl: maps[1].resolution", "--irradiance-resolution"},
-    {"ibl: maps[2].resolution", "--skybox-resolution"},
-};
-
 struct IblArgs {
   CommonFlags flags;
-  IblOptions options;
-  std::string environment, outDir, dfgForm = "single", shFormat = "brdfbake";
-  std::optional<std::string> texelFormat;
+  IblFiles files;
+  std::string dfgForm = "single", shFormat = "brdfbake", format = "ktx2";
+  std::optional<std::string> texelFormat, from;
 };
 
-int runIbl(IblArgs args) {
-  IblOptions& options = args.options;
-  options.environment = args.environment;
-  options.outDir = args.outDir;
-  options.dfgForm = parseFlag("--dfg-form", args.dfgForm, parseDfgForm);
-  options.shCmgen = args.shFormat == "cmgen";
-  if (args.texelFormat) options.texelFormat = parseFlag("--texel-format", *args.texelFormat, parseTexelFormat);
-  const IblResult result = namingFlags(kFlagNames, [&] { return withProgress(args.flags, options, makeIbl); });
+int runIblCommand(IblArgs args) {
+  IblFiles& files = args.files;
+  const IblReport result = namingFields({{"environment", "ENV"}}, [&] {
+    files.request.dfgForm = parseFlag("--dfg-form", args.dfgForm, parseDfgForm);
+    files.outputs.format = args.format;
+    files.outputs.shCmgen = args.shFormat == "cmgen";
+    if (args.texelFormat) files.outputs.texelFormat = parseFlag("--texel-format", *args.texelFormat, parseTexelFormat);
+    if (args.from) files.from = parseFlag("--from", *args.from, parseParameterizationKind);
+    return withProgress(args.flags, files, runIbl);
+  });
   return printResult(result, args.flags);
 }
 
@@ -55,16 +46,20 @@ int runIbl(IblArgs args) {
 
 Command addIblCommand(CLI::App& app) {
   auto args = std::make_shared<IblArgs>();
-  IblOptions& r = args->options;
+  IblRequest& r = args->files.request;
+  IblOutputs& o = args->files.outputs;
+  o.stem.clear();  // the environment's, unless --stem
   auto* command = app.add_subcommand("ibl", "Engine-ready IBL: GGX chain, irradiance (cube, SH), DFG table, skybox");
   command->footer(kFooter);
-  command->add_option("environment", args->environment, "Environment image (EXR, HDR, ...)")->required();
-  command->add_option("--out-dir", args->outDir, "Folder for every file (created if missing)")->required();
-  command->add_option("--format", r.format, "The files' container: ktx2 (.ktx2) | ktx (.ktx) | dds (.dds) | exr (.exr)")
+  command->add_option("environment", args->files.environment, "Environment image (EXR, HDR, ...)")->required();
+  command->add_option("--out-dir", o.folder, "Folder for every file (created if missing)")->required();
+  command
+      ->add_option("--format", args->format,
+                   "The files' container: ktx2 (.ktx2) | ktx (.ktx) | dds (.dds) | exr (.exr)")
       ->default_val("ktx2")
       ->check(CLI::IsMember({"ktx2", "ktx", "dds", "exr"}));
   addTexelFormatOption(command, args->texelFormat);
-  command->add_option("--stem", r.stem, "File names' stem (default: the environment's)");
+  command->add_option("--stem", o.stem, "File names' stem (default: the environment's)");
   command->add_option("--resolution", r.resolution, "GGX chain: level-0 face size, a power of two")->default_val(256);
   command->add_option("--levels", r.levels, "GGX chain levels (default and only: down to 1 texel)");
   command->add_option("--irradiance-resolution", r.irradianceResolution, "Irradiance cube faces")->default_val(32);
@@ -73,13 +68,13 @@ Command addIblCommand(CLI::App& app) {
   command->add_option("--dfg-form", args->dfgForm, "single (f0 DFG1 + f90 DFG2) | multiscatter (Filament's)")
       ->default_val("single");
   addMaxErrorOption(command, r.maxError, "The bound each prefiltered level is made to (relative RMS)");
-  addEnvironmentFromOption(command, r.from);
+  addEnvironmentFromOption(command, args->from);
   command->add_option("--sh-format", args->shFormat, "brdfbake (JSON) | cmgen (also STEM_sh.txt, cmgen's lines)")
       ->default_val("brdfbake")
       ->check(CLI::IsMember({"brdfbake", "cmgen"}));
   addComputeFlags(command, args->flags, /*makesMaps=*/true);
   addOutputFlags(command, args->flags, "every file with its role, and each map's entry as bake --json prints it");
-  return [args] { return runIbl(*args); };
+  return [args] { return runIblCommand(*args); };
 }
 
 }  // namespace brdfbake::cli

@@ -43,9 +43,9 @@ int runInterpolation(InterpolationArgs a) {
   options.sizesDegrees = parseList<double>(a.sizes, "--sizes", parseFiniteNumber);
   options.placesDegrees = parseList<double>(a.places, "--places", parseFiniteNumber);
   options.viewer = parseVector(a.viewer, "--viewer");
-  const FlagNames names = {
-      {"sizes:", "--sizes:"}, {"places:", "--places:"}, {"viewer:", "--viewer:"}, {"segment:", "--segment:"}};
-  return printResult(namingFlags(names, [&] { return chartInterpolation(options); }), a.flags);
+  const FieldFlags names = {
+      {"sizes", "--sizes"}, {"places", "--places"}, {"viewer", "--viewer"}, {"segment", "--segment"}};
+  return printResult(namingFields(names, [&] { return chartInterpolation(options); }), a.flags);
 }
 
 }  // namespace

@@ -2,8 +2,8 @@
 // flags and call one library job each (include/brdfbake/run/); this file maps errors and signals to
 // exit statuses and suggests the command or flag a mistyped one was meant to be.
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/core/files.hpp>
 #include <brdfbake/core/version.hpp>
+#include <brdfbake/io/files.hpp>
 
 #include <unistd.h>
 

@@ -37,47 +37,36 @@ Examples:
 
 struct MatcapArgs {
   CommonFlags flags;
-  MatcapRequest request;
+  MatcapFiles files;
   OutputFiles outputs;
-  std::string material, environment, camera;
+  std::string parameterization = "sphere", method = "auto", camera;
+  std::optional<std::string> from, texelFormat;
 };
 
 // "YAW,PITCH" in degrees.
-void parseCamera(const std::string& text, MatcapRequest& request) {
+CameraFrame parseCamera(const std::string& text) {
   const auto values = parseList<double>(text, "--camera", parseFiniteNumber);
   if (values.size() != 2) {
     throw Error(Error::Kind::InvalidArgument,
                 "--camera: give YAW,PITCH in degrees (two numbers), got " + std::to_string(values.size()));
   }
-  request.yaw = values[0], request.pitch = values[1];
+  return CameraFrame::fromYawPitch(values[0], values[1]);  // its errors name "camera", written --camera
 }
 
-int runMatcap(MatcapArgs args) {
-  MatcapRequest& request = args.request;
-  request.material = args.material;
-  request.environment = args.environment;
-  request.output = args.outputs.first();
-  request.moreOutputs = args.outputs.rest();
-  if (!args.camera.empty()) parseCamera(args.camera, request);
-  // The spec keys the request sets, named by their flags in messages.
-  const FlagNames names = {
-      {"matcap: maps[0].material.", args.material + ": "},
-      {"matcap: maps[0].material", args.material},
-      {"matcap: maps[0].environment.file", "ENVIRONMENT " + args.environment},
-      {"matcap: maps[0].environment.max_error", "--max-error"},
-      {"matcap: maps[0].environment.method", "--method"},
-      {"matcap: maps[0].environment.from", "--from"},
-      {"matcap: maps[0].camera", "--camera"},
-      {"matcap: maps[0].resolution", "--resolution"},
-      {"matcap: maps[0].parameterization", "--parameterization"},
-      {"matcap: maps[0].samples_per_texel", "--samples-per-texel"},
-      {"matcap: maps[0].exposure", "--exposure"},
-      {"matcap: maps[0]", "matcap"},
-  };
-  FlagNames allNames = outputFlagNames("matcap");
-  allNames.insert(allNames.end(), names.begin(), names.end());
-  const MapResult result = namingFlags(allNames, [&] {
-    return withProgress(args.flags, [&](const JobOptions& options) { return makeMatcap(request, options); });
+int runMatcapCommand(MatcapArgs args) {
+  MatcapFiles& files = args.files;
+  MatcapRequest& request = files.request;
+  const FieldFlags names = {{"outputs", "-o"},
+                            {"material", "MATERIAL " + printable(files.material.string())},
+                            {"environment", "ENVIRONMENT"}};
+  const MapResult result = namingFields(names, [&] {
+    request.parameterization = parseFlag("--parameterization", args.parameterization, parseParameterizationKind);
+    request.method = parseFlag("--method", args.method, parseUnderEnvironmentMethod);
+    if (!args.camera.empty()) request.camera = parseCamera(args.camera);
+    if (args.from) files.from = parseFlag("--from", *args.from, parseParameterizationKind);
+    files.outputs.files = args.outputs.paths();
+    if (args.texelFormat) files.outputs.texelFormat = parseFlag("--texel-format", *args.texelFormat, parseTexelFormat);
+    return withProgress(args.flags, files, runMatcap);
   });
   return printResult(result, args.flags);
 }
@@ -86,29 +75,29 @@ int runMatcap(MatcapArgs args) {
 
 Command addMatcapCommand(CLI::App& app) {
   auto args = std::make_shared<MatcapArgs>();
-  MatcapRequest& r = args->request;
+  MatcapRequest& r = args->files.request;
   auto* command = app.add_subcommand("matcap", "Shade a material under an environment: a matcap (sphere map)");
   command->footer(kFooter);
-  command->add_option("material", args->material, "Material JSON, fit.json or measured table")->required();
-  command->add_option("environment", args->environment, "Environment image (EXR, HDR, ...)")->required();
+  command->add_option("material", args->files.material, "Material JSON, fit.json or measured table")->required();
+  command->add_option("environment", args->files.environment, "Environment image (EXR, HDR, ...)")->required();
   addOutputFileOption(command, args->outputs, "Output map");
-  addTexelFormatOption(command, r.texelFormat);
+  addTexelFormatOption(command, args->texelFormat);
   addMapResolutionOption(command, r.resolution);
-  command->add_option("--parameterization", r.parameterization, "sphere (the matcap) | paraboloid | cube | latlong")
+  command->add_option("--parameterization", args->parameterization, "sphere (the matcap) | paraboloid | cube | latlong")
       ->default_val("sphere")
       ->check(CLI::IsMember({"sphere", "paraboloid", "cube", "latlong"}));
   command->add_option("--camera", args->camera, "YAW,PITCH in degrees: turn the camera (default 0,0: looking down -z)");
-  command->add_option("--method", r.method, "auto | sampled | reference (the brute-force sum: slow)")
+  command->add_option("--method", args->method, "auto | sampled | reference (the brute-force sum: slow)")
       ->default_val("auto");
   addMaxErrorOption(command, r.maxError, "The bound on the estimated error (relative to the peak)");
   addSamplesPerTexelOption(command, r.samplesPerTexel, "Footprint samples per texel", false);
   command->add_option("--exposure", r.exposure, "Scale the map by 2^STOPS before writing (for .png)")
       ->default_val(0.0)
       ->check(CLI::Range(-30.0, 30.0));
-  addEnvironmentFromOption(command, r.from);
+  addEnvironmentFromOption(command, args->from);
   addComputeFlags(command, args->flags, /*makesMaps=*/true);
   addOutputFlags(command, args->flags, "the map's entry, as bake --json prints it: files, error estimate");
-  return [args] { return runMatcap(*args); };
+  return [args] { return runMatcapCommand(*args); };
 }
 
 }  // namespace brdfbake::cli

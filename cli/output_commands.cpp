@@ -40,7 +40,7 @@ int runSample(SampleArgs a) {
   options.directionsFile = a.dirs;
   options.source.path = a.map;
   if (!a.from.empty()) options.source.from = parseParameterizationKind(a.from);
-  const SampleResult result = namingFlags({{"cos_view", "--cos-view"}}, [&] { return sampleOutput(options); });
+  const SampleResult result = namingFields({{"cos_view", "--cos-view"}}, [&] { return sampleOutput(options); });
   return printResult(result, a.flags, Printing::Query, -1);
 }
 

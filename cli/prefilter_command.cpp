@@ -1,5 +1,6 @@
 // brdfbake prefilter ENV --lobe L --to KIND -o OUT: one prefiltered environment map (prefilterEnvironment).
 #include <brdfbake/run/prefilter_job.hpp>
+#include <brdfbake/spec/spec.hpp>
 
 #include "commands.hpp"
 #include "flags.hpp"
@@ -7,6 +8,7 @@
 namespace brdfbake::cli {
 
 namespace {
+namespace fs = std::filesystem;
 
 constexpr const char* kFooter =
     R"(ENV is an environment image (EXR, HDR, ...): radiance in its own frame, y up, a lat-long image's
@@ -41,92 +43,96 @@ Examples:
   brdfbake prefilter sky.hdr --lobe ggx:0.4 --to cube --faces --json -o out/sky_ggx.exr
   brdfbake prefilter sky.hdr --chain ggx --to cube --resolution 256 --tiled -o out/sky_ggx.ktx2)";
 
-// The spec keys a request sets, named by their flags in messages.
-const FlagNames kFlagNames = {
-    {"prefilter: maps[0].environment.gloss_chain.scale", "--gloss-scale"},
-    {"prefilter: maps[0].environment.gloss_chain.bias", "--gloss-bias"},
-    {"prefilter: maps[0].environment.gloss_chain.levels", "--mip-count"},
-    {"prefilter: maps[0].environment.gloss_chain", "--gloss-scale or --chain"},
-    {"prefilter: maps[0].environment.file", "ENV"},
-    {"prefilter: maps[0].environment.lobe", "--lobe"},
-    {"prefilter: maps[0].environment.method", "--method"},
-    {"prefilter: maps[0].environment.from", "--from"},
-    {"prefilter: maps[0].environment.view", "--view"},
-    {"prefilter: maps[0].environment.up", "--up"},
-    {"prefilter: maps[0].environment.elevations", "--elevations"},
-    {"prefilter: maps[0].environment.fresnel", "--fresnel-ior"},
-    {"prefilter: maps[0].environment.combine", "--combine"},
-    {"prefilter: maps[0].environment.sh_output", "--sh-output"},
-    {"prefilter: maps[0].environment.sh_format", "--sh-format"},
-    {"prefilter: maps[0].environment.mip_layout", "--tiled"},
-    {"prefilter: maps[0].environment.mips", "--mips"},
-    {"prefilter: maps[0].environment", "prefilter"},
-    {"prefilter: maps[0].resolution", "--resolution"},
-    {"prefilter: maps[0].parameterization", "--to"},
-    {"prefilter: maps[0]", "prefilter"},
-    {"\"mips\"", "--mips"},
-    {"\"fresnel\"", "--fresnel-ior"},
-    {"\"lobe\": \"irradiance\"", "--lobe irradiance"},
-};
+// The request's fields whose flags are not their names.
+const FieldFlags kFieldFlags = {{"parameterization", "--to"},
+                                {"outputs", "-o"},
+                                {"fresnel", "--fresnel-ior"},
+                                {"sh", "--sh-output"},
+                                {"gloss_chain", "--gloss-scale or --chain"},
+                                {"environment", "ENV"}};
 
 struct PrefilterArgs {
   CommonFlags flags;
-  PrefilterRequest request;
+  PrefilterFiles files;
+  LobeArguments lobe;
   OutputFiles outputs;
-  std::string environment, view, up, shOutput;
+  std::string to, method = "auto", view, up, shOutput, shFormat = "brdfbake";
+  std::optional<std::string> from, texelFormat, combine;
+  std::optional<double> fresnelIor;
+  bool tiled = false, faces = false;
 };
 
 void addFilterFlags(CLI::App* command, PrefilterArgs& a) {
-  PrefilterRequest& r = a.request;
-  command->add_option("--lobe", r.lobe, "mirror | irradiance | phong:N | blinn:N | ggx:ROUGHNESS | lobes:FIT.json");
-  command->add_option("--chain", r.chain, "ggx: cmgen's GGX chain, level k of L holding roughness k/(L-1)")
+  PrefilterRequest& r = a.files.request;
+  command->add_option("--lobe", a.lobe.lobe,
+                      "mirror | irradiance | phong:N | blinn:N | ggx:ROUGHNESS | lobes:FIT.json");
+  command->add_option("--chain", a.lobe.chain, "ggx: cmgen's GGX chain, level k of L holding roughness k/(L-1)")
       ->check(CLI::IsMember({"ggx"}));
-  addToOption(command, r.to);
+  addToOption(command, a.to);
   addMapResolutionOption(command, r.resolution);
-  command->add_option("--method", r.method, "auto | reference | sh | importance | direct")->default_val("auto");
+  command->add_option("--method", a.method, "auto | reference | sh | importance | direct")->default_val("auto");
   addMaxErrorOption(command, r.maxError, "The bound each map is made to (relative RMS, 0.01 = 1 %)");
   addSamplesPerTexelOption(command, r.samplesPerTexel, "Mirror lobe: footprint samples per texel", true);
-  addEnvironmentFromOption(command, r.from);
+  addEnvironmentFromOption(command, a.from);
   command->add_option("--view", a.view, "Sphere maps: direction towards the viewer X,Y,Z (default 0,0,1)");
   command->add_option("--up", a.up, "Sphere maps: up vector X,Y,Z (default 0,1,0)");
   command->add_option("--elevations", r.elevations, "Varying lobe models: maps in the stack (default 8)");
 }
 
 void addOutputFileFlags(CLI::App* command, PrefilterArgs& a) {
-  PrefilterRequest& r = a.request;
   addOutputFileOption(command, a.outputs, "Output map");
-  addTexelFormatOption(command, r.texelFormat);
-  command->add_flag("--mips", r.mips, "Also write the solid-angle-weighted mip levels STEM_mipK.EXT");
-  command->add_flag("--tiled", r.tiled, "With --mips: the chain inside OUT, one tiled MIP-mapped OpenEXR");
-  command->add_flag("--faces", r.faces, "Write a cube map as six files STEM_posx.EXT ... instead of a cross");
+  addTexelFormatOption(command, a.texelFormat);
+  command->add_flag("--mips", a.files.request.mips, "Also write the solid-angle-weighted mip levels STEM_mipK.EXT");
+  command->add_flag("--tiled", a.tiled, "With --mips: the chain inside OUT, one tiled MIP-mapped OpenEXR");
+  command->add_flag("--faces", a.faces, "Write a cube map as six files STEM_posx.EXT ... instead of a cross");
   command->add_option("--sh-output", a.shOutput, "With --lobe irradiance: also 9 SH coefficients per channel (JSON)");
-  command->add_option("--sh-format", r.shFormat, "brdfbake (JSON, default) | cmgen (the lines cmgen prints, .txt)")
+  command->add_option("--sh-format", a.shFormat, "brdfbake (JSON, default) | cmgen (the lines cmgen prints, .txt)")
       ->check(CLI::IsMember({"brdfbake", "cmgen"}));
-  command->add_option("--fresnel-ior", r.fresnelIor, "Fresnel decomposition of a dielectric of this index");
-  command->add_option("--combine", r.combine, "Fresnel decomposition: add (F L_m + k_d E/pi) | mix");
-  command->add_option("--gloss-scale", r.glossScale, "A gloss chain (--lobe phong|blinn): exponent 2^(S g + B)");
-  command->add_option("--gloss-bias", r.glossBias, "Gloss chain: B above (default 1)");
-  command->add_option("--mip-count", r.mipCount, "Gloss chain: levels (default: down to 1 texel, at most 16)");
-  command->add_flag("--no-edge-fixup{false}", r.edgeFixup, "Gloss chain: keep cube texels unaveraged across edges");
+  command->add_option("--fresnel-ior", a.fresnelIor, "Fresnel decomposition of a dielectric of this index");
+  command->add_option("--combine", a.combine, "Fresnel decomposition: add (F L_m + k_d E/pi) | mix");
+  command->add_option("--gloss-scale", a.lobe.glossScale, "A gloss chain (--lobe phong|blinn): exponent 2^(S g + B)");
+  command->add_option("--gloss-bias", a.lobe.glossBias, "Gloss chain: B above (default 1)");
+  command->add_option("--mip-count", a.lobe.mipCount, "Gloss chain: levels (default: down to 1 texel, at most 16)");
+  command->add_flag("--no-edge-fixup{false}", a.lobe.edgeFixup,
+                    "Gloss chain: keep cube texels unaveraged across edges");
 }
 
-int runPrefilter(PrefilterArgs args) {
-  PrefilterRequest& request = args.request;
-  if (request.lobe.empty() && !request.chain) {
-    throw Error(Error::Kind::InvalidArgument, "prefilter needs --lobe (or --chain ggx)");
+void setOutputs(const PrefilterArgs& a, PrefilterFiles& files) {
+  files.outputs.files = a.outputs.paths();
+  if (a.texelFormat) files.outputs.texelFormat = parseFlag("--texel-format", *a.texelFormat, parseTexelFormat);
+  files.outputs.layout = a.faces ? CubeLayout::Faces : CubeLayout::Cross;
+  requireField(!a.tiled || files.request.mips || files.request.glossChain, "tiled", "needs --mips or a chain");
+  files.outputs.mipLayout = a.tiled ? MipLayout::Tiled : MipLayout::Files;
+  if (!a.shOutput.empty()) {
+    files.sh = ShOutput{a.shOutput, a.shFormat == "cmgen"};
+    files.request.sh = true;
+    const std::string wanted = files.sh->cmgen ? ".txt" : ".json";
+    requireField(fs::path(a.shOutput).extension() == wanted, "sh",
+                 files.sh->cmgen ? "cmgen's SH coefficients are text: give a .txt file"
+                                 : "the SH coefficients are written as JSON (.json)");
   }
-  request.environment = args.environment;
-  request.output = args.outputs.first();
-  request.moreOutputs = args.outputs.rest();
-  if (!args.view.empty()) request.view = parseVector(args.view, "--view");
-  if (!args.up.empty()) request.up = parseVector(args.up, "--up");
-  if (!args.shOutput.empty()) request.shOutput = args.shOutput;
-  FlagNames names = outputFlagNames("prefilter");
-  names.insert(names.end(), kFlagNames.begin(), kFlagNames.end());
-  const MapResult result = namingFlags(names, [&] {
-    return withProgress(args.flags, [&](const JobOptions& options) { return prefilterEnvironment(request, options); });
+}
+
+int runPrefilterCommand(PrefilterArgs a) {
+  PrefilterFiles& files = a.files;
+  PrefilterRequest& r = files.request;
+  const MapResult result = namingFields(kFieldFlags, [&] {
+    a.lobe.apply(r);
+    r.parameterization = parseFlag("--to", a.to, parseParameterizationKind);
+    r.method = parseFlag("--method", a.method, parsePrefilterMethod);
+    if (!a.view.empty()) r.view = parseVector(a.view, "--view");
+    if (!a.up.empty()) r.up = parseVector(a.up, "--up");
+    if (a.fresnelIor) {
+      requireField(*a.fresnelIor >= kMinFresnelIndex && *a.fresnelIor <= kMaxFresnelIndex, "fresnel",
+                   "the index must be in [0.001, 1000] (docs/limits.md)");
+      r.fresnel = FresnelTerm::dielectric(Rgb::Constant(*a.fresnelIor));
+    }
+    if (a.combine) r.combine = parseFlag("--combine", *a.combine, parseFresnelCombine);
+    if (a.from) files.from = parseFlag("--from", *a.from, parseParameterizationKind);
+    setOutputs(a, files);
+    return withProgress(a.flags, files, runPrefilter);
   });
-  return printResult(result, args.flags);
+  return printResult(result, a.flags);
 }
 
 }  // namespace
@@ -136,12 +142,12 @@ Command addPrefilterCommand(CLI::App& app) {
   auto* command =
       app.add_subcommand("prefilter", "Prefilter an environment with a lobe (mirror, irradiance, Phong, GGX)");
   command->footer(kFooter);
-  command->add_option("environment", args->environment, "Environment image (EXR, HDR, ...)")->required();
+  command->add_option("environment", args->files.environment, "Environment image (EXR, HDR, ...)")->required();
   addFilterFlags(command, *args);
   addOutputFileFlags(command, *args);
   addComputeFlags(command, args->flags, /*makesMaps=*/true);
   addOutputFlags(command, args->flags, "the map's entry, as bake --json prints it: files, method, error estimate");
-  return [args] { return runPrefilter(*args); };
+  return [args] { return runPrefilterCommand(*args); };
 }
 
 }  // namespace brdfbake::cli

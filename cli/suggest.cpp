@@ -1,6 +1,6 @@
 #include "suggest.hpp"
 
-#include <brdfbake/core/files.hpp>
+#include <brdfbake/io/files.hpp>
 
 #include <algorithm>
 

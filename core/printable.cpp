@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <sstream>
 
 namespace brdfbake {
 namespace {
@@ -106,6 +107,13 @@ std::string printableMessage(std::string_view message, std::size_t lineLimit) {
     begin = end + 1;
   }
   return out;
+}
+
+std::string formatG(double value, int significant) {
+  std::ostringstream out;
+  out.precision(significant);
+  out << value;
+  return out.str();
 }
 
 }  // namespace brdfbake

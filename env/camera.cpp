@@ -1,13 +1,15 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/env/camera.hpp>
+#include <brdfbake/io/text_io.hpp>
 
 #include <sstream>
 
 namespace brdfbake {
 
 CameraFrame CameraFrame::fromYawPitch(double yawDegrees, double pitchDegrees) {
-  require(std::isfinite(yawDegrees) && std::isfinite(pitchDegrees) && std::abs(pitchDegrees) <= 90.0,
-          "camera yaw must be finite and pitch in [-90, 90] degrees");
+  requireField(std::isfinite(yawDegrees) && std::isfinite(pitchDegrees) && std::abs(pitchDegrees) <= 90.0, "camera",
+               "yaw must be finite and pitch in [-90, 90] degrees, got yaw " + formatG(yawDegrees) + ", pitch " +
+                   formatG(pitchDegrees));
   const double yaw = radians(yawDegrees), pitch = radians(pitchDegrees);
   CameraFrame frame;
   frame.forward = Vec3(std::sin(yaw) * std::cos(pitch), std::sin(pitch), -std::cos(yaw) * std::cos(pitch));

@@ -57,7 +57,6 @@ void DfgOptions::validate() const {
   require(
       points >= 1 && points <= 64 && panels >= 1 && panels <= 64,
       "DFG quadrature: 1 to 64 points and panels, got " + std::to_string(points) + " and " + std::to_string(panels));
-  require(threads >= 0 && threads <= 1024, "threads must be in [0, 1024], got " + std::to_string(threads));
 }
 
 namespace {
@@ -123,13 +122,14 @@ DfgTerms dfgTerms(double cosView, double roughness, DfgForm form, int points, in
   return {first, second};
 }
 
-Image dfgTable(const DfgOptions& options) {
+Image dfgTable(const DfgOptions& options, const Context& context) {
   options.validate();
   const int w = options.width, h = options.height;
   Image image(w, h, Rgba(0, 0, 0, 1));
-  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  tbb::task_arena arena(context.arenaThreads());
   arena.execute([&] {
     tbb::parallel_for(0, h, [&](int j) {
+      context.checkCancelled();
       const double roughness = (j + 0.5) / h;
       for (int i = 0; i < w; ++i) {
         const DfgTerms t = dfgTerms((i + 0.5) / w, roughness, options.form, options.points, options.panels);

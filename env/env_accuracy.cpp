@@ -113,7 +113,7 @@ std::vector<std::pair<double, Rgb>> prefilterLobeModelTerms(const LobeModel& mod
 }
 
 std::vector<Rgb> prefilterLobeModelReferenceAt(const Environment& environment, const LobeModel& model,
-                                               const std::vector<Vec3>& axes, int threads) {
+                                               const std::vector<Vec3>& axes, const Context& context) {
   require(!model.variesWithView(),
           "lobes that vary with elevation (or with a colour profile) need a stack of maps over elevation; only "
           "constant lobe models prefilter "
@@ -122,7 +122,7 @@ std::vector<Rgb> prefilterLobeModelReferenceAt(const Environment& environment, c
   require(!terms.empty(), "the lobe model has no lobe of non-zero weight to prefilter");
   std::vector<Rgb> sum(axes.size(), Rgb::Zero());
   for (const auto& [exponent, weight] : terms) {
-    const auto part = prefilterReferenceAt(environment, PrefilterLobe::phong(exponent), axes, threads);
+    const auto part = prefilterReferenceAt(environment, PrefilterLobe::phong(exponent), axes, context);
     for (std::size_t i = 0; i < axes.size(); ++i) sum[i] += weight * part[i];
   }
   return sum;

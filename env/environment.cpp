@@ -1,9 +1,9 @@
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/env/environment.hpp>
+#include <brdfbake/io/image_io.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/maps/cube_map.hpp>
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/maps/map_file.hpp>
 
 #include <sstream>
 
@@ -122,12 +122,11 @@ Environment loadEnvironment(const fs::path& path, const EnvironmentLoadOptions& 
 }
 
 Environment bakeEnvironment(const MapFunction& radiance, ParameterizationKind kind, int resolution,
-                            const std::string& source, int samplesPerTexel, int threads) {
+                            const std::string& source, int samplesPerTexel, const Context& context) {
   const auto map = makeParameterization(kind, resolution);
   BakeOptions options;
   options.samplesPerTexel = samplesPerTexel;
-  options.threads = threads;
-  Image image = bake(*map, radiance, options);
+  Image image = bake(*map, radiance, options, context);
   // Unused cells of a cube cross hold 0 (bake leaves them so); alpha is coverage.
   Environment environment;
   environment.image = std::move(image);

@@ -5,9 +5,9 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/named_values.hpp>
 #include <brdfbake/core/progress.hpp>
-#include <brdfbake/core/text_io.hpp>
 #include <brdfbake/core/version.hpp>
 #include <brdfbake/env/material_under_environment.hpp>
+#include <brdfbake/io/text_io.hpp>
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -16,6 +16,7 @@
 #include <random>
 #include <sstream>
 
+#include "environment_cache.hpp"
 #include "under_environment_internal.hpp"
 
 namespace brdfbake {
@@ -32,19 +33,21 @@ constexpr double kPerGridLookup = 120e-9;
 
 // What every candidate shares.
 struct Setup {
-  Setup(const Environment& environment, const Material& m, const UnderEnvironmentOptions& o)
-      : input(environment), material(m), options(o) {}
+  Setup(const Environment& environment, const Material& m, const UnderEnvironmentOptions& o, const Context& c)
+      : input(environment), material(m), options(o), context(c) {}
   const Environment& input;
   const Material& material;
   const UnderEnvironmentOptions& options;
+  const Context& context;
   double scale = 1.0;  // Material::lightColorPerIrradiance
   Vec3 view;
   Mat3 eyeToEnvironment, environmentToEye;
-  detail::EnvironmentSplit split;
-  std::unique_ptr<detail::LatLongPyramid> rest;
+  std::shared_ptr<const detail::PreparedSplit> prepared;  // kept with the environment (environment_cache.hpp)
   double narrowest = 1.0;  // the narrowest lobe width (l) over the views' normals, radians
 
   ShadingGeometry geometry(const Vec3& normal) const { return {normal, view, reflect(view, normal)}; }
+  const detail::EnvironmentSplit& split() const { return prepared->split; }
+  const detail::LatLongPyramid& rest() const { return prepared->rest; }
 };
 
 // The narrowest reflection lobe (not the cosine) at normals from the view to the rim.
@@ -72,7 +75,7 @@ struct Candidate {
 
 int lightSubdivision(const Setup& setup) {
   double largest = 0.0;
-  for (const auto& t : setup.split.texels) largest = std::max(largest, t.angle);
+  for (const auto& t : setup.split().texels) largest = std::max(largest, t.angle);
   return detail::subdivisionFor(largest, setup.narrowest, 2.0, 8);
 }
 
@@ -80,10 +83,10 @@ Candidate makeCandidate(const Setup& setup, int samples, int perWidth, double fo
   Candidate c;
   c.samples = samples, c.perWidth = perWidth;
   const int sub = lightSubdivision(setup);
-  const double lights = static_cast<double>(setup.split.texels.size()) * sub * sub;
+  const double lights = static_cast<double>(setup.split().texels.size()) * sub * sub;
   const double perEvaluation = samples * kPerSample + lights * kPerLight;
   std::ostringstream detail;
-  detail << samples << " samples, " << setup.split.texels.size() << " bright texels";
+  detail << samples << " samples, " << setup.split().texels.size() << " bright texels";
   if (sub > 1) detail << " (" << sub << "x" << sub << " each)";
   if (perWidth > 0) {
     // Rows from the view to the rim, perWidth per lobe width in normals (half the width in l).
@@ -134,8 +137,8 @@ class SampledEvaluation final : public Evaluation {
  public:
   SampledEvaluation(const Setup& setup, int samples)
       : setup_(setup),
-        lights_(setup.input, setup.split.texels, setup.environmentToEye, lightSubdivision(setup)),
-        sampler_(*setup.rest, setup.eyeToEnvironment, samples) {}
+        lights_(setup.input, setup.split().texels, setup.environmentToEye, lightSubdivision(setup)),
+        sampler_(setup.rest(), setup.eyeToEnvironment, samples) {}
   Rgb at(const Vec3& normal) const override {
     const ShadingGeometry g = setup_.geometry(normal);
     const auto lobes = setup_.material.reflectionLobes(g);
@@ -156,6 +159,7 @@ class GridEvaluation final : public Evaluation {
     const SampledEvaluation sampled(setup, c.samples);
     ProgressCounter counter(progress, static_cast<std::size_t>(c.rows));
     tbb::parallel_for(0, c.rows, [&](int row) {
+      setup.context.checkCancelled();
       // The pole is one normal: evaluated once.
       const int columns = row == 0 ? 1 : c.columns;
       for (int column = 0; column < columns; ++column) grid_.set(row, column, sampled.at(grid_.normal(row, column)));
@@ -175,7 +179,7 @@ class GridEvaluation final : public Evaluation {
 class ReferenceEvaluation final : public Evaluation {
  public:
   explicit ReferenceEvaluation(const Setup& setup)
-      : setup_(setup), sum_(setup.input, setup.split, *setup.rest, setup.eyeToEnvironment) {}
+      : setup_(setup), sum_(setup.input, setup.split(), setup.rest(), setup.eyeToEnvironment) {}
   Rgb at(const Vec3& normal) const override {
     return setup_.scale * sum_.value(setup_.material, setup_.geometry(normal));
   }
@@ -208,12 +212,13 @@ class EvaluationFunction final : public MapFunction {
 // footprint mean to second order (within (w / s)^2 / 24 for footprint w and scale s); else the mean
 // over its stratified footprint samples, as the baker takes it (bakeTexel). Alpha is coverage.
 Image renderOutput(const Parameterization& map, const MapFunction& function, const Vec3& view, double smoothAngle,
-                   int samplesPerTexel, const std::function<void(double)>& progress) {
+                   int samplesPerTexel, const Context& context) {
   Image image(map.width(), map.height(), Rgba::Zero());
-  ProgressCounter counter(progress, static_cast<std::size_t>(map.height()));
+  ProgressCounter counter(context.progress(), static_cast<std::size_t>(map.height()));
   auto normalOf = [&](const Vec3& direction) { return geometryForReflection(direction.normalized(), view).normal; };
   tbb::parallel_for(0, map.height(), [&](int y) {
     for (int x = 0; x < map.width(); ++x) {
+      context.checkCancelled();  // a texel of the reference sum takes milliseconds
       const auto centre = map.getDirectionFor(Vec2(x + 0.5, y + 0.5));
       if (!centre) continue;  // no direction (a cube cross's empty cells): 0, alpha 0
       const Vec3 n = normalOf(*centre);
@@ -257,7 +262,16 @@ std::vector<Probe> drawProbes(const Setup& setup, const NormalGrid& guide, int c
   std::mt19937 rng(setup.options.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::vector<Probe> probes;
+  // Draws are rejected only in the rim band, which leaves at least a cap of the sphere (mapRimCos), so a
+  // draw is kept with a probability of at least 2.5 %: 10^4 draws per probe is a bound never reached.
+  long long draws = 0;
+  const long long maxDraws = 10000LL * count;
   auto keep = [&](const Vec3& r) {
+    if (++draws > maxDraws) {
+      throw Error(Error::Kind::Numerical, "error probes: " + std::to_string(draws) + " draws kept only " +
+                                              std::to_string(probes.size()) + " of " + std::to_string(count));
+    }
+    if ((draws & 1023) == 0) setup.context.checkCancelled();
     return !(-r.z() > rimCos && setup.options.parameterization == ParameterizationKind::Sphere);
   };
   while (static_cast<int>(probes.size()) < count / 2) {
@@ -322,6 +336,7 @@ std::vector<Probe> drawProbes(const Setup& setup, const NormalGrid& guide, int c
 
 struct Measure {
   double lookupRms = 0.0, highlightRms = 0.0, max = 0.0, peak = 0.0;
+  double lower = 0.0;  // the larger RMS with two standard errors taken off: clearly above a bound when above it
   double bound() const { return std::max(lookupRms, highlightRms); }
 };
 
@@ -331,9 +346,9 @@ struct Measure {
 // less with high probability.
 Measure measure(const std::vector<Probe>& probes, const std::vector<Rgb>& values) {
   Measure m;
-  std::vector<double> e2(probes.size());
+  std::vector<double> e2(values.size());
   double lookupSum = 0.0, lookupCount = 0.0, highSum = 0.0, highWeight = 0.0, worst = 0.0;
-  for (std::size_t i = 0; i < probes.size(); ++i) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
     const Probe& p = probes[i];
     const double v = p.reference.abs().maxCoeff();
     m.peak = std::max(m.peak, v);
@@ -348,7 +363,7 @@ Measure measure(const std::vector<Probe>& probes, const std::vector<Rgb>& values
   const double lookupMean = lookupCount > 0.0 ? lookupSum / lookupCount : 0.0;
   const double highMean = highWeight > 0.0 ? highSum / highWeight : lookupMean;
   double lookupVariance = 0.0, highVariance = 0.0;
-  for (std::size_t i = 0; i < probes.size(); ++i) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
     const Probe& p = probes[i];
     if (p.highlight) {
       const double w = p.weight * p.reference.abs().maxCoeff();
@@ -362,13 +377,18 @@ Measure measure(const std::vector<Probe>& probes, const std::vector<Rgb>& values
   const double scale = m.peak > 0.0 ? 1.0 / m.peak : 1.0;
   m.lookupRms = std::sqrt(lookupMean + 2.0 * lookupError) * scale;
   m.highlightRms = std::sqrt(highMean + 2.0 * highError) * scale;
+  m.lower = std::sqrt(std::max({lookupMean - 2.0 * lookupError, highMean - 2.0 * highError, 0.0})) * scale;
   m.max = worst * scale;
   return m;
 }
 
-std::vector<Rgb> valuesAt(const std::vector<Probe>& probes, const std::function<Rgb(const Probe&)>& value) {
+std::vector<Rgb> valuesAt(const std::vector<Probe>& probes, const std::function<Rgb(const Probe&)>& value,
+                          const Context& context) {
   std::vector<Rgb> out(probes.size());
-  tbb::parallel_for(std::size_t(0), probes.size(), [&](std::size_t i) { out[i] = value(probes[i]); });
+  tbb::parallel_for(std::size_t(0), probes.size(), [&](std::size_t i) {
+    context.checkCancelled();
+    out[i] = value(probes[i]);
+  });
   return out;
 }
 
@@ -387,8 +407,7 @@ void prepare(Setup& setup) {
   setup.view = o.view.normalized();
   setup.eyeToEnvironment = o.camera.eyeToEnvironment();
   setup.environmentToEye = setup.eyeToEnvironment.transpose();
-  setup.split = detail::splitEnvironment(setup.input, o.brightFactor, o.maxBrightTexels);
-  setup.rest = std::make_unique<detail::LatLongPyramid>(setup.split.rest);
+  setup.prepared = setup.input.prepared.cache().split(setup.input, o.brightFactor, o.maxBrightTexels);
   setup.narrowest = narrowestLobe(setup);
 }
 
@@ -434,7 +453,6 @@ void UnderEnvironmentOptions::validate() const {
   require(probes >= 16 && probes <= 1 << 20, "probes must be in [16, 2^20]");
   require(std::isfinite(brightFactor) && brightFactor > 1.0, "the bright factor must be > 1");
   require(maxBrightTexels >= 0 && maxBrightTexels <= 1 << 16, "bright texels must be in [0, 65536]");
-  validateRun();
 }
 
 void requireBrdf(const Material& material) {
@@ -450,29 +468,88 @@ void requireBrdf(const Material& material) {
 
 std::vector<Rgb> underEnvironmentReferenceAt(const Environment& environment, const Material& material,
                                              const std::vector<Vec3>& normals, const Vec3& view,
-                                             const UnderEnvironmentOptions& options) {
+                                             const UnderEnvironmentOptions& options, const Context& context) {
   requireBrdf(material);
   options.camera.validate();
-  Setup setup(environment, material, options);
-  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  Setup setup(environment, material, options, context);
+  tbb::task_arena arena(context.arenaThreads());
   std::vector<Rgb> values(normals.size());
   arena.execute([&] {
     prepare(setup);
     setup.view = view.normalized();
     const ReferenceEvaluation reference(setup);
-    tbb::parallel_for(std::size_t(0), normals.size(),
-                      [&](std::size_t i) { values[i] = reference.at(normals[i].normalized()); });
+    tbb::parallel_for(std::size_t(0), normals.size(), [&](std::size_t i) {
+      context.checkCancelled();
+      values[i] = reference.at(normals[i].normalized());
+    });
   });
   return values;
 }
 
 namespace {
 
+// The probes, drawn once (uniform and value-weighted ones interleaved), their reference computed for the
+// first `ready`; a candidate makes more ready, in doubling batches from kFirstProbes, while its error on
+// them is neither clearly within the target nor clearly above it. A loose bound (a live preview) needs a
+// few dozen reference sums, a tight one up to every probe.
+struct ProbeBank {
+  std::vector<Probe> probes;
+  std::size_t ready = 0;
+};
+constexpr std::size_t kFirstProbes = 64;
+
+// Draws the bank's probes, the value-weighted half guided by `evaluation`'s grid (or a coarse one).
+void drawBank(const Setup& setup, const Evaluation& evaluation, double rimCos, ProbeBank& bank) {
+  const auto* grid = dynamic_cast<const GridEvaluation*>(&evaluation);
+  std::optional<GridEvaluation> guide;
+  if (!grid) {  // a coarse grid of at most 128 rows, 16 samples each: only a guide
+    Candidate coarse = makeCandidate(setup, 16, 2, 1.0, 1);
+    coarse.rows = std::min(coarse.rows, 129), coarse.columns = std::min(coarse.columns, 512);
+    guide.emplace(setup, coarse, [&](double) { setup.context.checkCancelled(); });
+    grid = &*guide;
+  }
+  std::vector<Probe> drawn = drawProbes(setup, grid->grid(), setup.options.probes, rimCos);
+  const std::size_t half = static_cast<std::size_t>(setup.options.probes / 2);
+  for (std::size_t i = 0; i < drawn.size(); ++i) {  // uniform and guided alternately
+    const std::size_t from = i % 2 == 0 ? i / 2 : half + i / 2;
+    bank.probes.push_back(drawn[std::min(from, drawn.size() - 1)]);
+  }
+  bank.probes.resize(drawn.size());
+}
+
+void makeReady(const Setup& setup, ProbeBank& bank, std::size_t count) {
+  count = std::min(count, bank.probes.size());
+  if (count <= bank.ready) return;
+  const ReferenceEvaluation reference(setup);
+  const std::vector<Probe> batch(bank.probes.begin() + static_cast<std::ptrdiff_t>(bank.ready),
+                                 bank.probes.begin() + static_cast<std::ptrdiff_t>(count));
+  const auto values = valuesAt(
+      batch, [&](const Probe& p) { return reference.at(p.normal); }, setup.context);
+  for (std::size_t i = 0; i < values.size(); ++i) bank.probes[bank.ready + i].reference = values[i];
+  bank.ready = count;
+}
+
+// The candidate's error on the ready probes, more made ready until it is clearly within `target`,
+// clearly above it, or every probe is.
+Measure estimateOn(const Setup& setup, const Evaluation& evaluation, ProbeBank& bank, double target) {
+  std::vector<Rgb> values;
+  for (;;) {
+    const std::vector<Probe> fresh(bank.probes.begin() + static_cast<std::ptrdiff_t>(values.size()),
+                                   bank.probes.begin() + static_cast<std::ptrdiff_t>(bank.ready));
+    const auto more = valuesAt(
+        fresh, [&](const Probe& p) { return evaluation.at(p.normal); }, setup.context);
+    values.insert(values.end(), more.begin(), more.end());
+    const Measure m = measure(bank.probes, values);
+    if (m.bound() <= target || m.lower > target || bank.ready == bank.probes.size()) return m;
+    makeReady(setup, bank, 2 * bank.ready);
+  }
+}
+
 // Tries the candidates cheapest first and returns the first whose bound on the probes is within 0.8
 // maxError (the margin covers the gap between its point values and the finished map's lookups);
 // without estimation the first. When none qualifies, the most accurate one tried, with a note.
 std::unique_ptr<Evaluation> chooseCandidate(const Setup& setup, const std::vector<Candidate>& candidates,
-                                            std::vector<Probe>& probes, double rimCos, bool estimating,
+                                            ProbeBank& bank, double rimCos, bool estimating,
                                             UnderEnvironmentSummary& summary) {
   const UnderEnvironmentOptions& o = setup.options;
   const double target = 0.8 * o.maxError;
@@ -481,28 +558,15 @@ std::unique_ptr<Evaluation> chooseCandidate(const Setup& setup, const std::vecto
   std::size_t bestIndex = 0;
   for (const Candidate& c : candidates) {
     const auto start = Clock::now();
-    auto evaluation = build(setup, c, o.progress);
+    auto evaluation = build(setup, c, setup.context.progress());
     UnderEnvironmentCandidate record{c.detail, c.predicted, secondsSince(start)};
-    if (estimating && probes.empty()) {
-      // The probes and their reference, once: the value-weighted half guided by the first grid.
-      const auto probeStart = Clock::now();
-      const auto* grid = dynamic_cast<const GridEvaluation*>(evaluation.get());
-      std::optional<GridEvaluation> guide;
-      if (!grid) {  // a coarse grid of at most 128 rows, 16 samples each: only a guide
-        Candidate coarse = makeCandidate(setup, 16, 2, 1.0, 1);
-        coarse.rows = std::min(coarse.rows, 129), coarse.columns = std::min(coarse.columns, 512);
-        guide.emplace(setup, coarse, std::function<void(double)>{});
-        grid = &*guide;
-      }
-      probes = drawProbes(setup, grid->grid(), o.probes, rimCos);
-      const ReferenceEvaluation reference(setup);
-      const auto values = valuesAt(probes, [&](const Probe& p) { return reference.at(p.normal); });
-      for (std::size_t i = 0; i < probes.size(); ++i) probes[i].reference = values[i];
-      summary.estimateSeconds += secondsSince(probeStart);
-    }
     if (estimating) {
       const auto estimateStart = Clock::now();
-      const Measure m = measure(probes, valuesAt(probes, [&](const Probe& p) { return evaluation->at(p.normal); }));
+      if (bank.probes.empty()) {
+        drawBank(setup, *evaluation, rimCos, bank);
+        makeReady(setup, bank, kFirstProbes);
+      }
+      const Measure m = estimateOn(setup, *evaluation, bank, target);
       record.errorEstimate = m.bound(), record.errorEstimateMax = m.max;
       summary.estimateSeconds += secondsSince(estimateStart);
     }
@@ -526,7 +590,7 @@ std::unique_ptr<Evaluation> chooseCandidate(const Setup& setup, const std::vecto
 }  // namespace
 
 MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, const Material& material,
-                                               const UnderEnvironmentOptions& options) {
+                                               const UnderEnvironmentOptions& options, const Context& context) {
   options.validate();
   requireBrdf(material);
   require(environment.map && !environment.image.empty(), "an empty environment");
@@ -534,19 +598,19 @@ MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, c
   MaterialUnderEnvironment result;
   result.map =
       std::shared_ptr<const Parameterization>(makeParameterization(options.parameterization, options.resolution));
-  options.requireImageSize(result.map->width(), result.map->height());
+  context.requireImageSize(result.map->width(), result.map->height());
   UnderEnvironmentSummary& summary = result.summary;
   summary.material = std::string(material.model());
   summary.maxError = options.maxError;
-  Setup setup(environment, material, options);
-  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  Setup setup(environment, material, options, context);
+  tbb::task_arena arena(context.arenaThreads());
   arena.execute([&] {
     prepare(setup);
-    summary.brightTexels = static_cast<int>(setup.split.texels.size());
-    summary.brightThreshold = setup.split.threshold;
-    summary.brightShare = setup.split.brightShare;
+    summary.brightTexels = static_cast<int>(setup.split().texels.size());
+    summary.brightThreshold = setup.split().threshold;
+    summary.brightShare = setup.split().brightShare;
     summary.setupSeconds = secondsSince(start);
-    if (setup.rest->resampled()) {
+    if (setup.rest().resampled()) {
       summary.notes.push_back(
           "the environment is not a power-of-two lat-long image: its rest (below the bright "
           "texels) is read resampled into one, by the map and by the reference alike");
@@ -554,7 +618,7 @@ MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, c
     const double rimCos = mapRimCos(options.parameterization, options.resolution);
     const double footprintSamples =
         static_cast<double>(result.map->width()) * result.map->height() * options.samplesPerTexel;
-    std::vector<Probe> probes;
+    ProbeBank bank;
     std::unique_ptr<Evaluation> evaluation;
     const bool reference = options.method == UnderEnvironmentMethod::Reference;
     const bool estimating = !reference && (options.estimateError || options.method == UnderEnvironmentMethod::Auto);
@@ -567,7 +631,7 @@ MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, c
       summary.method = UnderEnvironmentMethod::Sampled;
       const auto candidates = candidatesFor(setup, footprintSamples, arena.max_concurrency());
       const auto candidateStart = Clock::now();
-      evaluation = chooseCandidate(setup, candidates, probes, rimCos, estimating, summary);
+      evaluation = chooseCandidate(setup, candidates, bank, rimCos, estimating, summary);
       summary.outputSeconds += secondsSince(candidateStart) - summary.estimateSeconds;
     }
     const auto bakeStart = Clock::now();
@@ -575,18 +639,28 @@ MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, c
     // Where L_o is smooth: the grid's spacing, or an eighth of the narrowest lobe in normals.
     const double smoothAngle = grid ? grid->grid().rowSpacing() : setup.narrowest / 16.0;
     result.image = renderOutput(*result.map, EvaluationFunction(*evaluation, setup.view), setup.view, smoothAngle,
-                                options.samplesPerTexel, options.progress);
+                                options.samplesPerTexel, context);
     requireFinite(result.image);
     summary.outputSeconds += secondsSince(bakeStart);
     if (estimating) {
       // The finished map as a renderer reads it: bilinear lookups at the probes.
       const auto measureStart = Clock::now();
-      const Measure m = measure(probes, valuesAt(probes, [&](const Probe& p) -> Rgb {
-                                  return sampleBilinear(result.image, *result.map, p.direction).head<3>();
-                                }));
+      auto lookups = [&] {
+        const std::vector<Probe> ready(bank.probes.begin(),
+                                       bank.probes.begin() + static_cast<std::ptrdiff_t>(bank.ready));
+        auto lookup = [&](const Probe& p) -> Rgb {
+          return sampleBilinear(result.image, *result.map, p.direction).head<3>();
+        };
+        return measure(ready, valuesAt(ready, lookup, context));
+      };
+      Measure m = lookups();
+      if (m.bound() > options.maxError && bank.ready < bank.probes.size()) {  // a tighter bound from every probe
+        makeReady(setup, bank, bank.probes.size());
+        m = lookups();
+      }
       summary.errorEstimated = true;
       summary.errorEstimate = m.bound(), summary.lookupRms = m.lookupRms, summary.highlightRms = m.highlightRms;
-      summary.errorMax = m.max, summary.peak = m.peak, summary.probes = static_cast<int>(probes.size());
+      summary.errorMax = m.max, summary.peak = m.peak, summary.probes = static_cast<int>(bank.ready);
       summary.metBound = summary.errorEstimate <= options.maxError;
       if (!summary.metBound) {
         summary.notes.push_back(
@@ -652,9 +726,7 @@ nlohmann::json UnderEnvironmentSummary::toJson() const {
           {"notes", notes}};
 }
 
-MapWriteReport writeUnderEnvironmentMap(const MaterialUnderEnvironment& map, const std::filesystem::path& path,
-                                        nlohmann::json spec, CubeLayout layout, const WriteOptions& options) {
-  require(map.map && !map.image.empty(), "writeUnderEnvironmentMap: nothing to write");
+MapInfo underEnvironmentMapInfo(const MaterialUnderEnvironment& map, nlohmann::json spec) {
   if (!spec.is_object()) spec = nlohmann::json::object();
   const UnderEnvironmentSummary& s = map.summary;
   MapInfo info;
@@ -670,7 +742,13 @@ MapWriteReport writeUnderEnvironmentMap(const MaterialUnderEnvironment& map, con
       {"error_metric", "max(lookup RMS, value-weighted RMS), relative to the peak"},
       {"error_estimate", s.errorEstimated ? nlohmann::json(s.errorEstimate) : nlohmann::json(nullptr)},
       {"exact", s.exact}};
-  return writeMap(map.image, info, path, layout, options);
+  return info;
+}
+
+MapWriteReport writeUnderEnvironmentMap(const MaterialUnderEnvironment& map, const std::filesystem::path& path,
+                                        nlohmann::json spec, CubeLayout layout, const WriteOptions& options) {
+  require(map.map && !map.image.empty(), "writeUnderEnvironmentMap: nothing to write");
+  return writeMap(map.image, underEnvironmentMapInfo(map, std::move(spec)), path, layout, options);
 }
 
 }  // namespace brdfbake

@@ -6,11 +6,10 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/named_values.hpp>
 #include <brdfbake/core/progress.hpp>
-#include <brdfbake/core/run_options.hpp>
-#include <brdfbake/core/text_io.hpp>
 #include <brdfbake/core/version.hpp>
 #include <brdfbake/env/env_accuracy.hpp>
 #include <brdfbake/env/prefilter.hpp>
+#include <brdfbake/io/text_io.hpp>
 #include <brdfbake/maps/map_mips.hpp>
 
 #include <tbb/task_arena.h>
@@ -63,16 +62,16 @@ void requireFiniteOutput(const Image& image) {
 
 // ---- the steps of prefilter() ------------------------------------------------------------------
 
-// The output map, refused above options.maxTexels unless large maps are allowed.
-std::shared_ptr<const Parameterization> outputMap(const PrefilterOptions& options) {
+// The output map, refused above the context's size limit.
+std::shared_ptr<const Parameterization> outputMap(const PrefilterOptions& options, const Context& context) {
   std::shared_ptr<const Parameterization> map(makeParameterization(options.parameterization, options.resolution));
-  options.requireImageSize(map->width(), map->height());
+  context.requireImageSize(map->width(), map->height());
   return map;
 }
 
 // The mirror lobe: the environment looked up over each texel's footprint (the baker's supersampling).
 Image resampleMirror(const Environment& environment, const Parameterization& map, const PrefilterOptions& options,
-                     PrefilterSummary& summary) {
+                     const Context& context, PrefilterSummary& summary) {
   if (options.method != PrefilterMethod::Auto && options.method != PrefilterMethod::Reference) {
     throw Error(Error::Kind::InvalidArgument, "the mirror lobe is plain resampling (no integral); --method " +
                                                   std::string(toString(options.method)) +
@@ -83,9 +82,8 @@ Image resampleMirror(const Environment& environment, const Parameterization& map
       options.parameterization == ParameterizationKind::Sphere ? eyeToEnvironment(options) : Mat3::Identity();
   const RotatedEnvironment function(environment, rotation);
   BakeOptions bakeOptions;
-  static_cast<RunOptions&>(bakeOptions) = options;
   bakeOptions.samplesPerTexel = options.mirrorSamples;
-  Image image = bake(map, function, bakeOptions);
+  Image image = bake(map, function, bakeOptions, context);
   summary.method = PrefilterMethod::Resample;
   summary.detail = std::to_string(options.mirrorSamples) + " footprint samples per texel";
   summary.exact = true;
@@ -157,7 +155,6 @@ void PrefilterOptions::validate() const {
   require(mirrorSamples >= 1 && mirrorSamples <= 4096, "mirror samples must be in [1, 4096]");
   require(elevations >= 2 && elevations <= 64,
           "elevations (maps in a varying lobe model's stack) must be in [2, 64], got " + std::to_string(elevations));
-  validateRun();
 }
 
 std::string PrefilterSummary::briefReport() const {
@@ -253,27 +250,29 @@ double PrefilterInput::meanNorm() {
 
 }  // namespace detail
 
-PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lobe, const PrefilterOptions& options) {
+PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lobe, const PrefilterOptions& options,
+                         const Context& context) {
   detail::PrefilterInput input(environment);
-  return prefilter(input, lobe, options);
+  return prefilter(input, lobe, options, context);
 }
 
-PrefilteredMap prefilter(detail::PrefilterInput& input, const PrefilterLobe& lobe, const PrefilterOptions& options) {
+PrefilteredMap prefilter(detail::PrefilterInput& input, const PrefilterLobe& lobe, const PrefilterOptions& options,
+                         const Context& context) {
   options.validate();
   const Environment& environment = input.environment();
   require(environment.map && !environment.image.empty(), "prefilter: empty environment");
   const auto start = Clock::now();
   PrefilteredMap result;
-  result.map = outputMap(options);
+  result.map = outputMap(options, context);
   PrefilterSummary& summary = result.summary;
   summary.lobe = lobe.name();
   summary.maxError = options.maxError;
-  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  tbb::task_arena arena(context.arenaThreads());
   arena.execute([&] {
     std::optional<detail::ProbeCheck> check;
-    Image level0 = lobe.isMirror() ? resampleMirror(environment, *result.map, options, summary)
-                                   : detail::filterWithLobe(input, lobe, *result.map, options, arena.max_concurrency(),
-                                                            summary, check);
+    Image level0 = lobe.isMirror() ? resampleMirror(environment, *result.map, options, context, summary)
+                                   : detail::filterWithLobe(input, lobe, *result.map, options, context,
+                                                            arena.max_concurrency(), summary, check);
     requireFiniteOutput(level0);
     const auto mipStart = Clock::now();
     result.levels = outputLevels(std::move(level0), *result.map, options.mips, options.cubeEdgeFixup);
@@ -315,7 +314,7 @@ void mergePrefilterSummary(PrefilterSummary& into, const PrefilterSummary& part,
 }
 
 PrefilteredMap prefilterLobeModel(const Environment& environment, const LobeModel& model, const std::string& name,
-                                  const PrefilterOptions& options) {
+                                  const PrefilterOptions& options, const Context& context) {
   model.validate();
   if (model.variesWithView()) {
     throw Error(Error::Kind::InvalidArgument,
@@ -336,8 +335,11 @@ PrefilteredMap prefilterLobeModel(const Environment& environment, const LobeMode
   std::ostringstream detail;
   Image sum;
   detail::PrefilterInput input(environment);
-  for (const auto& [exponent, weight] : terms) {
-    const PrefilteredMap part = prefilter(input, PrefilterLobe::phong(exponent), run);
+  for (std::size_t t = 0; t < terms.size(); ++t) {
+    const auto& [exponent, weight] = terms[t];
+    const double share = 1.0 / static_cast<double>(terms.size());
+    const PrefilteredMap part =
+        prefilter(input, PrefilterLobe::phong(exponent), run, context.part(t * share, (t + 1) * share));
     const bool first = sum.empty();
     if (first) {
       sum = part.levels[0];
@@ -367,34 +369,36 @@ PrefilteredMap prefilterLobeModel(const Environment& environment, const LobeMode
   return result;
 }
 
+MapInfo prefilteredMapInfo(const PrefilteredMap& map, nlohmann::json spec, int level) {
+  if (!spec.is_object()) spec = nlohmann::json::object();
+  MapInfo info;
+  info.parameterization = map.map->kind();
+  info.resolution = std::max(1, map.map->resolution() >> level);
+  info.conventionVersion = kConventionVersion;
+  info.spec = std::move(spec);
+  const PrefilterSummary& s = map.summary;
+  nlohmann::json& prefilterInfo = info.spec["prefilter"];
+  if (!prefilterInfo.is_object()) prefilterInfo = nlohmann::json::object();
+  prefilterInfo.update(
+      nlohmann::json{{"lobe", s.lobe},
+                     {"method", std::string(toString(s.method))},
+                     {"detail", s.detail},
+                     {"max_error", s.maxError},
+                     {"error_metric", "rms_relative"},
+                     {"error_estimate", s.errorEstimated ? nlohmann::json(s.errorEstimate) : nlohmann::json(nullptr)},
+                     {"exact", s.exact},
+                     {"mip_level", level},
+                     {"mip_levels", static_cast<int>(map.levels.size())}});
+  if (s.lobe == "irradiance") prefilterInfo["irradiance_quantity"] = kIrradianceQuantity;
+  if (!map.levelValues.empty()) info.spec["level_values"] = map.levelValues;
+  return info;
+}
+
 MapWriteReport writePrefilteredMap(const PrefilteredMap& map, const std::filesystem::path& path, nlohmann::json spec,
                                    CubeLayout layout, const WriteOptions& options, MipLayout mipLayout) {
   require(!map.levels.empty() && map.map, "writePrefilteredMap: nothing to write");
-  if (!spec.is_object()) spec = nlohmann::json::object();
   const int count = static_cast<int>(map.levels.size());
-  auto levelInfo = [&](int level) {
-    MapInfo info;
-    info.parameterization = map.map->kind();
-    info.resolution = std::max(1, map.map->resolution() >> level);
-    info.conventionVersion = kConventionVersion;
-    info.spec = spec;
-    const PrefilterSummary& s = map.summary;
-    nlohmann::json& prefilterInfo = info.spec["prefilter"];
-    if (!prefilterInfo.is_object()) prefilterInfo = nlohmann::json::object();
-    prefilterInfo.update(
-        nlohmann::json{{"lobe", s.lobe},
-                       {"method", std::string(toString(s.method))},
-                       {"detail", s.detail},
-                       {"max_error", s.maxError},
-                       {"error_metric", "rms_relative"},
-                       {"error_estimate", s.errorEstimated ? nlohmann::json(s.errorEstimate) : nlohmann::json(nullptr)},
-                       {"exact", s.exact},
-                       {"mip_level", level},
-                       {"mip_levels", count}});
-    if (s.lobe == "irradiance") prefilterInfo["irradiance_quantity"] = kIrradianceQuantity;
-    if (!map.levelValues.empty()) info.spec["level_values"] = map.levelValues;
-    return info;
-  };
+  auto levelInfo = [&](int level) { return prefilteredMapInfo(map, spec, level); };
   if (mipLayout == MipLayout::Tiled) {
     // A 1 x 1 map has one level: its tiled file holds just that level.
     require(count == mipLevelCount(map.map->resolution()),

@@ -3,8 +3,8 @@
 // trial of the candidates against the error probes, and the chosen method evaluated at every texel.
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/progress.hpp>
-#include <brdfbake/core/text_io.hpp>
 #include <brdfbake/env/prefilter.hpp>
+#include <brdfbake/io/text_io.hpp>
 
 #include <tbb/parallel_for.h>
 
@@ -59,8 +59,9 @@ struct ShEvaluator final : Evaluator {
 };
 
 struct GridEvaluator final : Evaluator {
-  GridEvaluator(const Evaluator& inner, int height) : grid(height) {
+  GridEvaluator(const Evaluator& inner, int height, const Context& run) : grid(height) {
     tbb::parallel_for(0, grid.height(), [&](int y) {
+      run.checkCancelled();
       for (int x = 0; x < grid.width(); ++x) grid.set(x, y, inner.value(grid.direction(x, y)));
     });
   }
@@ -101,9 +102,11 @@ CandidateSpec makeSpec(PrefilterMethod method, int shOrder = 0, int samples = 0,
 }
 
 // Everything the candidates share, built on first use.
-class Context {
+class LobeState {
  public:
-  Context(detail::PrefilterInput& input, const PrefilterLobe& lobe) : input_(input), lobe_(lobe) {}
+  LobeState(detail::PrefilterInput& input, const PrefilterLobe& lobe, const Context& run)
+      : input_(input), lobe_(lobe), run_(run) {}
+  const Context& run() const { return run_; }
   const LatLongPyramid& pyramid() { return input_.pyramid(); }
   // prefilterErrorFloor's delta.
   double errorFloor() { return std::max(1e-3 * lobe_.mass() * input_.meanNorm(), 1e-30); }
@@ -143,21 +146,22 @@ class Context {
  private:
   detail::PrefilterInput& input_;
   PrefilterLobe lobe_;
+  const Context& run_;
   std::shared_ptr<const RadialTable> table_;
   std::map<long, std::shared_ptr<const RadialTable>> corrected_;
   std::vector<double> zonal_;
 };
 
-int directLevel(Context& context, double q) { return context.pyramid().levelFor(context.lobe().width() / q); }
+int directLevel(LobeState& context, double q) { return context.pyramid().levelFor(context.lobe().width() / q); }
 // Where even level 0 is coarser than width/q, its texels are split into sub-samples (at most 4 x 4).
-int directSubdivision(Context& context, double q) {
+int directSubdivision(LobeState& context, double q) {
   const int level = directLevel(context, q);
   return std::clamp(
       static_cast<int>(std::ceil(q * context.pyramid().texelAngle(level) / std::max(context.lobe().width(), 1e-12))), 1,
       4);
 }
 
-std::unique_ptr<Evaluator> buildInner(const CandidateSpec& spec, Context& context) {
+std::unique_ptr<Evaluator> buildInner(const CandidateSpec& spec, LobeState& context) {
   switch (spec.method) {
     case PrefilterMethod::SphericalHarmonics:
       return std::make_unique<ShEvaluator>(
@@ -180,7 +184,7 @@ std::unique_ptr<Evaluator> buildInner(const CandidateSpec& spec, Context& contex
   throw Error(Error::Kind::InvalidArgument, "prefilter: no evaluator for method " + std::string(toString(spec.method)));
 }
 
-std::unique_ptr<Evaluator> build(const CandidateSpec& spec, Context& context) {
+std::unique_ptr<Evaluator> build(const CandidateSpec& spec, LobeState& context) {
   if (spec.gridMultiple > 0) {
     const int level = directLevel(context, spec.q);
     const double cosCap = std::cos(context.lobe().tailAngle(spec.tail));
@@ -190,7 +194,7 @@ std::unique_ptr<Evaluator> build(const CandidateSpec& spec, Context& context) {
   }
   auto inner = buildInner(spec, context);
   if (spec.gridHeight <= 0) return inner;
-  return std::make_unique<GridEvaluator>(*inner, spec.gridHeight);
+  return std::make_unique<GridEvaluator>(*inner, spec.gridHeight, context.run());
 }
 
 // ---- candidates and the cost model -----------------------------------------------------------
@@ -211,7 +215,7 @@ struct Workload {
 };
 
 // Per-point cost and setup cost of an inner method (seconds, one core).
-void innerCost(const CandidateSpec& spec, Context& context, double& perPoint, double& setup) {
+void innerCost(const CandidateSpec& spec, LobeState& context, double& perPoint, double& setup) {
   setup = 0.0;
   switch (spec.method) {
     case PrefilterMethod::SphericalHarmonics: {
@@ -238,7 +242,7 @@ void innerCost(const CandidateSpec& spec, Context& context, double& perPoint, do
 }
 
 // Fills in the grid, predicted seconds and the detail text; false if the grid would not pay.
-bool finishSpec(CandidateSpec& spec, Context& context, const Workload& work) {
+bool finishSpec(CandidateSpec& spec, LobeState& context, const Workload& work) {
   double perPoint = 0.0, setup = 0.0;
   innerCost(spec, context, perPoint, setup);
   const double direct = setup + work.outputPoints * perPoint;
@@ -289,7 +293,7 @@ bool finishSpec(CandidateSpec& spec, Context& context, const Workload& work) {
   return true;
 }
 
-std::vector<CandidateSpec> candidatesFor(const PrefilterOptions& options, Context& context, const Workload& work) {
+std::vector<CandidateSpec> candidatesFor(const PrefilterOptions& options, LobeState& context, const Workload& work) {
   std::vector<CandidateSpec> specs;
   const PrefilterMethod m = options.method;
   auto want = [&](PrefilterMethod method) { return m == PrefilterMethod::Auto || m == method; };
@@ -351,11 +355,12 @@ std::vector<CandidateSpec> candidatesFor(const PrefilterOptions& options, Contex
 
 // Evaluates `evaluator` at every output texel centre.
 Image evaluateOutput(const Parameterization& map, const Evaluator& evaluator, const PrefilterLobe& lobe,
-                     const PrefilterOptions& options) {
+                     const PrefilterOptions& options, const Context& run) {
   Image image(map.width(), map.height(), Rgba::Zero());
-  ProgressCounter progress(options.progress, static_cast<std::size_t>(map.height()));
+  ProgressCounter progress(run.progress(), static_cast<std::size_t>(map.height()));
   tbb::parallel_for(0, map.height(), [&](int y) {
     for (int x = 0; x < map.width(); ++x) {
+      run.checkCancelled();  // a texel of the reference sum may take milliseconds
       const auto d = map.getDirectionFor(Vec2(x + 0.5, y + 0.5));
       if (!d) continue;
       const Rgb v = evaluator.value(prefilterAxis(*d, lobe, options));
@@ -367,7 +372,7 @@ Image evaluateOutput(const Parameterization& map, const Evaluator& evaluator, co
 }
 
 // The reference sum, asked for or as auto's fallback (with a note); exact by definition.
-std::unique_ptr<Evaluator> useReference(Context& context, const Workload& work, PrefilterSummary& summary,
+std::unique_ptr<Evaluator> useReference(LobeState& context, const Workload& work, PrefilterSummary& summary,
                                         const std::string& note) {
   const auto setupStart = Clock::now();
   auto evaluator = build(makeSpec(PrefilterMethod::Reference), context);
@@ -442,7 +447,7 @@ class FailureMemory {
 // 0.8 x the bound (the margin covers the estimate's own spread), or, without estimation, the
 // first. A named method that met no bound keeps its most accurate setting, with a note. Null when
 // auto found nothing (the caller falls back to the reference).
-std::unique_ptr<Evaluator> chooseFastMethod(Context& context, const Workload& work, const PrefilterOptions& options,
+std::unique_ptr<Evaluator> chooseFastMethod(LobeState& context, const Workload& work, const PrefilterOptions& options,
                                             PrefilterSummary& summary, std::optional<detail::ProbeSet>& probes) {
   const auto specs = candidatesFor(options, context, work);
   const bool automatic = options.method == PrefilterMethod::Auto;
@@ -500,9 +505,9 @@ std::unique_ptr<Evaluator> chooseFastMethod(Context& context, const Workload& wo
 
 // The method for a filtered lobe, evaluated at every output texel (prefilter_internal.hpp).
 Image filterWithLobe(PrefilterInput& input, const PrefilterLobe& lobe, const Parameterization& map,
-                     const PrefilterOptions& options, int threads, PrefilterSummary& summary,
+                     const PrefilterOptions& options, const Context& run, int threads, PrefilterSummary& summary,
                      std::optional<ProbeCheck>& check) {
-  Context context(input, lobe);
+  LobeState context(input, lobe, run);
   Workload work;
   work.outputPoints = static_cast<double>(map.width()) * map.height();
   work.threads = threads;
@@ -526,7 +531,7 @@ Image filterWithLobe(PrefilterInput& input, const PrefilterLobe& lobe, const Par
     check = std::move(c);
   }
   const auto outputStart = Clock::now();
-  Image image = evaluateOutput(map, *chosen, lobe, options);
+  Image image = evaluateOutput(map, *chosen, lobe, options, run);
   summary.outputSeconds = secondsSince(outputStart);
   return image;
 }

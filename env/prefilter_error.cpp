@@ -3,7 +3,6 @@
 #include <brdfbake/bake/accuracy.hpp>
 #include <brdfbake/brdf/material.hpp>
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/core/run_options.hpp>
 #include <brdfbake/env/prefilter.hpp>
 
 #include <tbb/parallel_for.h>
@@ -92,15 +91,16 @@ PrefilterError prefilterError(const Image& result, const Image& reference, const
 }
 
 std::vector<Rgb> prefilterReferenceAt(const Environment& environment, const PrefilterLobe& lobe,
-                                      const std::vector<Vec3>& axes, int threads) {
+                                      const std::vector<Vec3>& axes, const Context& context) {
   require(!lobe.isMirror(), "the mirror lobe has no integral; look the environment up instead");
-  requireThreadCount(threads);
-  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  tbb::task_arena arena(context.arenaThreads());
   std::vector<Rgb> values(axes.size());
   arena.execute([&] {
     const detail::ReferenceSummer summer(environment, lobe);
-    tbb::parallel_for(std::size_t(0), axes.size(),
-                      [&](std::size_t i) { values[i] = summer.value(axes[i].normalized()); });
+    tbb::parallel_for(std::size_t(0), axes.size(), [&](std::size_t i) {
+      context.checkCancelled();
+      values[i] = summer.value(axes[i].normalized());
+    });
   });
   return values;
 }

@@ -320,7 +320,7 @@ struct ProbeCheck {
 // A filtered lobe: chooses the method (reference, or the fast candidates with auto's fallback)
 // and evaluates it at every output texel. `check` gets the estimate's probes (prefilter_choice.cpp).
 Image filterWithLobe(PrefilterInput& input, const PrefilterLobe& lobe, const Parameterization& map,
-                     const PrefilterOptions& options, int threads, PrefilterSummary& summary,
+                     const PrefilterOptions& options, const Context& context, int threads, PrefilterSummary& summary,
                      std::optional<ProbeCheck>& check);
 
 // The finished map as a renderer reads it: bilinear lookups at the probes against their reference, as
@@ -337,5 +337,6 @@ void measureLookups(const Image& level0, const Parameterization& map, const Pref
 namespace brdfbake {
 // prefilter() reading the environment, pyramid and mean |L| of `input` (made once for all the
 // lobes prefiltered from it).
-PrefilteredMap prefilter(detail::PrefilterInput& input, const PrefilterLobe& lobe, const PrefilterOptions& options);
+PrefilteredMap prefilter(detail::PrefilterInput& input, const PrefilterLobe& lobe, const PrefilterOptions& options,
+                         const Context& context);
 }  // namespace brdfbake

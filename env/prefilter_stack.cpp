@@ -1,10 +1,10 @@
 // Prefilter requests that make several maps: elevation stacks of varying lobe models and the
 // Fresnel decomposition (prefilter_stack.hpp, docs/prefilter.md).
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/core/files.hpp>
 #include <brdfbake/core/progress.hpp>
 #include <brdfbake/env/prefilter_stack.hpp>
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/files.hpp>
+#include <brdfbake/io/image_io.hpp>
 #include <brdfbake/maps/map_mips.hpp>
 #include <brdfbake/output/baked_output.hpp>
 
@@ -18,12 +18,6 @@
 namespace brdfbake {
 namespace {
 using Clock = std::chrono::steady_clock;
-
-// options.progress over [begin, end) of the whole request.
-std::function<void(double)> progressPart(const std::function<void(double)>& progress, double begin, double end) {
-  if (!progress) return {};
-  return [progress, begin, end](double fraction) { progress(begin + (end - begin) * fraction); };
-}
 
 }  // namespace
 
@@ -57,6 +51,21 @@ std::vector<PrefilterLobe> ggxChainLobes(int count) {
   return lobes;
 }
 
+std::string GlossChain::lobeName() const { return lobe == Lobe::Ggx ? "ggx" : lobe == Lobe::Phong ? "phong" : "blinn"; }
+
+int GlossChain::levelCount(int resolution) const {
+  return levels > 0 ? levels : std::min(16, mipLevelCount(resolution));
+}
+
+std::vector<PrefilterLobe> GlossChain::lobes(int resolution) const {
+  const int count = levelCount(resolution);
+  if (lobe == Lobe::Ggx) return ggxChainLobes(count);
+  std::vector<PrefilterLobe> out;
+  for (double exponent : glossLevelExponents(count, scale, bias))
+    out.push_back(lobe == Lobe::Phong ? PrefilterLobe::phong(exponent) : PrefilterLobe::blinn(exponent));
+  return out;
+}
+
 namespace {
 // What "level_values" records about one level of a chain.
 nlohmann::json chainLevelValue(const PrefilterLobe& lobe, const PrefilterSummary& s) {
@@ -75,7 +84,7 @@ nlohmann::json chainLevelValue(const PrefilterLobe& lobe, const PrefilterSummary
 }  // namespace
 
 PrefilteredMap prefilterGlossChain(const Environment& environment, const std::vector<PrefilterLobe>& lobes,
-                                   const PrefilterOptions& options) {
+                                   const PrefilterOptions& options, const Context& context) {
   options.validate();
   require(!lobes.empty(), "a gloss chain needs at least one level");
   require(!options.mips, "a gloss chain is its own mip chain: turn options.mips off");
@@ -99,11 +108,11 @@ PrefilteredMap prefilterGlossChain(const Environment& environment, const std::ve
       level.directTexelsPerWidth = 0.0;
     }
     level.resolution = options.resolution >> k;
-    level.progress = progressPart(options.progress, static_cast<double>(k) / count, static_cast<double>(k + 1) / count);
     const std::string label = "level " + std::to_string(k) + " (" + lobe.name() + ")";
     PrefilteredMap part;
     try {
-      part = prefilter(input, lobe, level);
+      part = prefilter(input, lobe, level,
+                       context.part(static_cast<double>(k) / count, static_cast<double>(k + 1) / count));
     } catch (const Error& error) {
       throw Error(error.kind(), label + ": " + error.what());
     }
@@ -135,7 +144,8 @@ std::vector<double> elevationSliceCosines(const LobeModel& model, int count) {
 }
 
 PrefilteredStack prefilterLobeModelStack(const Environment& environment, const LobeModel& model,
-                                         const std::string& name, const PrefilterOptions& options) {
+                                         const std::string& name, const PrefilterOptions& options,
+                                         const Context& context) {
   model.validate();
   if (!model.variesWithView()) {
     throw Error(Error::Kind::InvalidArgument,
@@ -157,12 +167,13 @@ PrefilteredStack prefilterLobeModelStack(const Environment& environment, const L
     const double u = stack.cosines[static_cast<std::size_t>(j)];
     stack.coordinates.push_back(static_cast<double>(j) / (count - 1));
     PrefilterOptions slice = options;
-    slice.progress = progressPart(options.progress, static_cast<double>(j) / count, static_cast<double>(j + 1) / count);
     std::ostringstream label;
     label.precision(4);
     label << "elevation " << j << " (cos " << u << ")";
     try {
-      stack.slices.push_back(prefilterLobeModel(environment, model.prefilterFormAt(u), name, slice));
+      stack.slices.push_back(
+          prefilterLobeModel(environment, model.prefilterFormAt(u), name, slice,
+                             context.part(static_cast<double>(j) / count, static_cast<double>(j + 1) / count)));
     } catch (const Error& error) {
       throw Error(error.kind(), label.str() + ": " + error.what());
     }
@@ -220,7 +231,8 @@ MapWriteReport writePrefilteredStack(const PrefilteredStack& stack, const std::f
 
 FresnelDecomposition prefilterFresnelDecomposition(const Environment& environment, const PrefilterLobe& specular,
                                                    const FresnelTerm& fresnel, FresnelCombine combine,
-                                                   const PrefilterOptions& options, int tableSize) {
+                                                   const PrefilterOptions& options, int tableSize,
+                                                   const Context& context) {
   if (specular.indexedByNormal()) {
     throw Error(Error::Kind::InvalidArgument,
                 "a Fresnel decomposition needs a specular lobe (mirror, phong, blinn, ggx) for "
@@ -234,10 +246,8 @@ FresnelDecomposition prefilterFresnelDecomposition(const Environment& environmen
   result.combine = combine;
   PrefilterOptions part = options;
   detail::PrefilterInput input(environment);
-  part.progress = progressPart(options.progress, 0.0, 0.5);
-  result.specular = prefilter(input, specular, part);
-  part.progress = progressPart(options.progress, 0.5, 1.0);
-  result.irradiance = prefilter(input, PrefilterLobe::irradiance(), part);
+  result.specular = prefilter(input, specular, part, context.part(0.0, 0.5));
+  result.irradiance = prefilter(input, PrefilterLobe::irradiance(), part, context.part(0.5, 1.0));
   result.table = fresnelTable(fresnel, tableSize);
   for (const Rgb& f : result.table) require(f.allFinite(), "the Fresnel table came out non-finite");
   return result;

@@ -1,8 +1,8 @@
 // Irradiance as 9 spherical-harmonic coefficients per channel (sh_irradiance.hpp).
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/core/files.hpp>
-#include <brdfbake/core/json_reader.hpp>
 #include <brdfbake/env/sh_irradiance.hpp>
+#include <brdfbake/io/files.hpp>
+#include <brdfbake/io/json_reader.hpp>
 
 #include <brdfbake/env/prefilter_lobe.hpp>
 

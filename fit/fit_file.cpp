@@ -1,9 +1,9 @@
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/core/files.hpp>
-#include <brdfbake/core/json_reader.hpp>
-#include <brdfbake/core/json_text.hpp>
 #include <brdfbake/core/version.hpp>
 #include <brdfbake/fit/fit_file.hpp>
+#include <brdfbake/io/files.hpp>
+#include <brdfbake/io/json_reader.hpp>
+#include <brdfbake/io/json_text.hpp>
 
 #include <fstream>
 #include <optional>

@@ -1,5 +1,5 @@
+#include <brdfbake/core/context.hpp>
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/core/run_options.hpp>
 #include <brdfbake/fit/held_out.hpp>
 
 #include <tbb/parallel_for.h>
@@ -22,7 +22,6 @@ void HeldOutOptions::validate() const {
   for (double e : elevationsDegrees) {
     require(std::isfinite(e) && e >= 0.0 && e <= 90.0, "held-out: elevations must be in [0, 90] degrees");
   }
-  requireThreadCount(threads, "held-out: threads");
 }
 
 HeldOutSplit HeldOutReport::pooledElevations() const {
@@ -230,8 +229,8 @@ std::vector<double> heldOutElevations(const MeasuredTable& table, const HeldOutO
 }
 }  // namespace
 
-HeldOutSplits::HeldOutSplits(const MeasuredTable& table, const HeldOutOptions& options)
-    : table_(&table), options_(options) {
+HeldOutSplits::HeldOutSplits(const MeasuredTable& table, const HeldOutOptions& options, const Context& context)
+    : table_(&table), options_(options), context_(context) {
   options.validate();
   std::vector<std::vector<bool>> held;
   addFolds(table, options, held);
@@ -253,9 +252,10 @@ HeldOutSplits::HeldOutSplits(const MeasuredTable& table, const HeldOutOptions& o
     split.entry = s < static_cast<std::size_t>(options.folds) ? -1 : static_cast<int>(s) - options.folds;
     for (std::size_t i = 0; i < table.size(); ++i) (held[s][i] ? split.held : split.train).push_back(i);
   }
-  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  tbb::task_arena arena(context_.arenaThreads());
   arena.execute([&] {
     tbb::parallel_for(std::size_t(0), splits_.size(), [&](std::size_t s) {
+      context_.checkCancelled();
       Split& split = splits_[s];
       split.training = tableRows(table, split.train);
       split.lambertConstants = lambertianFit(table, split.train);
@@ -288,9 +288,10 @@ double HeldOutSplit::ratioWithoutLargestRow() const {
 HeldOutReport HeldOutSplits::estimate(const SplitFitter& fit) const {
   const auto start = std::chrono::steady_clock::now();
   std::vector<LogErrorSum> fitted(splits_.size());
-  tbb::task_arena arena(options_.threads > 0 ? options_.threads : tbb::task_arena::automatic);
+  tbb::task_arena arena(context_.arenaThreads());
   arena.execute([&] {
     tbb::parallel_for(std::size_t(0), splits_.size(), [&](std::size_t s) {
+      context_.checkCancelled();
       fitted[s] = cosineLogError(fit(s, splits_[s].training), *table_, splits_[s].held);
     });
   });
@@ -320,8 +321,9 @@ HeldOutReport HeldOutSplits::estimate(const SplitFitter& fit) const {
   return report;
 }
 
-HeldOutReport estimateHeldOutError(const MeasuredTable& table, const TableFitter& fit, const HeldOutOptions& options) {
-  return HeldOutSplits(table, options).estimate([&](std::size_t, const MeasuredTable& training) {
+HeldOutReport estimateHeldOutError(const MeasuredTable& table, const TableFitter& fit, const HeldOutOptions& options,
+                                   const Context& context) {
+  return HeldOutSplits(table, options, context).estimate([&](std::size_t, const MeasuredTable& training) {
     return fit(training);
   });
 }

@@ -1,7 +1,7 @@
+#include <brdfbake/core/context.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/named_values.hpp>
 #include <brdfbake/core/progress.hpp>
-#include <brdfbake/core/run_options.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 
 #include "per_channel_fit.hpp"
@@ -82,7 +82,6 @@ void FitOptions::validate() const {
   require(maxIterations >= 1, "fit: maxIterations must be >= 1");
   require(std::isfinite(functionTolerance) && functionTolerance > 0.0 && functionTolerance < 1.0,
           "fit: functionTolerance must be in (0, 1)");
-  requireThreadCount(threads, "fit: threads");
   require(std::isfinite(maxExponent) && maxExponent >= kMinLobeExponent && maxExponent <= kMaxLobeExponent,
           "fit: maxExponent must be in [1, 1e5]");
   require(std::isfinite(varyingPrior) && varyingPrior >= 0.0, "fit: varyingPrior must be finite and >= 0");
@@ -230,7 +229,6 @@ FitResult fitShared(const MeasuredTable& table, const FitOptions& options, LobeK
   SharedModel fitted = sharedModel(table, options, kind, warmStart);
   FitResult result;
   result.options = options;
-  result.options.progress = nullptr;
   result.model = std::move(fitted.model);
   const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
   for (std::size_t c = 0; c < table.channelCount(); ++c) {
@@ -273,31 +271,29 @@ FitOptions explicitOptions(FitOptions options, const CandidateConfig& config) {
   return options;
 }
 
-// The same, for one of many fits that run in parallel over splits.
-FitOptions candidateOptions(const FitOptions& options, const CandidateConfig& config) {
-  FitOptions single = explicitOptions(options, config);
-  single.threads = 1;
-  single.progress = nullptr;
-  return single;
-}
+// One of many fits that run in parallel over splits: one thread, no progress of its own.
+Context candidateContext(const Context& context) { return context.withThreads(1).withoutProgress(); }
 
-FitResult fitExplicit(const MeasuredTable& table, const FitOptions& explicitOptions, LobeKindChoice kind) {
+FitResult fitExplicit(const MeasuredTable& table, const FitOptions& explicitOptions, LobeKindChoice kind,
+                      const Context& context) {
   if (explicitOptions.method == FitMethod::Shared) return fitShared(table, explicitOptions, kind);
-  return detail::fitPerChannel(table, explicitOptions);
+  return detail::fitPerChannel(table, explicitOptions, context);
 }
 
-FitResult fitCandidate(const MeasuredTable& table, const FitOptions& options, const CandidateConfig& config) {
-  return fitExplicit(table, candidateOptions(options, config), config.kind);
+FitResult fitCandidate(const MeasuredTable& table, const FitOptions& options, const CandidateConfig& config,
+                       const Context& context) {
+  return fitExplicit(table, explicitOptions(options, config), config.kind, candidateContext(context));
 }
 
 // The model alone, for a held-out split (the statistics of a split's fit are never shown).
 LobeModel fitCandidateModel(const MeasuredTable& table, const FitOptions& options, const CandidateConfig& config,
-                            const LobeModel* start = nullptr, std::shared_ptr<detail::ShapeSearches> searches = nullptr,
+                            const Context& context, const LobeModel* start = nullptr,
+                            std::shared_ptr<detail::ShapeSearches> searches = nullptr,
                             int gaussNewtonSteps = detail::kGaussNewtonSteps) {
-  const FitOptions single = candidateOptions(options, config);
+  const FitOptions single = explicitOptions(options, config);
   if (options.method == FitMethod::Shared)
     return sharedModel(table, single, config.kind, start, std::move(searches), gaussNewtonSteps).model;
-  return detail::fitPerChannel(table, single).model;
+  return detail::fitPerChannel(table, single, candidateContext(context)).model;
 }
 
 int parameterTotal(const CandidateConfig& config, FitMethod method, std::size_t channels) {
@@ -440,13 +436,16 @@ CandidateSpace candidateSpace(const MeasuredTable& table, const FitOptions& opti
 
 // One configuration, every choice made (auto ones without a held-out estimate: the fewest
 // parameters), with its held-out estimate when asked for and feasible.
-FitResult fitOneConfiguration(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
+FitResult fitOneConfiguration(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space,
+                              const Context& context) {
   const CandidateConfig config{space.counts[0], space.elevations[0], space.kinds[0], 0.0, -1.0, space.colorProfile};
-  FitResult result = fitExplicit(table, explicitOptions(options, config), config.kind);
-  if (options.estimateHeldOut && space.heldOutFeasible) {
+  const bool heldOut = options.estimateHeldOut && space.heldOutFeasible;
+  FitResult result =
+      fitExplicit(table, explicitOptions(options, config), config.kind, heldOut ? context.part(0.0, 0.5) : context);
+  if (heldOut) {
     result.heldOut = estimateHeldOutError(
-        table, [&](const MeasuredTable& training) { return fitCandidateModel(training, options, config); },
-        options.heldOut);
+        table, [&](const MeasuredTable& training) { return fitCandidateModel(training, options, config, context); },
+        options.heldOut, context);
   }
   return result;
 }
@@ -468,12 +467,13 @@ using Tried = std::vector<TriedCandidate>;
 // fitting 1 .. K - 1 again).
 class SplitFitter {
  public:
-  SplitFitter(const HeldOutSplits& splits, const FitOptions& options)
-      : splits_(splits), options_(options), searches_(splits.size()), perChannel_(splits.size()) {
+  SplitFitter(const HeldOutSplits& splits, const FitOptions& options, const Context& context)
+      : splits_(splits), options_(options), context_(context), searches_(splits.size()), perChannel_(splits.size()) {
     for (auto& searches : searches_) searches = detail::makeShapeSearches();
   }
 
   const FitOptions& options() const { return options_; }
+  const Context& context() const { return context_; }
 
   // Scores `config` on every split; split s's fit starts from starts[s] when given (shared method).
   TriedCandidate score(const CandidateConfig& config, const std::vector<LobeModel>* starts = nullptr) {
@@ -494,16 +494,20 @@ class SplitFitter {
  private:
   LobeModel fit(std::size_t s, const MeasuredTable& training, const CandidateConfig& config, const LobeModel* start) {
     if (options_.method == FitMethod::Shared) {
-      return fitCandidateModel(training, options_, config, start, searches_[s],
+      return fitCandidateModel(training, options_, config, context_, start, searches_[s],
                                refined_ ? detail::kGaussNewtonSteps : kRankingGaussNewtonSteps);
     }
     auto& fits = perChannel_[s];  // each split is fitted by one task at a time
-    if (!fits) fits = std::make_unique<detail::PerChannelFits>(training, candidateOptions(options_, config));
+    if (!fits) {
+      fits = std::make_unique<detail::PerChannelFits>(training, explicitOptions(options_, config),
+                                                      candidateContext(context_));
+    }
     return fits->model(config.lobes, config.elevation);
   }
 
   const HeldOutSplits& splits_;
   const FitOptions& options_;
+  const Context& context_;
   std::vector<std::shared_ptr<detail::ShapeSearches>> searches_;
   std::vector<std::unique_ptr<detail::PerChannelFits>> perChannel_;
   bool refined_ = options_.method != FitMethod::Shared || options_.refineCandidates;
@@ -547,7 +551,7 @@ Tried scoreCandidates(SplitFitter& fitter, const CandidateSpace& space) {
         sequence.fits = tried.back().splitFits;
         if (!varying) constantFits = &sequence.fits;
         const double score = tried.back().report.score();
-        if (options.progress) options.progress(static_cast<double>(++done) / static_cast<double>(total + 1));
+        fitter.context().report(static_cast<double>(++done) / static_cast<double>(total + 1));
         bestScore = std::min(bestScore, score);
         if ((lobes > 1 && score > kHopelessScoreFactor * bestScore) ||
             !(score < (1.0 - options.autoMargin) * sequence.previous))
@@ -656,10 +660,11 @@ std::size_t addTable(SplitFitter& fitter, Tried& tried, std::size_t best, const 
 }
 
 // Scores the candidates by held-out error, fits the chosen one to the whole table and lists them all.
-FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space) {
+FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& options, const CandidateSpace& space,
+                               const Context& context) {
   const std::size_t channels = table.channelCount();
-  const HeldOutSplits splits(table, options.heldOut);
-  SplitFitter fitter(splits, options);
+  const HeldOutSplits splits(table, options.heldOut, context);
+  SplitFitter fitter(splits, options, context);
   Tried tried = scoreCandidates(fitter, space);
   std::size_t best = addColorProfile(
       fitter, tried,
@@ -668,7 +673,7 @@ FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& opt
       space);
   scoreRefined(fitter, tried, best);
   best = addTable(fitter, tried, best, space, splits);
-  FitResult result = fitCandidate(table, options, tried[best].config);
+  FitResult result = fitCandidate(table, options, tried[best].config, context);
   for (std::size_t i = 0; i < tried.size(); ++i) {
     const auto& [config, report, fits, starts, refined] = tried[i];
     ModelCandidate c;
@@ -698,22 +703,21 @@ FitResult chooseByHeldOutError(const MeasuredTable& table, const FitOptions& opt
 
 }  // namespace
 
-FitResult fitLobes(const MeasuredTable& table, const FitOptions& options) {
+FitResult fitLobes(const MeasuredTable& table, const FitOptions& options, const Context& context) {
   options.validate();
   table.validate();
   const auto start = Clock::now();
   const CandidateSpace space = candidateSpace(table, options);
-  FitResult result = space.size() > 1 || space.tryColorProfile ? chooseByHeldOutError(table, options, space)
-                                                               : fitOneConfiguration(table, options, space);
+  FitResult result = space.size() > 1 || space.tryColorProfile ? chooseByHeldOutError(table, options, space, context)
+                                                               : fitOneConfiguration(table, options, space, context);
   result.options = options;
-  result.options.progress = nullptr;
   for (const auto& c : result.candidates) {
     if (c.chosen && c.maxExponent > 0.0) result.options.maxExponent = c.maxExponent;
     if (c.chosen && c.varyingPrior > 0.0) result.options.varyingPrior = c.varyingPrior;
   }
   result.inSampleError = allRowsError(result.model, table).rms();
   result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  if (options.progress) options.progress(1.0);
+  context.report(1.0);
   return result;
 }
 

@@ -400,8 +400,10 @@ double jointError(const std::vector<Candidate>& perChannel, std::size_t samples)
 // each K starting from the fits of K - 1 (and a varying K from the constant K).
 class PerChannelSequences {
  public:
-  PerChannelSequences(const MeasuredTable& table, const FitOptions& options, const LobeModel& range, int maxLobes)
+  PerChannelSequences(const MeasuredTable& table, const FitOptions& options, const LobeModel& range, int maxLobes,
+                      const Context& context)
       : options_(options),
+        context_(context),
         maxLobes_(maxLobes),
         channels_(table.channelCount()),
         warmStart_(table.kind == ChannelKind::Spectral) {
@@ -460,6 +462,7 @@ class PerChannelSequences {
       arena.execute([&] {
         tbb::parallel_for(std::size_t(0), channels_, [&](std::size_t c) {
           if (toAnchor(c).first != round) return;
+          context_.checkCancelled();
           current[c] = round == 0 ? fitOne(elevation, lobes, c) : fitFromNeighbour(current, elevation, lobes, c);
           if (progress) progress->step();
         });
@@ -504,6 +507,7 @@ class PerChannelSequences {
   }
 
   const FitOptions& options_;
+  Context context_;
   int maxLobes_;
   std::size_t channels_, samples_ = 0;
   bool warmStart_;  // spectral: channels between anchors start from a neighbour's fit (toAnchor)
@@ -574,19 +578,19 @@ LobeModel toModel(const std::vector<Candidate>& chosen, LobeElevation elevation,
 }  // namespace
 
 // The Ceres per-channel fit of one explicit lobe count and elevation (per_channel_fit.hpp).
-FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options) {
+FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options, const Context& context) {
   const auto start = Clock::now();
   const std::string label = table.label();
   const std::size_t channels = table.channelCount();
   if (channels == 0) throw Error(Error::Kind::InvalidInput, label + ": no channels to fit");
   const LobeModel range = fittedRange(table);
   const int maxLobes = options.lobes == 0 ? options.maxAutoLobes : options.lobes;
-  PerChannelSequences sequences(table, options, range, maxLobes);
+  PerChannelSequences sequences(table, options, range, maxLobes, context);
   checkDeterminable(sequences, options, maxLobes, label);
 
   const bool tryVarying = options.elevation != ElevationChoice::Constant;
-  ProgressCounter progress(options.progress, channels * static_cast<std::size_t>(maxLobes) * (tryVarying ? 2 : 1));
-  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
+  ProgressCounter progress(context.progress(), channels * static_cast<std::size_t>(maxLobes) * (tryVarying ? 2 : 1));
+  tbb::task_arena arena(context.arenaThreads());
   // Constant models always: varying ones start from them.
   const int constantLobes = sequences.run(LobeElevation::Constant, progress, arena);
   const int varyingLobes = tryVarying ? sequences.run(LobeElevation::Varying, progress, arena) : 0;
@@ -600,7 +604,6 @@ FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options) {
   const auto& chosen = sequences.fitted(elevation, lobes);
   FitResult result;
   result.options = options;
-  result.options.progress = nullptr;
   result.model = toModel(chosen, elevation, lobes, range, table);
   for (std::size_t c = 0; c < channels; ++c) {
     ChannelFitStats stats = evaluateFit(result.model, table, c);
@@ -615,12 +618,12 @@ FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options) {
 }
 
 struct PerChannelFits::State {
-  State(const MeasuredTable& fitted, const FitOptions& fitOptions)
+  State(const MeasuredTable& fitted, const FitOptions& fitOptions, const Context& context)
       : table(&fitted),
         options(fitOptions),
         range(fittedRange(fitted)),
-        sequences(fitted, options, range, options.maxAutoLobes),
-        arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic) {}
+        sequences(fitted, options, range, options.maxAutoLobes, context),
+        arena(context.arenaThreads()) {}
   const MeasuredTable* table;
   FitOptions options;  // the sequences keep a reference to it
   LobeModel range;
@@ -628,9 +631,9 @@ struct PerChannelFits::State {
   tbb::task_arena arena;
 };
 
-PerChannelFits::PerChannelFits(const MeasuredTable& table, const FitOptions& options) {
+PerChannelFits::PerChannelFits(const MeasuredTable& table, const FitOptions& options, const Context& context) {
   if (table.channelCount() == 0) throw Error(Error::Kind::InvalidInput, table.label() + ": no channels to fit");
-  state_ = std::make_unique<State>(table, options);
+  state_ = std::make_unique<State>(table, options, context);
 }
 
 PerChannelFits::~PerChannelFits() = default;

@@ -17,7 +17,7 @@ LobeModel fittedRange(const MeasuredTable& table);
 // The Ceres per-channel fit (FitMethod::PerChannel) of one explicit lobe count and elevation (the
 // in-sample greedy sequence still grows K from 1). Throws Error(InvalidInput) when the usable
 // samples cannot determine the model.
-FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options);
+FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options, const Context& context);
 
 // The per-channel fits of one table, kept and grown on demand: K = 1, 2, ... lobes of each
 // elevation, each K starting from K - 1 (and a varying K from the constant K), exactly as
@@ -25,7 +25,7 @@ FitResult fitPerChannel(const MeasuredTable& table, const FitOptions& options);
 // sequence instead of refitting it. Keeps a reference to `table`.
 class PerChannelFits {
  public:
-  PerChannelFits(const MeasuredTable& table, const FitOptions& options);
+  PerChannelFits(const MeasuredTable& table, const FitOptions& options, const Context& context);
   ~PerChannelFits();
   PerChannelFits(const PerChannelFits&) = delete;
   PerChannelFits& operator=(const PerChannelFits&) = delete;

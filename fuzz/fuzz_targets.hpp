@@ -7,8 +7,8 @@
 // else (other exceptions, crashes, sanitizer reports) is a finding.
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/fit_file.hpp>
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/maps/texture.hpp>
+#include <brdfbake/io/image_io.hpp>
+#include <brdfbake/io/texture.hpp>
 #include <brdfbake/measured/measured_io.hpp>
 #include <brdfbake/spec/spec.hpp>
 

@@ -1,5 +1,4 @@
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/core/files.hpp>
 #include <brdfbake/maps/map_mips.hpp>
 
 #include <tbb/parallel_for.h>
@@ -209,11 +208,6 @@ std::vector<Image> environmentMipChain(const Image& level0, const Parameterizati
     levels.push_back(std::move(next));
   }
   return levels;
-}
-
-std::filesystem::path mipLevelPath(const std::filesystem::path& path, int level) {
-  if (level == 0) return path;
-  return siblingWithSuffix(path, "_mip" + std::to_string(level));
 }
 
 }  // namespace brdfbake

@@ -1,9 +1,9 @@
 // MATLAB .mat tables through libmatio.
 #include <brdfbake/measured/measured_io.hpp>
 
-#include <brdfbake/core/files.hpp>
 #include <brdfbake/core/memory_budget.hpp>
 #include <brdfbake/core/printable.hpp>
+#include <brdfbake/io/files.hpp>
 
 #include "mat_structure.hpp"
 #include "measured_common.hpp"

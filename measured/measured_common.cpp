@@ -1,6 +1,6 @@
 #include "measured_common.hpp"
-#include <brdfbake/core/files.hpp>
 #include <brdfbake/core/memory_budget.hpp>
+#include <brdfbake/io/files.hpp>
 
 #include <brdfbake/core/math.hpp>
 

@@ -1,7 +1,7 @@
 // Format detection, the MERL reader and the format dispatch.
 #include <brdfbake/measured/measured_io.hpp>
 
-#include <brdfbake/core/files.hpp>
+#include <brdfbake/io/files.hpp>
 
 #include "measured_common.hpp"
 

@@ -1,5 +1,5 @@
 // Text formats: Cornell ASTM E1392 (.astm) and pbrt-v2 (.brdf).
-#include <brdfbake/core/files.hpp>
+#include <brdfbake/io/files.hpp>
 #include <brdfbake/measured/measured_io.hpp>
 
 #include "measured_common.hpp"

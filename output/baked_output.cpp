@@ -1,10 +1,10 @@
 // Every output of bake and prefilter, opened for lookups as a renderer makes them (baked_output.hpp).
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/core/json_text.hpp>
 #include <brdfbake/core/version.hpp>
 #include <brdfbake/env/prefilter_stack.hpp>
 #include <brdfbake/env/sh_irradiance.hpp>
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/image_io.hpp>
+#include <brdfbake/io/json_text.hpp>
 #include <brdfbake/maps/map_mips.hpp>
 #include <brdfbake/output/baked_output.hpp>
 
@@ -259,6 +259,23 @@ BakedOutput BakedOutput::open(const fs::path& path, const OpenOutputOptions& opt
   out.indexedByNormal_ = irradianceByNormal(out.maps_[0]);
   out.valueScale_ = irradianceScale(out.maps_[0]);
   out.eyeSpace_ = out.maps_[0].info.parameterization == ParameterizationKind::Sphere;
+  return out;
+}
+
+BakedOutput BakedOutput::fromMap(Image image, const MapInfo& info) {
+  image.metadata = info.toJson();
+  BakedOutput out;
+  MapFile map;
+  map.parameterization = makeParameterization(info.parameterization, info.resolution);
+  require(image.width() == map.parameterization->width() && image.height() == map.parameterization->height(),
+          "BakedOutput::fromMap: the image's size is not its parameterization's");
+  map.info = info;
+  map.image = std::move(image);
+  out.maps_.push_back(std::move(map));
+  out.metadata_ = out.maps_[0].image.metadata;
+  out.indexedByNormal_ = irradianceByNormal(out.maps_[0]);
+  out.valueScale_ = irradianceScale(out.maps_[0]);
+  out.eyeSpace_ = info.parameterization == ParameterizationKind::Sphere;
   return out;
 }
 

@@ -1,6 +1,6 @@
 #include "convert.hpp"
 
-#include <brdfbake/core/json_text.hpp>
+#include <brdfbake/io/json_text.hpp>
 
 #include <cmath>
 #include <cstdint>

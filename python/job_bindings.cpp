@@ -1,16 +1,19 @@
-// The jobs as Python calls: run_spec (runSpec), fit_table (fitTable), prefilter_environment
-// (prefilterEnvironment), each run by runJob; and write_environment, which writes a numpy
-// environment to the image file prefilter reads. The package's bake(), fit() and prefilter() call
+// The jobs as Python calls, each run by runJob on a Context (threads, progress, KeyboardInterrupt):
+// run_spec (runSpec), fit_table (fitTable), and, in memory, prefilter (prefilterEnvironment), matcap
+// (makeMatcap) and ibl (makeIbl). The package's bake(), fit(), prefilter(), matcap() and ibl() call
 // these (python/brdfbake/__init__.py).
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/run/fit_table.hpp>
+#include <brdfbake/run/ibl_job.hpp>
+#include <brdfbake/run/matcap_job.hpp>
 #include <brdfbake/run/prefilter_job.hpp>
 #include <brdfbake/run/spec_runner.hpp>
+#include <brdfbake/spec/material_file.hpp>
+#include <brdfbake/spec/spec.hpp>
 
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
-#include <cmath>
 #include <sstream>
 
 #include "bindings.hpp"
@@ -21,32 +24,17 @@ namespace brdfbake::python {
 
 namespace {
 
-JobOptions jobOptions(int threads, bool allowLarge) {
-  JobOptions options;
-  options.threads = threads;
-  options.allowLarge = allowLarge;
-  options.validate();
-  return options;
-}
-
 SpecRunResult runSpecJob(const std::optional<std::filesystem::path>& spec, const py::object& document,
                          const std::optional<std::filesystem::path>& outDir, int threads, bool allowLarge,
                          const std::string& label, const py::object& progress) {
   SpecRunOptions options;
-  static_cast<JobOptions&>(options) = jobOptions(threads, allowLarge);
   if (spec) options.spec = *spec;
   if (!document.is_none()) options.document = jsonFromPython(document, label);
   options.label = label;
   if (outDir) options.outDir = *outDir;
   options.validate();
   SpecRunResult result;
-  runJob(
-      [&](const ProgressSink& sink) {
-        SpecRunOptions withProgress = options;
-        withProgress.progress = sink;
-        result = runSpec(withProgress);
-      },
-      progress);
+  runJob([&](const Context& context) { result = runSpec(options, context); }, progress, threads, allowLarge);
   return result;
 }
 
@@ -85,7 +73,6 @@ FitTableResult fitTableJob(const std::filesystem::path& table, const py::object&
                            const std::optional<std::filesystem::path>& report, int threads,
                            const py::object& progress) {
   FitTableOptions options;
-  static_cast<JobOptions&>(options) = jobOptions(threads, false);
   options.table = table;
   options.format = parseNamed("format", format, parseTableFormat);
   FitOptions& fit = options.fit;
@@ -117,13 +104,7 @@ FitTableResult fitTableJob(const std::filesystem::path& table, const py::object&
   if (report) options.report = *report;
   options.validate();
   auto result = std::make_shared<FitTableResult>();
-  runJob(
-      [&](const ProgressSink& sink) {
-        FitTableOptions withProgress = options;
-        withProgress.progress = sink;
-        *result = fitTable(withProgress);
-      },
-      progress);
+  runJob([&](const Context& context) { *result = fitTable(options, context); }, progress, threads);
   return std::move(*result);
 }
 
@@ -135,93 +116,209 @@ std::optional<Vec3> optionalVector(const py::object& value, const char* keyword)
   return d[0];
 }
 
+// f(), an error naming a request field named by its keyword: {"parameterization", "to"}.
+template <class F>
+auto namingKeywords(const std::vector<std::pair<std::string, std::string>>& renamed, F&& f) {
+  try {
+    return f();
+  } catch (const Error& error) {
+    if (error.field().empty()) throw;
+    std::string keyword = error.field();
+    for (const auto& [field, name] : renamed)
+      if (field == keyword) keyword = name;
+    throw Error(error.kind(), keyword + ": " + error.problem());
+  }
+}
+
+// A job's map in memory as a brdfbake.Map: its level 0 looked up, every level kept, and how to write it.
+std::shared_ptr<OpenedMap> mapInMemory(std::vector<Image> levels, const MapInfo& info, const nlohmann::json& entry,
+                                       std::function<MapWriteReport(const MapOutputs&)> writer) {
+  auto map = std::make_shared<OpenedMap>();
+  map->output = std::make_shared<const BakedOutput>(BakedOutput::fromMap(levels.front(), info));
+  map->levels = std::move(levels);
+  map->result = pythonFromJson(entry);
+  map->writer = std::move(writer);
+  return map;
+}
+
+// ---- prefilter ----------------------------------------------------------------------------------
+
+py::object prefilterJob(const py::object& environment, const std::optional<std::string>& from,
+                        const LobeArguments& lobe, const std::string& to, const std::string& method,
+                        const std::optional<std::string>& combine, std::optional<double> fresnelIor, PrefilterRequest r,
+                        const std::optional<std::filesystem::path>& output,
+                        const std::optional<std::filesystem::path>& shOutput, bool tiled, bool faces, int threads,
+                        const py::object& progress) {
+  const std::vector<std::pair<std::string, std::string>> keywords = {{"parameterization", "to"},
+                                                                     {"fresnel", "fresnel_ior"},
+                                                                     {"sh", "sh_output"},
+                                                                     {"gloss_chain", "gloss_scale"},
+                                                                     {"outputs", "output"}};
+  return namingKeywords(keywords, [&]() -> py::object {
+    lobe.apply(r);
+    r.parameterization = parseNamed("to", to, parseParameterizationKind);
+    r.method = parseNamed("method", method, parsePrefilterMethod);
+    if (fresnelIor) r.fresnel = FresnelTerm::dielectric(Rgb::Constant(*fresnelIor));
+    if (combine) r.combine = parseNamed("combine", *combine, parseFresnelCombine);
+    r.sh = shOutput.has_value();
+    requireField(!shOutput || output, "sh_output", "writes a file beside the map's: give output=PATH too");
+    const bool several = r.fresnel || (r.lobeModel && r.lobeModel->variesWithView());
+    requireField(!several || output, "output",
+                 "a Fresnel decomposition or an elevation stack is several maps: give output=PATH (read_map reads "
+                 "them back)");
+    r.environment = environmentFromPython(environment, from);
+    PrefilterResult made;
+    runJob([&](const Context& context) { made = prefilterEnvironment(r, context); }, progress, threads);
+    MapOutputs outputs;
+    outputs.layout = faces ? CubeLayout::Faces : CubeLayout::Cross;
+    outputs.mipLayout = tiled ? MipLayout::Tiled : MipLayout::Files;
+    auto shared = std::make_shared<const PrefilterResult>(std::move(made));
+    std::optional<ShOutput> sh;
+    if (shOutput) sh = ShOutput{*shOutput, shOutput->extension() == ".txt"};
+    std::vector<std::filesystem::path> written;
+    if (output) {
+      outputs.files = {*output};
+      const py::gil_scoped_release release;
+      written = writePrefiltered(*shared, outputs, sh).files;
+    }
+    if (several) {
+      OutputSource source;
+      source.path = *output;
+      auto map = openMap(source);
+      map->result = pythonFromJson(shared->toJson());
+      return py::cast(map);
+    }
+    const MapInfo info = prefilteredMapInfo(shared->map, nlohmann::json(), 0);
+    auto writer = [shared](const MapOutputs& o) { return writePrefiltered(*shared, o); };
+    auto map = mapInMemory(shared->map.levels, info, shared->toJson(), writer);
+    if (output) map->source.path = *output, map->written = written;
+    return py::cast(map);
+  });
+}
+
 void bindPrefilter(py::module_& module) {
   module.def(
-      "prefilter_environment",
-      [](const std::filesystem::path& environment, const std::string& lobe, const std::string& to, int resolution,
-         const std::filesystem::path& output, const std::string& method, double maxError,
+      "prefilter",
+      [](const py::object& environment, const std::string& lobe, const std::string& to, int resolution,
+         const std::optional<std::filesystem::path>& output, const std::string& method, double maxError,
          const std::optional<std::string>& from, bool mips, bool tiled, bool faces, const py::object& view,
          const py::object& up, int samplesPerTexel, std::optional<int> elevations, std::optional<double> fresnelIor,
-         const std::optional<std::string>& combine, std::optional<double> glossScale, std::optional<double> glossBias,
-         std::optional<int> mipCount, bool edgeFixup, const std::optional<std::filesystem::path>& shOutput, int threads,
-         const py::object& progress) {
+         const std::optional<std::string>& combine, const std::optional<std::string>& chain,
+         std::optional<double> glossScale, std::optional<double> glossBias, std::optional<int> mipCount, bool edgeFixup,
+         const std::optional<std::filesystem::path>& shOutput, int threads, const py::object& progress) {
+        const LobeArguments lobeArguments{lobe, chain, glossScale, glossBias, mipCount, edgeFixup};
         PrefilterRequest r;
-        r.environment = environment;
-        r.lobe = lobe;
-        r.to = to;
-        r.output = output;
         r.resolution = resolution;
-        r.method = method;
         r.maxError = maxError;
-        r.from = from;
         r.mips = mips;
-        r.tiled = tiled;
-        r.faces = faces;
-        r.view = optionalVector(view, "view");
-        r.up = optionalVector(up, "up");
+        if (const auto v = optionalVector(view, "view")) r.view = *v;
+        if (const auto u = optionalVector(up, "up")) r.up = *u;
         r.samplesPerTexel = samplesPerTexel;
-        r.elevations = elevations;
-        r.fresnelIor = fresnelIor;
-        r.combine = combine;
-        r.glossScale = glossScale;
-        r.glossBias = glossBias;
-        r.mipCount = mipCount;
-        r.edgeFixup = edgeFixup;
-        r.shOutput = shOutput;
-        const JobOptions options = jobOptions(threads, false);
-        MapResult made;
-        runJob(
-            [&](const ProgressSink& sink) {
-              JobOptions withProgress = options;
-              withProgress.progress = sink;
-              made = prefilterEnvironment(r, withProgress);
-            },
-            progress);
-        OutputSource source;
-        source.path = made.output;
-        std::shared_ptr<OpenedMap> map = openMap(source);
-        map->result = pythonFromJson(made.toJson());
-        return map;
+        if (elevations) r.elevations = *elevations;
+        return prefilterJob(environment, from, lobeArguments, to, method, combine, fresnelIor, r, output, shOutput,
+                            tiled, faces, threads, progress);
       },
       py::arg("environment"), py::arg("lobe"), py::arg("to"), py::arg("resolution"), py::arg("output"),
       py::arg("method"), py::arg("max_error"), py::arg("from_"), py::arg("mips"), py::arg("tiled"), py::arg("faces"),
       py::arg("view"), py::arg("up"), py::arg("samples_per_texel"), py::arg("elevations"), py::arg("fresnel_ior"),
-      py::arg("combine"), py::arg("gloss_scale"), py::arg("gloss_bias"), py::arg("mip_count"), py::arg("edge_fixup"),
-      py::arg("sh_output"), py::arg("threads"), py::arg("progress"),
-      "prefilterEnvironment (run/prefilter_job.hpp), then the map read back; use brdfbake.prefilter.");
+      py::arg("combine"), py::arg("chain"), py::arg("gloss_scale"), py::arg("gloss_bias"), py::arg("mip_count"),
+      py::arg("edge_fixup"), py::arg("sh_output"), py::arg("threads"), py::arg("progress"),
+      "prefilterEnvironment (run/prefilter_job.hpp) in memory, written too when output is given; use "
+      "brdfbake.prefilter.");
 }
 
-// An (H, W, 3 or 4) array of radiance as a float RGBA image (alpha 1 where not given).
-Image environmentImage(const py::object& value) {
-  const auto array = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(value);
-  if (!array || array.ndim() != 3 || (array.shape(2) != 3 && array.shape(2) != 4) || array.shape(0) < 1 ||
-      array.shape(1) < 1) {
-    std::ostringstream shape;
-    if (array)
-      for (py::ssize_t i = 0; i < array.ndim(); ++i) shape << (i ? ", " : "") << array.shape(i);
-    throw Error(
-        Error::Kind::InvalidArgument,
-        "environment: expected an (H, 2H, 3) array of radiance (a lat-long image, row 0 at the top)" +
-            (array ? ", got shape (" + shape.str() + ")" : ", got a " + std::string(py::str(value.get_type()))));
+// ---- matcap -------------------------------------------------------------------------------------
+
+// A material file (loadMaterialFile), its errors naming the keyword.
+MaterialFile materialFromFile(const std::filesystem::path& path, const Context& context) {
+  require(!path.empty(), "material: an empty path");
+  try {
+    return loadMaterialFile(path, context);
+  } catch (const Error& e) {
+    throw Error(e.kind(), "material: " + std::string(e.what()));
   }
-  const int height = static_cast<int>(array.shape(0)), width = static_cast<int>(array.shape(1));
-  const int channels = static_cast<int>(array.shape(2));
-  Image image(width, height, Rgba::Ones());
-  const float* in = array.data();
-  float* out = image.data();
-  for (std::size_t i = 0; i < static_cast<std::size_t>(width) * height; ++i) {
-    for (int c = 0; c < channels; ++c) {
-      const float v = in[i * channels + c];
-      if (!std::isfinite(v)) {
-        std::ostringstream text;
-        text << "environment[" << i / width << ", " << i % width << ", " << c << "]: radiance must be finite, got "
-             << v;
-        throw Error(Error::Kind::InvalidArgument, text.str());
-      }
-      out[4 * i + c] = v;
+}
+
+// A material given as a dict in the spec's form or a Fit (a path: materialFromFile, whose fit of a
+// measured table runs on the job's context).
+MaterialFile materialFromPython(const py::object& material) {
+  if (py::isinstance<FitTableResult>(material)) {
+    MaterialFile file;
+    file.kind = "fit";
+    file.material = std::make_shared<LobeMaterial>(material.cast<const FitTableResult&>().file.fit.model,
+                                                   LobeMaterialMode::Lighting, "lobes");
+    file.description = {{"model", "lobes"}};
+    return file;
+  }
+  if (py::isinstance<py::dict>(material)) {
+    const nlohmann::json object = jsonFromPython(material, "material");
+    const py::gil_scoped_release release;
+    return parseMaterialObject(object, std::filesystem::current_path(), "material");
+  }
+  throw py::type_error("material: expected a path, a dict ({\"model\": ...}) or a brdfbake.Fit, got " +
+                       std::string(py::str(material.get_type())));
+}
+
+py::object matcapJob(const py::object& material, const py::object& environment, MatcapRequest r,
+                     const std::string& parameterization, const std::string& method, const py::object& camera,
+                     const std::optional<std::filesystem::path>& output, int threads, const py::object& progress) {
+  return namingKeywords({}, [&]() -> py::object {
+    r.parameterization = parseNamed("parameterization", parameterization, parseParameterizationKind);
+    r.method = parseNamed("method", method, parseUnderEnvironmentMethod);
+    if (!camera.is_none()) {
+      const auto angles = camera.cast<std::vector<double>>();
+      requireField(angles.size() == 2, "camera", "expected (yaw, pitch) in degrees");
+      r.camera = CameraFrame::fromYawPitch(angles[0], angles[1]);
     }
-  }
-  return image;
+    r.environment = environmentFromPython(environment, std::nullopt);
+    std::optional<std::filesystem::path> path;
+    MaterialFile file;
+    if (py::isinstance<py::str>(material) || py::hasattr(material, "__fspath__")) {
+      path = material.cast<std::filesystem::path>();
+    } else {
+      file = materialFromPython(material);
+    }
+    auto made = std::make_shared<MatcapResult>();
+    runJob(
+        [&](const Context& context) {
+          if (path) file = materialFromFile(*path, context);  // a measured table is fitted here
+          r.material = file.material;
+          r.materialDescription = file.description;
+          *made = makeMatcap(r, context);
+        },
+        progress, threads);
+    auto writer = [made](const MapOutputs& o) { return writeMatcap(*made, o); };
+    std::vector<std::filesystem::path> written;
+    if (output) {
+      MapOutputs outputs;
+      outputs.files = {*output};
+      const py::gil_scoped_release release;
+      written = writer(outputs).files;
+    }
+    auto map =
+        mapInMemory({made->map.image}, underEnvironmentMapInfo(made->map, made->description), made->toJson(), writer);
+    if (output) map->source.path = *output, map->written = written;
+    return py::cast(map);
+  });
+}
+
+void bindMatcap(py::module_& module) {
+  module.def(
+      "matcap",
+      [](const py::object& material, const py::object& environment, int resolution, double maxError,
+         const std::string& method, const py::object& camera, const std::string& parameterization, int samplesPerTexel,
+         double exposure, const std::optional<std::filesystem::path>& output, int threads, const py::object& progress) {
+        MatcapRequest r;
+        r.resolution = resolution;
+        r.maxError = maxError;
+        r.samplesPerTexel = samplesPerTexel;
+        r.exposure = exposure;
+        return matcapJob(material, environment, r, parameterization, method, camera, output, threads, progress);
+      },
+      py::arg("material"), py::arg("environment"), py::arg("resolution"), py::arg("max_error"), py::arg("method"),
+      py::arg("camera"), py::arg("parameterization"), py::arg("samples_per_texel"), py::arg("exposure"),
+      py::arg("output"), py::arg("threads"), py::arg("progress"),
+      "makeMatcap (run/matcap_job.hpp) in memory, written too when output is given; use brdfbake.matcap.");
 }
 
 }  // namespace
@@ -236,15 +333,7 @@ void bindJobs(py::module_& module) {
              py::arg("format"), py::arg("output"), py::arg("report"), py::arg("threads"), py::arg("progress"),
              "fitTable (run/fit_table.hpp); use brdfbake.fit.");
   bindPrefilter(module);
-  module.def(
-      "write_environment",
-      [](const py::object& array, const std::filesystem::path& path) {
-        const Image image = environmentImage(array);
-        const py::gil_scoped_release release;
-        writeImage(image, path);
-      },
-      py::arg("array"), py::arg("path"),
-      "Writes an (H, W, 3|4) float array of radiance as a plain image (OpenEXR) for prefilter to read.");
+  bindMatcap(module);
 }
 
 }  // namespace brdfbake::python

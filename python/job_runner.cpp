@@ -35,7 +35,7 @@ struct JobChannel {
   // (fraction 1) wakes it and, with a callback, waits until the callback has seen it, so that a callback
   // raising there still stops the job before the task's output is written.
   void report(const std::string& task, double fraction) {
-    if (cancelled.load()) throw JobCancelled{};
+    if (cancelled.load()) throw Cancelled{};
     const bool last = fraction >= 1.0;
     std::unique_lock lock(mutex);
     const auto same = std::find_if(reports.begin(), reports.end(), [&](const auto& r) { return r.first == task; });
@@ -48,7 +48,7 @@ struct JobChannel {
     wake.notify_one();
     if (!waitForLast) return;
     delivered.wait(lock, [&] { return passedOn >= mine || cancelled.load(); });
-    if (cancelled.load()) throw JobCancelled{};
+    if (cancelled.load()) throw Cancelled{};
   }
 };
 
@@ -56,13 +56,14 @@ constexpr auto kPollInterval = std::chrono::milliseconds(50);
 
 }  // namespace
 
-void runJob(const std::function<void(const ProgressSink&)>& job, const py::object& progress) {
+void runJob(const std::function<void(const Context&)>& job, const py::object& progress, int threads, bool allowLarge) {
   auto channel = std::make_shared<JobChannel>();
   channel->waitForLast = !progress.is_none();
   const ProgressSink sink = [channel](const std::string& task, double fraction) { channel->report(task, fraction); };
-  std::thread worker([&job, &sink, channel] {
+  const Context context({.threads = threads, .allowLarge = allowLarge, .progress = sink});
+  std::thread worker([&job, &context, channel] {
     try {
-      job(sink);
+      job(context);
     } catch (...) {
       channel->failure = std::current_exception();
     }
@@ -97,6 +98,7 @@ void runJob(const std::function<void(const ProgressSink&)>& job, const py::objec
       } catch (...) {
         cancelling = std::current_exception();
         channel->cancelled = true;
+        context.cancel();
       }
     }
     {
@@ -113,7 +115,7 @@ void runJob(const std::function<void(const ProgressSink&)>& job, const py::objec
   if (channel->failure) {
     try {
       std::rethrow_exception(channel->failure);
-    } catch (const JobCancelled&) {
+    } catch (const Cancelled&) {
       // Only the calling thread cancels, and then `cancelling` is set; unreachable otherwise.
       throw std::runtime_error("brdfbake: a job was cancelled without a reason");
     }

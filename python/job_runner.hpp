@@ -8,11 +8,12 @@
 // handlers (PyErr_CheckSignals, which acts on the main thread only: the job's worker threads could
 // not). A task's last report waits until the callback has seen it, so a callback may stop the job
 // there, before the task's output is written. When a handler raises (Ctrl-C: KeyboardInterrupt) or
-// the callback does, the job is cancelled: its next progress report throws JobCancelled, which
-// unwinds it like any error (the unfinished output's temporaries are removed, core/files.hpp), and
-// the Python exception is raised once it has stopped. Whatever finished before stays: the maps of a
-// spec already written, for instance.
-#include <brdfbake/core/progress.hpp>
+// the callback does, the job's Context is cancelled: its next check throws Cancelled (computations
+// check often: a cancel takes effect within a fraction of a second), which unwinds it like any error
+// (the unfinished output's temporaries are removed, core/files.hpp), and the Python exception is
+// raised once it has stopped. Whatever finished before stays: the maps of a spec already written, for
+// instance.
+#include <brdfbake/core/context.hpp>
 
 #include <pybind11/pybind11.h>
 
@@ -22,13 +23,11 @@ namespace brdfbake::python {
 
 namespace py = pybind11;
 
-/// What the progress sink of a cancelled job throws. Not a brdfbake::Error (nor a std::exception),
-/// so no layer takes it for a failure to report and carry on from (runSpec's failed maps).
-struct JobCancelled {};
-
-/// Runs `job` with a sink for JobOptions::progress, as described above; `progress` is a Python
-/// callable (task: str, fraction: float) or None. Call with the GIL held. Rethrows what the job
-/// throws (brdfbake::Error becomes brdfbake.Error), or raises the Python exception that cancelled it.
-void runJob(const std::function<void(const ProgressSink&)>& job, const py::object& progress);
+/// Runs job(context) on a Context of `threads` (0 = every core; checked: Error naming "threads") and
+/// `allowLarge`, its progress passed to `progress` (a Python callable (task: str, fraction: float)
+/// or None), as described above. Call with the GIL held. Rethrows what the job throws
+/// (brdfbake::Error becomes brdfbake.Error), or raises the Python exception that cancelled it.
+void runJob(const std::function<void(const Context&)>& job, const py::object& progress, int threads = 0,
+            bool allowLarge = false);
 
 }  // namespace brdfbake::python

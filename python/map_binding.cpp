@@ -1,6 +1,6 @@
 // brdfbake.Map and brdfbake.read_map: any output of bake or prefilter read back, its pixels as a
 // numpy array and its lookups vectorised (what `brdfbake sample` and `info` do, output/baked_output.hpp).
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/image_io.hpp>
 
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
@@ -130,7 +130,51 @@ std::string mapRepr(const OpenedMap& map) {
   std::string text = "<brdfbake.Map " + d.value("kind", std::string());
   if (d.contains("parameterization")) text += " " + d["parameterization"].get<std::string>();
   if (d.contains("resolution")) text += " " + d["resolution"].dump();
-  return text + " '" + map.source.path.string() + "'>";
+  return text + (map.source.path.empty() ? " in memory>" : " '" + map.source.path.string() + "'>");
+}
+
+// Every mip level of a map in memory (copies), or the pixels of one read back.
+py::list levels(const py::object& self) {
+  const OpenedMap& map = self.cast<const OpenedMap&>();
+  py::list out;
+  if (map.levels.empty()) {
+    out.append(pixels(self));
+    return out;
+  }
+  for (const Image& level : map.levels) out.append(imageArray(level));
+  return out;
+}
+
+// Writes a map in memory to `path` (and `more`), as the job that made it writes its outputs.
+std::vector<std::filesystem::path> save(OpenedMap& map, const std::filesystem::path& path,
+                                        const std::vector<std::filesystem::path>& more,
+                                        const std::optional<std::string>& texelFormat, bool faces, bool tiled) {
+  if (!map.writer) {
+    throw Error(Error::Kind::InvalidArgument, "save: this map was read from " + map.source.path.string() +
+                                                  "; copy the file, or resample it with `brdfbake convert`");
+  }
+  MapOutputs outputs;
+  outputs.files = {path};
+  outputs.files.insert(outputs.files.end(), more.begin(), more.end());
+  outputs.layout = faces ? CubeLayout::Faces : CubeLayout::Cross;
+  outputs.mipLayout = tiled ? MipLayout::Tiled : MipLayout::Files;
+  if (texelFormat) {
+    try {
+      outputs.texelFormat = parseTexelFormat(*texelFormat);
+    } catch (const Error& e) {
+      throw Error(e.kind(), std::string("texel_format: ") + e.what());
+    }
+  }
+  MapWriteReport written;
+  try {
+    const py::gil_scoped_release release;
+    written = map.writer(outputs);
+  } catch (const Error& e) {
+    if (e.field().empty()) throw;
+    throw Error(e.kind(), (e.field() == "outputs" ? std::string("path") : e.field()) + ": " + e.problem());
+  }
+  map.written = written.files;
+  return written.files;
 }
 
 }  // namespace
@@ -146,7 +190,12 @@ std::shared_ptr<OpenedMap> openMap(const OutputSource& source) {
 void bindMaps(py::module_& module) {
   py::class_<OpenedMap, std::shared_ptr<OpenedMap>>(module, "Map", kMapDoc)
       .def_property_readonly(
-          "path", [](const OpenedMap& m) { return m.source.path; }, "The path it was read from.")
+          "path",
+          [](const OpenedMap& m) -> py::object {
+            if (m.source.path.empty()) return py::none();
+            return py::cast(m.source.path);
+          },
+          "The path it was read from or written to; None for a map only in memory.")
       .def_property_readonly(
           "kind", [](const OpenedMap& m) { return std::string(toString(m.output->kind())); },
           "map | radial_profile | elevation_stack | fresnel_table | sh_irradiance.")
@@ -167,7 +216,8 @@ void bindMaps(py::module_& module) {
           "The brdfbake metadata (a dict): parameterization, resolution, convention_version, the spec it was made "
           "from; of slice 0 for a stack, of face +x for six faces.")
       .def_property_readonly(
-          "files", [](const OpenedMap& m) { return m.output->files(); }, "Every file read.")
+          "files", [](const OpenedMap& m) { return m.output->files().empty() ? m.written : m.output->files(); },
+          "Every file read, or written for a map made in memory ([] until it is saved).")
       .def_property_readonly(
           "uses_cos_view", [](const OpenedMap& m) { return m.output->usesCosView(); },
           "True for elevation stacks and Fresnel tables, which sample() reads at cos_view.")
@@ -189,6 +239,13 @@ void bindMaps(py::module_& module) {
           "describe", [](const OpenedMap& m) { return pythonFromJson(m.output->describe()); },
           "What `brdfbake info` says of it: kind, files, size, parameterization, how to look it up.")
       .def("sample", &sample, py::arg("dirs") = py::none(), py::arg("cos_view") = py::none(), kSampleDoc)
+      .def_property_readonly("levels", &levels,
+                             "Every mip level as an (H, W, 4) float32 array (copies): a chain's or the solid-angle "
+                             "mip chain's levels for a map in memory, [pixels] for one read back.")
+      .def("save", &save, py::arg("path"), py::arg("more") = std::vector<std::filesystem::path>{}, py::kw_only(),
+           py::arg("texel_format") = py::none(), py::arg("faces") = false, py::arg("tiled") = false,
+           "Writes a map made in memory (matcap, prefilter) to path (and each of more), its format by the "
+           "extension, as the tool writes it; returns every file written.")
       .def("__repr__", &mapRepr);
 
   module.def(

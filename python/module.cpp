@@ -26,6 +26,8 @@ PYBIND11_MODULE(_core, module) {
   });
   brdfbake::python::bindResults(module);
   brdfbake::python::bindMaps(module);
+  brdfbake::python::bindEnvironment(module);
   brdfbake::python::bindJobs(module);
+  brdfbake::python::bindIbl(module);
   module.attr("version") = BRDFBAKE_VERSION_STRING;
 }

@@ -1,7 +1,7 @@
 // The results of the jobs as Python objects: brdfbake.BakeResult and brdfbake.MapResult (runSpec,
 // run/spec_runner.hpp) and brdfbake.Fit (fitTable, run/fit_table.hpp). Each has to_json(), the
 // dict the tool prints with --json, and brief_report(), the text it prints without.
-#include <brdfbake/core/files.hpp>
+#include <brdfbake/io/files.hpp>
 #include <brdfbake/run/fit_table.hpp>
 #include <brdfbake/run/spec_runner.hpp>
 

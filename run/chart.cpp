@@ -1,6 +1,6 @@
 #include <brdfbake/bake/baker.hpp>
-#include <brdfbake/core/files.hpp>
-#include <brdfbake/core/gnuplot.hpp>
+#include <brdfbake/io/files.hpp>
+#include <brdfbake/run/gnuplot.hpp>
 
 #include "chart_internal.hpp"
 
@@ -30,7 +30,6 @@ void requireListIn(const std::vector<T>& values, T lowest, T highest, const std:
 }  // namespace
 
 void ChartOptions::validate() const {
-  JobOptions::validate();
   requireListIn(resolutions, 1, 65536, "resolutions");
   requireListIn(environmentResolutions, 1, 65536, "environment resolutions");
   requireListIn(samplesPerTexel, 1, 4096, "samples per texel");
@@ -41,7 +40,7 @@ void ChartOptions::validate() const {
   if (!chart.empty()) checkChartPath(chart);
 }
 
-ChartResult chartSpec(const ChartOptions& options) {
+ChartResult chartSpec(const ChartOptions& options, const Context& context) {
   options.validate();
   BakeSpec spec = loadBakeSpec(options.spec);
   checkFiles(spec, options);
@@ -52,7 +51,7 @@ ChartResult chartSpec(const ChartOptions& options) {
       environments[i] = loadEnvironment(e->file, EnvironmentLoadOptions{e->from});
     }
   // Warm up the thread pool, so the first point does not carry its start-up.
-  bake(*makeParameterization(ParameterizationKind::Sphere, 8), ConstantEnvironment());
+  bake(*makeParameterization(ParameterizationKind::Sphere, 8), ConstantEnvironment(), {}, context.withoutProgress());
 
   ChartResult result;
   std::vector<std::string> panels;  // one chart per map, drawn into the chart as one picture
@@ -60,9 +59,9 @@ ChartResult chartSpec(const ChartOptions& options) {
     MapSpec& map = spec.maps[m];
     MapChart chart =
         std::visit(Overloaded{[&](const EnvironmentMapSpec& e) {
-                                return chartEnvironmentMap(map, e, *environments[m], options, result.skipped);
+                                return chartEnvironmentMap(map, e, *environments[m], options, context, result.skipped);
                               },
-                              [&](const MaterialMapSpec&) { return chartMaterialMap(map, options); }},
+                              [&](const MaterialMapSpec&) { return chartMaterialMap(map, options, context); }},
                    map.content);
     markPareto(chart.points, options.lookupError);
     if (!options.chart.empty() && !chart.points.empty()) panels.push_back(chartScript(chart, options.lookupError));

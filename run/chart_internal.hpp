@@ -15,8 +15,8 @@ struct MapChart {
 };
 
 MapChart chartEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e, const Environment& environment,
-                             const ChartOptions& options, std::vector<ChartSkip>& skipped);
-MapChart chartMaterialMap(MapSpec& map, const ChartOptions& options);
+                             const ChartOptions& options, const Context& context, std::vector<ChartSkip>& skipped);
+MapChart chartMaterialMap(MapSpec& map, const ChartOptions& options, const Context& context);
 
 /// Marks the points no other point beats in both time and charted error.
 void markPareto(std::vector<ChartPoint>& points, bool lookups);

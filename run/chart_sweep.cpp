@@ -25,7 +25,7 @@ struct SweepReference {
 };
 
 SweepReference sweepReference(const Environment& environment, const EnvironmentMapSpec& e, const Parameterization& map,
-                              const PrefilterOptions& options, int subset) {
+                              const PrefilterOptions& options, int subset, const Context& context) {
   const PrefilterLobe* lobe = e.analyticLobe();
   // Axes of a lobe model are the reflected directions, as phong's.
   const PrefilterLobe axisLobe = lobe ? *lobe : PrefilterLobe::phong(1.0);
@@ -35,9 +35,8 @@ SweepReference sweepReference(const Environment& environment, const EnvironmentM
   std::vector<Vec3> axes = r.texels.axes;
   axes.insert(axes.end(), r.lookups.axes.begin(), r.lookups.axes.end());
   const auto start = Clock::now();
-  const std::vector<Rgb> reference =
-      lobe ? prefilterReferenceAt(environment, *lobe, axes, options.threads)
-           : prefilterLobeModelReferenceAt(environment, *e.lobeModel(), axes, options.threads);
+  const std::vector<Rgb> reference = lobe ? prefilterReferenceAt(environment, *lobe, axes, context)
+                                          : prefilterLobeModelReferenceAt(environment, *e.lobeModel(), axes, context);
   const double seconds = secondsSince(start);
   const auto split = reference.begin() + static_cast<std::ptrdiff_t>(r.texels.size());
   r.texelValues.assign(reference.begin(), split);
@@ -50,11 +49,12 @@ SweepReference sweepReference(const Environment& environment, const EnvironmentM
 // One prefilter of an environment map, timed and measured against the reference. Throws Error when
 // the method cannot make the map.
 ChartPoint environmentPoint(const MapSpec& map, const EnvironmentMapSpec& e, const Environment& environment,
-                            const PrefilterOptions& options, const SweepReference& reference, double floor) {
+                            const PrefilterOptions& options, const SweepReference& reference, double floor,
+                            const Context& context) {
   const PrefilterLobe* lobe = e.analyticLobe();
   const auto start = Clock::now();
-  const PrefilteredMap result = lobe ? prefilter(environment, *lobe, options)
-                                     : prefilterLobeModel(environment, *e.lobeModel(), e.lobeName, options);
+  const PrefilteredMap result = lobe ? prefilter(environment, *lobe, options, context)
+                                     : prefilterLobeModel(environment, *e.lobeModel(), e.lobeName, options, context);
   ChartPoint p;
   p.seconds = secondsSince(start);
   p.environment = true;
@@ -99,12 +99,11 @@ std::string environmentSkipReason(const EnvironmentMapSpec& e) {
 
 // One bake of a material map, timed and measured against the exact model.
 ChartPoint materialPoint(const MapSpec& map, const MapFunction& function, const ErrorProbes& probes,
-                         ParameterizationKind kind, int resolution, int samplesPerTexel, int threads) {
+                         ParameterizationKind kind, int resolution, int samplesPerTexel, const Context& context) {
   const auto parameterization = makeParameterization(kind, resolution);
   BakeOptions options;
   options.samplesPerTexel = samplesPerTexel;
-  options.threads = threads;
-  const auto [image, summary] = bakeMap(*parameterization, function, options);
+  const auto [image, summary] = bakeMap(*parameterization, function, options, context);
   ChartPoint p;
   p.map = map.jsonPath;
   p.parameterization = std::string(toString(kind));
@@ -125,7 +124,7 @@ ChartPoint materialPoint(const MapSpec& map, const MapFunction& function, const 
 }  // namespace
 
 MapChart chartEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e, const Environment& environment,
-                             const ChartOptions& options, std::vector<ChartSkip>& skipped) {
+                             const ChartOptions& options, const Context& context, std::vector<ChartSkip>& skipped) {
   if (const std::string reason = environmentSkipReason(e); !reason.empty()) {
     skipped.push_back({map.jsonPath, "", "", reason, 0});
     return {};
@@ -133,7 +132,8 @@ MapChart chartEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e, co
   const PrefilterLobe* lobe = e.analyticLobe();
   const double floor =
       lobe ? prefilterErrorFloor(environment, *lobe) : prefilterLobeModelErrorFloor(environment, *e.lobeModel());
-  const auto progress = progressFor(options.progress, map.jsonPath);
+  const Context task = context.task(map.jsonPath);
+  const Context quiet = task.withoutProgress();
   const double total =
       double(options.parameterizations.size() * options.environmentResolutions.size() * options.methods.size());
   int done = 0;
@@ -146,18 +146,17 @@ MapChart chartEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e, co
       prefilterOptions.resolution = resolution;
       prefilterOptions.mips = false;
       if (options.maxError > 0.0) prefilterOptions.maxError = options.maxError;
-      prefilterOptions.threads = options.threads;
-      const SweepReference reference =
-          sweepReference(environment, e, *makeParameterization(kind, resolution), prefilterOptions, options.subset);
+      const SweepReference reference = sweepReference(environment, e, *makeParameterization(kind, resolution),
+                                                      prefilterOptions, options.subset, quiet);
       for (const auto method : options.methods) {
         prefilterOptions.method = method;
         try {
-          chart.points.push_back(environmentPoint(map, e, environment, prefilterOptions, reference, floor));
+          chart.points.push_back(environmentPoint(map, e, environment, prefilterOptions, reference, floor, quiet));
         } catch (const Error& error) {
           skipped.push_back(
               {map.jsonPath, std::string(toString(kind)), std::string(toString(method)), error.what(), resolution});
         }
-        if (progress) progress(++done / total);
+        task.report(++done / total);
       }
     }
   }
@@ -167,10 +166,10 @@ MapChart chartEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e, co
   return chart;
 }
 
-MapChart chartMaterialMap(MapSpec& map, const ChartOptions& options) {
-  if (map.materialMap()->deferredFit) map.prepare(progressFor(options.progress, map.jsonPath + " fitting lobes"));
+MapChart chartMaterialMap(MapSpec& map, const ChartOptions& options, const Context& context) {
+  if (map.materialMap()->deferredFit) map.prepare(context.task(map.jsonPath + " fitting lobes"));
   const auto function = map.makeFunction();
-  const auto progress = progressFor(options.progress, map.jsonPath);
+  const Context task = context.task(map.jsonPath);
   const double total =
       double(options.parameterizations.size() * options.resolutions.size() * options.samplesPerTexel.size());
   int done = 0;
@@ -181,8 +180,9 @@ MapChart chartMaterialMap(MapSpec& map, const ChartOptions& options) {
   for (const auto kind : options.parameterizations)
     for (const int resolution : options.resolutions)
       for (const int samples : options.samplesPerTexel) {
-        chart.points.push_back(materialPoint(map, *function, probes, kind, resolution, samples, options.threads));
-        if (progress) progress(++done / total);
+        chart.points.push_back(
+            materialPoint(map, *function, probes, kind, resolution, samples, task.withoutProgress()));
+        task.report(++done / total);
       }
   chart.title = map.jsonPath + ": " + map.modelName() + " (" + map.output.filename().string() + ")";
   return chart;

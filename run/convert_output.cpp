@@ -10,7 +10,7 @@ namespace {
 // Where the map came from, in its metadata.
 nlohmann::json convertedFrom(const ConvertOptions& options, const nlohmann::json& described) {
   nlohmann::json from = {
-      {"file", options.source.path.string()},
+      {"file", options.source.path.filename().string()},
       {"kind", described["kind"]},
       {"parameterization", described.value("parameterization", described["kind"].get<std::string>())},
       {"resolution", described.value("resolution", 0)}};
@@ -27,7 +27,6 @@ std::optional<TexelFormat> texelFormatFor(const ConvertOptions& options, const f
 }  // namespace
 
 void ConvertOptions::validate() const {
-  JobOptions::validate();
   require(resolution >= 0 && resolution <= 65536, "resolution must be in [1, 65536] (0: the input's)");
   require(samplesPerTexel >= 1 && samplesPerTexel <= 4096, "samples per texel must be in [1, 4096]");
   bool anyTexture = false;
@@ -41,7 +40,7 @@ std::vector<fs::path> ConvertOptions::outputs() const {
   return files;
 }
 
-ConvertResult convertOutput(const ConvertOptions& options) {
+ConvertResult convertOutput(const ConvertOptions& options, const Context& context) {
   options.validate();
   const BakedOutput source = options.source.open();
   options.source.checkCosView(source, false);
@@ -66,10 +65,8 @@ ConvertResult convertOutput(const ConvertOptions& options) {
   plan.check();
   BakeOptions bake;
   bake.samplesPerTexel = options.samplesPerTexel;
-  bake.threads = options.threads;
-  bake.allowLarge = options.allowLarge;
-  bake.progress = progressFor(options.progress, "convert " + options.source.path.filename().string());
-  const BakedMap baked = bakeMap(*target, BakedOutputFunction(source, options.source.cosView), bake);
+  const BakedMap baked = bakeMap(*target, BakedOutputFunction(source, options.source.cosView), bake,
+                                 context.task("convert " + options.source.path.filename().string()));
   MapInfo info;
   info.parameterization = options.to;
   info.resolution = resolution;

@@ -1,4 +1,4 @@
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/image_io.hpp>
 #include <brdfbake/output/baked_output.hpp>
 #include <brdfbake/run/describe_output.hpp>
 

@@ -1,4 +1,4 @@
-#include <brdfbake/core/files.hpp>
+#include <brdfbake/io/files.hpp>
 #include <brdfbake/run/evaluate.hpp>
 
 #include <sstream>
@@ -69,7 +69,6 @@ void evaluatePairsFile(const EvaluateOptions& options, const BrdfFile& brdf, Eva
 }  // namespace
 
 void EvaluateOptions::validate() const {
-  JobOptions::validate();
   const bool single = wi || wo;
   require(single != !pairs.empty(), "give either wi and wo, or a pairs file");
   require(!single || (wi && wo), "wi and wo go together");
@@ -78,7 +77,8 @@ void EvaluateOptions::validate() const {
             "wi and wo must be finite and non-zero");
 }
 
-EvaluateResult evaluateBrdf(const EvaluateOptions& options) {
+EvaluateResult evaluateBrdf(const EvaluateOptions& options, const Context& context) {
+  context.checkCancelled();
   options.validate();
   if (!options.pairs.empty()) requireInputFile(options.pairs, "pairs file");
   const BrdfFile brdf = loadBrdf(options.model, options.format);

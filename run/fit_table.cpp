@@ -1,8 +1,8 @@
-#include <brdfbake/core/files.hpp>
-#include <brdfbake/core/gnuplot.hpp>
 #include <brdfbake/fit/cornell_grid.hpp>
-#include <brdfbake/fit/fit_report.hpp>
+#include <brdfbake/io/files.hpp>
+#include <brdfbake/run/fit_report.hpp>
 #include <brdfbake/run/fit_table.hpp>
+#include <brdfbake/run/gnuplot.hpp>
 
 #include <cmath>
 #include <iomanip>
@@ -24,7 +24,7 @@ const char* lobeKindName(const LobeModel& model) {
 
 // The table as fitted: as measured (spectral) or converted to RGB, with where it came from.
 MeasuredTable fittedChannels(const FitTableOptions& options, const MeasuredTable& read, FitSource& source) {
-  source.file = options.table.string();
+  source.file = options.table.filename().string();  // its name: no folder of this machine in the file
   source.format = std::string(toString(read.format));
   source.samples = read.size();
   const std::string count = std::to_string(read.channelCount());
@@ -83,7 +83,6 @@ void describeLargestRows(std::ostream& out, const HeldOutReport& report) {
 }  // namespace
 
 void FitTableOptions::validate() const {
-  JobOptions::validate();
   fit.validate();
   if (!report.empty() && !findGnuplot()) {
     throw Error(Error::Kind::InvalidArgument,
@@ -91,7 +90,7 @@ void FitTableOptions::validate() const {
   }
 }
 
-FitTableResult fitTable(const FitTableOptions& options) {
+FitTableResult fitTable(const FitTableOptions& options, const Context& context) {
   options.validate();
   FilePlan plan;
   plan.addInput(options.table, "table");
@@ -105,11 +104,7 @@ FitTableResult fitTable(const FitTableOptions& options) {
   result.samples = read.size();
   const MeasuredTable table = fittedChannels(options, read, result.file.source);
   result.notes = result.file.source.notes;
-  FitOptions fit = options.fit;
-  fit.threads = options.threads;
-  fit.heldOut.threads = options.threads;
-  fit.progress = progressFor(options.progress, "fit " + options.table.filename().string());
-  result.file.fit = fitLobes(table, fit);
+  result.file.fit = fitLobes(table, options.fit, context.task("fit " + options.table.filename().string()));
   if (!options.output.empty()) writeFitFile(options.output, result.file), result.files.push_back(options.output);
   if (!options.report.empty()) {
     writeFitReport(options.report, table, result.file.fit.model, reportTitle(options, result.file.fit));

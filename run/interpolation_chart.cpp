@@ -1,5 +1,5 @@
-#include <brdfbake/core/files.hpp>
-#include <brdfbake/core/gnuplot.hpp>
+#include <brdfbake/io/files.hpp>
+#include <brdfbake/run/gnuplot.hpp>
 #include <brdfbake/run/interpolation_chart.hpp>
 
 #include <sstream>
@@ -64,7 +64,6 @@ FilePlan planOutputs(const InterpolationOptions& options) {
 }  // namespace
 
 void InterpolationOptions::validate() const {
-  JobOptions::validate();
   require(!sizesDegrees.empty() && !placesDegrees.empty(), "sizes and places must not be empty");
   for (double s : sizesDegrees) require(s > 0 && s <= 60, "sizes: each must be in (0, 60] degrees");
   for (double p : placesDegrees) require(p >= 0 && p < 90, "places: each must be in [0, 90) degrees");
@@ -74,7 +73,8 @@ void InterpolationOptions::validate() const {
   require(segment >= 0.01 && segment <= 20.0, "segment: the vertex spacing must be in [0.01, 20]");
 }
 
-InterpolationResult chartInterpolation(const InterpolationOptions& options) {
+InterpolationResult chartInterpolation(const InterpolationOptions& options, const Context& context) {
+  context.checkCancelled();
   options.validate();
   planOutputs(options).check();
   InterpolationResult result;

@@ -1,22 +1,42 @@
 #pragma once
-// How runSpec makes one map of each kind (spec_runner.cpp dispatches; material_maps.cpp and
-// environment_maps.cpp make them). Private to the run layer.
+// How runSpec makes one map of each kind (spec_runner.cpp dispatches; material_maps.cpp,
+// prefilter_job.cpp and matcap_job.cpp make them), and the report every written map shares. Private
+// to the run layer.
 #include <brdfbake/env/environment.hpp>
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/image_io.hpp>
+#include <brdfbake/run/map_outputs.hpp>
+#include <brdfbake/run/prefilter_job.hpp>
 #include <brdfbake/run/spec_runner.hpp>
 
 #include <string>
 #include <vector>
 
+namespace brdfbake {
+struct MatcapRequest;
+}  // namespace brdfbake
+
 namespace brdfbake::run_detail {
 
 /// What every map of one run shares.
 struct MapRunContext {
-  const JobOptions& options;
+  const Context& context;
   /// The inputs no output may overwrite (the spec, the map's environment); each output's texel format
   /// comes from MapSpec::writeOptionsFor.
   WriteOptions write;
 };
+
+/// Where a map's report says it went: its place in a spec ("maps[0]", or "" outside one) and its
+/// files, given as a list ("outputs") or one ("output").
+struct MapPlace {
+  std::string jsonPath;
+  std::vector<std::filesystem::path> files;
+  bool list = false;
+  /// "a.exr" or "a.exr, a.png, a.ktx2".
+  std::string names() const;
+};
+MapPlace placeOf(const MapSpec& map);
+/// A spec map's outputs as the write step takes them.
+MapOutputs outputsOf(const MapSpec& map, const std::vector<std::filesystem::path>& inputs);
 
 /// The entry every map's JSON shares: output, files, parameterization, resolution, width,
 /// height, bake_path, bake_seconds, write_seconds, notes.
@@ -26,31 +46,35 @@ struct EntryFacts {
   std::string bakePath;
   double bakeSeconds = 0.0, writeSeconds = 0.0;
 };
-MapResult makeMapResult(const MapSpec& map, const EntryFacts& facts, std::vector<std::filesystem::path> files,
+MapResult makeMapResult(const MapPlace& place, const EntryFacts& facts, std::vector<std::filesystem::path> files,
                         std::vector<std::string> notes);
 
 /// A map baked from a material (and lights), `auto` choosing its configuration when asked.
 MapResult runMaterialMap(const MapSpec& map, const MapRunContext& context);
 
 /// A map of a material lit by an environment (MaterialMapSpec::environment; a matcap when a sphere
-/// map), its measured material's fit run first.
-MapResult runUnderEnvironmentMap(const MapSpec& map, const Environment& environment, const MapRunContext& context);
+/// map), its measured material's fit run first: MatcapRequest from the spec, then makeAndWriteMatcap.
+MapResult runUnderEnvironmentMap(const MapSpec& map, const std::shared_ptr<const Environment>& environment,
+                                 const MapRunContext& context);
+/// makeMatcap, writeMatcap and the map's report (matcap_job.cpp).
+MapResult makeAndWriteMatcap(const MatcapRequest& request, const MapOutputs& outputs, const MapPlace& place,
+                             const Context& context);
 
-/// A map prefiltered from an environment: one map, a stack over elevation, a Fresnel
-/// decomposition or a gloss chain, and the SH irradiance file when asked.
-MapResult runEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e, const Environment& environment,
-                            const MapRunContext& context);
+/// A map prefiltered from an environment: PrefilterRequest from the spec, then makeAndWritePrefiltered.
+MapResult runEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e,
+                            const std::shared_ptr<const Environment>& environment, const MapRunContext& context);
+
+/// The report of a prefiltered map written to `place` (prefilter_job.cpp): entry, lines, notes.
+MapResult reportPrefiltered(const PrefilterResult& made, const MapPlace& place, MapWriteReport written,
+                            double writeSeconds, const std::optional<ShOutput>& sh);
 
 /// Adds `from`'s files and its notes not already in `into` (one output of several written).
 void appendWritten(MapWriteReport& into, const MapWriteReport& from);
 
-/// The map's outputs as its "wrote" line names them: "a.exr", or "a.exr, a.png, a.ktx2".
-std::string outputNames(const MapSpec& map);
-
-/// Sets a one-map spec's "output" (or, with `more`, "outputs") and "texel_format", for the jobs that
-/// build a spec from a request (prefilter, matcap).
-void putOutputs(nlohmann::json& map, const std::filesystem::path& output,
-                const std::vector<std::filesystem::path>& more, const std::optional<std::string>& texelFormat);
+/// `value` with every file name in it ("file", "output", "outputs", "sh_output", at any depth) cut to
+/// its last component: what a file's metadata records of its inputs and outputs, so that no folder of
+/// the machine that made it travels with it.
+nlohmann::json withoutFolders(nlohmann::json value);
 
 /// A number as the tool prints seconds and errors (6 significant digits, as iostream).
 std::string formatNumber(double value);

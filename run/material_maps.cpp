@@ -3,7 +3,7 @@
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/bake/radial_profile.hpp>
 #include <brdfbake/core/version.hpp>
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/io/map_file.hpp>
 
 #include <chrono>
 
@@ -31,13 +31,11 @@ std::string errorMeasureName(const MapSpec& map, const std::optional<RadialProfi
 }
 
 // The cheapest configuration meeting max_error (candidates estimated, the choice baked and measured).
-void bakeAuto(const MapFunction& function, BakeOptions options, Baked& baked) {
+void bakeAuto(const MapFunction& function, const BakeOptions& options, const Context& context, Baked& baked) {
   AutoOptions autoOptions = baked.map.autoOptions();
-  autoOptions.progress = options.progress;
-  options.progress = {};
   autoOptions.bake = options;
   const auto start = std::chrono::steady_clock::now();
-  AutoResult chosen = chooseConfiguration(function, autoOptions);
+  AutoResult chosen = chooseConfiguration(function, autoOptions, context);
   baked.summary.path = "auto";
   baked.summary.seconds = secondsSince(start);
   MapSpec& map = baked.map;
@@ -62,25 +60,22 @@ Baked bakeMaterial(const MapSpec& specified, const MapRunContext& context) {
   Baked baked{specified, {}, {}, {}, nullptr};
   MapSpec& map = baked.map;
   if (const auto& fit = map.materialMap()->deferredFit) {  // a measured material's fit runs now
-    map.prepare(progressFor(context.options.progress,
-                            map.jsonPath + " fitting lobes to " + fs::path(fit->table.sourceFile).filename().string()));
+    map.prepare(context.context.task(map.jsonPath + " fitting lobes to " +
+                                     fs::path(fit->table.sourceFile).filename().string()));
   }
   const auto function = map.makeFunction();
   BakeOptions options;
-  options.threads = context.options.threads;
-  options.allowLarge = context.options.allowLarge;
   options.samplesPerTexel = map.samplesPerTexel;
-  options.progress = progressFor(context.options.progress, map.jsonPath + " " + map.output.filename().string());
+  const Context task = context.context.task(map.jsonPath + " " + map.output.filename().string());
   if (map.anyAuto()) {
-    bakeAuto(*function, options, baked);
+    bakeAuto(*function, options, task, baked);
   } else if (map.radialProfile) {
     const auto start = std::chrono::steady_clock::now();
-    baked.profile =
-        bakeRadialProfile(*function, *function->symmetryAxis(), map.resolution, map.samplesPerTexel, options);
+    baked.profile = bakeRadialProfile(*function, *function->symmetryAxis(), map.resolution, map.samplesPerTexel, task);
     baked.summary.path = "profile";
     baked.summary.seconds = secondsSince(start);
   } else {
-    BakedMap result = bakeMap(*makeParameterization(map.parameterization, map.resolution), *function, options);
+    BakedMap result = bakeMap(*makeParameterization(map.parameterization, map.resolution), *function, options, task);
     baked.image = std::move(result.image);
     baked.summary = result.summary;
   }
@@ -107,7 +102,7 @@ MapResult writeProfile(const Baked& baked, const MapRunContext& context) {
   const MapSpec& map = baked.map;
   Image image = profile.toImage();
   image.metadata["convention_version"] = kConventionVersion;
-  image.metadata["spec"] = map.raw;
+  image.metadata["spec"] = withoutFolders(map.raw);
   if (!baked.autoReport.is_null()) image.metadata["spec"]["auto"] = baked.autoReport;
   const auto writeStart = std::chrono::steady_clock::now();
   MapWriteReport written;
@@ -118,12 +113,13 @@ MapResult writeProfile(const Baked& baked, const MapRunContext& context) {
   }
   const double writeSeconds = secondsSince(writeStart);
   const int n = profile.resolution();
-  MapResult result = makeMapResult(map, {"profile", n, n, 1, baked.summary.path, baked.summary.seconds, writeSeconds},
-                                   written.files, written.notes);
+  MapResult result =
+      makeMapResult(placeOf(map), {"profile", n, n, 1, baked.summary.path, baked.summary.seconds, writeSeconds},
+                    written.files, written.notes);
   const Vec3& axis = profile.axis();
   result.entry["axis"] = {axis.x(), axis.y(), axis.z()};
   result.entry["samples_per_texel"] = map.samplesPerTexel;
-  result.lines.push_back("wrote " + outputNames(map) + " (1-D radial profile, " + std::to_string(n) +
+  result.lines.push_back("wrote " + placeOf(map).names() + " (1-D radial profile, " + std::to_string(n) +
                          " texels about (" + formatNumber(axis.x()) + ", " + formatNumber(axis.y()) + ", " +
                          formatNumber(axis.z()) + "), " + baked.summary.path + "): bake " +
                          formatNumber(baked.summary.seconds) + " s, write " + formatNumber(writeSeconds) + " s");
@@ -141,12 +137,11 @@ MapResult writeMaterialMap(const Baked& baked, const MapRunContext& context) {
   info.parameterization = map.parameterization;
   info.resolution = map.resolution;
   info.conventionVersion = kConventionVersion;
-  info.spec = map.raw;
+  info.spec = withoutFolders(map.raw);
   if (!baked.autoReport.is_null()) info.spec["auto"] = baked.autoReport;
   const auto writeStart = std::chrono::steady_clock::now();
   MapWriteReport written;
-  BakeOptions extrasOptions;
-  extrasOptions.threads = context.options.threads;
+  const BakeOptions extrasOptions;
   const std::vector<fs::path> files = map.outputs();
   for (std::size_t i = 0; i < files.size(); ++i) {
     const WriteOptions options = map.writeOptionsFor(i, context.write.inputs);
@@ -156,16 +151,16 @@ MapResult writeMaterialMap(const Baked& baked, const MapRunContext& context) {
     MapSpec one = map;
     one.output = files[i];
     if (i > 0) one.materialMap()->fresnelTableOutput.reset();
-    appendWritten(written, writeMapExtras(one, extrasOptions, options));
+    appendWritten(written, writeMapExtras(one, extrasOptions, options, context.context));
   }
   const double writeSeconds = secondsSince(writeStart);
   const std::string kind(toString(map.parameterization));
   const int width = parameterization->width(), height = parameterization->height();
-  MapResult result =
-      makeMapResult(map, {kind, map.resolution, width, height, baked.summary.path, baked.summary.seconds, writeSeconds},
-                    written.files, written.notes);
+  MapResult result = makeMapResult(
+      placeOf(map), {kind, map.resolution, width, height, baked.summary.path, baked.summary.seconds, writeSeconds},
+      written.files, written.notes);
   result.entry["samples_per_texel"] = map.samplesPerTexel;
-  result.lines.push_back("wrote " + outputNames(map) + " (" + kind + " " + std::to_string(width) + "x" +
+  result.lines.push_back("wrote " + placeOf(map).names() + " (" + kind + " " + std::to_string(width) + "x" +
                          std::to_string(height) + ", " + std::to_string(map.samplesPerTexel) + " samples/texel, " +
                          baked.summary.path + "): bake " + formatNumber(baked.summary.seconds) + " s, write " +
                          formatNumber(writeSeconds) + " s");

@@ -1,15 +1,14 @@
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/run/preview_job.hpp>
 
 namespace brdfbake {
 
 void PreviewJobOptions::validate() const {
-  JobOptions::validate();
   preview.validate();
   imageFormatFor(output);
 }
 
-PreviewResult makePreview(const PreviewJobOptions& options) {
+PreviewResult makePreview(const PreviewJobOptions& options, const Context& context) {
   options.validate();
   FilePlan plan;
   plan.addInput(options.source.path, "map");
@@ -17,7 +16,8 @@ PreviewResult makePreview(const PreviewJobOptions& options) {
   plan.check();
   const BakedOutput source = options.source.open();
   Image image = renderPreview(source, options.preview);
-  image.metadata = {{"preview_of", options.source.path.string()},
+  context.checkCancelled();
+  image.metadata = {{"preview_of", options.source.path.filename().string()},
                     {"object", std::string(toString(options.preview.object))},
                     {"per_vertex", options.preview.perVertex}};
   const WriteReport written =

@@ -1,4 +1,4 @@
-#include <brdfbake/core/files.hpp>
+#include <brdfbake/io/files.hpp>
 #include <brdfbake/run/sample_output.hpp>
 
 #include <sstream>
@@ -89,12 +89,12 @@ void OutputSource::checkCosView(const BakedOutput& output, bool fresnelNeedsIt) 
 }
 
 void SampleOptions::validate() const {
-  JobOptions::validate();
   require(directions.empty() || directionsFile.empty(), "give directions or a directions file, not both");
   for (const auto& d : directions) require(d.allFinite() && d.norm() > 0.0, "a direction must be finite and non-zero");
 }
 
-SampleResult sampleOutput(const SampleOptions& options) {
+SampleResult sampleOutput(const SampleOptions& options, const Context& context) {
+  context.checkCancelled();
   options.validate();
   const BakedOutput output = options.source.open();
   options.source.checkCosView(output);

@@ -33,20 +33,11 @@ void placeOutputs(BakeSpec& spec, const fs::path& outDir) {
 }
 
 // Refuses oversize maps before any work, so a spec either bakes whole or writes nothing.
-void checkMapSizes(const BakeSpec& spec, const JobOptions& options, const std::string& label) {
-  const RunOptions limits;
+void checkMapSizes(const BakeSpec& spec, const Context& context, const std::string& label) {
   for (const auto& map : spec.maps) {
     if (map.anyAuto()) continue;  // auto candidates stay far below the limit
     const auto parameterization = makeParameterization(map.parameterization, map.resolution);
-    const long long texels = static_cast<long long>(parameterization->width()) * parameterization->height();
-    const std::string size =
-        std::to_string(parameterization->width()) + " x " + std::to_string(parameterization->height());
-    if (texels > limits.maxTexels && !options.allowLarge) {
-      throw Error(Error::Kind::Resource, label + ": " + map.jsonPath + ": a " + size + " map needs " +
-                                             formatBytes(static_cast<double>(texels) * 16.0) +
-                                             "; lower its resolution or allow large maps (--allow-large)");
-    }
-    requireWithinMemoryBudget(static_cast<double>(texels) * 16.0, label + ": " + map.jsonPath + ": a " + size + " map");
+    context.requireImageSize(parameterization->width(), parameterization->height(), label + ": " + map.jsonPath);
   }
 }
 
@@ -72,17 +63,17 @@ std::vector<std::shared_ptr<const Environment>> loadEnvironments(const BakeSpec&
 }
 
 MapResult runOneMap(const MapSpec& map, const std::shared_ptr<const Environment>& environment, const SpecPlan& plan,
-                    const JobOptions& options) {
-  MapRunContext context{options, {}};
+                    const Context& runContext) {
+  MapRunContext context{runContext, {}};
   if (!plan.specFile.empty()) context.write.inputs.push_back(plan.specFile);
   return std::visit(Overloaded{[&](const EnvironmentMapSpec& e) {
                                  context.write.inputs.push_back(e.file);
-                                 return runEnvironmentMap(map, e, *environment, context);
+                                 return runEnvironmentMap(map, e, environment, context);
                                },
                                [&](const MaterialMapSpec& m) {
                                  if (!m.environment) return runMaterialMap(map, context);
                                  context.write.inputs.push_back(m.environment->file);
-                                 return runUnderEnvironmentMap(map, *environment, context);
+                                 return runUnderEnvironmentMap(map, environment, context);
                                }},
                     map.content);
 }
@@ -100,7 +91,6 @@ MapResult failedMap(const MapSpec& map, const Error& error) {
 }  // namespace
 
 void SpecRunOptions::validate() const {
-  JobOptions::validate();
   require(spec.empty() != document.is_null(), "give either a spec file or a spec document, not both or neither");
 }
 
@@ -134,7 +124,7 @@ nlohmann::json SpecRunResult::toJson() const {
   return report;
 }
 
-SpecPlan planSpec(const SpecRunOptions& options) {
+SpecPlan planSpec(const SpecRunOptions& options, const Context& context) {
   options.validate();
   SpecPlan plan;
   if (!options.spec.empty()) {
@@ -153,19 +143,19 @@ SpecPlan planSpec(const SpecRunOptions& options) {
   // Every file the spec reads and writes, checked against each other before any work.
   plan.files = planSpecFiles(plan.spec, plan.specFile, plan.outputFolder);
   plan.files.check();
-  checkMapSizes(plan.spec, options, plan.specFile.empty() ? options.label : plan.specFile.string());
+  checkMapSizes(plan.spec, context, plan.specFile.empty() ? options.label : plan.specFile.string());
   return plan;
 }
 
-SpecRunResult runSpec(const SpecRunOptions& options) {
-  const SpecPlan plan = planSpec(options);
+SpecRunResult runSpec(const SpecRunOptions& options, const Context& context) {
+  const SpecPlan plan = planSpec(options, context);
   const std::vector<std::shared_ptr<const Environment>> environments = loadEnvironments(plan.spec);
   SpecRunResult result;
   result.spec = plan.specFile.empty() ? fs::path(options.label) : plan.specFile;
   for (std::size_t i = 0; i < plan.spec.maps.size(); ++i) {
     const MapSpec& map = plan.spec.maps[i];
     try {
-      MapResult made = runOneMap(map, environments[i], plan, options);
+      MapResult made = runOneMap(map, environments[i], plan, context);
       for (const auto& note : map.notes) {
         made.notes.push_back(note);
         made.entry["notes"].push_back(note);
@@ -181,25 +171,51 @@ SpecRunResult runSpec(const SpecRunOptions& options) {
   return result;
 }
 
-MapResult runOneMapSpec(const nlohmann::json& document, const std::string& label, const JobOptions& options) {
-  SpecRunOptions run;
-  static_cast<JobOptions&>(run) = options;
-  run.document = document;
-  run.label = label;
-  SpecRunResult result = runSpec(run);
-  if (result.firstError) throw *result.firstError;
-  return std::move(result.maps.front());
-}
-
 namespace run_detail {
 
-MapResult makeMapResult(const MapSpec& map, const EntryFacts& facts, std::vector<fs::path> files,
+std::string MapPlace::names() const {
+  std::string text;
+  for (const fs::path& file : files) text += (text.empty() ? "" : ", ") + file.string();
+  return text;
+}
+
+MapPlace placeOf(const MapSpec& map) { return {map.jsonPath, map.outputs(), map.outputList}; }
+
+MapOutputs outputsOf(const MapSpec& map, const std::vector<fs::path>& inputs) {
+  MapOutputs outputs;
+  outputs.files = map.outputs();
+  outputs.layout = map.cubeLayout;
+  outputs.texelFormat = map.texelFormat;
+  outputs.inputs = inputs;
+  return outputs;
+}
+
+nlohmann::json withoutFolders(nlohmann::json value) {
+  if (value.is_object()) {
+    for (auto& [key, item] : value.items()) {
+      const bool named = key == "file" || key == "output" || key == "sh_output" || key == "fresnel_table_output";
+      if (named && item.is_string()) {
+        item = fs::path(item.get<std::string>()).filename().string();
+      } else if (key == "outputs" && item.is_array()) {
+        for (auto& file : item)
+          if (file.is_string()) file = fs::path(file.get<std::string>()).filename().string();
+      } else {
+        item = withoutFolders(std::move(item));
+      }
+    }
+  } else if (value.is_array()) {
+    for (auto& item : value) item = withoutFolders(std::move(item));
+  }
+  return value;
+}
+
+MapResult makeMapResult(const MapPlace& place, const EntryFacts& facts, std::vector<fs::path> files,
                         std::vector<std::string> notes) {
   MapResult result;
-  result.jsonPath = map.jsonPath;
-  result.output = map.output;
+  result.jsonPath = place.jsonPath;
+  result.output = place.files.front();
   result.written = true;
-  result.entry = {{"output", map.output.string()},
+  result.entry = {{"output", result.output.string()},
                   {"status", "written"},
                   {"files", pathsToJson(files)},
                   {"parameterization", facts.parameterization},
@@ -210,7 +226,7 @@ MapResult makeMapResult(const MapSpec& map, const EntryFacts& facts, std::vector
                   {"bake_seconds", facts.bakeSeconds},
                   {"write_seconds", facts.writeSeconds},
                   {"notes", notes}};
-  if (map.outputList) result.entry["outputs"] = pathsToJson(map.outputs());
+  if (place.list) result.entry["outputs"] = pathsToJson(place.files);
   result.files = std::move(files);
   result.notes = std::move(notes);
   return result;
@@ -220,23 +236,6 @@ void appendWritten(MapWriteReport& into, const MapWriteReport& from) {
   into.files.insert(into.files.end(), from.files.begin(), from.files.end());
   for (const std::string& note : from.notes)
     if (std::find(into.notes.begin(), into.notes.end(), note) == into.notes.end()) into.notes.push_back(note);
-}
-
-void putOutputs(nlohmann::json& map, const fs::path& output, const std::vector<fs::path>& more,
-                const std::optional<std::string>& texelFormat) {
-  if (more.empty()) {
-    map["output"] = output.string();
-  } else {
-    map["outputs"] = nlohmann::json::array({output.string()});
-    for (const fs::path& file : more) map["outputs"].push_back(file.string());
-  }
-  if (texelFormat) map["texel_format"] = *texelFormat;
-}
-
-std::string outputNames(const MapSpec& map) {
-  std::string names;
-  for (const fs::path& file : map.outputs()) names += (names.empty() ? "" : ", ") + file.string();
-  return names;
 }
 
 std::string formatNumber(double value) {

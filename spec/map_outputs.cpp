@@ -2,7 +2,7 @@
 #include "map_outputs.hpp"
 
 #include <brdfbake/core/printable.hpp>
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/image_io.hpp>
 #include <brdfbake/maps/map_mips.hpp>
 
 namespace brdfbake {

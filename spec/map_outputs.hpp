@@ -1,7 +1,7 @@
 #pragma once
 // A map's outputs: "output" or "outputs" (several files from one computation) and "texel_format",
 // parsed (map_outputs.cpp) for spec.cpp's parseMap. Private to brdfbake::spec.
-#include <brdfbake/core/json_reader.hpp>
+#include <brdfbake/io/json_reader.hpp>
 #include <brdfbake/spec/spec.hpp>
 
 #include <filesystem>

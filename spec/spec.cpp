@@ -1,8 +1,8 @@
 #include <brdfbake/bake/baked_mips.hpp>
-#include <brdfbake/core/files.hpp>
 #include <brdfbake/core/printable.hpp>
 #include <brdfbake/fit/fit_file.hpp>
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/files.hpp>
+#include <brdfbake/io/image_io.hpp>
 #include <brdfbake/maps/map_mips.hpp>
 #include <brdfbake/spec/material_spec.hpp>
 #include <brdfbake/spec/spec.hpp>
@@ -45,14 +45,9 @@ DirectionalLight parseLight(const nlohmann::json& value, const std::string& path
 void parseEnvironmentLobe(JsonObjectReader& env, EnvironmentMapSpec& e, MapSpec& spec, const fs::path& baseDirectory) {
   e.lobeName = env.string("lobe");
   try {
-    if (e.lobeName.rfind("lobes:", 0) == 0) {  // a fitted lobe model (docs/fitting.md)
-      const fs::path fit(e.lobeName.substr(6));
-      const fs::path fitFile = fit.is_absolute() ? fit : baseDirectory / fit;
-      spec.inputs.push_back({fitFile, env.child("lobe")});
-      e.lobe = std::make_shared<const LobeModel>(readFitFile(fitFile).fit.model);
-    } else {
-      e.lobe = PrefilterLobe::parse(e.lobeName, baseDirectory);
-    }
+    LobeArgument lobe = parseLobeArgument(e.lobeName, baseDirectory);
+    if (!lobe.fitFile.empty()) spec.inputs.push_back({lobe.fitFile, env.child("lobe")});
+    e.lobe = std::move(lobe.lobe);
   } catch (const Error& error) {
     throw specError(env.child("lobe"), error.what());
   }
@@ -69,9 +64,11 @@ void parseGlossChain(JsonObjectReader& env, EnvironmentMapSpec& e, const MapSpec
                         shortenForMessage(e.lobeName, 40) + "\"");
   }
   JsonObjectReader chain = env.object("gloss_chain");
-  EnvironmentMapSpec::GlossChain g;
-  g.ggx = e.lobeName == "ggx";
-  if (g.ggx) {
+  GlossChain g;
+  g.lobe = e.lobeName == "ggx"     ? GlossChain::Lobe::Ggx
+           : e.lobeName == "phong" ? GlossChain::Lobe::Phong
+                                   : GlossChain::Lobe::Blinn;
+  if (g.lobe == GlossChain::Lobe::Ggx) {
     for (const char* key : {"scale", "bias"}) {
       if (chain.has(key)) {
         throw specError(
@@ -89,13 +86,7 @@ void parseGlossChain(JsonObjectReader& env, EnvironmentMapSpec& e, const MapSpec
   g.edgeFixup = chain.boolean("edge_fixup", g.edgeFixup);
   chain.finish();
   try {
-    if (g.ggx) {
-      e.chainLobes = ggxChainLobes(g.levels);
-    } else {
-      for (double exponent : glossLevelExponents(g.levels, g.scale, g.bias)) {
-        e.chainLobes.push_back(e.lobeName == "phong" ? PrefilterLobe::phong(exponent) : PrefilterLobe::blinn(exponent));
-      }
-    }
+    e.chainLobes = g.lobes(spec.resolution);
   } catch (const Error& error) {
     throw specError(chain.path(), error.what());
   }
@@ -397,11 +388,11 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
 
 }  // namespace
 
-void MapSpec::prepare(const std::function<void(double)>& progress) {
+void MapSpec::prepare(const Context& context) {
   MaterialMapSpec* m = materialMap();
   if (!m || !m->deferredFit) return;
   try {
-    m->material = m->deferredFit->run(progress);
+    m->material = m->deferredFit->run(context);
     m->deferredFit.reset();
     checkMaterialMap(*this);
     if (!anyAuto() && !radialProfile) materials::checkMaterialSampling(*this);
@@ -560,6 +551,18 @@ BakeSpec loadBakeSpec(const fs::path& file) {
       parseBakeSpec(document, file.parent_path().empty() ? fs::path(".") : file.parent_path(), file.string());
   spec.file = file;
   return spec;
+}
+
+LobeArgument parseLobeArgument(const std::string& text, const fs::path& baseDirectory) {
+  LobeArgument argument;
+  if (text.rfind("lobes:", 0) == 0) {  // a fitted lobe model (docs/fitting.md)
+    const fs::path fit(text.substr(6));
+    argument.fitFile = fit.is_absolute() ? fit : baseDirectory / fit;
+    argument.lobe = std::make_shared<const LobeModel>(readFitFile(argument.fitFile).fit.model);
+  } else {
+    argument.lobe = PrefilterLobe::parse(text, baseDirectory);
+  }
+  return argument;
 }
 
 }  // namespace brdfbake

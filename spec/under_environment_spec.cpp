@@ -127,7 +127,7 @@ Environment loadMapEnvironment(const MapSpec& map) {
 }
 
 MaterialUnderEnvironment bakeUnderEnvironment(const MapSpec& map, const Environment& environment,
-                                              const RunOptions& run) {
+                                              const Context& context) {
   const MaterialMapSpec* m = map.materialMap();
   if (!map.environmentLighting()) {
     throw Error(Error::Kind::InvalidArgument, map.jsonPath + ": not a material lit by an environment");
@@ -137,9 +137,8 @@ MaterialUnderEnvironment bakeUnderEnvironment(const MapSpec& map, const Environm
                 map.jsonPath + ": the measured material's fit has not run yet; call MapSpec::prepare() first");
   }
   UnderEnvironmentOptions options = map.underEnvironmentOptions();
-  static_cast<RunOptions&>(options) = run;
   try {
-    return shadeUnderEnvironment(environment, *m->material, options);
+    return shadeUnderEnvironment(environment, *m->material, options, context);
   } catch (const Error& error) {
     const std::string where = (map.specLabel.empty() ? "" : map.specLabel + ": ") + map.jsonPath;
     throw Error(error.kind(), where + ": " + error.what());

@@ -6,18 +6,13 @@
 // core
 #if __has_include(<brdfbake/core/error.hpp>)
 #include <brdfbake/core/color.hpp>
+#include <brdfbake/core/context.hpp>
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/core/files.hpp>
-#include <brdfbake/core/gnuplot.hpp>
-#include <brdfbake/core/json_reader.hpp>
-#include <brdfbake/core/json_text.hpp>
 #include <brdfbake/core/math.hpp>
 #include <brdfbake/core/memory_budget.hpp>
 #include <brdfbake/core/named_values.hpp>
 #include <brdfbake/core/printable.hpp>
 #include <brdfbake/core/progress.hpp>
-#include <brdfbake/core/run_options.hpp>
-#include <brdfbake/core/text_io.hpp>
 #include <brdfbake/core/version.hpp>
 #endif
 
@@ -41,9 +36,7 @@
 #if __has_include(<brdfbake/maps/cube_map.hpp>)
 #include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/maps/image.hpp>
-#include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/maps/latlong_map.hpp>
-#include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/maps/map_mips.hpp>
 #include <brdfbake/maps/paraboloid_map.hpp>
 #include <brdfbake/maps/parameterization.hpp>
@@ -51,7 +44,17 @@
 #include <brdfbake/maps/sh.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/maps/texel_format.hpp>
-#include <brdfbake/maps/texture.hpp>
+#endif
+
+// io
+#if __has_include(<brdfbake/io/files.hpp>)
+#include <brdfbake/io/files.hpp>
+#include <brdfbake/io/image_io.hpp>
+#include <brdfbake/io/json_reader.hpp>
+#include <brdfbake/io/json_text.hpp>
+#include <brdfbake/io/map_file.hpp>
+#include <brdfbake/io/text_io.hpp>
+#include <brdfbake/io/texture.hpp>
 #endif
 
 // bake
@@ -94,7 +97,6 @@
 #if __has_include(<brdfbake/fit/cornell_grid.hpp>)
 #include <brdfbake/fit/cornell_grid.hpp>
 #include <brdfbake/fit/fit_file.hpp>
-#include <brdfbake/fit/fit_report.hpp>
 #include <brdfbake/fit/held_out.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 #include <brdfbake/fit/mirror_direction.hpp>
@@ -104,6 +106,7 @@
 // spec
 #if __has_include(<brdfbake/spec/brdf_file.hpp>)
 #include <brdfbake/spec/brdf_file.hpp>
+#include <brdfbake/spec/material_file.hpp>
 #include <brdfbake/spec/material_spec.hpp>
 #include <brdfbake/spec/spec.hpp>
 #endif
@@ -114,10 +117,13 @@
 #include <brdfbake/run/convert_output.hpp>
 #include <brdfbake/run/describe_output.hpp>
 #include <brdfbake/run/evaluate.hpp>
+#include <brdfbake/run/fit_report.hpp>
 #include <brdfbake/run/fit_table.hpp>
+#include <brdfbake/run/gnuplot.hpp>
 #include <brdfbake/run/ibl_job.hpp>
 #include <brdfbake/run/interpolation_chart.hpp>
 #include <brdfbake/run/job.hpp>
+#include <brdfbake/run/map_outputs.hpp>
 #include <brdfbake/run/matcap_job.hpp>
 #include <brdfbake/run/prefilter_job.hpp>
 #include <brdfbake/run/preview_job.hpp>

@@ -6,7 +6,13 @@ run layer, the same call the ``brdfbake`` tool makes for its command, with the s
 - :func:`bake` runs a spec (a file or a dict in the JSON spec's form), like ``brdfbake bake``;
 - :func:`read_map` reads any output back: ``.pixels`` as numpy, ``.sample(dirs)`` as ``brdfbake sample``;
 - :func:`fit` fits lobes to a measured table, like ``brdfbake fit``;
-- :func:`prefilter` prefilters an environment (a file or a numpy lat-long image), like ``brdfbake prefilter``.
+- :func:`prefilter` prefilters an environment, like ``brdfbake prefilter``;
+- :func:`matcap` shades a material under an environment, like ``brdfbake matcap``;
+- :func:`ibl` makes engine-ready image-based lighting, like ``brdfbake ibl``;
+- :class:`Environment` loads an environment (a file, or a numpy array) once for many of these.
+
+prefilter, matcap and ibl work in memory: nothing is written unless an output is named (or ``save`` is
+called), and numpy arrays go in and come out without temporary files.
 
 Bad input raises :class:`Error` (a subclass per kind) whose message names the file, line, JSON path or
 keyword. Long work runs without the GIL, shows progress (``progress=``) and stops cleanly on Ctrl-C
@@ -23,13 +29,11 @@ keyword. Long work runs without the GIL, shows progress (``progress=``) and stop
 from __future__ import annotations
 
 import os
-import tempfile
 from collections.abc import Mapping
-from contextlib import ExitStack
 from typing import Any, Optional, Sequence, Union
 
 from . import _core
-from ._core import BakeResult, Fit, Map, MapResult, read_map
+from ._core import BakeResult, Environment, Fit, Ibl, Map, MapResult, read_map
 from ._errors import (
     Error,
     InvalidArgumentError,
@@ -48,6 +52,10 @@ __all__ = [
     "read_map",
     "fit",
     "prefilter",
+    "matcap",
+    "ibl",
+    "Environment",
+    "Ibl",
     "Map",
     "Fit",
     "BakeResult",
@@ -173,52 +181,10 @@ def fit(
         )
 
 
-# The spec keys a prefilter request sets, named by prefilter()'s keywords in messages.
-_PREFILTER_KEYWORDS = [
-    ("prefilter: maps[0].environment.gloss_chain.scale", "prefilter: gloss_scale"),
-    ("prefilter: maps[0].environment.gloss_chain.bias", "prefilter: gloss_bias"),
-    ("prefilter: maps[0].environment.gloss_chain.levels", "prefilter: mip_count"),
-    ("prefilter: maps[0].environment.gloss_chain", "prefilter: gloss_scale"),
-    ("prefilter: maps[0].environment.file", "prefilter: environment"),
-    ("prefilter: maps[0].environment.lobe", "prefilter: lobe"),
-    ("prefilter: maps[0].environment.method", "prefilter: method"),
-    ("prefilter: maps[0].environment.max_error", "prefilter: max_error"),
-    ("prefilter: maps[0].environment.from", "prefilter: from_"),
-    ("prefilter: maps[0].environment.view", "prefilter: view"),
-    ("prefilter: maps[0].environment.up", "prefilter: up"),
-    ("prefilter: maps[0].environment.elevations", "prefilter: elevations"),
-    ("prefilter: maps[0].environment.fresnel", "prefilter: fresnel_ior"),
-    ("prefilter: maps[0].environment.combine", "prefilter: combine"),
-    ("prefilter: maps[0].environment.sh_output", "prefilter: sh_output"),
-    ("prefilter: maps[0].environment.mip_layout", "prefilter: tiled"),
-    ("prefilter: maps[0].environment.mips", "prefilter: mips"),
-    ("prefilter: maps[0].environment", "prefilter"),
-    ("prefilter: maps[0].output", "prefilter: output"),
-    ("prefilter: maps[0].resolution", "prefilter: resolution"),
-    ("prefilter: maps[0].parameterization", "prefilter: to"),
-    ("prefilter: maps[0].samples_per_texel", "prefilter: samples_per_texel"),
-    ("prefilter: maps[0].layout", "prefilter: faces"),
-    ("prefilter: maps[0]", "prefilter"),
-    ('"mips"', "mips"),
-    ('"fresnel"', "fresnel_ior"),
-    ('"lobe": "irradiance"', 'lobe="irradiance"'),
-]
-
-
-def _renamed(error: Error, replacements: Sequence[tuple[str, str]]) -> Error:
-    message = error.message
-    for old, new in replacements:
-        message = message.replace(old, new)
-    if message == error.message:
-        return error
-    renamed = type(error)(message, result=error.result)
-    return renamed
-
-
 def prefilter(
     environment: Union[PathLike, Any],
-    lobe: str,
-    to: str,
+    lobe: str = "",
+    to: str = "sphere",
     resolution: int = 256,
     *,
     output: Optional[PathLike] = None,
@@ -234,6 +200,7 @@ def prefilter(
     elevations: Optional[int] = None,
     fresnel_ior: Optional[float] = None,
     combine: Optional[str] = None,
+    chain: Optional[str] = None,
     gloss_scale: Optional[float] = None,
     gloss_bias: Optional[float] = None,
     mip_count: Optional[int] = None,
@@ -242,49 +209,102 @@ def prefilter(
     threads: int = 0,
     progress: Progress = None,
 ) -> Map:
-    """Prefilters an environment with a lobe into a map, as ``brdfbake prefilter`` does (docs/prefilter.md).
+    """Prefilters an environment with a lobe into a map, in memory, as ``brdfbake prefilter`` does (docs/prefilter.md).
 
-    environment: an image file (EXR, HDR, ...; a cube as six files STEM_posx.EXT ...: pass STEM.EXT), or a
-        numpy array of radiance: a lat-long image (H, 2H, 3) (or 4 channels; float32, row 0 at the top,
-        the centre looking down -z), or another layout with from_. An array is written to a temporary
-        OpenEXR file, removed afterwards.
-    lobe: mirror | irradiance | phong:N | blinn:N | ggx:ROUGHNESS | lobes:FIT.json.
+    environment: an Environment, an image file (EXR, HDR, ...; a cube as six files STEM_posx.EXT ...: pass
+        STEM.EXT), or a numpy array of radiance: a lat-long image (H, 2H, 3) (or 4 channels; row 0 at the top,
+        the centre looking down -z), or another layout with from_.
+    lobe: mirror | irradiance | phong:N | blinn:N | ggx:ROUGHNESS | lobes:FIT.json (phong or blinn with gloss_scale:
+        cmft's gloss chain). chain: "ggx" for cmgen's GGX chain (level k of L holds roughness k / (L - 1)).
     to: sphere | paraboloid | cube | latlong. resolution: texels per side, hemisphere, face, or rows.
-    output: the map's file; None keeps the map in memory only (a temporary file, removed), which the
-        options writing more files beside it (mips, faces, sh_output, fresnel_ior) need.
+    output: also write the map there (and its mip levels, faces, Fresnel maps or elevation slices beside it); a
+        Fresnel decomposition (fresnel_ior) and a varying fit's elevation stack are several maps and need it.
+        Without it nothing is written: Map.save(path) writes the map later.
     The other keywords are the tool's flags (``brdfbake prefilter --help``) and the spec keys of an
     environment map (docs/spec.md). threads, progress: as for bake().
 
-    Returns the Map read back from the file written; Map.result is the map's entry as
-    ``prefilter --json`` prints it (method chosen, error estimate). Errors name the keyword.
+    Returns the Map: .pixels (level 0, a view without a copy), .levels (every mip level), .sample(dirs), and
+    .result, the map's summary (method chosen, error estimate). Errors name the keyword.
     """
     resolution, samples_per_texel, threads = (_whole(resolution, "resolution"),
                                               _whole(samples_per_texel, "samples_per_texel"), _whole(threads, "threads"))
     elevations, mip_count = _whole(elevations, "elevations", True), _whole(mip_count, "mip_count", True)
-    with ExitStack() as cleanup:
-        renames = list(_PREFILTER_KEYWORDS)
-        if not isinstance(environment, (str, os.PathLike)):
-            folder = cleanup.enter_context(tempfile.TemporaryDirectory(prefix="brdfbake-"))
-            path = os.path.join(folder, "environment.exr")
-            _core.write_environment(environment, path)
-            renames.append((path, "environment array"))
-            environment = path
-            from_ = from_ or "latlong"
-        if output is None:
-            beside = [name for name, value in (("mips", mips), ("faces", faces), ("sh_output", sh_output),
-                                               ("fresnel_ior", fresnel_ior)) if value]
-            if beside:
-                raise InvalidArgumentError(f"prefilter: {beside[0]} writes files beside the map: give output=PATH")
-            folder = cleanup.enter_context(tempfile.TemporaryDirectory(prefix="brdfbake-"))
-            output = os.path.join(folder, "prefiltered.exr")
-            renames.append((output, "the in-memory map"))
-        try:
-            with progress_callback(progress) as callback:
-                return _core.prefilter_environment(
-                    environment, lobe, to, resolution, output, method, max_error, from_, mips, tiled, faces, view,
-                    up, samples_per_texel, elevations, fresnel_ior, combine, gloss_scale, gloss_bias, mip_count,
-                    edge_fixup, sh_output, threads, callback,
-                )
-        except Error as error:
-            raise _renamed(error, renames) from None
+    if from_ is not None and isinstance(environment, Environment):
+        raise InvalidArgumentError("from_: an Environment knows its parameterization")
+    if not isinstance(environment, Environment):
+        environment = Environment(environment, from_=from_)
+    with progress_callback(progress) as callback:
+        return _core.prefilter(
+            environment, lobe, to, resolution, output, method, max_error, None, mips, tiled, faces, view, up,
+            samples_per_texel, elevations, fresnel_ior, combine, chain, gloss_scale, gloss_bias, mip_count,
+            edge_fixup, sh_output, threads, callback,
+        )
 
+
+def matcap(
+    material: Union[PathLike, Mapping[str, Any], Fit],
+    environment: Union[PathLike, Any],
+    resolution: int = 256,
+    *,
+    max_error: float = 0.01,
+    method: str = "auto",
+    camera: Optional[Sequence[float]] = None,
+    parameterization: str = "sphere",
+    samples_per_texel: int = 16,
+    exposure: float = 0.0,
+    output: Optional[PathLike] = None,
+    threads: int = 0,
+    progress: Progress = None,
+) -> Map:
+    """A material shaded under an environment, in memory, as ``brdfbake matcap`` makes it (docs/matcap.md).
+
+    material: a material JSON file, a fit.json or a measured table (.astm, .brdf, .mat: lobes are fitted to it
+        first), a dict in a spec's "material" form ({"model": "cook_torrance", ...}), or a Fit.
+    environment: an Environment (prepared once: reuse it for many materials), an image file or a numpy array of
+        radiance (a lat-long image).
+    resolution: texels across. max_error: the bound on the estimated error, relative to the peak (0.05 for a
+        live preview, 0.01 for final output: the bound picks the method). camera: (yaw, pitch) in degrees.
+    output: also write the map there (format by extension); else Map.save(path) writes it later.
+
+    Returns the Map: .pixels ((N, N, 4) float32, a view), .sample(dirs), .result (the error estimate).
+    """
+    resolution, samples_per_texel, threads = (_whole(resolution, "resolution"),
+                                              _whole(samples_per_texel, "samples_per_texel"), _whole(threads, "threads"))
+    if not isinstance(environment, Environment):
+        environment = Environment(environment)
+    with progress_callback(progress) as callback:
+        return _core.matcap(
+            material, environment, resolution, max_error, method, camera, parameterization, samples_per_texel,
+            exposure, output, threads, callback,
+        )
+
+
+def ibl(
+    environment: Union[PathLike, Any],
+    *,
+    resolution: int = 256,
+    irradiance_resolution: int = 32,
+    skybox_resolution: int = 512,
+    dfg_size: int = 128,
+    dfg_form: str = "single",
+    max_error: float = 0.01,
+    threads: int = 0,
+    progress: Progress = None,
+) -> Ibl:
+    """Engine-ready image-based lighting, in memory, as ``brdfbake ibl`` makes it (docs/engines.md).
+
+    environment: an Environment, an image file or a numpy array of radiance (a lat-long image).
+    resolution: the GGX chain's level-0 face size (a power of two); irradiance_resolution, skybox_resolution:
+    their cubes' faces; dfg_size: the DFG table's side; dfg_form: single | multiscatter.
+
+    Returns an Ibl: .specular (one (6, N, N, 4) array per level), .irradiance, .sh ((9, 3)), .dfg, .skybox;
+    .save(out_dir, format="ktx2") writes the files the tool writes.
+    """
+    resolution, irradiance_resolution, skybox_resolution, dfg_size, threads = (
+        _whole(resolution, "resolution"), _whole(irradiance_resolution, "irradiance_resolution"),
+        _whole(skybox_resolution, "skybox_resolution"), _whole(dfg_size, "dfg_size"), _whole(threads, "threads"))
+    if not isinstance(environment, Environment):
+        environment = Environment(environment)
+    with progress_callback(progress) as callback:
+        return _core.ibl(environment, resolution, irradiance_resolution, skybox_resolution, dfg_size, dfg_form,
+                         max_error, threads, callback)

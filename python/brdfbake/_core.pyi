@@ -13,11 +13,28 @@ _Directions = npt.ArrayLike
 
 version: str
 
+class Environment:
+    """Radiance over the sphere, loaded (a file) or wrapped (a numpy array) once, for many jobs."""
+
+    def __init__(self, source: Union[_Path, npt.ArrayLike], from_: Optional[str] = None) -> None: ...
+    @property
+    def parameterization(self) -> str: ...
+    @property
+    def resolution(self) -> int: ...
+    @property
+    def source(self) -> str: ...
+    @property
+    def detection(self) -> str: ...
+    @property
+    def pixels(self) -> npt.NDArray[np.float32]:
+        """(H, W, 4) float32, read-only, a view without a copy."""
+
 class Map:
-    """An output of bake or prefilter read back, as a renderer reads it."""
+    """An output of bake or prefilter read back, or a job's map in memory, as a renderer reads it."""
 
     @property
-    def path(self) -> pathlib.Path: ...
+    def path(self) -> Optional[pathlib.Path]:
+        """Where it was read from or written to; None for a map only in memory."""
     @property
     def kind(self) -> str:
         """map | radial_profile | elevation_stack | fresnel_table | sh_irradiance."""
@@ -46,6 +63,43 @@ class Map:
     def describe(self) -> dict[str, Any]: ...
     def sample(self, dirs: Optional[_Directions] = None, cos_view: Optional[float] = None) -> npt.NDArray[np.float64]:
         """(N, 4) RGBA lookups at (N, 3) directions ((4,) for one (3,) direction), as `brdfbake sample`."""
+    @property
+    def levels(self) -> list[npt.NDArray[np.float32]]:
+        """Every mip level (a map in memory), or [pixels]."""
+    def save(
+        self,
+        path: _Path,
+        more: Sequence[_Path] = ...,
+        *,
+        texel_format: Optional[str] = None,
+        faces: bool = False,
+        tiled: bool = False,
+    ) -> list[pathlib.Path]:
+        """Writes a map made in memory; returns every file written."""
+
+class Ibl:
+    """Engine-ready image-based lighting in memory (cube maps as (6, N, N, 4) arrays)."""
+
+    @property
+    def specular(self) -> list[npt.NDArray[np.float32]]: ...
+    @property
+    def irradiance(self) -> npt.NDArray[np.float32]: ...
+    @property
+    def sh(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def skybox(self) -> npt.NDArray[np.float32]: ...
+    @property
+    def dfg(self) -> npt.NDArray[np.float32]: ...
+    def to_json(self) -> dict[str, Any]: ...
+    def save(
+        self,
+        out_dir: _Path,
+        *,
+        format: str = "ktx2",
+        stem: str = "ibl",
+        texel_format: Optional[str] = None,
+        sh_format: str = "brdfbake",
+    ) -> dict[str, Any]: ...
 
 class MapResult:
     """One map of a spec as made."""
@@ -158,12 +212,12 @@ def fit_table(
     threads: int,
     progress: _Progress,
 ) -> Fit: ...
-def prefilter_environment(
-    environment: _Path,
+def prefilter(
+    environment: Environment,
     lobe: str,
     to: str,
     resolution: int,
-    output: _Path,
+    output: Optional[_Path],
     method: str,
     max_error: float,
     from_: Optional[str],
@@ -176,6 +230,7 @@ def prefilter_environment(
     elevations: Optional[int],
     fresnel_ior: Optional[float],
     combine: Optional[str],
+    chain: Optional[str],
     gloss_scale: Optional[float],
     gloss_bias: Optional[float],
     mip_count: Optional[int],
@@ -184,4 +239,28 @@ def prefilter_environment(
     threads: int,
     progress: _Progress,
 ) -> Map: ...
-def write_environment(array: npt.ArrayLike, path: _Path) -> None: ...
+def matcap(
+    material: Union[_Path, dict[str, Any], Fit],
+    environment: Environment,
+    resolution: int,
+    max_error: float,
+    method: str,
+    camera: Optional[Sequence[float]],
+    parameterization: str,
+    samples_per_texel: int,
+    exposure: float,
+    output: Optional[_Path],
+    threads: int,
+    progress: _Progress,
+) -> Map: ...
+def ibl(
+    environment: Environment,
+    resolution: int,
+    irradiance_resolution: int,
+    skybox_resolution: int,
+    dfg_size: int,
+    dfg_form: str,
+    max_error: float,
+    threads: int,
+    progress: _Progress,
+) -> Ibl: ...

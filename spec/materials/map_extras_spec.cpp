@@ -3,9 +3,9 @@
 #include <brdfbake/bake/baked_mips.hpp>
 #include <brdfbake/brdf/fresnel.hpp>
 #include <brdfbake/brdf/npr.hpp>
-#include <brdfbake/core/files.hpp>
 #include <brdfbake/core/version.hpp>
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/files.hpp>
+#include <brdfbake/io/image_io.hpp>
 #include <brdfbake/maps/map_mips.hpp>
 
 #include "registry_entries.hpp"
@@ -84,7 +84,8 @@ void parseMapExtras(JsonObjectReader& map, MapSpec& spec) {
 
 }  // namespace materials
 
-MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions, const WriteOptions& writeOptions) {
+MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions, const WriteOptions& writeOptions,
+                              const Context& context) {
   MapWriteReport report;
   const MaterialMapSpec* m = map.materialMap();
   if (!m) return report;  // an environment map's extras are written with it (writeFresnelDecomposition, mips)
@@ -92,9 +93,9 @@ MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions
     const auto* silhouette = dynamic_cast<const SilhouetteMaterial*>(m->material.get());
     require(silhouette != nullptr, map.jsonPath + ": \"mips\" needs a silhouette material");
     BakeOptions options = bakeOptions;
-    options.progress = {};
     options.samplesPerTexel = map.samplesPerTexel;
-    const std::vector<Image> chain = silhouetteMipChain(*silhouette, map.resolution, options);
+    const std::vector<Image> chain =
+        silhouetteMipChain(*silhouette, map.resolution, options, context.withoutProgress());
     if (m->mipLayout == MipLayout::Tiled) {
       // The whole chain, level 0 included, in the output itself (replacing the single level).
       MapInfo info;

@@ -12,6 +12,25 @@
 
 namespace brdfbake::materials {
 
+MeasuredTable tableForBaking(const std::filesystem::path& file, TableFormat format, RgbMethod rgb) {
+  MeasuredTable table = readTableForFitting(file, format).toRgb(rgb);
+  // A reflectance is never negative: negative measurements (noise around zero) would bake into
+  // negative texels, so they are clamped, and the notes say so.
+  const auto negatives = (table.values.array() < 0.0).count();
+  if (negatives > 0) {
+    table.values = table.values.cwiseMax(0.0);
+    table.notes.push_back(std::to_string(negatives) + " negative RGB values clamped to 0 for baking");
+  }
+  return table;
+}
+
+FitOptions fitOptionsForBaking(LobeMaterialMode mode) {
+  FitOptions options;
+  options.estimateHeldOut = false;  // a bake needs the model only (auto choices still estimate it)
+  options.halfDifference = mode != LobeMaterialMode::Prefiltered;  // a half-difference table has no prefiltered form
+  return options;
+}
+
 std::shared_ptr<const Material> parseMeasured(JsonObjectReader& m, const MaterialContext& context) {
   const std::filesystem::path file = resolveMaterialFile(m, context);
   const TableFormat format = m.parsed("format", parseTableFormat, "auto");
@@ -57,23 +76,17 @@ std::shared_ptr<const Material> parseMeasured(JsonObjectReader& m, const Materia
     options.elevation = m.parsed("elevation", parseElevationChoice, "auto");
     // Varying lobes are the per-channel method's (the shared one fits constant Lafortune lobes).
     if (options.elevation == ElevationChoice::Varying) options.method = FitMethod::PerChannel;
-    options.estimateHeldOut = false;  // a bake needs the model only (auto choices still estimate it)
     mode = parseLobeMode(m, context.underEnvironment);
-    options.halfDifference = mode != LobeMaterialMode::Prefiltered;  // a half-difference table has no prefiltered form
+    const FitOptions baking = fitOptionsForBaking(mode);
+    options.estimateHeldOut = baking.estimateHeldOut;
+    options.halfDifference = baking.halfDifference;
   }
 
   MeasuredTable table;
   try {
-    table = readTableForFitting(file, format).toRgb(rgb);
+    table = tableForBaking(file, format, rgb);
   } catch (const Error& e) {
     throw specError(m.child("file"), e.what());
-  }
-  // A reflectance is never negative: negative measurements (noise around zero) would bake into
-  // negative texels, so they are clamped, and the notes say so.
-  const auto negatives = (table.values.array() < 0.0).count();
-  if (negatives > 0) {
-    table.values = table.values.cwiseMax(0.0);
-    table.notes.push_back(std::to_string(negatives) + " negative RGB values clamped to 0 for baking");
   }
   if (context.notes) {
     for (const auto& note : table.notes) context.notes->push_back(m.child("file") + ": " + note);
@@ -93,12 +106,10 @@ std::shared_ptr<const Material> parseMeasured(JsonObjectReader& m, const Materia
 
 namespace brdfbake {
 
-std::shared_ptr<const Material> DeferredFit::run(const std::function<void(double)>& progress) const {
-  FitOptions withProgress = options;
-  withProgress.progress = progress;
+std::shared_ptr<const Material> DeferredFit::run(const Context& context) const {
   FitResult fit;
   try {
-    fit = fitLobes(table, withProgress);
+    fit = fitLobes(table, options, context);
   } catch (const Error& e) {
     throw specError(jsonPath + ".file", e.what());
   }

@@ -38,6 +38,12 @@ enum class LobeMaterialMode;
 namespace brdfbake::materials {
 std::shared_ptr<const Material> parseMeasured(JsonObjectReader&, const MaterialContext&);
 std::shared_ptr<const Material> parseLobes(JsonObjectReader&, const MaterialContext&);
+// A measured table as baking takes it: read (format), converted to RGB (rgb), negative values clamped
+// to 0 with a note in table.notes. Throws what readTableForFitting throws.
+MeasuredTable tableForBaking(const std::filesystem::path& file, TableFormat format, RgbMethod rgb);
+// The fit of a measured table for baking in `mode` (no held-out estimate unless a choice needs one; no
+// half-difference table for the prefiltered mode, which it cannot take).
+FitOptions fitOptionsForBaking(LobeMaterialMode mode);
 std::filesystem::path resolveMaterialFile(JsonObjectReader& material, const MaterialContext& context);
 // "mode" of a lobe material; under an environment it defaults to, and must be, "lighting".
 LobeMaterialMode parseLobeMode(JsonObjectReader& material, bool underEnvironment);

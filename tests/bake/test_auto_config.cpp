@@ -6,7 +6,10 @@
 #include <brdfbake/core/error.hpp>
 
 #include <algorithm>
+#include <optional>
 #include <string>
+
+#include "test_support.hpp"
 
 namespace brdfbake {
 namespace {
@@ -111,8 +114,8 @@ TEST(AutoConfig, BakesAtMostThreeMapsPerChoiceWithProgress) {
   for (const Case& c : models) {
     const MaterialMapFunction function(c.material, c.lights, Vec3::UnitZ());
     std::vector<double> progress;
-    options.progress = [&](double f) { progress.push_back(f); };
-    const AutoResult result = chooseConfiguration(function, options);
+    const Context context({.progress = [&](const std::string&, double f) { progress.push_back(f); }});
+    const AutoResult result = chooseConfiguration(function, options, context);
     EXPECT_GE(result.bakes, 1) << c.name;
     EXPECT_LE(result.bakes, 3) << c.name;
     EXPECT_GT(result.estimated, 0) << c.name;
@@ -146,9 +149,9 @@ TEST(AutoConfig, AnUnreachableBoundSaysWhatItWouldTake) {
   options.maxError = 0.005;
   options.error.samples = 5000;
   std::vector<double> progress;
-  options.progress = [&](double f) { progress.push_back(f); };
+  const Context context({.progress = [&](const std::string&, double f) { progress.push_back(f); }});
   try {
-    chooseConfiguration(function, options);
+    chooseConfiguration(function, options, context);
     FAIL() << "a 256^2 sphere map cannot hold a Phong 10000 lobe to 0.5 %";
   } catch (const Error& e) {
     const std::string message = e.what();
@@ -166,7 +169,8 @@ TEST(AutoConfig, AnUnreachableBoundSaysWhatItWouldTake) {
   EXPECT_FALSE(progress.empty()) << "the search reported no progress";
   // Past the memory budget: said so.
   options.resolutions = {16, 32, 64, 128, 256, 512, 1024, 2048};
-  options.bake.maxTexels = 256 * 256;
+  std::optional<test::EnvironmentVariable> budget;
+  budget.emplace("BRDFBAKE_MEMORY_LIMIT", "1M");  // 256^2 float RGBA texels
   try {
     chooseConfiguration(function, options);
     FAIL();
@@ -174,7 +178,8 @@ TEST(AutoConfig, AnUnreachableBoundSaysWhatItWouldTake) {
     EXPECT_NE(std::string(e.what()).find("the best, sphere 256^2"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("exceed the memory budget"), std::string::npos) << e.what();
   }
-  options.bake.maxTexels = 100;
+  budget.reset();
+  budget.emplace("BRDFBAKE_MEMORY_LIMIT", "1600");  // 100 texels
   try {
     chooseConfiguration(function, options);
     FAIL();

@@ -132,10 +132,8 @@ TEST(Baker, DiffuseWithEyeLightUsesTheViewAxisTable) {
 TEST(Baker, IsDeterministicAcrossThreadCounts) {
   const SphereMap map(64);
   const auto function = phong(30, Vec3(1, 0, 1).normalized());
-  BakeOptions one, two;
-  one.threads = 1;
-  two.threads = 2;
-  EXPECT_EQ(maxDifference(bake(map, function, one), bake(map, function, two)), 0.0);
+  const Context one({.threads = 1}), two({.threads = 2});
+  EXPECT_EQ(maxDifference(bake(map, function, {}, one), bake(map, function, {}, two)), 0.0);
 }
 
 TEST(Baker, AlphaIsCoverage) {
@@ -199,19 +197,16 @@ TEST(Baker, ValidatesOptions) {
   options.samplesPerTexel = 0;
   EXPECT_THROW(bake(map, phong(5, Vec3::UnitZ()), options), Error);
   options.samplesPerTexel = 4;
-  options.threads = -1;
-  EXPECT_THROW(bake(map, phong(5, Vec3::UnitZ()), options), Error);
+  EXPECT_THROW(Context({.threads = -1}), Error);
   // 2147483647 threads crashed TBB (SIGSEGV); 70,000 already did. At most 1024.
-  options.threads = 2147483647;
   try {
-    bake(map, phong(5, Vec3::UnitZ()), options);
+    Context({.threads = 2147483647});
     ADD_FAILURE() << "no error";
   } catch (const Error& e) {
     EXPECT_EQ(e.kind(), Error::Kind::InvalidArgument);
     EXPECT_STREQ(e.what(), "threads must be in [0, 1024] (0 = every core), got 2147483647");
   }
-  options.threads = 1024;
-  EXPECT_NO_THROW(bake(map, phong(5, Vec3::UnitZ()), options));
+  EXPECT_NO_THROW(bake(map, phong(5, Vec3::UnitZ()), options, Context({.threads = 1024})));
 }
 
 TEST(Baker, ResolutionOneHoldsTheMeanOverTheDisc) {

@@ -7,7 +7,7 @@
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/brdf/npr.hpp>
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/image_io.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/spec/spec.hpp>
 

@@ -3,9 +3,9 @@
 #include <gtest/gtest.h>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
+#include <brdfbake/io/image_io.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/maps/image.hpp>
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/maps/map_file.hpp>
 #include <nlohmann/json.hpp>
 
 #include <fstream>

@@ -1,7 +1,7 @@
 // One meaning per flag on every command: -o names one file, --json is a run report, --quiet prints
 // only errors, --threads and --max-error take the same values everywhere.
 #include <gtest/gtest.h>
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/image_io.hpp>
 #include <nlohmann/json.hpp>
 
 #include <fstream>

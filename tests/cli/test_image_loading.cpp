@@ -1,5 +1,5 @@
 // Commands that read or write no image start without loading OpenImageIO and its ~200 libraries;
-// image commands load it (through the module brdfbake_image_oiio, beside libbrdfbake_maps) on first
+// image commands load it (through the module brdfbake_image_oiio, beside libbrdfbake_io) on first
 // use, and say which file is missing when it cannot be loaded. Shared builds only: a static build
 // links OpenImageIO into the tool, and these tests skip.
 #include <gtest/gtest.h>
@@ -38,7 +38,7 @@ TEST(ImageLoading, CommandsWithoutImagesDoNotLoadOpenImageIO) {
     const auto result = runCliTracingLibraries(arguments);
     EXPECT_EQ(result.exitCode, 0) << result.output;
     // The trace is on (the tool's own libraries are in it), and OpenImageIO is not.
-    EXPECT_NE(result.output.find("libbrdfbake_maps"), std::string::npos) << "no LD_DEBUG trace:\n" << result.output;
+    EXPECT_NE(result.output.find("libbrdfbake_io"), std::string::npos) << "no LD_DEBUG trace:\n" << result.output;
     EXPECT_EQ(result.output.find("libOpenImageIO"), std::string::npos) << "OpenImageIO was loaded";
     EXPECT_EQ(result.output.find(BRDFBAKE_IMAGE_MODULE), std::string::npos);
   }

@@ -6,8 +6,8 @@
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/fit/fit_file.hpp>
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/io/image_io.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <nlohmann/json.hpp>
 
 #include <OpenImageIO/imageio.h>

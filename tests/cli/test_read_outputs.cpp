@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 #include <brdfbake/core/math.hpp>
 #include <brdfbake/fit/fit_file.hpp>
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/image_io.hpp>
 
 #include <nlohmann/json.hpp>
 

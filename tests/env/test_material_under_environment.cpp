@@ -82,8 +82,7 @@ TEST(MaterialUnderEnvironment, FurnaceShowsTheLambertianAlbedo) {
       UnderEnvironmentOptions options;
       options.parameterization = kind;
       options.resolution = 32;
-      options.threads = 2;
-      const auto result = shadeUnderEnvironment(furnace, *material, options);
+      const auto result = shadeUnderEnvironment(furnace, *material, options, test::twoThreads());
       double worst = 0.0;
       for (int y = 0; y < result.image.height(); ++y)
         for (int x = 0; x < result.image.width(); ++x) {
@@ -130,14 +129,12 @@ TEST(MaterialUnderEnvironment, SmallSunIsOneLightOfItsIrradiance) {
     UnderEnvironmentOptions options;
     options.resolution = 64;
     options.samplesPerTexel = 4;
-    options.threads = 2;
-    const auto matcap = shadeUnderEnvironment(environment, *material, options);
+    const auto matcap = shadeUnderEnvironment(environment, *material, options, test::twoThreads());
     BakeOptions bake;
     bake.samplesPerTexel = 4;
-    bake.threads = 2;
     const MaterialMapFunction oneLight(material, {{sun, Rgb::Constant(power * material->lightColorPerIrradiance())}},
                                        Vec3::UnitZ());
-    const Image expected = bakeMap(SphereMap(64), oneLight, bake).image;
+    const Image expected = bakeMap(SphereMap(64), oneLight, bake, test::twoThreads()).image;
     double peak = 0.0, sum = 0.0;
     const auto texels = discTexels(expected);
     for (const auto& t : texels) peak = std::max(peak, expected.at(t.x, t.y).head<3>().maxCoeff());
@@ -180,8 +177,7 @@ TEST(MaterialUnderEnvironment, SkyWithASunAgreesWithABruteForceSum) {
     UnderEnvironmentOptions options;
     options.resolution = 64;
     options.samplesPerTexel = 1;  // a texel is its centre's value
-    options.threads = 2;
-    const auto matcap = shadeUnderEnvironment(sky, *material, options);
+    const auto matcap = shadeUnderEnvironment(sky, *material, options, test::twoThreads());
     auto texels = discTexels(matcap.image);
     std::mt19937 rng(3);
     std::shuffle(texels.begin(), texels.end(), rng);
@@ -213,7 +209,6 @@ TEST(MaterialUnderEnvironment, UpInTheEnvironmentIsUpInThePicture) {
   const PhongMaterial white(Rgb::Zero(), 1.0, Rgb::Ones());
   UnderEnvironmentOptions options;
   options.resolution = 32;
-  options.threads = 2;
   auto shows = [](const Rgba& c, const Rgb& face) {
     const Rgb v = c.head<3>();
     double lit = HUGE_VAL, dark = 0.0;
@@ -221,7 +216,7 @@ TEST(MaterialUnderEnvironment, UpInTheEnvironmentIsUpInThePicture) {
     return lit > 1.5 * dark;
   };
   const Rgb red(1, 0, 0), cyan(0, 1, 1), green(0, 1, 0), magenta(1, 0, 1), blue(0, 0, 1);
-  const auto front = shadeUnderEnvironment(cube, white, options);
+  const auto front = shadeUnderEnvironment(cube, white, options, test::twoThreads());
   EXPECT_TRUE(shows(front.image.at(16, 1), green)) << "the top faces +y";
   EXPECT_TRUE(shows(front.image.at(16, 30), magenta)) << "the bottom faces -y";
   EXPECT_TRUE(shows(front.image.at(16, 16), blue)) << "the centre faces the viewer on +z";
@@ -229,7 +224,7 @@ TEST(MaterialUnderEnvironment, UpInTheEnvironmentIsUpInThePicture) {
   // Turned to look at +x (yaw 90): the viewer is on -x (cyan); the right faces +z; up stays +y.
   options.camera = CameraFrame::fromYawPitch(90.0, 0.0);
   EXPECT_NEAR((options.camera.forward - Vec3::UnitX()).norm(), 0.0, 1e-12);
-  const auto turned = shadeUnderEnvironment(cube, white, options);
+  const auto turned = shadeUnderEnvironment(cube, white, options, test::twoThreads());
   EXPECT_TRUE(shows(turned.image.at(16, 16), cyan));
   EXPECT_TRUE(shows(turned.image.at(30, 16), blue));
   EXPECT_TRUE(shows(turned.image.at(16, 1), green));
@@ -237,7 +232,7 @@ TEST(MaterialUnderEnvironment, UpInTheEnvironmentIsUpInThePicture) {
   // faces +z, behind a viewer who faced -z before tilting back.
   options.camera = CameraFrame::fromYawPitch(0.0, 90.0);
   EXPECT_NEAR((options.camera.up - Vec3::UnitZ()).norm(), 0.0, 1e-12);
-  const auto up = shadeUnderEnvironment(cube, white, options);
+  const auto up = shadeUnderEnvironment(cube, white, options, test::twoThreads());
   EXPECT_TRUE(shows(up.image.at(16, 16), magenta));
   EXPECT_TRUE(shows(up.image.at(16, 1), blue));
   EXPECT_TRUE(shows(up.image.at(30, 16), red));
@@ -253,18 +248,23 @@ TEST(MaterialUnderEnvironment, BadInputIsRefusedClearly) {
             std::string::npos);
   UnderEnvironmentOptions options;
   options.camera.up = Vec3(0, 1, 0.2);
-  EXPECT_NE(errorOf([&] { shadeUnderEnvironment(sky, phong, options); }).find("not a unit vector"), std::string::npos);
-  options.camera.up = Vec3(0, 0.8, -0.6);
-  EXPECT_NE(errorOf([&] { shadeUnderEnvironment(sky, phong, options); }).find("are not perpendicular"),
+  EXPECT_NE(errorOf([&] { shadeUnderEnvironment(sky, phong, options, test::twoThreads()); }).find("not a unit vector"),
             std::string::npos);
+  options.camera.up = Vec3(0, 0.8, -0.6);
+  EXPECT_NE(
+      errorOf([&] { shadeUnderEnvironment(sky, phong, options, test::twoThreads()); }).find("are not perpendicular"),
+      std::string::npos);
   options.camera = CameraFrame();
   options.view = Vec3(0, 0.3, 1);
-  EXPECT_NE(errorOf([&] { shadeUnderEnvironment(sky, phong, options); }).find("sphere map views along +z"),
+  EXPECT_NE(errorOf([&] {
+              shadeUnderEnvironment(sky, phong, options, test::twoThreads());
+            }).find("sphere map views along +z"),
             std::string::npos);
   options.view = Vec3::UnitZ();
   options.importanceSamples = 64;
-  EXPECT_NE(errorOf([&] { shadeUnderEnvironment(sky, phong, options); }).find("need the sampled method"),
-            std::string::npos);
+  EXPECT_NE(
+      errorOf([&] { shadeUnderEnvironment(sky, phong, options, test::twoThreads()); }).find("need the sampled method"),
+      std::string::npos);
 }
 
 TEST(MaterialUnderEnvironment, EveryMapIsFiniteForHardMaterials) {
@@ -287,9 +287,8 @@ TEST(MaterialUnderEnvironment, EveryMapIsFiniteForHardMaterials) {
       options.parameterization = kind;
       options.resolution = resolution;
       options.samplesPerTexel = 4;
-      options.threads = 2;
       if (kind == ParameterizationKind::Paraboloid) options.view = Vec3(0.3, 0.2, 1.0).normalized();
-      const auto result = shadeUnderEnvironment(sky, *material, options);
+      const auto result = shadeUnderEnvironment(sky, *material, options, test::twoThreads());
       for (int y = 0; y < result.image.height(); ++y)
         for (int x = 0; x < result.image.width(); ++x)
           ASSERT_TRUE(allFinite(result.image.at(x, y))) << material->model() << " " << x << " " << y;

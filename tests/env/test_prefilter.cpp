@@ -6,10 +6,10 @@
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/env/prefilter_stack.hpp>
+#include <brdfbake/io/image_io.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/maps/cube_map.hpp>
-#include <brdfbake/maps/image_io.hpp>
 #include <brdfbake/maps/latlong_map.hpp>
-#include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/maps/map_mips.hpp>
 #include <brdfbake/maps/paraboloid_map.hpp>
 #include <brdfbake/maps/sh.hpp>

@@ -8,12 +8,12 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/cornell_grid.hpp>
 #include <brdfbake/fit/fit_file.hpp>
-#include <brdfbake/fit/fit_report.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
 #include <brdfbake/fit/mirror_direction.hpp>
 #include <brdfbake/fit/table_interpolation.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
 #include <brdfbake/measured/measured_io.hpp>
+#include <brdfbake/run/fit_report.hpp>
 #include <brdfbake/spec/spec.hpp>
 
 #include <fstream>

@@ -3,7 +3,7 @@
 // for paraboloid texels, and sphere-map texels from texelSolidAngle (itself checked by brute force
 // in SolidAngle.MatchesBruteForceIntegrationIncludingRimTexels).
 #include <brdfbake/core/version.hpp>
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/maps/map_mips.hpp>
 
 #include <gtest/gtest.h>

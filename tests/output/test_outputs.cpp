@@ -8,9 +8,9 @@
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/env/sh_irradiance.hpp>
+#include <brdfbake/io/image_io.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/maps/cube_map.hpp>
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/maps/map_file.hpp>
 #include <brdfbake/maps/map_mips.hpp>
 #include <brdfbake/output/baked_output.hpp>
 

@@ -39,7 +39,10 @@ def test_the_tutorial_of_docs_python_md_runs(tmp_path, monkeypatch):
     assert len(blocks) >= 6
     run_blocks(blocks, tmp_path, monkeypatch)
     written = sorted(p.name for p in (tmp_path / "repo" / "out").iterdir())
-    assert written == ["fit.json", "phong.exr", "sky_phong20.exr"]  # the cancelled bake left nothing
+    # The cancelled bake left nothing; the in-memory matcaps and IBL wrote only what was saved.
+    assert written == ["fit.json", "gold.png", "ibl", "phong.exr", "sky_phong20.exr"]
+    assert sorted(p.name for p in (tmp_path / "repo" / "out" / "ibl").iterdir()) == [
+        "sky_dfg.ktx2", "sky_ggx.ktx2", "sky_irradiance.ktx2", "sky_sh.json", "sky_skybox.ktx2"]
 
 
 @pytest.mark.parametrize("matplotlib", [False, True])

@@ -52,8 +52,11 @@ def test_a_prefiltered_file_is_the_tools_map(sky, cli, tmp_path, scratch):
     ours = brdfbake.prefilter(sky, "phong:20", "sphere", 32, output=tmp_path / "module.exr", progress=False)
     assert ours.path == tmp_path / "module.exr" and (tmp_path / "module.exr").exists()
     assert np.array_equal(ours.pixels, brdfbake.read_map(tmp_path / "tool.exr").pixels)
-    skip = {"seconds", "bake_seconds", "write_seconds", "output", "files", "estimate_seconds"}
-    assert without_keys(ours.result, skip) == without_keys(tool, skip)
+    skip = {"seconds", "bake_seconds", "estimate_seconds"}
+    # The map's summary in memory is the tool's entry but for what the tool adds about its files.
+    assert set(tool) - set(ours.result) == {"output", "status", "files", "write_seconds", "notes"}
+    assert without_keys(ours.result, skip) == without_keys({k: tool[k] for k in ours.result}, skip)
+    assert ours.files == [tmp_path / "module.exr"]
     dirs = random_directions(300, seed=4)
     np.savetxt(tmp_path / "dirs.txt", dirs, fmt="%.17g")
     sampled = run_cli(cli, "sample", tmp_path / "tool.exr", "--dirs", tmp_path / "dirs.txt")
@@ -70,12 +73,29 @@ def test_an_array_prefilters_as_the_file_it_came_from(sky, tmp_path, scratch):
     assert list(scratch.iterdir()) == []
 
 
-def test_files_beside_the_map_need_an_output(sky, tmp_path, scratch):
-    with pytest.raises(brdfbake.InvalidArgumentError, match="prefilter: mips writes files beside the map"):
-        brdfbake.prefilter(sky, "phong:20", "paraboloid", 16, mips=True, progress=False)
-    m = brdfbake.prefilter(sky, "phong:20", "paraboloid", 16, mips=True, output=tmp_path / "sky.exr", progress=False)
-    assert (tmp_path / "sky_mip1.exr").exists() and m.files == [tmp_path / "sky.exr"]
-    assert len(m.result["files"]) > 1
+def test_mips_stay_in_memory_until_saved(sky, tmp_path, scratch):
+    m = brdfbake.prefilter(sky, "phong:20", "paraboloid", 16, mips=True, progress=False)
+    assert m.path is None and m.files == []
+    levels = m.levels
+    assert [level.shape for level in levels] == [(16 >> k, 2 * (16 >> k), 4) for k in range(5)]
+    assert np.array_equal(levels[0], m.pixels)
+    # The solid-angle mip chain: a level's texel is the solid-angle-weighted mean of the four below it
+    # (texels of the paraboloid's hemispheres of their own sizes; interior texels of full coverage).
+    written = m.save(tmp_path / "sky.exr")
+    assert written == [tmp_path / f"sky{'' if k == 0 else f'_mip{k}'}.exr" for k in range(5)]
+    for k in range(5):
+        assert np.array_equal(brdfbake.read_map(tmp_path / "sky.exr", mip_level=k).pixels, levels[k])
+    assert list(scratch.iterdir()) == []
+
+
+def test_several_maps_need_an_output(source_dir, tmp_path, scratch):
+    with pytest.raises(brdfbake.InvalidArgumentError, match="output: a Fresnel decomposition"):
+        brdfbake.prefilter(source_dir / "data_samples/environments/sky_latlong.exr", "phong:20", "cube", 8,
+                           fresnel_ior=1.5, progress=False)
+    m = brdfbake.prefilter(source_dir / "data_samples/environments/sky_latlong.exr", "phong:20", "cube", 8,
+                           fresnel_ior=1.5, output=tmp_path / "f.exr", progress=False)
+    assert (tmp_path / "f_irradiance.exr").exists() and (tmp_path / "f_fresnel.exr").exists()
+    assert m.path == tmp_path / "f.exr"
 
 
 @pytest.mark.parametrize(
@@ -99,10 +119,12 @@ def test_bad_arrays_raise_errors_naming_the_element(environment, words, scratch)
 @pytest.mark.parametrize(
     "arguments, words",
     [
-        ({"lobe": "bogus"}, "prefilter: lobe"),
-        ({"to": "mercator"}, "prefilter: to"),
-        ({"resolution": 0}, "prefilter: resolution"),
-        ({"method": "magic"}, "prefilter: method"),
+        ({"lobe": "bogus"}, "lobe: "),
+        ({"to": "mercator"}, "to: "),
+        ({"resolution": 0}, "resolution: "),
+        ({"method": "magic"}, "method: "),
+        ({"max_error": 0.7}, "max_error: "),
+        ({"fresnel_ior": 1.5, "lobe": "irradiance"}, "fresnel_ior: "),
     ],
 )
 def test_bad_arguments_raise_errors_naming_the_keyword(sky, tmp_path, scratch, arguments, words):

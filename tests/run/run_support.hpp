@@ -5,6 +5,7 @@
 #include <brdfbake/run/prefilter_job.hpp>
 #include <brdfbake/run/sample_output.hpp>
 #include <brdfbake/run/spec_runner.hpp>
+#include <brdfbake/spec/spec.hpp>
 
 #include <string>
 
@@ -35,16 +36,22 @@ inline nlohmann::json bakeSpec(const std::filesystem::path& spec, const std::fil
 }
 
 /// `brdfbake prefilter ENVIRONMENT --lobe LOBE --to TO --resolution RESOLUTION -o OUTPUT`, the
-/// other fields at their defaults.
-inline PrefilterRequest prefilterRequest(const std::string& environment, const std::string& lobe, const std::string& to,
-                                         int resolution, const std::filesystem::path& output) {
-  PrefilterRequest r;
-  r.environment = environment;
-  r.lobe = lobe;
-  r.to = to;
-  r.resolution = resolution;
-  r.output = output;
-  return r;
+/// other fields at their defaults (run it with runPrefilter). LOBE as the tool takes it (parseLobeArgument).
+inline PrefilterFiles prefilterFiles(const std::filesystem::path& environment, const std::string& lobe,
+                                     const std::string& to, int resolution, const std::filesystem::path& output) {
+  PrefilterFiles files;
+  files.environment = environment;
+  const LobeArgument parsed = parseLobeArgument(lobe, ".");
+  if (const auto* analytic = std::get_if<PrefilterLobe>(&parsed.lobe)) {
+    files.request.lobe = *analytic;
+  } else {
+    files.request.lobeModel = std::get<std::shared_ptr<const LobeModel>>(parsed.lobe);
+    files.request.lobeName = lobe;
+  }
+  files.request.parameterization = parseParameterizationKind(to);
+  files.request.resolution = resolution;
+  files.outputs.files = {output};
+  return files;
 }
 
 }  // namespace brdfbake::test

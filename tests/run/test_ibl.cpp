@@ -6,8 +6,9 @@
 #include <brdfbake/core/math.hpp>
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/env/prefilter.hpp>
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/fit/fit_file.hpp>
+#include <brdfbake/io/image_io.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/output/baked_output.hpp>
 #include <brdfbake/run/ibl_job.hpp>
 #include <brdfbake/run/prefilter_job.hpp>
@@ -53,21 +54,22 @@ double ggxMeanCosine(double roughness) {
   return first / mass;
 }
 
-IblOptions smallOptions(const fs::path& environment, const fs::path& outDir) {
-  IblOptions options;
-  options.environment = environment;
-  options.outDir = outDir;
-  options.resolution = 16;
-  options.irradianceResolution = 8;
-  options.skyboxResolution = 16;
-  options.dfgSize = 8;
-  return options;
+IblFiles smallFiles(const fs::path& environment, const fs::path& outDir) {
+  IblFiles files;
+  files.environment = environment;
+  files.outputs.folder = outDir;
+  files.outputs.stem.clear();  // the environment's
+  files.request.resolution = 16;
+  files.request.irradianceResolution = 8;
+  files.request.skyboxResolution = 16;
+  files.request.dfgSize = 8;
+  return files;
 }
 
 TEST(Ibl, AConstantEnvironmentGivesItsRadianceAtEveryLevelAndTheFilesTheirRoles) {
   test::TempDir dir;
   const fs::path env = zonalEnvironment(dir / "white.exr", [](double) { return 2.0; });
-  const IblResult result = makeIbl(smallOptions(env, dir / "out"));
+  const IblReport result = runIbl(smallFiles(env, dir / "out"));
   const nlohmann::json report = result.toJson();
   std::map<std::string, fs::path> byRole;
   for (const auto& file : report["files"]) byRole[file["role"]] = file["file"].get<std::string>();
@@ -100,7 +102,7 @@ TEST(Ibl, KtxParseReadsTheChainAsGgxOfALinearEnvironmentAtEveryLevelAndFace) {
   test::TempDir dir;
   // L = 1 + l.y: filtering with a normalised lobe of mean cosine kappa gives 1 + kappa r.y exactly.
   const fs::path env = zonalEnvironment(dir / "linear.exr", [](double y) { return 1.0 + y; });
-  makeIbl(smallOptions(env, dir / "out"));
+  runIbl(smallFiles(env, dir / "out"));
   const int levels = 5;
   std::vector<Vec3> directions;
   std::vector<int> levelOf;
@@ -137,9 +139,9 @@ TEST(Ibl, KtxParseReadsTheSkysChainAsTheReferenceSumAtEveryLevel) {
   // centres, against the reference sum of ggx:R_k there (brute force over every environment texel).
   test::TempDir dir;
   const fs::path sky = test::sourcePath("data_samples/environments/sky_latlong.exr");
-  IblOptions options = smallOptions(sky, dir / "out");
-  options.resolution = 32;
-  makeIbl(options);
+  IblFiles options = smallFiles(sky, dir / "out");
+  options.request.resolution = 32;
+  runIbl(options);
   const Environment environment = loadEnvironment(sky);
   const int levels = 6;
   std::vector<Vec3> directions;
@@ -177,10 +179,10 @@ TEST(Ibl, IrradianceOfACosineLobeSkyMatchesTheAnalyticValue) {
   // L = max(0, l.y): E(n)/pi = (2 / (3 pi)) ((pi - g) cos g + sin g), g the angle from +y; its three
   // bands (Funk-Hecke, Legendre moments 1/2, 1/3, 1/8 of max(0, m)): 1/4 + (1/3) c + (5/64)(3c^2 - 1)/2.
   const fs::path env = zonalEnvironment(dir / "lobe.exr", [](double y) { return std::max(0.0, y); });
-  IblOptions options = smallOptions(env, dir / "out");
-  options.format = "exr";
-  options.irradianceResolution = 16;
-  makeIbl(options);
+  IblFiles options = smallFiles(env, dir / "out");
+  options.outputs.format = "exr";
+  options.request.irradianceResolution = 16;
+  runIbl(options);
   OpenOutputOptions open;
   const BakedOutput cube = BakedOutput::open(dir / "out" / "lobe_irradiance.exr", open);
   const BakedOutput sh = BakedOutput::open(dir / "out" / "lobe_sh.json", open);
@@ -196,38 +198,36 @@ TEST(Ibl, IrradianceOfACosineLobeSkyMatchesTheAnalyticValue) {
 TEST(Ibl, DdsAndFolderChoicesAndBadInputLeaveNothingBehind) {
   test::TempDir dir;
   const fs::path env = zonalEnvironment(dir / "sky.exr", [](double y) { return 1.0 + y; });
-  IblOptions options = smallOptions(env, dir / "dds");
-  options.format = "dds";
-  options.stem = "s";
-  const IblResult result = makeIbl(options);
+  IblFiles options = smallFiles(env, dir / "dds");
+  options.outputs.format = "dds";
+  options.outputs.stem = "s";
+  const IblReport result = runIbl(options);
   for (const char* name : {"s_ggx.dds", "s_irradiance.dds", "s_skybox.dds", "s_dfg.dds", "s_sh.json"})
     EXPECT_TRUE(fs::exists(dir / "dds" / name)) << name;
   const MapFile top = readMap(dir / "dds" / "s_ggx.dds", 4);  // the last level, roughness 1
   EXPECT_NEAR(sampleBilinear(top.image, *top.parameterization, Vec3(0, 1, 0))[0], 1.0 + ggxMeanCosine(1.0), 0.03);
 
-  auto expectRefused = [&](IblOptions bad, const std::string& named) {
-    bad.outDir = dir / "bad";
+  auto expectRefused = [&](IblFiles bad, const std::string& named) {
+    bad.outputs.folder = dir / "bad";
     try {
-      makeIbl(bad);
+      runIbl(bad);
       ADD_FAILURE() << "no error for " << named;
     } catch (const Error& error) {
       EXPECT_NE(std::string(error.what()).find(named), std::string::npos) << error.what();
     }
     EXPECT_FALSE(fs::exists(dir / "bad")) << named;  // nothing made, not even the folder
   };
-  IblOptions bad = options;
-  bad.format = "png";
-  expectRefused(bad, "--format");
-  bad = options, bad.resolution = 24;
-  expectRefused(bad, "--resolution");
-  bad = options, bad.levels = 3;
-  expectRefused(bad, "--levels");
-  bad = options, bad.stem = "a/b";
-  expectRefused(bad, "--stem");
+  IblFiles bad = options;
+  bad.outputs.format = "png";
+  expectRefused(bad, "format: ");
+  bad = options, bad.request.resolution = 24;
+  expectRefused(bad, "resolution: ");
+  bad = options, bad.request.levels = 3;
+  expectRefused(bad, "levels: ");
+  bad = options, bad.outputs.stem = "a/b";
+  expectRefused(bad, "stem: ");
   bad = options, bad.environment = dir / "missing.exr";
   expectRefused(bad, "missing.exr");
-  bad = options, bad.threads = -1;
-  expectRefused(bad, "threads");
   // Not an image: refused naming the file, before any output.
   {
     std::ofstream(dir / "junk.exr") << "not an image";
@@ -241,9 +241,9 @@ TEST(Ibl, CmgenShLinesFollowCmgensFormula) {
   // sh[3] x + sh[4] yx + sh[5] yz + sh[6] (3z^2 - 1) + sh[7] zx + sh[8] (x^2 - y^2): sh[0] = 1, sh[1] = 2/3.
   test::TempDir dir;
   const fs::path env = zonalEnvironment(dir / "linear.exr", [](double y) { return 1.0 + y; });
-  IblOptions options = smallOptions(env, dir / "out");
-  options.shCmgen = true;
-  const IblResult result = makeIbl(options);
+  IblFiles options = smallFiles(env, dir / "out");
+  options.outputs.shCmgen = true;
+  const IblReport result = runIbl(options);
   std::ifstream in(dir / "out" / "linear_sh.txt");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::regex line(
@@ -262,14 +262,14 @@ TEST(Ibl, CmgenShLinesFollowCmgensFormula) {
 
 TEST(Ibl, PrefilterMakesTheGgxChainAndRefusesBadChainKeys) {
   test::TempDir dir;
-  PrefilterRequest request;
+  PrefilterFiles request;
   request.environment = zonalEnvironment(dir / "white.exr", [](double) { return 1.0; });
-  request.chain = "ggx";
-  request.to = "cube";
-  request.resolution = 8;
-  request.tiled = true;
-  request.output = dir / "chain.ktx2";
-  const MapResult made = prefilterEnvironment(request);
+  request.request.glossChain = GlossChain{};  // ggx, every level
+  request.request.parameterization = ParameterizationKind::Cube;
+  request.request.resolution = 8;
+  request.outputs.mipLayout = MipLayout::Tiled;
+  request.outputs.files = {dir / "chain.ktx2"};
+  const MapResult made = runPrefilter(request);
   ASSERT_TRUE(made.written) << made.error;
   EXPECT_EQ(made.entry["gloss_chain"]["kind"], "ggx");
   for (int level = 0; level < 4; ++level) {
@@ -302,10 +302,12 @@ TEST(Ibl, PrefilterMakesTheGgxChainAndRefusesBadChainKeys) {
   expectRefused({{"maps", {irradiance}}}, "sh_output");  // cmgen's lines go to a .txt
   irradiance["environment"]["sh_format"] = "spherical";
   expectRefused({{"maps", {irradiance}}}, "sh_format");
-  request.lobe = "phong:10";  // a chain sets every level's lobe
+  request.request.lobeModel =
+      std::make_shared<const LobeModel>(readFitFile(test::sourcePath("data_samples/fits/synthetic_two_lobes.json"))
+                                            .fit.model);  // a chain sets every level's lobe
   try {
-    prefilterEnvironment(request);
-    ADD_FAILURE() << "a lobe beside the chain was accepted";
+    runPrefilter(request);
+    ADD_FAILURE() << "fitted lobes beside the chain were accepted";
   } catch (const Error& error) {
     EXPECT_NE(std::string(error.what()).find("lobe"), std::string::npos) << error.what();
   }

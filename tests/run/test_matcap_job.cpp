@@ -5,8 +5,8 @@
 // naming the file or key, with nothing written.
 #include <brdfbake/bake/map_function.hpp>
 #include <brdfbake/env/environment.hpp>
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/io/image_io.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/run/matcap_job.hpp>
 
 #include <cmath>
@@ -53,18 +53,16 @@ TEST(MatcapJob, AWhiteFurnaceShowsTheLambertianAlbedo) {
        R"({"model": "cook_torrance", "distribution": "ggx", "roughness": 0.3, "fresnel": {"schlick": [0.04, 0.04, 0.04]},
            "specular_weight": 0, "diffuse": [0.5, 0.5, 0.5]})"}};
   for (const auto& [name, json] : materials) {
-    MatcapRequest request;
+    MatcapFiles request;
     request.material = writeText(dir / (std::string(name) + ".json"), json);
     request.environment = furnace;
-    request.output = dir / (std::string(name) + "_matcap.exr");
-    request.resolution = 32;
-    JobOptions options;
-    options.threads = 2;
-    const MapResult result = makeMatcap(request, options);
+    request.outputs.files = {dir / (std::string(name) + "_matcap.exr")};
+    request.request.resolution = 32;
+    const MapResult result = runMatcap(request, test::twoThreads());
     ASSERT_TRUE(result.written) << result.error;
     EXPECT_EQ(result.entry["bake_path"], "under_environment");
     EXPECT_LT(result.entry["under_environment"]["error_estimate"].get<double>(), 0.01);
-    const MapFile map = readMap(request.output);
+    const MapFile map = readMap(request.outputs.files[0]);
     EXPECT_EQ(map.parameterization->kind(), ParameterizationKind::Sphere);
     double worst = 0.0;
     int covered = 0;
@@ -76,14 +74,14 @@ TEST(MatcapJob, AWhiteFurnaceShowsTheLambertianAlbedo) {
     EXPECT_LE(worst, 0.0025) << name;  // 0.5 within 0.5 %
   }
   // --exposure 1: twice the radiance.
-  MatcapRequest request;
+  MatcapFiles request;
   request.material = dir / "phong.json";
   request.environment = furnace;
-  request.output = dir / "exposed.exr";
-  request.resolution = 16;
-  request.exposure = 1.0;
-  ASSERT_TRUE(makeMatcap(request).written);
-  const MapFile exposed = readMap(request.output);
+  request.outputs.files = {dir / "exposed.exr"};
+  request.request.resolution = 16;
+  request.request.exposure = 1.0;
+  ASSERT_TRUE(runMatcap(request).written);
+  const MapFile exposed = readMap(request.outputs.files[0]);
   EXPECT_NEAR(exposed.image.at(8, 8)[1], 1.0, 0.005);
 }
 
@@ -113,18 +111,15 @@ TEST(MatcapJob, ASmallSunShowsWhatItsOneLightShows) {
   int index = 0;
   for (const auto& [material, colorPerIrradiance] : materials) {
     const std::string name = material["model"].get<std::string>();
-    MatcapRequest request;
+    MatcapFiles request;
     request.material = writeText(dir / (name + ".json"), material.dump());
     request.environment = file;
-    request.output = dir / (name + "_matcap.exr");
-    request.resolution = 64;
-    request.samplesPerTexel = 4;
-    JobOptions options;
-    options.threads = 2;
-    ASSERT_TRUE(makeMatcap(request, options).written);
+    request.outputs.files = {dir / (name + "_matcap.exr")};
+    request.request.resolution = 64;
+    request.request.samplesPerTexel = 4;
+    ASSERT_TRUE(runMatcap(request, test::twoThreads()).written);
     const double color = power * colorPerIrradiance;
     SpecRunOptions oneLight;
-    oneLight.threads = 2;
     oneLight.outDir = dir.path();
     oneLight.document = {
         {"maps",
@@ -134,9 +129,9 @@ TEST(MatcapJob, ASmallSunShowsWhatItsOneLightShows) {
            {"samples_per_texel", 4},
            {"material", material},
            {"lights", {{{"direction", {sun.x(), sun.y(), sun.z()}}, {"color", {color, color, color}}}}}}}}};
-    const SpecRunResult expectedRun = runSpec(oneLight);
+    const SpecRunResult expectedRun = runSpec(oneLight, test::twoThreads());
     ASSERT_FALSE(expectedRun.firstError);
-    const Image matcap = readMap(request.output).image, expected = readMap(expectedRun.maps[0].output).image;
+    const Image matcap = readMap(request.outputs.files[0]).image, expected = readMap(expectedRun.maps[0].output).image;
     double peak = 0.0, sum = 0.0;
     int count = 0;
     forCoveredTexels(matcap, expected,
@@ -159,21 +154,18 @@ TEST(MatcapJob, FitFilesAndMeasuredTablesAreLitThroughTheirBrdf) {
   const fs::path sky = test::sourcePath("data_samples/environments/sky_latlong.exr");
   for (const std::string material :
        {"data_samples/fits/synthetic_two_lobes.json", "data_samples/tables/synthetic_two_lobes.astm"}) {
-    MatcapRequest request;
+    MatcapFiles request;
     request.material = test::sourcePath(material);
     request.environment = sky;
-    request.output =
-        dir / (fs::path(material).stem().string() + fs::path(material).extension().string().substr(1) + ".exr");
-    request.resolution = 32;
-    request.samplesPerTexel = 4;
-    request.yaw = 90.0, request.pitch = 10.0;
-    EXPECT_EQ(matcapSpec(request)["maps"][0]["camera"]["yaw"], 90.0);
-    JobOptions options;
-    options.threads = 2;
-    const MapResult result = makeMatcap(request, options);
+    request.outputs.files = {
+        dir / (fs::path(material).stem().string() + fs::path(material).extension().string().substr(1) + ".exr")};
+    request.request.resolution = 32;
+    request.request.samplesPerTexel = 4;
+    request.request.camera = CameraFrame::fromYawPitch(90.0, 10.0);
+    const MapResult result = runMatcap(request, test::twoThreads());
     ASSERT_TRUE(result.written) << material;
     EXPECT_EQ(result.entry["under_environment"]["material"], images.empty() ? "lobes" : "measured") << material;
-    const Image image = readMap(request.output).image;
+    const Image image = readMap(request.outputs.files[0]).image;
     double brightest = 0.0;
     for (int y = 0; y < image.height(); ++y)
       for (int x = 0; x < image.width(); ++x) {
@@ -199,17 +191,17 @@ TEST(MatcapJob, BadInputIsNamedAndNothingIsWritten) {
   const fs::path sky = test::sourcePath("data_samples/environments/sky_latlong.exr");
   const fs::path out = dir / "out";
   fs::create_directories(out);
-  auto errorOf = [&](MatcapRequest request) -> std::string {
-    request.output = out / "matcap.exr";
-    request.resolution = 16;
+  auto errorOf = [&](MatcapFiles request) -> std::string {
+    request.outputs.files = {out / "matcap.exr"};
+    request.request.resolution = 16;
     try {
-      makeMatcap(request);
+      runMatcap(request);
     } catch (const Error& e) {
       return e.what();
     }
     return "";
   };
-  MatcapRequest request;
+  MatcapFiles request;
   request.environment = sky;
   request.material = dir / "missing.json";
   EXPECT_NE(errorOf(request).find("missing.json"), std::string::npos);
@@ -217,21 +209,21 @@ TEST(MatcapJob, BadInputIsNamedAndNothingIsWritten) {
   EXPECT_NE(errorOf(request).find("a bake spec"), std::string::npos) << errorOf(request);
   request.material = writeText(dir / "gooch.json", R"({"model": "gooch"})");
   const std::string gooch = errorOf(request);
-  EXPECT_NE(gooch.find("maps[0].material"), std::string::npos) << gooch;
+  EXPECT_EQ(gooch.rfind("material: gooch has no BRDF", 0), 0u) << gooch;
   request.material = writeText(dir / "phong.json", R"({"model": "phong", "specular": [1, 1, 1], "exponent": 20})");
   request.environment = dir / "no_sky.exr";
-  EXPECT_NE(errorOf(request).find("environment.file"), std::string::npos) << errorOf(request);
+  EXPECT_EQ(errorOf(request).rfind("environment: ", 0), 0u) << errorOf(request);
+  EXPECT_NE(errorOf(request).find("no_sky.exr"), std::string::npos) << errorOf(request);
   request.environment = writeText(dir / "not_an_image.exr", "hello");
-  EXPECT_NE(errorOf(request).find("environment.file"), std::string::npos) << errorOf(request);
+  EXPECT_NE(errorOf(request).find("not_an_image.exr"), std::string::npos) << errorOf(request);
   request.environment = sky;
-  request.pitch = 120.0;
-  EXPECT_NE(errorOf(request).find("camera.pitch"), std::string::npos) << errorOf(request);
-  request.pitch.reset();
-  request.exposure = 40.0;
-  EXPECT_NE(errorOf(request).find("exposure"), std::string::npos) << errorOf(request);
-  request.exposure = 0.0;
-  request.method = "fast";
-  EXPECT_NE(errorOf(request).find("environment.method"), std::string::npos) << errorOf(request);
+  EXPECT_EQ(test::errorOf([] { CameraFrame::fromYawPitch(0.0, 120.0); }).rfind("camera: ", 0), 0u);
+  request.request.exposure = 40.0;
+  EXPECT_EQ(errorOf(request).rfind("exposure: must be in [-30, 30]", 0), 0u) << errorOf(request);
+  request.request.exposure = 0.0;
+  request.request.maxError = 0.9;
+  EXPECT_EQ(errorOf(request).rfind("max_error: ", 0), 0u) << errorOf(request);
+  EXPECT_THROW(parseUnderEnvironmentMethod("fast"), Error);
   EXPECT_TRUE(test::filesIn(out).empty());
 }
 

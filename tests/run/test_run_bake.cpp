@@ -6,8 +6,8 @@
 // keeps the tool's own part (exit statuses, flags, help, an end-to-end smoke test).
 #include <gtest/gtest.h>
 #include <brdfbake/core/math.hpp>
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/io/image_io.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/run/convert_output.hpp>
 #include <brdfbake/run/interpolation_chart.hpp>
 #include <brdfbake/run/preview_job.hpp>

@@ -4,12 +4,12 @@
 // CSV, skipped combinations, and the chart decoded. Moved from tests/cli/test_chart_environment.cpp
 // and tests/cli/test_cli.cpp (Cli.ChartSweepsAndMarksTheParetoFront), which keep the flags.
 #include <gtest/gtest.h>
-#include <brdfbake/core/gnuplot.hpp>
 #include <brdfbake/core/math.hpp>
 #include <brdfbake/env/env_accuracy.hpp>
 #include <brdfbake/env/environment.hpp>
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/image_io.hpp>
 #include <brdfbake/run/chart.hpp>
+#include <brdfbake/run/gnuplot.hpp>
 
 #include <cmath>
 #include <fstream>
@@ -40,7 +40,6 @@ ChartOptions chartOf(const fs::path& spec, std::vector<int> resolutions,
   if (!parameterizations.empty()) options.parameterizations = std::move(parameterizations);
   if (!methods.empty()) options.methods = std::move(methods);
   options.subset = subset;
-  options.threads = 2;
   return options;
 }
 
@@ -52,7 +51,7 @@ TEST(ChartJob, FurnaceGivesZeroErrorForEveryParameterizationResolutionAndMethod)
   writeChartSpec(dir / "f.json", kFurnace, "phong:20");
   ChartOptions options = chartOf(dir / "f.json", {8, 16}, {}, {}, 64);
   options.csv = dir / "f.csv";
-  chartSpec(options);
+  chartSpec(options, test::twoThreads());
   const auto rows = readCsv(dir / "f.csv");
   ASSERT_EQ(rows.size(), 4u * 2u * 4u);  // sphere, paraboloid, cube, latlong x 8, 16 x auto, sh, direct, importance
   std::set<std::string> combinations;
@@ -82,7 +81,7 @@ TEST(ChartJob, SkyErrorsAreFiniteBoundedAndAgreeWithThePrefiltersEstimates) {
   writeChartSpec(dir / "s.json", kSky, "phong:100");
   ChartOptions options = chartOf(dir / "s.json", {16, 32}, {K::Sphere, K::Paraboloid});
   options.csv = dir / "s.csv";
-  const auto points = chartSpec(options).toJson();
+  const auto points = chartSpec(options, test::twoThreads()).toJson();
   ASSERT_EQ(points.size(), 2u * 2u * 4u);
   std::map<std::string, nlohmann::json> byKey;
   int front = 0;
@@ -146,7 +145,7 @@ TEST(ChartJob, MirrorMapsAndBadCombinationsAreSkippedWithANote) {
                   "environment": {"file": ")" +
                      kFurnace + R"(", "lobe": "mirror"}})");
   const ChartResult result =
-      chartSpec(chartOf(dir / "m.json", {8}, {K::LatLong}, {M::SphericalHarmonics, M::Direct}, 32));
+      chartSpec(chartOf(dir / "m.json", {8}, {K::LatLong}, {M::SphericalHarmonics, M::Direct}, 32), test::twoThreads());
   const auto entries = result.toJson();
   ASSERT_EQ(entries.size(), 3u);
   for (int i = 0; i < 2; ++i) {
@@ -167,7 +166,7 @@ TEST(ChartJob, MirrorMapsAndBadCombinationsAreSkippedWithANote) {
                      kFurnace + R"(", "lobe": "lobes:)" + test::sourcePath("data_samples/fits/synthetic_varying.json") +
                      R"("}})");
   const auto varyingEntries =
-      chartSpec(chartOf(dir / "v.json", {8}, {K::LatLong}, {M::SphericalHarmonics}, 16)).toJson();
+      chartSpec(chartOf(dir / "v.json", {8}, {K::LatLong}, {M::SphericalHarmonics}, 16), test::twoThreads()).toJson();
   ASSERT_EQ(varyingEntries.size(), 2u);
   EXPECT_TRUE(varyingEntries[1]["skipped"].get<bool>());
   EXPECT_NE(varyingEntries[1]["note"].get<std::string>().find("vary with elevation"), std::string::npos);
@@ -175,7 +174,8 @@ TEST(ChartJob, MirrorMapsAndBadCombinationsAreSkippedWithANote) {
   // A combination the prefilter refuses (a map over the size limit) is skipped, the rest charted.
   writeChartSpec(dir / "big.json", kFurnace, "phong:10");
   const auto bigEntries =
-      chartSpec(chartOf(dir / "big.json", {8, 10000}, {K::LatLong}, {M::SphericalHarmonics}, 16)).toJson();
+      chartSpec(chartOf(dir / "big.json", {8, 10000}, {K::LatLong}, {M::SphericalHarmonics}, 16), test::twoThreads())
+          .toJson();
   ASSERT_EQ(bigEntries.size(), 2u);
   EXPECT_EQ(bigEntries[0]["resolution"], 8);
   EXPECT_FALSE(bigEntries[0].contains("skipped"));
@@ -197,7 +197,7 @@ TEST(ChartJob, DrawsOnePanelPerMapAsAPictureOf900By600PixelsEach) {
   options.lookups = 2000;
   options.lookupError = true;
   options.chart = dir / "c.png";
-  const ChartResult result = chartSpec(options);
+  const ChartResult result = chartSpec(options, test::twoThreads());
   EXPECT_EQ(result.panels, 2);
   EXPECT_EQ(result.chart, dir / "c.png");
   const Image chart = readImage(dir / "c.png");
@@ -222,7 +222,7 @@ TEST(ChartJob, MaterialMapsSweepAndMarkTheParetoFront) {
   options.samplesPerTexel = {1, 4};
   options.parameterizations = {K::Sphere, K::Paraboloid};
   options.lookups = 2000;
-  const auto points = chartSpec(options).toJson();
+  const auto points = chartSpec(options, test::twoThreads()).toJson();
   ASSERT_EQ(points.size(), 8u);
   for (const auto& p : points) {
     EXPECT_GT(p["rms"].get<double>(), 0.0);

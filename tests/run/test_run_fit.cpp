@@ -3,12 +3,12 @@
 // Phong formula. Moved from tests/cli/test_fit_cli.cpp, which keeps the flags, exit statuses and
 // the tool's default output name.
 #include <gtest/gtest.h>
-#include <brdfbake/core/gnuplot.hpp>
 #include <brdfbake/core/math.hpp>
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/image_io.hpp>
 #include <brdfbake/measured/measured_io.hpp>
 #include <brdfbake/run/evaluate.hpp>
 #include <brdfbake/run/fit_table.hpp>
+#include <brdfbake/run/gnuplot.hpp>
 
 #include <fstream>
 #include <sstream>

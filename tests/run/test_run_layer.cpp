@@ -1,7 +1,7 @@
 // The run layer: each job called as a renderer or a script would, checked against values the code
 // did not produce (analytic lobes, a furnace, the files on disk), and the rules every job keeps
 // (validated first, nothing written on bad input, progress, cancellation).
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/run/chart.hpp>
 #include <brdfbake/run/convert_output.hpp>
 #include <brdfbake/run/describe_output.hpp>
@@ -12,9 +12,12 @@
 
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <mutex>
+#include <optional>
 
+#include "run_support.hpp"
 #include "test_support.hpp"
 
 namespace brdfbake {
@@ -108,22 +111,29 @@ TEST(RunSpec, ReportsProgressPerMapEndingAtOneAndACancellingSinkLeavesNothing) {
   options.outDir = dir.path();
   std::mutex mutex;
   std::map<std::string, double> last;
-  options.progress = [&](const std::string& task, double fraction) {
-    std::lock_guard lock(mutex);
-    EXPECT_GE(fraction, last[task]);
-    last[task] = fraction;
-  };
-  runSpec(options);
+  runSpec(options, Context({.progress = [&](const std::string& task, double fraction) {
+            std::lock_guard lock(mutex);
+            EXPECT_GE(fraction, last[task]);
+            last[task] = fraction;
+          }}));
   ASSERT_EQ(last.size(), 1u);
   EXPECT_EQ(last.begin()->first, "maps[0] phong.exr");
   EXPECT_DOUBLE_EQ(last.begin()->second, 1.0);
 
   TempDir other;
   options.outDir = other.path();
-  options.progress = [](const std::string&, double fraction) {
+  const Context throwing({.progress = [](const std::string&, double fraction) {
     if (fraction > 0.3) throw std::runtime_error("cancelled");
-  };
-  EXPECT_THROW(runSpec(options), std::runtime_error);
+  }});
+  EXPECT_THROW(runSpec(options, throwing), std::runtime_error);
+  EXPECT_TRUE(test::filesIn(other.path()).empty());
+  // Context::cancel from another thread (here the sink, as Python's Ctrl-C handler does): Cancelled,
+  // which no map's failure report takes for a failure, and nothing left.
+  std::optional<Context> cancelling;
+  cancelling.emplace(Context::Options{.progress = [&](const std::string&, double fraction) {
+    if (fraction > 0.3) cancelling->cancel();
+  }});
+  EXPECT_THROW(runSpec(options, *cancelling), Cancelled);
   EXPECT_TRUE(test::filesIn(other.path()).empty());
 }
 
@@ -131,57 +141,59 @@ TEST(RunSpec, OptionsAreValidatedBeforeAnyWork) {
   SpecRunOptions options;
   EXPECT_THROW(planSpec(options), Error);  // neither a file nor a document
   options.document = phongEyeSpec("x.exr");
-  options.threads = 2147483647;
-  EXPECT_THROW(planSpec(options), Error);
-  options.threads = -1;
-  EXPECT_THROW(planSpec(options), Error);
+  options.spec = "also_a_file.json";
+  EXPECT_THROW(planSpec(options), Error);  // both
 }
 
 TEST(PrefilterJob, AFurnaceGivesTheLobeMassAtEveryLookup) {
   // A constant environment of radiance 1: a normalised Phong lobe integrates to 1, and so does irradiance (E/pi).
   TempDir dir;
-  PrefilterRequest request;
-  request.environment = test::sourcePath("data_samples/environments/furnace_latlong.exr");
-  request.to = "cube";
-  request.resolution = 16;
+  const fs::path furnace = test::sourcePath("data_samples/environments/furnace_latlong.exr");
   for (const auto& [lobe, mass] : {std::pair{"phong:40", 1.0}, std::pair{"irradiance", 1.0}}) {
-    request.lobe = lobe;
-    request.output = dir / (std::string(lobe == std::string("irradiance") ? "irr" : "phong") + ".exr");
-    const MapResult result = prefilterEnvironment(request);
+    const fs::path output = dir / (std::string(lobe == std::string("irradiance") ? "irr" : "phong") + ".exr");
+    const MapResult result = runPrefilter(test::prefilterFiles(furnace, lobe, "cube", 16, output));
     EXPECT_TRUE(result.written);
-    EXPECT_EQ(result.entry["environment"]["file"], request.environment.string());
+    EXPECT_EQ(result.entry["environment"]["file"], "furnace_latlong.exr");  // the name: no folder of this machine
     SampleOptions sample;
-    sample.source.path = request.output;
+    sample.source.path = output;
     sample.directions = {Vec3(1, 2, 3), Vec3(0, -1, 0), Vec3(-0.3, 0.1, -1)};
     for (const auto& lookup : sampleOutput(sample).lookups) EXPECT_NEAR(lookup.value[1], mass, 2e-3 * mass) << lobe;
   }
 }
 
-TEST(PrefilterJob, TheRequestIsAOneMapSpecAndItsErrorsNameTheKeys) {
-  PrefilterRequest request;
-  request.environment = "sky.exr";
-  request.lobe = "phong";
-  request.to = "cube";
-  request.output = "out.exr";
-  request.glossScale = 10.0;
-  request.edgeFixup = false;
-  const nlohmann::json spec = prefilterSpec(request);
-  ASSERT_EQ(spec["maps"].size(), 1u);
-  EXPECT_EQ(spec["maps"][0]["environment"]["gloss_chain"]["scale"], 10.0);
-  EXPECT_EQ(spec["maps"][0]["environment"]["gloss_chain"]["edge_fixup"], false);
-  EXPECT_FALSE(spec["maps"][0]["environment"].contains("method"));  // defaults left out
-  request.environment = test::sourcePath("data_samples/environments/sky_latlong.exr");
-  request.glossScale.reset();
-  request.mipCount = 4;  // a chain's level count without its scale
+TEST(PrefilterJob, TheRequestIsValidatedFirstAndItsErrorsNameItsFields) {
   TempDir dir;
-  request.output = dir / "out.exr";
-  try {
-    prefilterEnvironment(request);
-    FAIL() << "a chain without its scale was accepted";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("gloss_chain.scale"), std::string::npos) << e.what();
-  }
+  const fs::path sky = test::sourcePath("data_samples/environments/sky_latlong.exr");
+  auto fieldOf = [&](const std::function<void(PrefilterFiles&)>& change) {
+    PrefilterFiles files = test::prefilterFiles(sky, "phong:10", "cube", 16, dir / "out.exr");
+    change(files);
+    try {
+      runPrefilter(files);
+    } catch (const Error& e) {
+      return e.field().empty() ? std::string("(no field) ") + e.what() : e.field();
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_EQ(fieldOf([](PrefilterFiles& f) { f.request.resolution = 0; }), "resolution");
+  EXPECT_EQ(fieldOf([](PrefilterFiles& f) { f.request.maxError = 0.7; }), "max_error");
+  EXPECT_EQ(fieldOf([](PrefilterFiles& f) {
+              f.request.glossChain = GlossChain{GlossChain::Lobe::Phong, 10, 1, 6};
+            }),
+            "gloss_chain");  // 6 levels from 16 texels: 16, 8, 4, 2, 1 are 5
+  EXPECT_EQ(fieldOf([](PrefilterFiles& f) {
+              f.request.lobe = PrefilterLobe::irradiance(),
+              f.request.fresnel = FresnelTerm::dielectric(Rgb::Constant(1.5));
+            }),
+            "fresnel");
+  EXPECT_EQ(fieldOf([](PrefilterFiles& f) { f.request.combine = FresnelCombine::Mix; }), "combine");
+  EXPECT_EQ(fieldOf([](PrefilterFiles& f) { f.request.sh = true; }), "sh");
+  EXPECT_EQ(fieldOf([](PrefilterFiles& f) { f.request.view = Vec3(0, 1, 0); }), "view");  // a cube has none
+  EXPECT_EQ(fieldOf([](PrefilterFiles& f) { f.outputs.files.clear(); }), "outputs");
+  EXPECT_EQ(fieldOf([](PrefilterFiles& f) { f.outputs.texelFormat = TexelFormat::Rgb9e5; }), "texel_format");
   EXPECT_TRUE(test::filesIn(dir.path()).empty());
+  // In memory, without an environment.
+  PrefilterRequest bare;
+  EXPECT_EQ(test::errorOf([&] { prefilterEnvironment(bare); }), "environment: no environment given");
 }
 
 TEST(EvaluateJob, APhongMaterialFileGivesItsFormula) {
@@ -234,7 +246,8 @@ TEST(OutputJobs, ConvertDescribeAndSampleAgreeWithTheAnalyticLobe) {
   EXPECT_EQ(converted.files.front(), convert.output);
   const OutputDescription described = describeOutput(convert.output);
   EXPECT_EQ(described.description["parameterization"], "paraboloid");
-  EXPECT_EQ(described.description["spec"]["converted_from"]["file"], convert.source.path.string());
+  EXPECT_EQ(described.description["spec"]["converted_from"]["file"],
+            convert.source.path.filename().string());  // no folder
   SampleOptions sample;
   sample.source.path = convert.output;
   const Vec3 r = Vec3(0.2, -0.1, 1.0).normalized();

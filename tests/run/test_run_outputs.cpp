@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 #include <brdfbake/core/math.hpp>
 #include <brdfbake/fit/fit_file.hpp>
-#include <brdfbake/maps/image_io.hpp>
+#include <brdfbake/io/image_io.hpp>
 #include <brdfbake/run/convert_output.hpp>
 #include <brdfbake/run/prefilter_job.hpp>
 #include <brdfbake/run/preview_job.hpp>
@@ -22,7 +22,7 @@ namespace brdfbake {
 namespace {
 
 using test::infoOf;
-using test::prefilterRequest;
+using test::prefilterFiles;
 using test::randomDirections;
 namespace fs = std::filesystem;
 
@@ -182,10 +182,10 @@ TEST(OutputJobs, PrefilterMipLevelsStacksAndFresnelMapsReadBack) {
   test::TempDir dir;
   // Mip levels of a furnace's irradiance: pi at every level, whether read from STEM_mipK.EXT or as
   // mip level K of STEM.EXT; cube faces at every level too.
-  PrefilterRequest mips = prefilterRequest(kFurnace, "irradiance", "cube", 8, dir / "irr.exr");
-  mips.faces = true;
-  mips.mips = true;
-  ASSERT_TRUE(prefilterEnvironment(mips).written);
+  PrefilterFiles mips = prefilterFiles(kFurnace, "irradiance", "cube", 8, dir / "irr.exr");
+  mips.outputs.layout = CubeLayout::Faces;
+  mips.request.mips = true;
+  ASSERT_TRUE(runPrefilter(mips).written);
   const auto directions = randomDirections(12, 3);
   for (int level = 0; level < 4; ++level) {  // 8, 4, 2, 1 texels per face
     SCOPED_TRACE(level);
@@ -203,9 +203,9 @@ TEST(OutputJobs, PrefilterMipLevelsStacksAndFresnelMapsReadBack) {
   // An elevation stack of a fitted model that varies with elevation, prefiltered from the furnace:
   // slice j holds C(u_j) (n(u_j) + 2) / (n(u_j) + 1) (the normalised lobe's integral times 1), and
   // a renderer blends neighbouring slices linearly in t = ln(u / min_cos) / ln(max_cos / min_cos).
-  PrefilterRequest stack = prefilterRequest(kFurnace, "lobes:" + kVaryingFit, "paraboloid", 16, dir / "v.exr");
-  stack.elevations = 3;
-  const nlohmann::json report = prefilterEnvironment(stack).toJson();
+  PrefilterFiles stack = prefilterFiles(kFurnace, "lobes:" + kVaryingFit, "paraboloid", 16, dir / "v.exr");
+  stack.request.elevations = 3;
+  const nlohmann::json report = runPrefilter(stack).toJson();
   const LobeModel model = readFitFile(kVaryingFit).fit.model;
   auto furnaceValue = [&](double u) {
     const double c = model.weight(0, 0, u), n = model.exponent(0, 0, u);
@@ -243,9 +243,9 @@ TEST(OutputJobs, PrefilterMipLevelsStacksAndFresnelMapsReadBack) {
   for (const Rgb& v : converted) EXPECT_NEAR(v[0], quarter, 3e-3 * quarter);
 
   // The Fresnel decomposition: specular map, irradiance map (looked up at the normal), profile.
-  PrefilterRequest coat = prefilterRequest(kFurnace, "phong:20", "sphere", 16, dir / "coat.exr");
-  coat.fresnelIor = 1.5;
-  ASSERT_TRUE(prefilterEnvironment(coat).written);
+  PrefilterFiles coat = prefilterFiles(kFurnace, "phong:20", "sphere", 16, dir / "coat.exr");
+  coat.request.fresnel = FresnelTerm::dielectric(Rgb::Constant(1.5));
+  ASSERT_TRUE(runPrefilter(coat).written);
   for (const double c : {0.15625, 0.46875, 0.96875}) {  // texel centres (i + 0.5) / 16
     EXPECT_NEAR(fresnelAt(dir / "coat_fresnel.exr", c), dielectricFresnel(c, 1.5), 1e-5) << c;
   }
@@ -263,11 +263,11 @@ TEST(OutputJobs, TiledMipChainsAndShIrradianceReadBack) {
   test::TempDir dir;
   const std::string sky = test::sourcePath("data_samples/environments/sky_latlong.exr");
   auto glossy = [&](const fs::path& output, bool tiled) {
-    PrefilterRequest r = prefilterRequest(sky, "phong:20", "paraboloid", 16, output);
-    r.mips = true;
-    r.method = "sh";
-    r.tiled = tiled;
-    ASSERT_TRUE(prefilterEnvironment(r).written);
+    PrefilterFiles r = prefilterFiles(sky, "phong:20", "paraboloid", 16, output);
+    r.request.mips = true;
+    r.request.method = PrefilterMethod::SphericalHarmonics;
+    r.outputs.mipLayout = tiled ? MipLayout::Tiled : MipLayout::Files;
+    ASSERT_TRUE(runPrefilter(r).written);
   };
   glossy(dir / "files.exr", false);
   glossy(dir / "tiled.exr", true);
@@ -280,15 +280,15 @@ TEST(OutputJobs, TiledMipChainsAndShIrradianceReadBack) {
   }
   EXPECT_EQ(infoOf(dir / "tiled.exr")["metadata"]["mip_levels"], 5);
   expectPreviews(dir / "tiled.exr", Vec3::UnitZ(), 1);
-  PrefilterRequest notPowerOfTwo = prefilterRequest(sky, "phong:20", "cube", 12, dir / "bad.exr");
-  notPowerOfTwo.mips = notPowerOfTwo.tiled = true;
-  EXPECT_NE(test::errorOf([&] { prefilterEnvironment(notPowerOfTwo); }).find("power-of-two"), std::string::npos);
-  PrefilterRequest noMips = prefilterRequest(sky, "phong:20", "cube", 16, dir / "bad.exr");
-  noMips.tiled = true;
-  EXPECT_THROW(prefilterEnvironment(noMips), Error);
-  PrefilterRequest png = prefilterRequest(sky, "phong:20", "cube", 16, dir / "bad.png");
-  png.mips = png.tiled = true;
-  EXPECT_NE(test::errorOf([&] { prefilterEnvironment(png); }).find(".exr"), std::string::npos);
+  PrefilterFiles notPowerOfTwo = prefilterFiles(sky, "phong:20", "cube", 12, dir / "bad.exr");
+  notPowerOfTwo.request.mips = true, notPowerOfTwo.outputs.mipLayout = MipLayout::Tiled;
+  EXPECT_NE(test::errorOf([&] { runPrefilter(notPowerOfTwo); }).find("power-of-two"), std::string::npos);
+  PrefilterFiles noMips = prefilterFiles(sky, "phong:20", "cube", 16, dir / "bad.exr");
+  noMips.outputs.mipLayout = MipLayout::Tiled;
+  EXPECT_THROW(runPrefilter(noMips), Error);
+  PrefilterFiles png = prefilterFiles(sky, "phong:20", "cube", 16, dir / "bad.png");
+  png.request.mips = true, png.outputs.mipLayout = MipLayout::Tiled;
+  EXPECT_NE(test::errorOf([&] { runPrefilter(png); }).find(".exr"), std::string::npos);
   EXPECT_FALSE(fs::exists(dir / "bad.exr"));
 
   // In a spec: "mip_layout": "tiled" beside "mips", for prefiltered and silhouette maps.
@@ -314,9 +314,9 @@ TEST(OutputJobs, TiledMipChainsAndShIrradianceReadBack) {
   // SH irradiance: the furnace (radiance 1) gives 1 everywhere. A sky of radiance 1 above the horizon
   // (y > 0) has E(n)/pi = (1 + n.y)/2, which three bands hold exactly; its irradiance cube map,
   // computed by the reference sum (another method), agrees.
-  PrefilterRequest furnace = prefilterRequest(kFurnace, "irradiance", "cube", 8, dir / "furnace_irr.exr");
-  furnace.shOutput = dir / "furnace_sh.json";
-  ASSERT_TRUE(prefilterEnvironment(furnace).written);
+  PrefilterFiles furnace = prefilterFiles(kFurnace, "irradiance", "cube", 8, dir / "furnace_irr.exr");
+  furnace.request.sh = true, furnace.sh = ShOutput{dir / "furnace_sh.json"};
+  ASSERT_TRUE(runPrefilter(furnace).written);
   for (const Rgb& v : sampleAll(dir / "furnace_sh.json", directions)) EXPECT_NEAR(v[0], 1.0, 1e-3);
   {
     Image hemisphere(256, 128);
@@ -325,11 +325,11 @@ TEST(OutputJobs, TiledMipChainsAndShIrradianceReadBack) {
         hemisphere.set(x, y, y < 64 ? Rgba(1, 1, 1, 1) : Rgba(0, 0, 0, 1));  // top rows: y > 0
     writeImage(hemisphere, dir / "hemisphere.exr");
   }
-  PrefilterRequest half =
-      prefilterRequest((dir / "hemisphere.exr").string(), "irradiance", "cube", 16, dir / "sky_irr.exr");
-  half.method = "reference";
-  half.shOutput = dir / "sky_sh.json";
-  ASSERT_TRUE(prefilterEnvironment(half).written);
+  PrefilterFiles half =
+      prefilterFiles((dir / "hemisphere.exr").string(), "irradiance", "cube", 16, dir / "sky_irr.exr");
+  half.request.method = PrefilterMethod::Reference;
+  half.request.sh = true, half.sh = ShOutput{dir / "sky_sh.json"};
+  ASSERT_TRUE(runPrefilter(half).written);
   const auto fromSh = sampleAll(dir / "sky_sh.json", directions), fromMap = sampleAll(dir / "sky_irr.exr", directions);
   ASSERT_EQ(fromSh.size(), fromMap.size());
   for (std::size_t i = 0; i < fromSh.size(); ++i) {
@@ -350,9 +350,9 @@ TEST(OutputJobs, TiledMipChainsAndShIrradianceReadBack) {
   for (std::size_t i = 0; i < directions.size(); ++i)
     EXPECT_NEAR(fromConverted[i][0], 0.5 * (1.0 + directions[i].y()), 2e-2) << directions[i].transpose();
   expectPreviews(dir / "sky_sh.json", Vec3(0, 1, 1));
-  PrefilterRequest wrongLobe = prefilterRequest(sky, "phong:20", "cube", 8, dir / "x.exr");
-  wrongLobe.shOutput = dir / "x.json";
-  EXPECT_NE(test::errorOf([&] { prefilterEnvironment(wrongLobe); }).find("sh_output"), std::string::npos);
+  PrefilterFiles wrongLobe = prefilterFiles(sky, "phong:20", "cube", 8, dir / "x.exr");
+  wrongLobe.request.sh = true, wrongLobe.sh = ShOutput{dir / "x.json"};
+  EXPECT_EQ(test::errorOf([&] { runPrefilter(wrongLobe); }).rfind("sh: ", 0), 0u);
 }
 
 }  // namespace

@@ -6,8 +6,8 @@
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/fit/fit_file.hpp>
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/io/image_io.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/run/prefilter_job.hpp>
 
 #include <cmath>
@@ -19,7 +19,7 @@ namespace brdfbake {
 namespace {
 namespace fs = std::filesystem;
 using test::infoOf;
-using test::prefilterRequest;
+using test::prefilterFiles;
 using test::sampleAt;
 
 const std::string kSky = test::sourcePath("data_samples/environments/sky_latlong.exr");
@@ -28,9 +28,9 @@ const std::string kFurnace = test::sourcePath("data_samples/environments/furnace
 TEST(PrefilterJob, GlossyParaboloidWithMipsMatchesTheReferenceAndRecordsItself) {
   test::TempDir dir;
   const fs::path out = dir / "glossy.exr";
-  PrefilterRequest r = prefilterRequest(kSky, "phong:50", "paraboloid", 32, out);
-  r.mips = true;
-  const MapResult result = prefilterEnvironment(r);
+  PrefilterFiles r = prefilterFiles(kSky, "phong:50", "paraboloid", 32, out);
+  r.request.mips = true;
+  const MapResult result = runPrefilter(r);
   const nlohmann::json report = result.toJson();
   // The map's entry, as bake --json prints it: the prefilter's summary under "prefilter".
   EXPECT_EQ(report["status"], "written");
@@ -58,7 +58,7 @@ TEST(PrefilterJob, GlossyParaboloidWithMipsMatchesTheReferenceAndRecordsItself) 
 
   const auto metadata = infoOf(dir / "glossy_mip2.exr")["metadata"];
   EXPECT_EQ(metadata["resolution"], 8);
-  EXPECT_EQ(metadata["spec"]["environment"]["file"], kSky);
+  EXPECT_EQ(metadata["spec"]["environment"]["file"], "sky_latlong.exr");  // no folder of this machine
   EXPECT_EQ(metadata["spec"]["prefilter"]["lobe"], "phong:50");
   EXPECT_EQ(metadata["spec"]["prefilter"]["max_error"], 0.01);
   EXPECT_EQ(metadata["spec"]["prefilter"]["mip_level"], 2);
@@ -70,12 +70,9 @@ TEST(PrefilterJob, GlossChainWritesOneLevelPerExponentEachMatchingTheReference) 
   // with its own exponent.
   test::TempDir dir;
   const fs::path out = dir / "chain.exr";
-  PrefilterRequest r = prefilterRequest(kSky, "phong", "cube", 16, out);
-  r.glossScale = 6;
-  r.glossBias = 1;
-  r.mipCount = 3;
-  r.edgeFixup = false;
-  const nlohmann::json report = prefilterEnvironment(r).toJson();
+  PrefilterFiles r = prefilterFiles(kSky, "mirror", "cube", 16, out);
+  r.request.glossChain = GlossChain{GlossChain::Lobe::Phong, 6, 1, 3, false};
+  const nlohmann::json report = runPrefilter(r).toJson();
   ASSERT_EQ(report["gloss_chain"]["levels"].size(), 3u);
   EXPECT_EQ(report["gloss_chain"]["levels"][0]["lobe"], "phong:128");
   EXPECT_EQ(report["gloss_chain"]["levels"][1]["lobe"], "phong:16");
@@ -101,16 +98,17 @@ TEST(PrefilterJob, GlossChainWritesOneLevelPerExponentEachMatchingTheReference) 
           << "level " << level << " " << axis->transpose();
     }
   }
-  // Bad combinations name the spec key (the tool renames it to its flag: PrefilterCli).
-  PrefilterRequest fixed = prefilterRequest(kSky, "phong:10", "cube", 16, dir / "x.exr");
-  fixed.glossScale = 6;
-  const std::string fixedMessage = test::errorOf([&] { prefilterEnvironment(fixed); });
-  EXPECT_NE(fixedMessage.find("maps[0].environment.lobe: a gloss chain"), std::string::npos) << fixedMessage;
-  PrefilterRequest mips = prefilterRequest(kSky, "phong", "cube", 16, dir / "x.exr");
-  mips.glossScale = 6;
-  mips.mips = true;
-  const std::string mipsMessage = test::errorOf([&] { prefilterEnvironment(mips); });
-  EXPECT_NE(mipsMessage.find("gloss_chain"), std::string::npos) << mipsMessage;
+  // Bad combinations name the request's field (the tool renames it to its flag: PrefilterCli).
+  PrefilterFiles mips = r;
+  mips.outputs.files = {dir / "x.exr"};
+  mips.request.mips = true;
+  const std::string mipsMessage = test::errorOf([&] { runPrefilter(mips); });
+  EXPECT_EQ(mipsMessage.rfind("gloss_chain: ", 0), 0u) << mipsMessage;
+  PrefilterFiles scale = r;
+  scale.outputs.files = {dir / "x.exr"};
+  scale.request.glossChain->scale = 30;  // 2^31: past the largest exponent
+  const std::string scaleMessage = test::errorOf([&] { runPrefilter(scale); });
+  EXPECT_EQ(scaleMessage.rfind("gloss_chain: ", 0), 0u) << scaleMessage;
   EXPECT_FALSE(fs::exists(dir / "x.exr"));
 }
 
@@ -118,7 +116,7 @@ TEST(PrefilterJob, FurnaceIrradianceIsOne) {
   test::TempDir dir;
   for (const char* to : {"sphere", "cube", "latlong"}) {
     const fs::path out = dir / (std::string("furnace_") + to + ".exr");
-    EXPECT_TRUE(prefilterEnvironment(prefilterRequest(kFurnace, "irradiance", to, 8, out)).written);
+    EXPECT_TRUE(runPrefilter(prefilterFiles(kFurnace, "irradiance", to, 8, out)).written);
     for (const Vec3& d : {Vec3(0, 0, 1), Vec3(0.3, -0.8, 0.2).normalized(), Vec3(1, 1, 1).normalized()}) {
       EXPECT_NEAR(sampleAt(out, d)[1], 1.0, 1e-3) << to;  // E/pi
     }
@@ -168,15 +166,14 @@ TEST(PrefilterJob, FittedLobesFromAFitFile) {
   }
   writeFitFile(dir / "fit.json", fit);
   const fs::path out = dir / "fitted.exr";
-  ASSERT_TRUE(
-      prefilterEnvironment(prefilterRequest(kFurnace, "lobes:" + (dir / "fit.json").string(), "cube", 4, out)).written);
+  ASSERT_TRUE(runPrefilter(prefilterFiles(kFurnace, "lobes:" + (dir / "fit.json").string(), "cube", 4, out)).written);
   // Furnace: C (n + 2)/(n + 1) per channel.
   EXPECT_NEAR(sampleAt(out, Vec3(0.2, 0.3, -1).normalized())[0], 0.5 * 42.0 / 41.0, 1e-3);
   // Elevations are for varying models only.
-  PrefilterRequest constantStack =
-      prefilterRequest(kFurnace, "lobes:" + (dir / "fit.json").string(), "cube", 4, dir / "c.exr");
-  constantStack.elevations = 4;
-  EXPECT_NE(test::errorOf([&] { prefilterEnvironment(constantStack); }).find("elevations"), std::string::npos);
+  PrefilterFiles constantStack =
+      prefilterFiles(kFurnace, "lobes:" + (dir / "fit.json").string(), "cube", 4, dir / "c.exr");
+  constantStack.request.elevations = 4;
+  EXPECT_NE(test::errorOf([&] { runPrefilter(constantStack); }).find("elevations"), std::string::npos);
 
   // A varying model makes a stack of maps over elevation: STEM_elev0.EXT ..., each recording its
   // elevation; on the furnace slice j holds C(u_j) (n(u_j) + 2)/(n(u_j) + 1).
@@ -185,10 +182,9 @@ TEST(PrefilterJob, FittedLobesFromAFitFile) {
   for (auto& channel : fit.fit.model.channels) channel.lobes[0] = {{0.5, 0.3, 0.2}, {40.0, 20.0, 10.0}};
   writeFitFile(dir / "varying.json", fit);
   const fs::path stack = dir / "v.exr";
-  PrefilterRequest varying =
-      prefilterRequest(kFurnace, "lobes:" + (dir / "varying.json").string(), "latlong", 4, stack);
-  varying.elevations = 3;
-  const nlohmann::json report = prefilterEnvironment(varying).toJson();
+  PrefilterFiles varying = prefilterFiles(kFurnace, "lobes:" + (dir / "varying.json").string(), "latlong", 4, stack);
+  varying.request.elevations = 3;
+  const nlohmann::json report = runPrefilter(varying).toJson();
   ASSERT_EQ(report["files"].size(), 3u);
   ASSERT_EQ(report["elevations"]["slices"], 3);
   EXPECT_FALSE(fs::exists(stack));
@@ -204,10 +200,10 @@ TEST(PrefilterJob, FittedLobesFromAFitFile) {
   }
   // Bad slice counts name the key.
   for (int bad : {1, 0, 65}) {
-    PrefilterRequest refused =
-        prefilterRequest(kFurnace, "lobes:" + (dir / "varying.json").string(), "cube", 4, dir / "w.exr");
-    refused.elevations = bad;
-    EXPECT_NE(test::errorOf([&] { prefilterEnvironment(refused); }).find("elevations"), std::string::npos) << bad;
+    PrefilterFiles refused =
+        prefilterFiles(kFurnace, "lobes:" + (dir / "varying.json").string(), "cube", 4, dir / "w.exr");
+    refused.request.elevations = bad;
+    EXPECT_NE(test::errorOf([&] { runPrefilter(refused); }).find("elevations"), std::string::npos) << bad;
   }
   EXPECT_FALSE(fs::exists(dir / "w_elev0.exr"));
 }
@@ -227,10 +223,10 @@ TEST(PrefilterJob, FresnelDecompositionHoldsTheSpecularTheIrradianceAndTheFresne
   // (F at n.v = (i + 0.5) / N, against the formula typed out), with metadata saying how a renderer
   // combines them. On the furnace, specular 1 and irradiance E/pi 1 everywhere.
   test::TempDir dir;
-  PrefilterRequest r = prefilterRequest(kFurnace, "mirror", "latlong", 8, dir / "coat.exr");
-  r.fresnelIor = 1.5;
-  r.combine = "mix";
-  const nlohmann::json report = prefilterEnvironment(r).toJson();
+  PrefilterFiles r = prefilterFiles(kFurnace, "mirror", "latlong", 8, dir / "coat.exr");
+  r.request.fresnel = FresnelTerm::dielectric(Rgb::Constant(1.5));
+  r.request.combine = FresnelCombine::Mix;
+  const nlohmann::json report = runPrefilter(r).toJson();
   ASSERT_EQ(report["files"].size(), 3u);
   std::vector<std::string> names;
   for (const auto& file : report["files"]) names.push_back(fs::path(file.get<std::string>()).filename().string());
@@ -255,11 +251,12 @@ TEST(PrefilterJob, FresnelDecompositionHoldsTheSpecularTheIrradianceAndTheFresne
   }
 
   // On the sky: each file against the reference sums at texel centres of a lat-long map of 16.
-  PrefilterRequest sky = prefilterRequest(kSky, "mirror", "latlong", 16, dir / "sky.exr");
-  sky.fresnelIor = 1.5;
-  sky.combine = "mix";
-  sky.method = "reference";  // every texel summed at its centre: no fast method's error to allow for
-  ASSERT_TRUE(prefilterEnvironment(sky).written);
+  PrefilterFiles sky = prefilterFiles(kSky, "mirror", "latlong", 16, dir / "sky.exr");
+  sky.request.fresnel = FresnelTerm::dielectric(Rgb::Constant(1.5));
+  sky.request.combine = FresnelCombine::Mix;
+  sky.request.method =
+      PrefilterMethod::Reference;  // every texel summed at its centre: no fast method's error to allow for
+  ASSERT_TRUE(runPrefilter(sky).written);
   const Environment environment = loadEnvironment(kSky);
   const auto map = makeParameterization(ParameterizationKind::LatLong, 16);
   std::vector<Vec3> axes;
@@ -290,18 +287,17 @@ TEST(PrefilterJob, FresnelDecompositionHoldsTheSpecularTheIrradianceAndTheFresne
   }
 
   // Refused, naming the key: an irradiance lobe, combine alone, a bad combine, a non-positive index.
-  auto refused = [&](const std::string& lobe, std::optional<double> ior, std::optional<std::string> combine) {
-    PrefilterRequest bad = prefilterRequest(kFurnace, lobe, "cube", 8, dir / "bad.exr");
-    bad.fresnelIor = ior;
-    bad.combine = combine;
-    const std::string message = test::errorOf([&] { prefilterEnvironment(bad); });
-    EXPECT_TRUE(message.find("fresnel") != std::string::npos || message.find("combine") != std::string::npos)
-        << message;
+  auto refused = [&](const std::string& lobe, std::optional<double> ior, FresnelCombine combine) {
+    PrefilterFiles bad = prefilterFiles(kFurnace, lobe, "cube", 8, dir / "bad.exr");
+    if (ior) bad.request.fresnel = FresnelTerm::dielectric(Rgb::Constant(*ior));
+    bad.request.combine = combine;
+    const std::string message = test::errorOf([&] { runPrefilter(bad); });
+    EXPECT_TRUE(message.rfind("fresnel: ", 0) == 0 || message.rfind("combine: ", 0) == 0) << message;
   };
-  refused("irradiance", 1.5, std::nullopt);
-  refused("mirror", std::nullopt, std::string("mix"));
-  refused("mirror", 1.5, std::string("over"));
-  refused("mirror", -2.0, std::nullopt);
+  refused("irradiance", 1.5, FresnelCombine::Add);
+  refused("mirror", std::nullopt, FresnelCombine::Mix);
+  EXPECT_THROW(parseFresnelCombine("over"), Error);
+  EXPECT_THROW(FresnelTerm::dielectric(Rgb::Constant(-2.0)), Error);
   EXPECT_FALSE(fs::exists(dir / "bad.exr"));
   EXPECT_FALSE(fs::exists(dir / "bad_irradiance.exr"));
 }

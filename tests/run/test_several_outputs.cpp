@@ -4,9 +4,9 @@
 // once, a format that cannot hold the map is refused before any work, and RGB9E5 texels hold the map's
 // values within that format's rounding.
 #include <gtest/gtest.h>
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/io/map_file.hpp>
+#include <brdfbake/io/texture.hpp>
 #include <brdfbake/maps/map_mips.hpp>
-#include <brdfbake/maps/texture.hpp>
 #include <brdfbake/run/convert_output.hpp>
 #include <brdfbake/run/ibl_job.hpp>
 #include <brdfbake/run/prefilter_job.hpp>
@@ -39,33 +39,33 @@ Rgba texelAt(const MapFile& map, const Vec3& direction) {
                       std::min(map.image.height() - 1, static_cast<int>(p.y())));
 }
 
-PrefilterRequest chainRequest(const fs::path& output, int resolution) {
-  PrefilterRequest r;
+PrefilterFiles chainRequest(const fs::path& output, int resolution) {
+  PrefilterFiles r;
   r.environment = kSky;
-  r.chain = "ggx";
-  r.to = "cube";
-  r.resolution = resolution;
-  r.tiled = true;
-  r.output = output;
+  r.request.glossChain = GlossChain{};  // GGX, every level
+  r.request.parameterization = ParameterizationKind::Cube;
+  r.request.resolution = resolution;
+  r.outputs.mipLayout = MipLayout::Tiled;
+  r.outputs.files = {output};
   return r;
 }
 
 // How many times the job's tasks finished (progress reaches 1, which ProgressCounter always reports): a
 // map made twice finishes twice.
-int finishesOf(const PrefilterRequest& request) {
+int finishesOf(const PrefilterFiles& request) {
   int finishes = 0;
-  JobOptions options;
-  options.progress = [&finishes](const std::string&, double fraction) { finishes += fraction > 1.0 - 1e-9 ? 1 : 0; };
-  prefilterEnvironment(request, options);
+  runPrefilter(request, Context({.progress = [&finishes](const std::string&, double fraction) {
+                 finishes += fraction > 1.0 - 1e-9 ? 1 : 0;
+               }}));
   return finishes;
 }
 
 TEST(SeveralOutputs, OneGgxChainWrittenAsExrKtx2AndDdsAgreesInEveryLevel) {
   test::TempDir dir;
   const int n = 16;
-  PrefilterRequest r = chainRequest(dir / "sky.exr", n);
-  r.moreOutputs = {dir / "sky.ktx2", dir / "sky.dds"};
-  const MapResult result = prefilterEnvironment(r);
+  PrefilterFiles r = chainRequest(dir / "sky.exr", n);
+  r.outputs.files.insert(r.outputs.files.end(), {dir / "sky.ktx2", dir / "sky.dds"});
+  const MapResult result = runPrefilter(r);
   const nlohmann::json entry = result.toJson();
   ASSERT_EQ(entry["outputs"].size(), 3u);
   for (const char* name : {"sky.exr", "sky.ktx2", "sky.dds"}) EXPECT_TRUE(fs::exists(dir / name)) << name;
@@ -101,8 +101,8 @@ TEST(SeveralOutputs, OneGgxChainWrittenAsExrKtx2AndDdsAgreesInEveryLevel) {
 TEST(SeveralOutputs, TheMapIsMadeOnceForAllItsFiles) {
   test::TempDir dir;
   const int once = finishesOf(chainRequest(dir / "one.exr", 16));
-  PrefilterRequest three = chainRequest(dir / "three.exr", 16);
-  three.moreOutputs = {dir / "three.ktx2", dir / "three.dds"};
+  PrefilterFiles three = chainRequest(dir / "three.exr", 16);
+  three.outputs.files.insert(three.outputs.files.end(), {dir / "three.ktx2", dir / "three.dds"});
   EXPECT_GT(once, 0);
   EXPECT_EQ(finishesOf(three), once);  // three files, the same work as for one
 }
@@ -199,22 +199,23 @@ TEST(SeveralOutputs, ConvertWritesTheOneResampledMapInEachFormat) {
 
 TEST(TexelFormat, IblWritesEveryTextureInTheFormatAsked) {
   test::TempDir dir;
-  IblOptions options;
+  IblFiles options;
   options.environment = kSky;
-  options.outDir = dir.path();
-  options.resolution = 8;
-  options.irradianceResolution = 4;
-  options.skyboxResolution = 8;
-  options.dfgSize = 8;
-  options.texelFormat = TexelFormat::Rgb9e5;
-  makeIbl(options);
+  options.outputs.folder = dir.path();
+  options.outputs.stem.clear();  // the environment's
+  options.request.resolution = 8;
+  options.request.irradianceResolution = 4;
+  options.request.skyboxResolution = 8;
+  options.request.dfgSize = 8;
+  options.outputs.texelFormat = TexelFormat::Rgb9e5;
+  runIbl(options);
   for (const char* file :
        {"sky_latlong_ggx.ktx2", "sky_latlong_irradiance.ktx2", "sky_latlong_skybox.ktx2", "sky_latlong_dfg.ktx2"}) {
     EXPECT_EQ(readTextureHeaderOf(dir / file).format, TexelFormat::Rgb9e5) << file;
   }
-  options.format = "exr";
-  options.outDir = dir / "exr";
-  EXPECT_THROW(makeIbl(options), Error);  // EXR stores floats: no texel format
+  options.outputs.format = "exr";
+  options.outputs.folder = dir / "exr";
+  EXPECT_THROW(runIbl(options), Error);  // EXR stores floats: no texel format
 }
 
 }  // namespace

@@ -406,7 +406,7 @@ TEST(Spec, MeasuredFitsRunWhenTheMapIsPreparedNotWhileParsing) {
   EXPECT_GT(material.deferredFit->table.size(), 100u);  // read and checked while parsing
   EXPECT_THROW(map.makeFunction(), Error);
   std::vector<double> progress;
-  map.prepare([&](double fraction) { progress.push_back(fraction); });
+  map.prepare(Context({.progress = [&](const std::string&, double fraction) { progress.push_back(fraction); }}));
   ASSERT_NE(material.material, nullptr);
   EXPECT_FALSE(material.deferredFit.has_value());
   EXPECT_EQ(map.modelName(), "measured");

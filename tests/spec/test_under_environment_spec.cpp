@@ -4,7 +4,7 @@
 #include <brdfbake/brdf/cook_torrance.hpp>
 #include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/spec/spec.hpp>
 
 #include <fstream>
@@ -176,9 +176,7 @@ TEST(UnderEnvironmentSpec, TheMapIsMadeFromTheParsedSpec) {
   map["environment"]["file"] = "environments/furnace_latlong.exr";
   const BakeSpec spec = parse(map);
   const Environment environment = loadMapEnvironment(spec.maps[0]);
-  RunOptions run;
-  run.threads = 2;
-  const MaterialUnderEnvironment result = bakeUnderEnvironment(spec.maps[0], environment, run);
+  const MaterialUnderEnvironment result = bakeUnderEnvironment(spec.maps[0], environment, test::twoThreads());
   EXPECT_NEAR(result.image.at(16, 16)[0], 0.5, 0.0025);
   test::TempDir dir;
   writeUnderEnvironmentMap(result, dir / "furnace.exr", spec.maps[0].raw);

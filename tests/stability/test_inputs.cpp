@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/version.hpp>
-#include <brdfbake/maps/image_io.hpp>
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/io/image_io.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/measured/measured_io.hpp>
 
 #include <algorithm>

@@ -2,6 +2,7 @@
 // Helpers shared by the tests: temporary folders, the shared/ data folder, running the CLI, files
 // written and read back, errors caught, BRDFBAKE_GNUPLOT set for a while.
 #include <gtest/gtest.h>
+#include <brdfbake/core/context.hpp>
 #include <brdfbake/core/error.hpp>
 #include <nlohmann/json.hpp>
 
@@ -175,27 +176,40 @@ std::string errorOf(F&& f, Error::Kind expected) {
   return "(no error)";
 }
 
-/// BRDFBAKE_GNUPLOT set to `value` (std::nullopt: unset) while it lives; restored after.
-class GnuplotVariable {
+/// A context of two worker threads (the machines the suite runs on have two cores).
+inline const Context& twoThreads() {
+  static const Context context({.threads = 2});
+  return context;
+}
+
+/// The environment variable `name` set to `value` (std::nullopt: unset) while it lives; restored after.
+class EnvironmentVariable {
  public:
-  explicit GnuplotVariable(const std::optional<std::string>& value) {
-    if (const char* old = std::getenv("BRDFBAKE_GNUPLOT")) old_ = old;
+  EnvironmentVariable(std::string name, const std::optional<std::string>& value) : name_(std::move(name)) {
+    if (const char* old = std::getenv(name_.c_str())) old_ = old;
     if (value)
-      ::setenv("BRDFBAKE_GNUPLOT", value->c_str(), 1);
+      ::setenv(name_.c_str(), value->c_str(), 1);
     else
-      ::unsetenv("BRDFBAKE_GNUPLOT");
+      ::unsetenv(name_.c_str());
   }
-  ~GnuplotVariable() {
+  ~EnvironmentVariable() {
     if (old_)
-      ::setenv("BRDFBAKE_GNUPLOT", old_->c_str(), 1);
+      ::setenv(name_.c_str(), old_->c_str(), 1);
     else
-      ::unsetenv("BRDFBAKE_GNUPLOT");
+      ::unsetenv(name_.c_str());
   }
-  GnuplotVariable(const GnuplotVariable&) = delete;
-  GnuplotVariable& operator=(const GnuplotVariable&) = delete;
+  EnvironmentVariable(const EnvironmentVariable&) = delete;
+  EnvironmentVariable& operator=(const EnvironmentVariable&) = delete;
 
  private:
+  std::string name_;
   std::optional<std::string> old_;
+};
+
+/// BRDFBAKE_GNUPLOT set to `value` (std::nullopt: unset) while it lives; restored after.
+class GnuplotVariable : public EnvironmentVariable {
+ public:
+  explicit GnuplotVariable(const std::optional<std::string>& value) : EnvironmentVariable("BRDFBAKE_GNUPLOT", value) {}
 };
 
 }  // namespace brdfbake::test

@@ -4,6 +4,7 @@
 /// and why there are three: docs/accuracy.md.
 
 #include <brdfbake/bake/map_function.hpp>
+#include <brdfbake/core/context.hpp>
 #include <brdfbake/maps/image.hpp>
 
 #include <functional>
@@ -88,20 +89,21 @@ struct TexelTaps {
 
 /// ErrorProbes::measure of a lookup that blends texels of a map never stored whole: `taps` names
 /// the texels (indices in [0, texelCount)) a lookup at a direction reads, `texel` computes one
-/// (called once for each texel any probe reads, in parallel on `threads`, 0 = every core). So a
+/// (called once for each texel any probe reads, in parallel on the context's threads). So a
 /// map's error costs model evaluations for the texels the probes read (at most 4 per probe),
 /// whatever its resolution.
 ErrorStats measureSparseLookups(const ErrorProbes& probes, long long texelCount,
                                 const std::function<void(const Vec3&, TexelTaps&)>& taps,
                                 const std::function<Rgb(long long)>& texel, double rimCos, bool visibleSphere,
-                                int threads = 0);
+                                const Context& context = {});
 
 /// Errors of any lookup against the exact function (builds ErrorProbes; see there).
 ErrorStats measureLookupError(const std::function<Rgb(const Vec3&)>& lookup, const MapFunction& exact,
                               const ErrorOptions& options, double rimCos, bool visibleSphere);
 
 /// The rim band measureMapError leaves out of a sphere map of `resolution`: cos of the angle two
-/// rim texels span, 4 sqrt(2/N), about -z (docs/conventions.md); 2 (nothing left out) otherwise.
+/// rim texels span, 4 sqrt(2/N), about -z (docs/conventions.md); 2 (nothing left out) for other
+/// parameterizations and for sphere maps under 4 texels across, where the band would be the sphere.
 double mapRimCos(ParameterizationKind kind, int resolution);
 
 /// Measures a baked map. Sphere maps skip directions within 2 texels' worth of angle of -z (the
@@ -118,6 +120,6 @@ ErrorStats measureMapError(const Image& image, const Parameterization& map, cons
 /// (measureSparseLookups), so the cost is bounded by the probes, not the resolution, and no
 /// image is allocated. bakeMap's tabulated paths give slightly different texels (bakeTexel).
 ErrorStats estimateMapError(const Parameterization& map, const MapFunction& function, int samplesPerTexel,
-                            const ErrorProbes& probes, bool visibleSphere = true, int threads = 0);
+                            const ErrorProbes& probes, bool visibleSphere = true, const Context& context = {});
 
 }  // namespace brdfbake

@@ -40,10 +40,7 @@ struct AutoOptions {
   /// RMS over the lookups a renderer makes (visibleRms for sphere maps, else rms). docs/accuracy.md.
   double maxError = 0.01;
   ErrorOptions error;  ///< how errors are measured
-  BakeOptions bake;    ///< threads, limits (samplesPerTexel and progress are overridden)
-  /// Called with the fraction of the work done as far as it is known, never decreasing: the
-  /// search (estimates) fills the first 30 %, each bake most of what is left.
-  std::function<void(double)> progress;
+  BakeOptions bake;    ///< the bakes' settings (samplesPerTexel is overridden)
 
   void validate() const;
 };
@@ -76,9 +73,11 @@ double autoErrorMeasure(const ErrorStats& stats, const MapConfiguration& configu
 /// misses it; a family is only looked at below the cost of the best so far, assuming the error
 /// falls as the resolution grows. The choice is then baked and measured (ErrorStats::bound against
 /// the same probes); if the bake misses, the next resolution is baked (docs/accuracy.md).
-/// Candidates over the memory budget (BakeOptions::maxTexels, memoryBudgetBytes) are left out.
+/// Candidates over the context's size limit (kMaxTexels unless allowLarge, memoryBudgetBytes) are left
+/// out. Progress goes to `context`, as the fraction of the work done as far as it is known, never
+/// decreasing: the search (estimates) fills the first 30 %, each bake most of what is left.
 /// Throws Error(InvalidInput) naming the best error reached, and the resolution error ~ N^-2 puts
 /// the bound at, when none meets it; Error(Resource) when every candidate is over the budget.
-AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& options);
+AutoResult chooseConfiguration(const MapFunction& function, const AutoOptions& options, const Context& context = {});
 
 }  // namespace brdfbake

@@ -20,7 +20,7 @@ using MipLevelFunction = std::function<std::shared_ptr<const MapFunction>(int le
 /// mipResolution(resolution, L), each with `options`. Returns them in order (index = level).
 /// Throws what bake() throws, and Error(InvalidArgument) for resolution < 1.
 std::vector<Image> bakeMipChain(ParameterizationKind kind, int resolution, const MipLevelFunction& levelFunction,
-                                const BakeOptions& options = {});
+                                const BakeOptions& options = {}, const Context& context = {});
 
 /// The silhouette mip chain of Heidrich 2000 section 4 for a sphere map (view +z): level L is the
 /// silhouette ring of material.forMipLevel(resolution, mipResolution(resolution, L)), so the ring is
@@ -28,6 +28,6 @@ std::vector<Image> bakeMipChain(ParameterizationKind kind, int resolution, const
 /// renderer that picks the level whose texels match its pixels draws silhouettes of about constant
 /// width whatever the curvature.
 std::vector<Image> silhouetteMipChain(const SilhouetteMaterial& material, int resolution,
-                                      const BakeOptions& options = {});
+                                      const BakeOptions& options = {}, const Context& context = {});
 
 }  // namespace brdfbake

@@ -3,7 +3,7 @@
 /// Integrating a MapFunction over every texel's footprint.
 
 #include <brdfbake/bake/map_function.hpp>
-#include <brdfbake/core/run_options.hpp>
+#include <brdfbake/core/context.hpp>
 #include <brdfbake/maps/image.hpp>
 
 #include <functional>
@@ -11,13 +11,12 @@
 
 namespace brdfbake {
 
-struct BakeOptions : RunOptions {
+struct BakeOptions {
   /// Stratified samples per texel footprint (a grid a x b with a b = samples, a <= b as close to
   /// square as the count allows), each mapped through the inverse parameterization. >= 1.
   int samplesPerTexel = 16;
   /// Tolerance of tabulated radial profiles, relative to their peak.
   double profileTolerance = 1e-6;
-  // threads, maxTexels, allowLarge, progress: RunOptions.
 
   /// Throws Error(InvalidArgument) for out-of-range values.
   void validate() const;
@@ -57,8 +56,10 @@ struct BakedMap {
 /// wide as the lobe, split by area, divided by each texel's exact solid angle), so the map keeps
 /// the lobe's energy at any resolution.
 ///
-/// Throws Error(Resource) when the image exceeds options.maxTexels, unless allowed.
-BakedMap bakeMap(const Parameterization& map, const MapFunction& function, const BakeOptions& options = {});
+/// Runs on the context's threads and reports each row to it (Context::report). Throws Error(Resource)
+/// when the image is over the context's size limit (Context::requireImageSize), Cancelled when cancelled.
+BakedMap bakeMap(const Parameterization& map, const MapFunction& function, const BakeOptions& options = {},
+                 const Context& context = {});
 
 /// Texel (x, y) as bakeMap's general path computes it: the mean of `function` over the texel's
 /// `samplesPerTexel` stratified samples (the same grid), 0 when none lies in the domain. The other
@@ -67,6 +68,7 @@ BakedMap bakeMap(const Parameterization& map, const MapFunction& function, const
 Rgb bakeTexel(const Parameterization& map, const MapFunction& function, int x, int y, int samplesPerTexel);
 
 /// bakeMap(...).image, for callers that do not report how the map was made.
-Image bake(const Parameterization& map, const MapFunction& function, const BakeOptions& options = {});
+Image bake(const Parameterization& map, const MapFunction& function, const BakeOptions& options = {},
+           const Context& context = {});
 
 }  // namespace brdfbake

@@ -54,9 +54,9 @@ class RadialProfile {
 /// Bakes `function` into a profile about `axis` with `resolution` texels (>= 1) and
 /// `samplesPerTexel` (>= 1) stratified samples per ring, equal in solid angle, each at its own
 /// azimuth (a golden-angle sequence), so a function that is not quite symmetric is averaged.
-/// Runs on BakeOptions::threads; throws Error(InvalidArgument) for bad arguments.
+/// Runs on the context's threads; throws Error(InvalidArgument) for bad arguments.
 RadialProfile bakeRadialProfile(const MapFunction& function, const Vec3& axis, int resolution, int samplesPerTexel,
-                                const BakeOptions& options = {});
+                                const Context& context = {});
 
 /// Lookup errors of a profile against the exact function, as measureMapError measures maps:
 /// rms over directions uniform on the sphere, visibleRms over a visible sphere's lookups when the
@@ -71,6 +71,6 @@ ErrorStats measureProfileError(const RadialProfile& profile, const ErrorProbes& 
 /// What measureProfileError reports for bakeRadialProfile(function, axis, resolution,
 /// samplesPerTexel), computing only the texels the probes' lookups read (measureSparseLookups).
 ErrorStats estimateProfileError(const MapFunction& function, const Vec3& axis, int resolution, int samplesPerTexel,
-                                const ErrorProbes& probes, bool visibleSphere = true, int threads = 0);
+                                const ErrorProbes& probes, bool visibleSphere = true, const Context& context = {});
 
 }  // namespace brdfbake

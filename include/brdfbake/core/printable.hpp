@@ -30,4 +30,8 @@ std::string printable(std::string_view text, std::size_t limit = kPrintableLimit
 /// separately to `lineLimit` bytes.
 std::string printableMessage(std::string_view message, std::size_t lineLimit = 4096);
 
+/// `value` as a report prints it: `significant` significant digits, in the shorter of fixed and
+/// scientific notation (printf's %g): formatG(0.12634) == "0.126", formatG(1234.5) == "1.23e+03".
+std::string formatG(double value, int significant = 3);
+
 }  // namespace brdfbake

@@ -9,6 +9,7 @@
 #include <functional>
 #include <mutex>
 #include <string>
+#include <utility>
 
 namespace brdfbake {
 
@@ -31,13 +32,14 @@ inline std::function<void(double)> progressFor(const ProgressSink& sink, const s
   return [sink, task](double fraction) { sink(task, fraction); };
 }
 
-/// Counts steps done out of `total` from any thread and reports the fraction done to a callback.
-/// Reports are serialised; a step that finds another report in progress skips its own, except the
-/// last step, which always reports 1.
+/// Counts steps done out of `total` from any thread and reports the fraction done to a callback
+/// (Context::progress(), which also checks for cancellation, so a loop that counts its steps stops
+/// within a step of a cancel). Reports are serialised; a step that finds another report in progress
+/// skips its own, except the last step, which always reports 1.
 class ProgressCounter {
  public:
-  ProgressCounter(const std::function<void(double)>& callback, std::size_t total)
-      : callback_(callback), total_(std::max<std::size_t>(total, 1)) {}
+  ProgressCounter(std::function<void(double)> callback, std::size_t total)
+      : callback_(std::move(callback)), total_(std::max<std::size_t>(total, 1)) {}
 
   void step() {
     const std::size_t done = ++done_;
@@ -49,7 +51,7 @@ class ProgressCounter {
   }
 
  private:
-  const std::function<void(double)>& callback_;
+  std::function<void(double)> callback_;
   std::size_t total_;
   std::atomic<std::size_t> done_{0};
   std::mutex mutex_;

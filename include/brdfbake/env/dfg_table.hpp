@@ -17,8 +17,9 @@
 /// sum over the light direction to 1e-3 (absolute) at every texel of roughness >= 0.1, far better away
 /// from grazing (tests/env/test_dfg_table.cpp); more points and panels converge to 1e-8.
 
+#include <brdfbake/core/context.hpp>
+#include <brdfbake/io/image_io.hpp>
 #include <brdfbake/maps/image.hpp>
-#include <brdfbake/maps/image_io.hpp>
 
 #include <filesystem>
 #include <string_view>
@@ -37,7 +38,6 @@ struct DfgOptions {
   DfgForm form = DfgForm::SingleScattering;
   /// Gauss-Legendre points per panel and panels, in theta_h (inverse CDF) and in azimuth.
   int points = 12, panels = 4;
-  int threads = 0;  ///< 0 = every core
   /// Throws Error(InvalidArgument) naming the value out of range.
   void validate() const;
 };
@@ -50,7 +50,7 @@ DfgTerms dfgTerms(double cosView, double roughness, DfgForm form, int points = 1
 
 /// The table (see @file): a float RGBA image with metadata {"dfg_table": {form, width, height, axes,
 /// channels, formula, roughness}}.
-Image dfgTable(const DfgOptions& options = {});
+Image dfgTable(const DfgOptions& options = {}, const Context& context = {});
 
 /// Writes the table with writeImage as float texels (.exr, .tif, .ktx2, .ktx, .dds). Throws
 /// Error(InvalidArgument) naming the file for .png and .hdr (8-bit sRGB, a shared exponent), and what

@@ -71,7 +71,7 @@ std::vector<std::pair<double, Rgb>> prefilterLobeModelTerms(const LobeModel& mod
 /// component-wise with the environment's RGB. Throws Error(InvalidArgument) for models that vary
 /// with elevation or have no lobe of non-zero weight.
 std::vector<Rgb> prefilterLobeModelReferenceAt(const Environment& environment, const LobeModel& model,
-                                               const std::vector<Vec3>& axes, int threads = 0);
+                                               const std::vector<Vec3>& axes, const Context& context = {});
 
 /// The error floor (prefilterErrorFloor's delta) for a lobe model: 1e-3 x the environment's mean |L|
 /// x Σ_n |weight_n| (the model's mass on a white environment, as an RGB norm).

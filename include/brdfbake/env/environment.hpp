@@ -4,6 +4,7 @@
 /// read from EXR/HDR files or generated (furnace, sky with sun, coloured cube) for tests.
 
 #include <brdfbake/bake/map_function.hpp>
+#include <brdfbake/core/context.hpp>
 #include <brdfbake/maps/image.hpp>
 #include <brdfbake/maps/parameterization.hpp>
 
@@ -14,6 +15,30 @@
 
 namespace brdfbake {
 
+namespace detail {
+struct EnvironmentCache;  // env/environment_cache.hpp
+}
+
+/// What computations prepare from an environment's radiance (the bright texels and the mip pyramid
+/// of the rest that shading under it reads), made on first use and kept with the environment, so
+/// that many materials are shaded under one environment without repeating that work. Safe to use
+/// from several threads. A copy of an Environment starts with nothing prepared (its image may
+/// change); a move keeps what was prepared. Change an environment's image only before using it.
+class EnvironmentPreparation {
+ public:
+  EnvironmentPreparation();
+  ~EnvironmentPreparation();
+  EnvironmentPreparation(const EnvironmentPreparation&);
+  EnvironmentPreparation& operator=(const EnvironmentPreparation&);
+  EnvironmentPreparation(EnvironmentPreparation&&) noexcept;
+  EnvironmentPreparation& operator=(EnvironmentPreparation&&) noexcept;
+  /// The cache (private to env/).
+  detail::EnvironmentCache& cache() const { return *cache_; }
+
+ private:
+  std::unique_ptr<detail::EnvironmentCache> cache_;
+};
+
 /// Radiance over the sphere of directions, in the environment's own frame (y up; for lat-long
 /// images the image centre looks down -z, docs/conventions.md). Alpha is ignored.
 struct Environment {
@@ -21,6 +46,8 @@ struct Environment {
   std::shared_ptr<const Parameterization> map;
   std::string source;     ///< file name or generator, recorded in prefiltered maps
   std::string detection;  ///< how the parameterization was decided (for reports)
+  /// What shading under it has prepared (see EnvironmentPreparation).
+  EnvironmentPreparation prepared;
 
   ParameterizationKind kind() const { return map->kind(); }
   /// Bilinear lookup of the RGB radiance at a unit direction.
@@ -48,7 +75,7 @@ Environment makeEnvironment(Image image, ParameterizationKind kind, const std::s
 
 /// Bakes an analytic environment into an image (footprint supersampling, `samplesPerTexel`).
 Environment bakeEnvironment(const MapFunction& radiance, ParameterizationKind kind, int resolution,
-                            const std::string& source, int samplesPerTexel = 16, int threads = 0);
+                            const std::string& source, int samplesPerTexel = 16, const Context& context = {});
 
 /// The furnace: the same radiance in every direction.
 class ConstantEnvironment final : public MapFunction {

@@ -34,11 +34,11 @@
 /// (mapRimCos), as measureMapError does.
 
 #include <brdfbake/brdf/material.hpp>
-#include <brdfbake/core/run_options.hpp>
+#include <brdfbake/core/context.hpp>
 #include <brdfbake/env/camera.hpp>
 #include <brdfbake/env/environment.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/maps/image.hpp>
-#include <brdfbake/maps/map_file.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -59,7 +59,7 @@ std::string_view toString(UnderEnvironmentMethod method);
 /// Inverse of toString; throws Error(InvalidArgument) naming the accepted values.
 UnderEnvironmentMethod parseUnderEnvironmentMethod(std::string_view name);
 
-struct UnderEnvironmentOptions : RunOptions {
+struct UnderEnvironmentOptions {
   ParameterizationKind parameterization = ParameterizationKind::Sphere;
   int resolution = 256;
   /// Towards the viewer in eye space: +z for sphere maps (anything else is an error); paraboloid,
@@ -84,7 +84,6 @@ struct UnderEnvironmentOptions : RunOptions {
   /// `maxBrightTexels` (>= 0; the threshold rises to keep the count).
   double brightFactor = 16.0;
   int maxBrightTexels = 1024;
-  // threads, maxTexels, allowLarge, progress: RunOptions.
 
   /// Throws Error(InvalidArgument) for out-of-range values, a sphere map's view other than +z, a
   /// fixed setting with another method, or a camera frame that is not orthonormal.
@@ -148,16 +147,20 @@ void requireBrdf(const Material& material);
 /// Makes the map (see @file). Throws Error(InvalidArgument) for bad options or a material with no
 /// BRDF, Error(Resource) above maxTexels, Error(Numerical) if a value comes out non-finite.
 MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, const Material& material,
-                                               const UnderEnvironmentOptions& options = {});
+                                               const UnderEnvironmentOptions& options = {},
+                                               const Context& context = {});
 
 /// The reference L_o at explicit eye-space normals for the view `view` (eye space) and `camera`:
 /// k times the sum over the environment's texels of shade(g, l) L Ω, the bright texels (as split by
 /// `options`) one by one and the rest over a quadtree of its solid-angle mip chain refined to an
-/// eighth of the integrand's local scale (docs/matcap.md). Only the options' camera, split settings
-/// and threads are read.
+/// eighth of the integrand's local scale (docs/matcap.md). Only the options' camera and split settings
+/// are read.
 std::vector<Rgb> underEnvironmentReferenceAt(const Environment& environment, const Material& material,
                                              const std::vector<Vec3>& normals, const Vec3& view,
-                                             const UnderEnvironmentOptions& options = {});
+                                             const UnderEnvironmentOptions& options = {}, const Context& context = {});
+
+/// The metadata writeUnderEnvironmentMap writes with the map (see there).
+MapInfo underEnvironmentMapInfo(const MaterialUnderEnvironment& map, nlohmann::json spec);
 
 /// Writes the map (writeMap) with MapInfo::spec = `spec` plus "under_environment": {material,
 /// method, detail, max_error, error_estimate, error_metric, camera}.

@@ -35,11 +35,11 @@
 /// more than two standard errors above the bound, or below it after at least half the probes.
 
 #include <brdfbake/brdf/lobes.hpp>
-#include <brdfbake/core/run_options.hpp>
+#include <brdfbake/core/context.hpp>
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/env/prefilter_lobe.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/maps/image.hpp>
-#include <brdfbake/maps/map_file.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -58,7 +58,7 @@ std::string_view toString(PrefilterMethod method);
 /// Error(InvalidArgument) naming the accepted values.
 PrefilterMethod parsePrefilterMethod(std::string_view name);
 
-struct PrefilterOptions : RunOptions {
+struct PrefilterOptions {
   /// Output parameterization and resolution (per side, per hemisphere, per face, rows).
   ParameterizationKind parameterization = ParameterizationKind::Sphere;
   int resolution = 256;
@@ -98,7 +98,6 @@ struct PrefilterOptions : RunOptions {
   /// Varying lobe models only (prefilterLobeModelStack, prefilter_stack.hpp): the number of maps
   /// in the stack over view elevation, in [2, 64].
   int elevations = 8;
-  // threads, maxTexels (of level 0), allowLarge, progress: RunOptions.
 
   /// Throws Error(InvalidArgument) for out-of-range values or settings that contradict the method.
   void validate() const;
@@ -175,7 +174,7 @@ struct PrefilteredMap {
 /// Prefilters `environment` with `lobe`. Throws Error(InvalidArgument) for bad options,
 /// Error(Resource) above maxTexels, Error(Numerical) if a value comes out non-finite.
 PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lobe,
-                         const PrefilterOptions& options = {});
+                         const PrefilterOptions& options = {}, const Context& context = {});
 
 /// Prefilters with a fitted lobe model (brdf/lobes.hpp, `brdfbake fit`) in its prefiltered form
 /// (Kautz & McCool; LobeMaterialMode::Prefiltered): per channel c,
@@ -189,7 +188,7 @@ PrefilteredMap prefilter(const Environment& environment, const PrefilterLobe& lo
 /// (lobes that change with elevation) throw Error(InvalidArgument); prefilterLobeModelStack
 /// (prefilter_stack.hpp) makes their stack of maps over elevation. `name` is what metadata records.
 PrefilteredMap prefilterLobeModel(const Environment& environment, const LobeModel& model, const std::string& name,
-                                  const PrefilterOptions& options = {});
+                                  const PrefilterOptions& options = {}, const Context& context = {});
 
 /// The axis (environment frame) whose prefiltered value a texel of map direction `mapDirection`
 /// holds, for the options' output (view rotation of sphere maps; normals for irradiance there).
@@ -198,7 +197,7 @@ Vec3 prefilterAxis(const Vec3& mapDirection, const PrefilterLobe& lobe, const Pr
 /// The reference method at explicit axes (environment frame): ratio-form exact sum over every
 /// texel of the environment, sub-sampled as described above.
 std::vector<Rgb> prefilterReferenceAt(const Environment& environment, const PrefilterLobe& lobe,
-                                      const std::vector<Vec3>& axes, int threads = 0);
+                                      const std::vector<Vec3>& axes, const Context& context = {});
 
 /// delta of the error metric: 1e-3 x lobe mass x the solid-angle mean of |L| over the environment.
 double prefilterErrorFloor(const Environment& environment, const PrefilterLobe& lobe);
@@ -210,6 +209,10 @@ struct PrefilterError {
 /// Error of `result` against `reference` (both level-0 images of `map`) over the texels of
 /// non-zero solid angle, weighted by texelSolidAngle.
 PrefilterError prefilterError(const Image& result, const Image& reference, const Parameterization& map, double floor);
+
+/// The metadata level `level` of `map` is written with (writePrefilteredMap): MapInfo::spec is `spec`
+/// plus "prefilter" (see there) and the chain's "level_values".
+MapInfo prefilteredMapInfo(const PrefilteredMap& map, nlohmann::json spec, int level);
 
 /// Writes every level: level 0 at `path`, level k at mipLevelPath(path, k), each a map
 /// (writeMap) whose MapInfo::spec is `spec` plus "prefilter": {lobe, method, detail, max_error,

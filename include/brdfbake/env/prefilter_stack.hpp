@@ -21,7 +21,7 @@
 
 #include <brdfbake/brdf/fresnel.hpp>
 #include <brdfbake/env/prefilter.hpp>
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/io/map_file.hpp>
 
 #include <filesystem>
 #include <string>
@@ -46,7 +46,8 @@ struct PrefilteredStack {
 /// (method, bound, mips). Throws Error(InvalidArgument) for a Constant model (one map suffices:
 /// prefilterLobeModel) and everything prefilterLobeModel throws.
 PrefilteredStack prefilterLobeModelStack(const Environment& environment, const LobeModel& model,
-                                         const std::string& name, const PrefilterOptions& options = {});
+                                         const std::string& name, const PrefilterOptions& options = {},
+                                         const Context& context = {});
 
 /// STEM_elevJ.EXT beside `path`: where slice j of a stack is written.
 std::filesystem::path elevationSlicePath(const std::filesystem::path& path, int slice);
@@ -72,7 +73,8 @@ struct FresnelDecomposition {
 /// Throws Error(InvalidArgument) for an irradiance specular lobe or a bad size.
 FresnelDecomposition prefilterFresnelDecomposition(const Environment& environment, const PrefilterLobe& specular,
                                                    const FresnelTerm& fresnel, FresnelCombine combine,
-                                                   const PrefilterOptions& options, int tableSize);
+                                                   const PrefilterOptions& options, int tableSize,
+                                                   const Context& context = {});
 
 /// What a renderer computes at a surface point from the three outputs: F = F(n.v) (the table),
 /// L_m = the specular map at the reflected direction r, E = the irradiance map at the normal n
@@ -99,6 +101,26 @@ std::vector<double> ggxChainRoughness(int count);
 /// is GGX's limit), ggx:R_k above.
 std::vector<PrefilterLobe> ggxChainLobes(int count);
 
+/// A glossy mip chain to make (prefilterGlossChain): cmft's Phong or Blinn-Phong chain
+/// (glossLevelExponents) or cmgen's GGX chain (ggxChainLobes).
+struct GlossChain {
+  enum class Lobe { Phong, Blinn, Ggx };
+  Lobe lobe = Lobe::Ggx;
+  double scale = 10.0, bias = 1.0;  ///< Phong and Blinn: level k's exponent 2^(scale g_k + bias)
+  /// Levels, 0 = down to 1 texel (at most 16).
+  int levels = 0;
+  /// Cube maps: average each edge texel with its neighbour across the edge (cmft's --edgeFixup).
+  bool edgeFixup = true;
+
+  /// "phong", "blinn" or "ggx".
+  std::string lobeName() const;
+  /// The levels of a chain whose level 0 has `resolution` texels: `levels`, or every level down to
+  /// 1 texel (at most 16).
+  int levelCount(int resolution) const;
+  /// Level k's lobe. Throws Error(InvalidArgument) as glossLevelExponents and ggxChainRoughness do.
+  std::vector<PrefilterLobe> lobes(int resolution) const;
+};
+
 /// A glossy mip chain (as cmft and CubeMapGen make them, or cmgen's GGX chain): level k is the
 /// environment filtered with lobes[k] at resolution max(1, options.resolution >> k), each level a
 /// prefilter() run to options' method and bound (options.mips must be off: the levels are the
@@ -110,7 +132,7 @@ std::vector<PrefilterLobe> ggxChainLobes(int count);
 /// no lobes, more levels than the resolution halves into, an irradiance lobe, or options.mips, and
 /// everything prefilter() throws.
 PrefilteredMap prefilterGlossChain(const Environment& environment, const std::vector<PrefilterLobe>& lobes,
-                                   const PrefilterOptions& options = {});
+                                   const PrefilterOptions& options = {}, const Context& context = {});
 
 /// What a prefilter run writes, for prefilterOutputFiles.
 struct PrefilterOutputs {

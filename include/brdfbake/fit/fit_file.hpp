@@ -27,7 +27,7 @@
 
 #include <brdfbake/fit/lobe_fit.hpp>
 
-#include <brdfbake/core/json_reader.hpp>
+#include <brdfbake/io/json_reader.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -42,7 +42,7 @@ inline constexpr const char* kFitFileFormat = "brdfbake.lobe_fit";
 
 /// Where the fitted data came from.
 struct FitSource {
-  std::string file;    ///< the table as given on the command line ("" if in memory)
+  std::string file;    ///< the table's file name, no folder ("" if in memory)
   std::string format;  ///< "astm", "pbrt", "merl", "mat", "synthetic", ...
   std::size_t samples = 0;
   std::string channels;  ///< how the fitted channels were made, e.g. "rgb: CIE 1931 from 31 spectral channels"

@@ -20,6 +20,7 @@
 ///    has measured elevations on both sides (interpolation, not extrapolation), or those listed.
 
 #include <brdfbake/brdf/lobes.hpp>
+#include <brdfbake/core/context.hpp>
 #include <brdfbake/measured/measured_table.hpp>
 
 #include <cstddef>
@@ -39,8 +40,6 @@ struct HeldOutOptions {
   std::vector<double> elevationsDegrees;
   /// Seed of the k-fold shuffle (std::mt19937_64).
   unsigned long long seed = 1;
-  /// Fits run in parallel (0 = every core).
-  int threads = 0;
 
   /// Throws Error(InvalidArgument) for values outside the documented ranges.
   void validate() const;
@@ -141,12 +140,12 @@ class HeldOutSplits {
   /// Keeps a reference to `table`, which must outlive the splits. Throws Error(InvalidArgument)
   /// for bad options or a listed elevation the table lacks, Error(InvalidInput) when the table has
   /// fewer off-mirror rows than folds.
-  HeldOutSplits(const MeasuredTable& table, const HeldOutOptions& options = {});
+  HeldOutSplits(const MeasuredTable& table, const HeldOutOptions& options = {}, const Context& context = {});
 
   std::size_t size() const { return splits_.size(); }
   const MeasuredTable& training(std::size_t split) const { return splits_.at(split).training; }
 
-  /// Fits every split's training table (in parallel, HeldOutOptions::threads) and scores the
+  /// Fits every split's training table (in parallel, on the context's threads) and scores the
   /// held-out rows; errors of `fit` propagate.
   HeldOutReport estimate(const SplitFitter& fit) const;
 
@@ -160,12 +159,13 @@ class HeldOutSplits {
   };
   const MeasuredTable* table_;
   HeldOutOptions options_;
+  Context context_;
   std::vector<Split> splits_;
   HeldOutReport entries_;  // names and elevations, no errors yet
 };
 
 /// HeldOutSplits(table, options).estimate(fit) for a fit that ignores the split index.
 HeldOutReport estimateHeldOutError(const MeasuredTable& table, const TableFitter& fit,
-                                   const HeldOutOptions& options = {});
+                                   const HeldOutOptions& options = {}, const Context& context = {});
 
 }  // namespace brdfbake

@@ -177,10 +177,6 @@ struct FitOptions {
   int maxIterations = 100;
   /// Ceres' relative function tolerance. In (0, 1).
   double functionTolerance = 1e-7;
-  /// Channels fitted in parallel (0 = every core).
-  int threads = 0;
-  /// Called with the fraction done (0..1), serialised; may be empty.
-  std::function<void(double)> progress;
 
   /// Throws Error(InvalidArgument) for values outside the documented ranges.
   void validate() const;
@@ -258,7 +254,7 @@ struct FitResult {
   std::optional<HeldOutReport> heldOut;
   /// E of fit/held_out.hpp over every row of the table (in-sample).
   double inSampleError = 0.0;
-  FitOptions options;    ///< as requested (progress dropped)
+  FitOptions options;    ///< as requested
   double seconds = 0.0;  ///< wall time of the whole fit
 
   /// True when every channel's final solve is usable.
@@ -277,7 +273,7 @@ struct FitResult {
 /// parameters as samples). A solve that does not converge is not an exception: see
 /// FitResult::usable() and ChannelFitStats::solver. An all-zero channel fits exactly with k_d = 0
 /// and zero lobe weights.
-FitResult fitLobes(const MeasuredTable& table, const FitOptions& options = {});
+FitResult fitLobes(const MeasuredTable& table, const FitOptions& options = {}, const Context& context = {});
 
 /// Statistics of `model` channel `channel` against table channel `channel` (no solve; solver and
 /// timing fields left empty).

@@ -7,14 +7,13 @@
 /// and cube faces get edge fixup at every level.
 ///
 /// Storage (docs/prefilter.md): level 0 is the map itself at PATH; level k >= 1 is a full map of
-/// resolution max(1, N >> k) at STEM_mipK.EXT (mipLevelPath), with its own metadata.
+/// resolution max(1, N >> k) at STEM_mipK.EXT (mipLevelPath, io/map_file.hpp), with its own metadata.
 
 #include <brdfbake/maps/cube_map.hpp>
 #include <brdfbake/maps/image.hpp>
 #include <brdfbake/maps/paraboloid_map.hpp>
 #include <brdfbake/maps/parameterization.hpp>
 
-#include <filesystem>
 #include <vector>
 
 namespace brdfbake {
@@ -54,8 +53,5 @@ void alignParaboloidBorder(Image& image, const ParaboloidMap& map);
 /// Levels 0 .. mipLevelCount(resolution) - 1; level 0 is `level0`, edge-fixed for cubes and
 /// border-aligned for paraboloids, as every level.
 std::vector<Image> environmentMipChain(const Image& level0, const Parameterization& map);
-
-/// STEM_mipK.EXT beside `path` (level 0 is `path` itself).
-std::filesystem::path mipLevelPath(const std::filesystem::path& path, int level);
 
 }  // namespace brdfbake

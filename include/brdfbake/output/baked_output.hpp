@@ -22,7 +22,7 @@
 
 #include <brdfbake/bake/map_function.hpp>
 #include <brdfbake/bake/radial_profile.hpp>
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/maps/sh.hpp>
 
 #include <nlohmann/json.hpp>
@@ -57,6 +57,10 @@ class BakedOutput {
   /// Error(InvalidInput) for files that are none of the kinds (naming the file) and
   /// Error(InvalidArgument) for a mip level of a kind without levels.
   static BakedOutput open(const std::filesystem::path& path, const OpenOutputOptions& options = {});
+  /// A map held in memory (a job's result), looked up as if it had been written and read back:
+  /// `image` laid out by a map of `info`'s parameterization and resolution, its metadata `info`'s
+  /// (irradiance maps say "irradiance_quantity" in info.spec["prefilter"]). No files.
+  static BakedOutput fromMap(Image image, const MapInfo& info);
 
   OutputKind kind() const { return kind_; }
   /// Every file read.

@@ -16,7 +16,7 @@
 
 namespace brdfbake {
 
-struct ChartOptions : JobOptions {
+struct ChartOptions {
   std::filesystem::path spec;
   std::vector<int> resolutions{32, 64, 128, 256, 512};  ///< material maps
   std::vector<int> environmentResolutions{16, 32, 64};  ///< environment maps (they also pay the reference)
@@ -74,6 +74,6 @@ struct ChartResult {
   nlohmann::json toJson() const;    ///< the points, then the skipped ones ("skipped": true)
 };
 
-ChartResult chartSpec(const ChartOptions& options);
+ChartResult chartSpec(const ChartOptions& options, const Context& context = {});
 
 }  // namespace brdfbake

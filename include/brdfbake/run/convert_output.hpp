@@ -3,12 +3,12 @@
 /// Resampling any output into another parameterization (`brdfbake convert`), as one call: each
 /// output texel averages the input's lookups (as a renderer makes them) over its footprint.
 
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/run/sample_output.hpp>
 
 namespace brdfbake {
 
-struct ConvertOptions : JobOptions {
+struct ConvertOptions {
   OutputSource source;  ///< an elevation stack needs cos_view (the map at that n.v)
   ParameterizationKind to = ParameterizationKind::Sphere;
   int resolution = 0;        ///< 0: the input's
@@ -21,7 +21,7 @@ struct ConvertOptions : JobOptions {
   std::optional<TexelFormat> texelFormat;
 
   /// Throws Error(InvalidArgument) for values out of range, an output of an unknown format, a texel
-  /// format no output can take, and JobOptions' rules.
+  /// format no output can take.
   void validate() const;
   /// `output`, then `moreOutputs`.
   std::vector<std::filesystem::path> outputs() const;
@@ -39,6 +39,6 @@ struct ConvertResult {
 /// Opens the input, checks the files, resamples and writes the map (its metadata records the
 /// input's spec and "converted_from"). A Fresnel table converts to a sphere map only (as seen from
 /// +z). Throws Error(InvalidArgument) for options the input cannot take.
-ConvertResult convertOutput(const ConvertOptions& options);
+ConvertResult convertOutput(const ConvertOptions& options, const Context& context = {});
 
 }  // namespace brdfbake

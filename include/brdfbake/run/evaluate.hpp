@@ -15,7 +15,7 @@
 
 namespace brdfbake {
 
-struct EvaluateOptions : JobOptions {
+struct EvaluateOptions {
   std::filesystem::path model;             ///< fit.json, measured table or material JSON
   TableFormat format = TableFormat::Auto;  ///< of a table
   /// One pair of directions (local frame, z the normal, both away from the surface; any length
@@ -58,6 +58,6 @@ struct EvaluateResult {
 
 /// Reads the BRDF and evaluates it; a pairs file is read and checked whole (errors name FILE:LINE)
 /// before anything is returned. Throws Error(Numerical) if the BRDF gives a non-finite value.
-EvaluateResult evaluateBrdf(const EvaluateOptions& options);
+EvaluateResult evaluateBrdf(const EvaluateOptions& options, const Context& context = {});
 
 }  // namespace brdfbake

@@ -13,11 +13,10 @@
 
 namespace brdfbake {
 
-struct FitTableOptions : JobOptions {
+struct FitTableOptions {
   std::filesystem::path table;  ///< .astm, .brdf, .binary (MERL), .mat
   TableFormat format = TableFormat::Auto;
-  /// How the fit goes (lobes, kind, method, held-out splits...). Its threads and progress are
-  /// replaced by the job's.
+  /// How the fit goes (lobes, kind, method, held-out splits...).
   FitOptions fit;
   /// Fit every wavelength of a spectral table as measured, instead of R, G, B.
   bool spectral = false;
@@ -25,7 +24,7 @@ struct FitTableOptions : JobOptions {
   std::filesystem::path output;        ///< fit.json to write (empty: none)
   std::filesystem::path report;        ///< PNG chart of measured against fitted values (empty: none)
 
-  /// Throws Error(InvalidArgument) for bad fit options, a report without gnuplot, and JobOptions' rules.
+  /// Throws Error(InvalidArgument) for bad fit options and a report without gnuplot.
   void validate() const;
 };
 
@@ -44,6 +43,6 @@ struct FitTableResult {
 
 /// Reads, fits and writes (see @file); every file checked before the fit. Throws Error as the
 /// table readers and fitLobes do. A fit whose solve failed is still written, with "usable": false.
-FitTableResult fitTable(const FitTableOptions& options);
+FitTableResult fitTable(const FitTableOptions& options, const Context& context = {});
 
 }  // namespace brdfbake

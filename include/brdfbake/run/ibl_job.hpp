@@ -1,7 +1,12 @@
 #pragma once
 /// @file
-/// Engine-ready image-based lighting from one environment (docs/engines.md): what `brdfbake ibl ENV
-/// --out-dir OUT` does, as one call. It writes, in one container format:
+/// Engine-ready image-based lighting from one environment (docs/engines.md), in three steps:
+///
+///   IblResult ibl = makeIbl({.environment = sky, .resolution = 256}, context);   // in memory
+///   writeIbl(ibl, {.folder = "out", .stem = "sky", .format = "ktx2"});
+///
+/// and runIbl, what `brdfbake ibl ENV --out-dir OUT` does (files checked, read, made and written in
+/// one call). The files, in one container format:
 ///
 /// | role | file | holds |
 /// |---|---|---|
@@ -11,12 +16,11 @@
 /// of E/pi | | dfg | STEM_dfg.EXT | the split-sum DFG table over (n.v, R) (dfg_table.hpp) | | skybox | STEM_skybox.EXT
 /// | the environment resampled into a cube |
 ///
-/// The three cube maps are one spec of three "environment" maps (iblSpec) run by runSpec, so the whole
-/// request, the DFG table's file included, is validated and every file checked before anything is
-/// computed; then the maps are made and the table last.
+/// The files are written as one set: each to a hidden temporary first, and all renamed into place
+/// only once every one is complete (OutputBatch), so a failure leaves the previous set whole.
 
 #include <brdfbake/env/dfg_table.hpp>
-#include <brdfbake/run/spec_runner.hpp>
+#include <brdfbake/run/prefilter_job.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -27,31 +31,54 @@
 
 namespace brdfbake {
 
-/// What `brdfbake ibl` takes: the environment, the folder and the sizes of each file.
-struct IblOptions : JobOptions {
-  std::filesystem::path environment;  ///< EXR, HDR, ... (as prefilter reads it)
-  std::filesystem::path outDir;       ///< where every file goes (created if missing)
-  std::string stem;                   ///< file names' stem; default the environment's
-  std::string format = "ktx2";        ///< ktx2 | ktx | dds | exr (the files' container)
-  int resolution = 256;               ///< the GGX chain's level-0 face size (a power of two)
-  std::optional<int> levels;          ///< chain levels; only the whole chain (down to 1 texel) is accepted
-  int irradianceResolution = 32;      ///< faces of the irradiance cube (a power of two)
-  int skyboxResolution = 512;         ///< faces of the skybox cube (a power of two)
-  int dfgSize = 128;                  ///< DFG table texels per side
+/// What to make; fields are named in messages as the tool's flags (--irradiance-resolution) and the
+/// Python keywords (irradiance_resolution) are.
+struct IblRequest {
+  std::shared_ptr<const Environment> environment;
+  int resolution = 256;           ///< the GGX chain's level-0 face size, a power of two in [1, 8192]
+  std::optional<int> levels;      ///< chain levels; only the whole chain (down to 1 texel) is accepted
+  int irradianceResolution = 32;  ///< faces of the irradiance cube, a power of two in [1, 1024]
+  int skyboxResolution = 512;     ///< faces of the skybox cube, a power of two in [1, 8192]
+  int dfgSize = 128;              ///< DFG table texels per side, in [1, 4096]
   DfgForm dfgForm = DfgForm::SingleScattering;
-  double maxError = 0.01;           ///< the bound of every prefiltered level (RMS relative)
-  std::optional<std::string> from;  ///< parameterization of a plain environment image
-  bool shCmgen = false;             ///< also STEM_sh.txt, the 9 lines cmgen prints
-  /// How the textures store texels (default rgba16f; every map and the DFG table); not with "exr".
-  std::optional<TexelFormat> texelFormat;
+  double maxError = 0.01;  ///< the bound of every prefiltered level, in (0, 0.5]
 
-  /// Throws Error(InvalidArgument) naming the field (by its flag): no environment or out_dir, an
-  /// unknown format, sizes out of range, a resolution that is not a power of two, levels other than
-  /// the whole chain, a stem holding a folder; and JobOptions' rules.
+  /// Throws Error::invalidField naming the field ("resolution", "levels", "irradiance_resolution",
+  /// "skybox_resolution", "dfg_size", "max_error", "environment").
   void validate() const;
 };
 
-/// One file the job wrote, with its role (see @file).
+struct IblResult {
+  PrefilterResult specular;    ///< the GGX chain: specular.map.levels[k], a cube cross of N >> k
+  PrefilterResult irradiance;  ///< the irradiance cube, with irradiance.sh (E/pi)
+  PrefilterResult skybox;      ///< the environment resampled into a cube
+  Image dfg;                   ///< the DFG table: n.v along x, roughness along y (metadata "dfg_table")
+
+  std::string briefReport() const;
+  nlohmann::json toJson() const;
+};
+
+/// Makes every part in memory on `context` (progress per part; cancellation). Throws what
+/// validate() and prefilterEnvironment throw.
+IblResult makeIbl(const IblRequest& request, const Context& context = {});
+
+/// Where the files go: FOLDER/STEM_ggx.EXT and the rest (see @file).
+struct IblOutputs {
+  std::filesystem::path folder;               ///< created if missing
+  std::string stem = "ibl";                   ///< the files' stem: a name, not a path
+  std::string format = "ktx2";                ///< ktx2 | ktx | dds | exr
+  std::optional<TexelFormat> texelFormat;     ///< ktx2, ktx, dds only (default rgba16f)
+  bool shCmgen = false;                       ///< also STEM_sh.txt, the 9 lines cmgen prints
+  std::vector<std::filesystem::path> inputs;  ///< never overwritten
+
+  /// Throws Error::invalidField ("out_dir", "stem", "format", "texel_format").
+  void validate() const;
+  std::filesystem::path file(const std::string& suffix, const std::string& extension) const;
+  /// The container's extension: ".ktx2", ".ktx", ".dds" or ".exr".
+  std::string extension() const;
+};
+
+/// One file written, with its role (see @file).
 struct IblFile {
   std::string role;
   std::filesystem::path file;
@@ -59,26 +86,36 @@ struct IblFile {
   nlohmann::json details;  ///< e.g. the chain's levels, the table's axes
 };
 
-struct IblResult {
-  std::filesystem::path environment;
+/// What writeIbl and runIbl report.
+struct IblReport {
+  std::filesystem::path environment;  ///< its file name
   std::vector<IblFile> outputs;
-  SpecRunResult maps;  ///< the three cube maps as runSpec made them
+  std::vector<MapResult> maps;  ///< the three cube maps' entries, as `bake --json` prints maps
   std::vector<std::filesystem::path> files;
   std::vector<std::string> notes;
 
   std::string briefReport() const;
-  /// {"environment", "format", "files": [{"role", "file", "description", ...details}], "maps": [...]}.
+  /// {"environment", "files": [{"role", "file", "description", ...details}], "maps": [...], "notes"}.
   nlohmann::json toJson() const;
 };
 
-/// The spec of the three cube maps (see @file), outputs relative to options.outDir.
-nlohmann::json iblSpec(const IblOptions& options);
+/// Every file writeIbl writes, with its role, for checks before any work.
+std::vector<FilePlan::Entry> plannedFiles(const IblOutputs& outputs);
 
-/// Validates, plans every file (the spec's, the DFG table's, the SH text's) and only then creates
-/// the folder and makes the maps and the table. Throws what planSpec and runSpec throw (errors name
-/// the spec keys: "ibl: maps[0].resolution"; the tool renames them to its flags), the first map's
-/// error when one fails (after removing every file the job wrote: no partial output), and
-/// Error(Io) when a file cannot be written.
-IblResult makeIbl(const IblOptions& options);
+/// Writes every file as one set (see @file). Throws Error(Io) when one cannot be written: then none
+/// is replaced.
+IblReport writeIbl(const IblResult& result, const IblOutputs& outputs);
+
+/// What `brdfbake ibl ENV --out-dir OUT` takes.
+struct IblFiles {
+  std::filesystem::path environment;
+  std::optional<ParameterizationKind> from;
+  IblRequest request;  ///< the environment is filled in
+  IblOutputs outputs;  ///< the stem defaults to the environment's
+};
+
+/// Validates, checks every file, reads the environment, makes and writes the set; nothing is written
+/// or replaced on failure or cancellation.
+IblReport runIbl(const IblFiles& files, const Context& context = {});
 
 }  // namespace brdfbake

@@ -9,7 +9,7 @@
 
 namespace brdfbake {
 
-struct InterpolationOptions : JobOptions {
+struct InterpolationOptions {
   std::vector<double> sizesDegrees{1, 2, 5, 10, 20};  ///< in (0, 60]: degrees between vertex normals
   std::vector<double> placesDegrees{0, 10, 20, 30, 40, 50, 60, 70, 75, 80, 85, 88};  ///< in [0, 90)
   Vec3 viewer{-8.3, 1.0, 0.0};                  ///< line experiment: the eye, above the surface (y > 0), |p| <= 1e6
@@ -31,6 +31,6 @@ struct InterpolationResult {
   nlohmann::json toJson() const;    ///< {"sweep": [...], "line": {...}, "files": [...]}
 };
 
-InterpolationResult chartInterpolation(const InterpolationOptions& options);
+InterpolationResult chartInterpolation(const InterpolationOptions& options, const Context& context = {});
 
 }  // namespace brdfbake

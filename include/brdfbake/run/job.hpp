@@ -2,19 +2,24 @@
 /// @file
 /// What every job of the run layer takes and returns. A job is one library call doing what one
 /// command of the `brdfbake` tool does (run a spec, chart it, prefilter an environment, fit a
-/// table, ...): the tool parses its flags into the job's Options, calls the job, and prints the
+/// table, ...): the tool parses its flags into the job's request, calls the job, and prints the
 /// result's briefReport() or, with --json, its toJson(). A renderer or a script makes the same call.
 ///
 /// Every job:
-///   - takes an Options struct deriving from JobOptions, whose validate() it calls before any work;
-///   - checks every file it reads and writes (FilePlan) before any work, and writes outputs atomically;
-///   - reports progress through JobOptions::progress (a sink may throw to cancel);
-///   - returns a result with `files` (every file written), `notes`, `briefReport()` (the text the
-///     tool prints) and `toJson()` (what `--json` prints);
+///   - takes its typed request and a Context (core/context.hpp: threads, limits, progress and
+///     cancellation, passed the way Filament passes its JobSystem&); it validates the request first,
+///     and its errors name a field in the request's own terms (Error::invalidField: "max_error"),
+///     which each front maps once to its own name (a flag, a spec key, a keyword);
+///   - computes in memory; the jobs that also write (run*, runSpec) check every file they read and
+///     write (FilePlan) before any work and write outputs atomically;
+///   - reports progress through the Context, checks it for cancellation often, and then throws
+///     Cancelled, leaving no output of the unfinished step behind;
+///   - returns a result with `briefReport()` (the text the tool prints) and `toJson()` (what
+///     `--json` prints), and, when it wrote, `files` (every file written) and `notes`;
 ///   - throws brdfbake::Error, never prints, never exits.
 
+#include <brdfbake/core/context.hpp>
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/core/progress.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -24,22 +29,6 @@
 #include <vector>
 
 namespace brdfbake {
-
-/// The settings every job shares.
-struct JobOptions {
-  /// Worker threads, 0 = every core; at most kMaxThreads.
-  int threads = 0;
-  /// Allow maps over 8192^2 texels (1 GiB of float RGBA); the memory budget still applies.
-  bool allowLarge = false;
-  /// Where progress goes (empty: nowhere). See ProgressSink.
-  ProgressSink progress;
-
-  /// The most worker threads a job accepts.
-  static constexpr int kMaxThreads = 1024;
-
-  /// Throws Error(InvalidArgument) naming the value unless threads is in [0, kMaxThreads].
-  void validate() const;
-};
 
 /// What every job's result offers (see @file).
 template <class R>

@@ -1,57 +1,93 @@
 #pragma once
 /// @file
 /// A matcap (docs/matcap.md): a material shaded under an environment, seen from a fixed view and
-/// stored as a sphere map looked up by the view-space normal. What `brdfbake matcap MATERIAL
-/// ENVIRONMENT -o OUT` does, as one call. A request is a one-map spec (matcapSpec: "material" beside
-/// "environment", docs/spec.md) run by runSpec, so a matcap is made, checked and written exactly as
-/// such a map of a spec is, and a request's errors name the spec keys its fields stand for (the
-/// tool renames them to its flags).
+/// stored as a sphere map looked up by the view-space normal. Three steps, each usable alone:
 ///
-///   MapResult made = makeMatcap({.material = "gold.json", .environment = "sky.exr", .output = "gold.exr"});
+///   auto sky = std::make_shared<const Environment>(loadEnvironment("sky.exr"));  // once, for many materials
+///   MatcapResult made = makeMatcap({.material = gold, .environment = sky, .maxError = 0.05}, context);
+///   writeMatcap(made, {.files = {"gold.png"}});                       // or use made.map.image in memory
+///
+/// and runMatcap, what `brdfbake matcap MATERIAL ENVIRONMENT -o OUT` does: the files read, checked
+/// and written in one call. A spec's map of a material under an environment is made by the same
+/// makeMatcap and writeMatcap (run/spec_runner.hpp).
 
+#include <brdfbake/core/context.hpp>
+#include <brdfbake/env/environment.hpp>
+#include <brdfbake/env/material_under_environment.hpp>
+#include <brdfbake/run/map_outputs.hpp>
 #include <brdfbake/run/spec_runner.hpp>
 
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 
 namespace brdfbake {
 
-/// One matcap; each field is the spec key in brackets (docs/spec.md, "Materials under an environment").
+/// One matcap, in memory. Fields are named in messages as the spec keys and Python keywords are
+/// (snake_case: "max_error").
 struct MatcapRequest {
-  /// ["material"]: a JSON file holding one material object ({"model": "cook_torrance", ...}: inline,
-  /// its relative "file" resolved against the file's folder), a fit.json of `brdfbake fit` (model
-  /// "lobes", lighting mode) or a measured table (.astm, .brdf, .mat: model "measured", method "fit").
-  std::filesystem::path material;
-  std::filesystem::path environment;  ///< ["environment"]["file"]: EXR, HDR, ... (radiance)
-  std::filesystem::path output;       ///< ["output"]: .exr (float) or .png (8-bit sRGB, clamped), ...
-  /// With `output`, ["outputs"]: the map made once and written to each file (formats by extension).
-  std::vector<std::filesystem::path> moreOutputs;
-  std::optional<std::string> texelFormat;   ///< ["texel_format"] (.ktx2, .ktx, .dds outputs): rgba16f, rgb9e5, ...
-  std::string parameterization = "sphere";  ///< ["parameterization"]: sphere | paraboloid | cube | latlong
-  int resolution = 256;                     ///< ["resolution"]
-  int samplesPerTexel = 16;                 ///< ["samples_per_texel"]
-  std::string method = "auto";              ///< ["environment"]["method"]: auto | sampled | reference
-  double maxError = 0.01;                   ///< ["environment"]["max_error"]: the bound, relative to the peak
-  std::optional<std::string> from;          ///< ["environment"]["from"]: parameterization of a plain image
-  /// ["camera"]["yaw"], ["camera"]["pitch"] (degrees): turns the default camera (looking down -z, up
-  /// +y) by yaw about +y from -z towards +x, then tilts it up by pitch. Unset: the default camera.
-  std::optional<double> yaw, pitch;
-  /// ["exposure"]: stops the written map is scaled by (2^exposure), for 8-bit outputs.
-  double exposure = 0.0;
+  /// The material, lit through its BRDF (loadMaterialFile reads one; hand-designed maps have none).
+  std::shared_ptr<const Material> material;
+  /// The light: radiance over the sphere (loadEnvironment, or makeEnvironment around an image).
+  std::shared_ptr<const Environment> environment;
+  ParameterizationKind parameterization = ParameterizationKind::Sphere;  ///< sphere: the matcap
+  int resolution = 256;                                                  ///< in [1, 65536]
+  int samplesPerTexel = 16;                                              ///< footprint samples, in [1, 4096]
+  /// Towards the viewer in eye space: +z for sphere maps (turn the camera instead); the other
+  /// parameterizations, indexed by the reflected direction, may fix another.
+  Vec3 view = Vec3::UnitZ();
+  UnderEnvironmentMethod method = UnderEnvironmentMethod::Auto;
+  /// The bound on the estimated error, relative to the peak, in (0, 0.5] (material_under_environment.hpp).
+  double maxError = 0.01;
+  CameraFrame camera;     ///< default: looking down -z, up +y (CameraFrame::fromYawPitch turns it)
+  double exposure = 0.0;  ///< stops the map is scaled by (2^exposure), in [-30, 30]: for 8-bit outputs
+  /// How the map's metadata records the material ({"model": ..., "file": NAME}); empty: its model.
+  nlohmann::json materialDescription;
+
+  /// Throws Error::invalidField naming the field: "material" (none, or no BRDF), "environment",
+  /// "resolution", "samples_per_texel", "max_error", "exposure", "camera".
+  void validate() const;
+  /// The options shadeUnderEnvironment takes.
+  UnderEnvironmentOptions shadingOptions() const;
+  /// The request as a map's metadata records it: a spec's map object (docs/spec.md) with the
+  /// environment and material by name (no folder).
+  nlohmann::json describe() const;
 };
 
-/// The request as a one-map spec document {"maps": [{...}]}; its relative paths resolve against the
-/// current folder, as runSpec resolves an in-memory spec's. Reads MATERIAL's first bytes (and, for a
-/// JSON file, the file) to tell the three kinds apart. Throws Error(Io) for an unreadable material
-/// file and Error(InvalidInput) naming it for a JSON file that is a bake spec or not an object.
-nlohmann::json matcapSpec(const MatcapRequest& request);
+struct MatcapResult {
+  MaterialUnderEnvironment map;  ///< the image (exposure applied), its parameterization, the summary
+  nlohmann::json description;    ///< MatcapRequest::describe(), written as the map's metadata
 
-/// Runs matcapSpec(request) (runSpec with `options`) and returns its one map: its entry holds
-/// "under_environment" with the error estimate (error_estimate, error_metric). Throws what runSpec
-/// throws, and the map's error when making it failed (nothing is written then).
-MapResult makeMatcap(const MatcapRequest& request, const JobOptions& options = {});
+  /// "cook_torrance under the environment by sampled (...): estimated error ... , 0.05 s".
+  std::string briefReport() const { return map.summary.briefReport(); }
+  /// What `matcap --json` prints of the map, but its files: parameterization, resolution, width,
+  /// height, bake_path, bake_seconds, samples_per_texel, under_environment (the summary).
+  nlohmann::json toJson() const;
+};
+
+/// Makes the matcap in memory: validate(), then shadeUnderEnvironment on `context` (threads,
+/// progress, cancellation), then the exposure. Throws what validate() and shadeUnderEnvironment throw.
+MatcapResult makeMatcap(const MatcapRequest& request, const Context& context = {});
+
+/// Writes the map to every file of `outputs` (MapOutputs::validate first), with its metadata and
+/// error estimate. Throws Error(Io) for a file that cannot be written (earlier files stay).
+MapWriteReport writeMatcap(const MatcapResult& result, const MapOutputs& outputs);
+
+/// What `brdfbake matcap MATERIAL ENVIRONMENT -o OUT` takes.
+struct MatcapFiles {
+  std::filesystem::path material;            ///< loadMaterialFile reads it
+  std::filesystem::path environment;         ///< EXR, HDR, ... (loadEnvironment)
+  std::optional<ParameterizationKind> from;  ///< the environment's parameterization if plain
+  MatcapRequest request;                     ///< material and environment are filled in
+  MapOutputs outputs;
+};
+
+/// Checks every file (the material, the environment and each output) before any work, reads the
+/// material and the environment, makes the matcap and writes it. Returns the map's entry as `bake
+/// --json` prints a map's. Errors name the file or the request's field.
+MapResult runMatcap(const MatcapFiles& files, const Context& context = {});
 
 }  // namespace brdfbake

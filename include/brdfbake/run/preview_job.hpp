@@ -7,7 +7,7 @@
 
 namespace brdfbake {
 
-struct PreviewJobOptions : JobOptions {
+struct PreviewJobOptions {
   OutputSource source;
   PreviewOptions preview;        ///< object, resolution (pixels), view, per-vertex, exposure
   std::filesystem::path output;  ///< .png (8-bit sRGB) or .exr (HDR values)
@@ -23,7 +23,8 @@ struct PreviewResult {
   nlohmann::json toJson() const;    ///< {"output", "files", "notes"}
 };
 
-/// Opens the output, checks the files, renders and writes the picture.
-PreviewResult makePreview(const PreviewJobOptions& options);
+/// Opens the output, checks the files, renders and writes the picture (cancelled before writing when
+/// `context` is).
+PreviewResult makePreview(const PreviewJobOptions& options, const Context& context = {});
 
 }  // namespace brdfbake

@@ -29,7 +29,7 @@ struct OutputSource {
   void checkCosView(const BakedOutput& output, bool fresnelNeedsIt = true) const;
 };
 
-struct SampleOptions : JobOptions {
+struct SampleOptions {
   OutputSource source;
   /// Lookup directions in the map's frame (any length but 0)...
   std::vector<Vec3> directions;
@@ -60,6 +60,6 @@ struct SampleResult {
   nlohmann::json toJson() const;
 };
 
-SampleResult sampleOutput(const SampleOptions& options);
+SampleResult sampleOutput(const SampleOptions& options, const Context& context = {});
 
 }  // namespace brdfbake

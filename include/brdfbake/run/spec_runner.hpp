@@ -11,7 +11,7 @@
 /// being made does not stop the others; its entry says so and the result keeps the first error.
 
 #include <brdfbake/core/error.hpp>
-#include <brdfbake/core/files.hpp>
+#include <brdfbake/io/files.hpp>
 #include <brdfbake/run/job.hpp>
 #include <brdfbake/spec/spec.hpp>
 
@@ -24,7 +24,7 @@
 
 namespace brdfbake {
 
-struct SpecRunOptions : JobOptions {
+struct SpecRunOptions {
   /// The spec file. Relative paths in it resolve against its folder.
   std::filesystem::path spec;
   /// A spec given as a JSON document instead of a file (when not null): relative paths resolve
@@ -36,8 +36,7 @@ struct SpecRunOptions : JobOptions {
   /// its file name); every output must stay inside the output folder.
   std::filesystem::path outDir;
 
-  /// Throws Error(InvalidArgument) unless exactly one of `spec` and `document` is given, and for
-  /// JobOptions' rules.
+  /// Throws Error(InvalidArgument) unless exactly one of `spec` and `document` is given.
   void validate() const;
 };
 
@@ -88,19 +87,15 @@ struct SpecPlan {
   std::filesystem::path specFile;  ///< empty for an in-memory spec
 };
 
-/// Reads and validates the spec, places the outputs, checks every file, map sizes and the memory
-/// budget. Throws Error(InvalidInput) naming the JSON path for a bad spec, Error(InvalidArgument)
-/// for files that collide or leave the folder, Error(Resource) for maps too large.
-SpecPlan planSpec(const SpecRunOptions& options);
+/// Reads and validates the spec, places the outputs, checks every file, map sizes (against the
+/// context's limits) and the memory budget. Throws Error(InvalidInput) naming the JSON path for a bad
+/// spec, Error(InvalidArgument) for files that collide or leave the folder, Error(Resource) for maps
+/// too large.
+SpecPlan planSpec(const SpecRunOptions& options, const Context& context = {});
 
-/// planSpec, then loads every environment, then makes each map (see @file). Throws what planSpec
-/// throws and errors loading an environment; errors while making a map are in its MapResult.
-SpecRunResult runSpec(const SpecRunOptions& options);
-
-/// runSpec for an in-memory spec of one map (`document`, its relative paths against the current
-/// folder; messages name it `label`) with `options`, returning that map. The jobs built on a
-/// one-map spec (prefilterEnvironment, makeMatcap) run through it. Throws what runSpec throws, and
-/// the map's error when making it failed.
-MapResult runOneMapSpec(const nlohmann::json& document, const std::string& label, const JobOptions& options);
+/// planSpec, then loads every environment, then makes each map on `context` (see @file). Throws
+/// what planSpec throws, errors loading an environment, and Cancelled; errors while making a map
+/// are in its MapResult.
+SpecRunResult runSpec(const SpecRunOptions& options, const Context& context = {});
 
 }  // namespace brdfbake

@@ -5,9 +5,9 @@
 
 #include <brdfbake/brdf/lobes.hpp>
 #include <brdfbake/brdf/material.hpp>
-#include <brdfbake/core/files.hpp>
-#include <brdfbake/core/json_reader.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
+#include <brdfbake/io/files.hpp>
+#include <brdfbake/io/json_reader.hpp>
 #include <brdfbake/measured/measured_table.hpp>
 
 #include <filesystem>
@@ -28,9 +28,9 @@ struct DeferredFit {
   LobeMaterialMode mode = LobeMaterialMode::Reflectance;
   std::string jsonPath;  ///< of the material object, for messages ("maps[0].material")
 
-  /// Runs the fit (progress: fraction done) and returns the material. Throws Error(InvalidInput)
+  /// Runs the fit (on `context`) and returns the material. Throws Error(InvalidInput)
   /// naming `jsonPath` when the fit fails or does not converge to a usable result.
-  std::shared_ptr<const Material> run(const std::function<void(double)>& progress = {}) const;
+  std::shared_ptr<const Material> run(const Context& context = {}) const;
 };
 
 /// What a material parser may need besides its JSON object.

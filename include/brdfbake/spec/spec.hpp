@@ -5,12 +5,12 @@
 #include <brdfbake/bake/auto_config.hpp>
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/bake/map_function.hpp>
-#include <brdfbake/core/files.hpp>
 #include <brdfbake/env/camera.hpp>
 #include <brdfbake/env/material_under_environment.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/env/prefilter_stack.hpp>
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/io/files.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/maps/parameterization.hpp>
 #include <brdfbake/spec/material_spec.hpp>
 
@@ -58,12 +58,6 @@ struct EnvironmentMapSpec {
   /// levels STEM_mipK.EXT, or with "mip_layout": "tiled" (M must then reach 1 texel) as one file's levels,
   /// each level's roughness or exponent in the metadata's "level_values". `chainLobes` holds level k's lobe;
   /// "edge_fixup": false keeps cube texels unaveraged (cmft's --edgeFixup none).
-  struct GlossChain {
-    double scale = 10.0, bias = 1.0;
-    int levels = 0;
-    bool edgeFixup = true;
-    bool ggx = false;  ///< "lobe": "ggx"
-  };
   std::optional<GlossChain> glossChain;
   std::vector<PrefilterLobe> chainLobes;
   /// "sh_output": FILE.json, with "lobe": "irradiance": also the irradiance as 3 bands of spherical
@@ -203,17 +197,15 @@ struct MapSpec {
   /// The candidates and target for chooseConfiguration (fixed values become one-element lists).
   AutoOptions autoOptions() const;
 
-  /// Makes what parsing deferred (a material map's "measured" fit; `progress` gets the fraction
-  /// done) and checks the rules that need the made material (lights, view, profile symmetry,
-  /// sampling), throwing Error(InvalidInput) that names the spec and JSON path. Does nothing
-  /// when nothing is pending. Call it before makeFunction().
-  void prepare(const std::function<void(double)>& progress = {});
+  /// Makes what parsing deferred (a material map's "measured" fit, on `context`) and checks the rules that need the
+  /// made material (lights, view, profile symmetry, sampling), throwing Error(InvalidInput) that names the spec and
+  /// JSON path. Does nothing when nothing is pending. Call it before makeFunction().
+  void prepare(const Context& context = {});
   /// The material model's name (MaterialMapSpec::modelName; empty for environment maps).
   std::string modelName() const;
 
   /// The prefilter options an environment map asks for (parameterization, resolution, mips,
-  /// method, max_error, view, up, mirror samples, elevations); threads, limits and progress are
-  /// left at their defaults for the caller. Throws Error(InvalidArgument) for material maps.
+  /// method, max_error, view, up, mirror samples, elevations). Throws Error(InvalidArgument) for material maps.
   PrefilterOptions prefilterOptions() const;
 
   /// The function the baker integrates. Throws Error(InvalidArgument) for environment maps, for
@@ -224,8 +216,7 @@ struct MapSpec {
   /// The environment lighting of a material map lit by one, else null.
   const EnvironmentLighting* environmentLighting() const;
   /// The options a material lit by an environment asks for (parameterization, resolution, view,
-  /// camera, samples_per_texel, method, max_error); threads, limits and progress are left at their
-  /// defaults for the caller. Throws Error(InvalidArgument) for other maps.
+  /// camera, samples_per_texel, method, max_error). Throws Error(InvalidArgument) for other maps.
   UnderEnvironmentOptions underEnvironmentOptions() const;
 };
 
@@ -233,6 +224,16 @@ struct BakeSpec {
   std::filesystem::path file;  ///< where it was read from (empty for in-memory specs)
   std::vector<MapSpec> maps;
 };
+
+/// A prefilter lobe as the tool and specs name it: "mirror", "irradiance", "phong:N", "blinn:N",
+/// "ggx:R" (PrefilterLobe::parse) or "lobes:FIT.json" (the fitted model of `brdfbake fit`, FIT relative
+/// to `baseDirectory`).
+struct LobeArgument {
+  std::variant<PrefilterLobe, std::shared_ptr<const LobeModel>> lobe = PrefilterLobe::mirror();
+  std::filesystem::path fitFile;  ///< the fit.json read, or empty
+};
+/// Throws Error(InvalidArgument) naming the accepted forms, and what readFitFile throws.
+LobeArgument parseLobeArgument(const std::string& text, const std::filesystem::path& baseDirectory);
 
 /// Parses and validates a spec. `baseDirectory` resolves relative paths. Throws Error(InvalidInput)
 /// whose message starts with `label` (usually the file name) and names the JSON path.
@@ -246,17 +247,17 @@ BakeSpec parseBakeSpec(const nlohmann::json& document, const std::filesystem::pa
 Environment loadMapEnvironment(const MapSpec& map);
 
 /// Makes a material map lit by an environment (MapSpec::environmentLighting; prepare() first):
-/// shadeUnderEnvironment with the map's options, `run`'s threads, limits and progress. Write it with
+/// shadeUnderEnvironment with the map's options, on `context`. Write it with
 /// writeUnderEnvironmentMap(result, map.output, map.raw, map.cubeLayout, ...). Throws
 /// Error(InvalidArgument) for other maps or a pending fit, and shadeUnderEnvironment's errors.
 MaterialUnderEnvironment bakeUnderEnvironment(const MapSpec& map, const Environment& environment,
-                                              const RunOptions& run = {});
+                                              const Context& context = {});
 
 /// Writes the extra files a map asks for besides its image ("mips", "fresnel_table_output"; see MapSpec),
-/// each written with writeImage/writeMap semantics. `bakeOptions` is used for baking mip levels.
-/// Returns the files written and notes (nothing if the map asks for no extras).
-MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions,
-                              const WriteOptions& writeOptions = {});
+/// each written with writeImage/writeMap semantics. `bakeOptions` is used for baking mip levels, on
+/// `context`. Returns the files written and notes (nothing if the map asks for no extras).
+MapWriteReport writeMapExtras(const MapSpec& map, const BakeOptions& bakeOptions, const WriteOptions& writeOptions = {},
+                              const Context& context = {});
 
 /// The files baking `spec` reads and writes, for FilePlan::check(): `specFile` (none when empty),
 /// every map's inputs and planned outputs, with `outputFolder` (when given) as the folder outputs

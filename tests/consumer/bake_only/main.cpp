@@ -3,7 +3,7 @@
 #include <brdfbake/bake/baker.hpp>
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/core/version.hpp>
-#include <brdfbake/maps/map_file.hpp>
+#include <brdfbake/io/map_file.hpp>
 #include <brdfbake/maps/sphere_map.hpp>
 
 #include <cstdio>

@@ -1,9 +1,10 @@
-// Runs a spec, charts it, prefilters an environment and fits a table, each with one call to the
+// Runs a spec, charts it, prefilters an environment, shades a matcap and fits a table, each with one call to the
 // installed run layer, and checks that each result's JSON is what the installed tool prints with
 // --json for the same job (timings, which differ from run to run, and the folders aside).
 // Arguments: SOURCE_DIR WORK_DIR (the tool is WORK_DIR/prefix/bin/brdfbake).
 #include <brdfbake/run/chart.hpp>
 #include <brdfbake/run/fit_table.hpp>
+#include <brdfbake/run/matcap_job.hpp>
 #include <brdfbake/run/prefilter_job.hpp>
 #include <brdfbake/run/spec_runner.hpp>
 
@@ -93,16 +94,26 @@ int main(int argc, char** argv) {
                                "--lookups 500"),
              mine, theirs);
 
-  PrefilterRequest prefilter;
+  PrefilterFiles prefilter;
   prefilter.environment = sky;
-  prefilter.lobe = "phong:50";
-  prefilter.to = "paraboloid";
-  prefilter.resolution = 32;
-  prefilter.output = mine / "sky.exr";
-  ok &= same("prefilter", prefilterEnvironment(prefilter).toJson(),
+  prefilter.request.lobe = PrefilterLobe::phong(50);
+  prefilter.request.parameterization = ParameterizationKind::Paraboloid;
+  prefilter.request.resolution = 32;
+  prefilter.outputs.files = {mine / "sky.exr"};
+  ok &= same("prefilter", runPrefilter(prefilter).toJson(),
              runTool(tool, "prefilter " + q(sky) + " --lobe phong:50 --to paraboloid --resolution 32 -o " +
                                q(theirs / "sky.exr")),
              mine, theirs);
+
+  const fs::path gold = source / "data_samples/materials/gold.json";
+  MatcapFiles matcap;
+  matcap.material = gold;
+  matcap.environment = sky;
+  matcap.request.resolution = 32;
+  matcap.outputs.files = {mine / "gold.exr"};
+  ok &= same("matcap", runMatcap(matcap).toJson(),
+             runTool(tool, "matcap " + q(gold) + " " + q(sky) + " --resolution 32 -o " + q(theirs / "gold.exr")), mine,
+             theirs);
 
   FitTableOptions fit;
   fit.table = table;
