@@ -15,6 +15,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "plain_loop.hpp"
+
 #include <random>
 
 namespace {
@@ -81,20 +83,9 @@ BENCHMARK(BakeMap)
 // The baseline: a plain single-threaded loop over texels and samples in double,
 // evaluating the model through the inverse mapping (1024^2 sphere map, 16 samples per texel).
 void TargetPlainLoop(benchmark::State& state) {
-  const SphereMap map(1024);
-  std::vector<float> out(1024 * 1024 * 3);
+  std::vector<float> out;
   for (auto _ : state) {
-    for (int y = 0; y < 1024; ++y) {
-      for (int x = 0; x < 1024; ++x) {
-        double sum = 0.0;
-        for (int j = 0; j < 4; ++j)
-          for (int i = 0; i < 4; ++i) {
-            const Vec3 r = *map.getDirectionFor(Vec2(x + (i + 0.5) / 4, y + (j + 0.5) / 4));
-            sum += phongLobe(r.dot(kLight), kExponent);
-          }
-        out[(y * 1024 + x) * 3] = static_cast<float>(sum / 16);
-      }
-    }
+    bench::plainPhongLoop(out);
     benchmark::DoNotOptimize(out.data());
   }
 }

@@ -34,7 +34,8 @@ void Context::requireImageSize(int width, int height, const std::string& where) 
   const std::string size =
       (where.empty() ? "" : where + ": ") + "a " + std::to_string(width) + " x " + std::to_string(height) + " map";
   if (static_cast<long long>(width) * height > kMaxTexels && !allowLarge_) {
-    throw Error(Error::Kind::Resource, size + " needs " + formatBytes(bytes) + " of float RGBA, more than the limit of " +
+    throw Error(Error::Kind::Resource, size + " needs " + formatBytes(bytes) +
+                                           " of float RGBA, more than the limit of " +
                                            formatBytes(16.0 * static_cast<double>(kMaxTexels)) +
                                            "; lower the resolution or allow large maps (--allow-large)");
   }

@@ -13,6 +13,8 @@
 #include <tbb/task_arena.h>
 
 #include <chrono>
+#include <map>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -104,11 +106,19 @@ Candidate makeCandidate(const Setup& setup, int samples, int perWidth, double fo
   return c;
 }
 
+// From this bound on (a live preview), cheaper settings are tried too: 4 and 8 importance samples, a
+// grid of 2 points per lobe width.
+constexpr double kLooseBound = 0.02;
+
 std::vector<Candidate> candidatesFor(const Setup& setup, double footprintSamples, int threads) {
   const UnderEnvironmentOptions& o = setup.options;
-  std::vector<int> samples =
-      o.importanceSamples > 0 ? std::vector<int>{o.importanceSamples} : std::vector<int>{16, 64, 256, 1024};
-  std::vector<int> grids = o.gridPerWidth != 0 ? std::vector<int>{o.gridPerWidth} : std::vector<int>{4, 8, -1};
+  const bool loose = o.maxError >= kLooseBound;
+  std::vector<int> samples = o.importanceSamples > 0 ? std::vector<int>{o.importanceSamples}
+                             : loose                 ? std::vector<int>{4, 8, 16, 64, 256, 1024}
+                                                     : std::vector<int>{16, 64, 256, 1024};
+  std::vector<int> grids = o.gridPerWidth != 0 ? std::vector<int>{o.gridPerWidth}
+                           : loose             ? std::vector<int>{2, 4, 8, -1}
+                                               : std::vector<int>{4, 8, -1};
   std::vector<Candidate> out;
   for (int k : samples)
     for (int g : grids) {
@@ -211,24 +221,29 @@ class EvaluationFunction final : public MapFunction {
 // within `smoothAngle` / 2 of the centre's, where L_o is smooth enough that the centre is the
 // footprint mean to second order (within (w / s)^2 / 24 for footprint w and scale s); else the mean
 // over its stratified footprint samples, as the baker takes it (bakeTexel). Alpha is coverage.
-Image renderOutput(const Parameterization& map, const MapFunction& function, const Vec3& view, double smoothAngle,
+Image renderOutput(const Parameterization& map, const Evaluation& evaluation, const Vec3& view, double smoothAngle,
                    int samplesPerTexel, const Context& context) {
+  const EvaluationFunction function(evaluation, view);
   Image image(map.width(), map.height(), Rgba::Zero());
   ProgressCounter counter(context.progress(), static_cast<std::size_t>(map.height()));
-  auto normalOf = [&](const Vec3& direction) { return geometryForReflection(direction.normalized(), view).normal; };
+  auto normalAt = [&](double px, double py) -> std::optional<Vec3> {
+    const auto d = map.getDirectionFor(Vec2(px, py));
+    if (!d) return std::nullopt;
+    return geometryForReflection(d->normalized(), view).normal;
+  };
+  // A corner within smoothAngle / 2 of the centre in angle is within this chord |n_corner - n_centre|.
+  const double chord = 2.0 * std::sin(std::min(0.25 * smoothAngle, 0.5 * kPi));
   tbb::parallel_for(0, map.height(), [&](int y) {
+    std::vector<std::optional<Vec3>> top(static_cast<std::size_t>(map.width()) + 1), bottom(top.size());
+    for (int x = 0; x <= map.width(); ++x) top[x] = normalAt(x, y), bottom[x] = normalAt(x, y + 1);
     for (int x = 0; x < map.width(); ++x) {
       context.checkCancelled();  // a texel of the reference sum takes milliseconds
-      const auto centre = map.getDirectionFor(Vec2(x + 0.5, y + 0.5));
-      if (!centre) continue;  // no direction (a cube cross's empty cells): 0, alpha 0
-      const Vec3 n = normalOf(*centre);
-      double spread = 0.0;
-      for (int corner = 0; corner < 4; ++corner) {
-        const auto d = map.getDirectionFor(Vec2(x + (corner & 1), y + (corner >> 1)));
-        if (d) spread = std::max(spread, 2.0 * std::asin(std::min(1.0, 0.5 * (normalOf(*d) - n).norm())));
-      }
-      const Rgb value =
-          spread <= 0.5 * smoothAngle ? function.evaluate(*centre) : bakeTexel(map, function, x, y, samplesPerTexel);
+      const auto n = normalAt(x + 0.5, y + 0.5);
+      if (!n) continue;  // no direction (a cube cross's empty cells): 0, alpha 0
+      bool smooth = true;
+      for (const auto* corner : {&top[x], &top[x + 1], &bottom[x], &bottom[x + 1]})
+        smooth = smooth && (!*corner || (**corner - *n).norm() <= chord);
+      const Rgb value = smooth ? evaluation.at(*n) : bakeTexel(map, function, x, y, samplesPerTexel);
       image.set(x, y, Rgba(value[0], value[1], value[2], map.texelCoverage(x, y)));
     }
     counter.step();
@@ -498,17 +513,13 @@ struct ProbeBank {
 };
 constexpr std::size_t kFirstProbes = 64;
 
-// Draws the bank's probes, the value-weighted half guided by `evaluation`'s grid (or a coarse one).
-void drawBank(const Setup& setup, const Evaluation& evaluation, double rimCos, ProbeBank& bank) {
-  const auto* grid = dynamic_cast<const GridEvaluation*>(&evaluation);
-  std::optional<GridEvaluation> guide;
-  if (!grid) {  // a coarse grid of at most 128 rows, 16 samples each: only a guide
-    Candidate coarse = makeCandidate(setup, 16, 2, 1.0, 1);
-    coarse.rows = std::min(coarse.rows, 129), coarse.columns = std::min(coarse.columns, 512);
-    guide.emplace(setup, coarse, [&](double) { setup.context.checkCancelled(); });
-    grid = &*guide;
-  }
-  std::vector<Probe> drawn = drawProbes(setup, grid->grid(), setup.options.probes, rimCos);
+// Draws the bank's probes, the value-weighted half guided by a coarse grid (at most 32 rows, 4 samples
+// each: only a guide, whose error decides where probes go, not what they measure).
+void drawBank(const Setup& setup, double rimCos, ProbeBank& bank) {
+  Candidate coarse = makeCandidate(setup, 4, 2, 1.0, 1);
+  coarse.rows = std::min(coarse.rows, 33), coarse.columns = std::min(coarse.columns, 128);
+  const GridEvaluation guide(setup, coarse, [&](double) { setup.context.checkCancelled(); });
+  std::vector<Probe> drawn = drawProbes(setup, guide.grid(), setup.options.probes, rimCos);
   const std::size_t half = static_cast<std::size_t>(setup.options.probes / 2);
   for (std::size_t i = 0; i < drawn.size(); ++i) {  // uniform and guided alternately
     const std::size_t from = i % 2 == 0 ? i / 2 : half + i / 2;
@@ -556,16 +567,29 @@ std::unique_ptr<Evaluation> chooseCandidate(const Setup& setup, const std::vecto
   std::unique_ptr<Evaluation> best;
   double bestError = HUGE_VAL;
   std::size_t bestIndex = 0;
+  std::map<int, double> pointwise;  // the lower bound of the sampled values' own error, per sample count
   for (const Candidate& c : candidates) {
+    if (estimating && bank.probes.empty()) {
+      const auto drawStart = Clock::now();
+      drawBank(setup, rimCos, bank);
+      makeReady(setup, bank, kFirstProbes);
+      summary.estimateSeconds += secondsSince(drawStart);
+    }
+    // A grid only interpolates its nodes' values: skip it when their own error is clearly too much (never the
+    // last candidate, nor a grid asked for).
+    if (estimating && c.perWidth > 0 && o.gridPerWidth == 0 && &c != &candidates.back()) {
+      if (!pointwise.count(c.samples)) {
+        const auto checkStart = Clock::now();
+        pointwise[c.samples] = estimateOn(setup, SampledEvaluation(setup, c.samples), bank, target).lower;
+        summary.estimateSeconds += secondsSince(checkStart);
+      }
+      if (pointwise[c.samples] > target) continue;
+    }
     const auto start = Clock::now();
     auto evaluation = build(setup, c, setup.context.progress());
     UnderEnvironmentCandidate record{c.detail, c.predicted, secondsSince(start)};
     if (estimating) {
       const auto estimateStart = Clock::now();
-      if (bank.probes.empty()) {
-        drawBank(setup, *evaluation, rimCos, bank);
-        makeReady(setup, bank, kFirstProbes);
-      }
       const Measure m = estimateOn(setup, *evaluation, bank, target);
       record.errorEstimate = m.bound(), record.errorEstimateMax = m.max;
       summary.estimateSeconds += secondsSince(estimateStart);
@@ -638,8 +662,7 @@ MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, c
     const auto* grid = dynamic_cast<const GridEvaluation*>(evaluation.get());
     // Where L_o is smooth: the grid's spacing, or an eighth of the narrowest lobe in normals.
     const double smoothAngle = grid ? grid->grid().rowSpacing() : setup.narrowest / 16.0;
-    result.image = renderOutput(*result.map, EvaluationFunction(*evaluation, setup.view), setup.view, smoothAngle,
-                                options.samplesPerTexel, context);
+    result.image = renderOutput(*result.map, *evaluation, setup.view, smoothAngle, options.samplesPerTexel, context);
     requireFinite(result.image);
     summary.outputSeconds += secondsSince(bakeStart);
     if (estimating) {

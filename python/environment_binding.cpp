@@ -96,8 +96,7 @@ void bindEnvironment(py::module_& module) {
            }),
            py::arg("source"), py::arg("from_") = py::none())
       .def_property_readonly(
-          "parameterization",
-          [](const PythonEnvironment& e) { return std::string(toString(e.environment->kind())); },
+          "parameterization", [](const PythonEnvironment& e) { return std::string(toString(e.environment->kind())); },
           "sphere | paraboloid | cube | latlong.")
       .def_property_readonly(
           "resolution", [](const PythonEnvironment& e) { return e.environment->map->resolution(); },

@@ -63,7 +63,8 @@ struct PythonIbl {
 };
 
 py::object saveIbl(const PythonIbl& ibl, const std::filesystem::path& folder, const std::string& format,
-                   const std::string& stem, const std::optional<std::string>& texelFormat, const std::string& shFormat) {
+                   const std::string& stem, const std::optional<std::string>& texelFormat,
+                   const std::string& shFormat) {
   IblOutputs outputs;
   outputs.folder = folder;
   outputs.format = format;
@@ -75,7 +76,8 @@ py::object saveIbl(const PythonIbl& ibl, const std::filesystem::path& folder, co
       throw Error(e.kind(), std::string("texel_format: ") + e.what());
     }
   }
-  require(shFormat == "brdfbake" || shFormat == "cmgen", "sh_format: expected brdfbake or cmgen, got '" + shFormat + "'");
+  require(shFormat == "brdfbake" || shFormat == "cmgen",
+          "sh_format: expected brdfbake or cmgen, got '" + shFormat + "'");
   outputs.shCmgen = shFormat == "cmgen";
   IblReport report;
   try {
@@ -95,7 +97,8 @@ void bindIbl(py::module_& module) {
       .def_property_readonly("specular",
                              [](const PythonIbl& ibl) {
                                py::list levels;
-                               for (const Image& level : ibl.result->specular.map.levels) levels.append(cubeFaces(level));
+                               for (const Image& level : ibl.result->specular.map.levels)
+                                 levels.append(cubeFaces(level));
                                return levels;
                              })
       .def_property_readonly("irradiance",

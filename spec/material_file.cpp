@@ -1,8 +1,8 @@
 // A material read from a file or a JSON object (material_file.hpp).
 #include <brdfbake/brdf/lobes.hpp>
-#include <brdfbake/io/json_text.hpp>
 #include <brdfbake/core/printable.hpp>
 #include <brdfbake/fit/fit_file.hpp>
+#include <brdfbake/io/json_text.hpp>
 #include <brdfbake/spec/material_file.hpp>
 #include <brdfbake/spec/material_spec.hpp>
 
@@ -70,13 +70,15 @@ MaterialFile fromFitFile(const fs::path& path) {
 MaterialFile parseMaterialObject(const nlohmann::json& object, const fs::path& baseDirectory, const std::string& label,
                                  const Context& context) {
   if (!object.is_object()) {
-    throw Error(Error::Kind::InvalidInput,
-                label + ": a material is one JSON object ({\"model\": \"cook_torrance\", ...}), got " + describe(object));
+    throw Error(
+        Error::Kind::InvalidInput,
+        label + ": a material is one JSON object ({\"model\": \"cook_torrance\", ...}), got " + describe(object));
   }
   if (object.contains("maps")) {
     throw Error(Error::Kind::InvalidInput,
-                label + ": a bake spec; a material file holds one material object ({\"model\": \"cook_torrance\", "
-                        "...}), a fit.json or a measured table");
+                label +
+                    ": a bake spec; a material file holds one material object ({\"model\": \"cook_torrance\", "
+                    "...}), a fit.json or a measured table");
   }
   MaterialFile file;
   file.kind = "material";

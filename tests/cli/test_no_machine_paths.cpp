@@ -37,16 +37,20 @@ TEST(NoMachinePaths, OutputsNameTheirInputsByFileNameOnly) {
   }
   const fs::path sky = inputs / "sky_latlong.exr", out = dir / "out";
   std::ofstream(inputs / "spec.json") << R"({"maps": [
-    {"output": ")" << (out / "spec_phong.exr").string() << R"(", "parameterization": "paraboloid", "resolution": 16,
-     "environment": {"file": ")" << sky.string() << R"(", "lobe": "phong:20"}},
-    {"output": ")" << (out / "spec_lobes.exr").string() << R"(", "parameterization": "sphere", "resolution": 16,
-     "material": {"model": "lobes", "mode": "lighting", "file": ")" << (inputs / "synthetic_two_lobes.json").string() << R"("},
+    {"output": ")" << (out / "spec_phong.exr").string()
+                                      << R"(", "parameterization": "paraboloid", "resolution": 16,
+     "environment": {"file": ")" << sky.string()
+                                      << R"(", "lobe": "phong:20"}},
+    {"output": ")" << (out / "spec_lobes.exr").string()
+                                      << R"(", "parameterization": "sphere", "resolution": 16,
+     "material": {"model": "lobes", "mode": "lighting", "file": ")"
+                                      << (inputs / "synthetic_two_lobes.json").string() << R"("},
      "lights": [{"direction": "eye", "color": [1, 1, 1]}]}]})";
   const std::string commands[] = {
       "matcap " + q(inputs / "gold.json") + " " + q(sky) + " --resolution 16 -o " + q(out / "gold.exr") + " -o " +
           q(out / "gold.png") + " -o " + q(out / "gold.ktx2"),
-      "prefilter " + q(sky) + " --lobe irradiance --to cube --resolution 8 --sh-output " + q(out / "sh.json") +
-          " -o " + q(out / "irr.dds"),
+      "prefilter " + q(sky) + " --lobe irradiance --to cube --resolution 8 --sh-output " + q(out / "sh.json") + " -o " +
+          q(out / "irr.dds"),
       "ibl " + q(sky) + " --out-dir " + q(out / "ibl") + " --resolution 8 --skybox-resolution 8 --dfg-size 8",
       "bake " + q(inputs / "spec.json") + " --out-dir " + q(out),
       "fit " + q(inputs / "synthetic_two_lobes.astm") + " --lobes 1 --held-out off -o " + q(out / "fit.json"),

@@ -21,10 +21,10 @@ struct MapOutputs {
   /// The files the map is written to, the main one first, each in the format its extension names
   /// (.exr float, .png 8-bit sRGB, .hdr, .tif, .ktx2, .ktx, .dds); at most kMaxOutputs.
   std::vector<std::filesystem::path> files;
-  CubeLayout layout = CubeLayout::Cross;   ///< cube maps: one cross, or six face files
-  MipLayout mipLayout = MipLayout::Files;  ///< chains: STEM_mipK.EXT, or every level inside each file
-  std::optional<TexelFormat> texelFormat;  ///< how .ktx2, .ktx and .dds outputs store texels
-  std::vector<std::filesystem::path> inputs;   ///< files never overwritten (the job's inputs)
+  CubeLayout layout = CubeLayout::Cross;        ///< cube maps: one cross, or six face files
+  MipLayout mipLayout = MipLayout::Files;       ///< chains: STEM_mipK.EXT, or every level inside each file
+  std::optional<TexelFormat> texelFormat;       ///< how .ktx2, .ktx and .dds outputs store texels
+  std::vector<std::filesystem::path> inputs;    ///< files never overwritten (the job's inputs)
   std::optional<std::filesystem::path> folder;  ///< every output stays inside it (none: anywhere)
 
   /// Most files one map is written to.

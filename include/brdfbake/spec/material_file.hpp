@@ -24,9 +24,9 @@ namespace brdfbake {
 
 struct MaterialFile {
   std::shared_ptr<const Material> material;
-  std::string kind;                  ///< "material", "fit" or "table"
+  std::string kind;                     ///< "material", "fit" or "table"
   std::vector<FilePlan::Entry> inputs;  ///< every file read (the file, and a fit or table a material names)
-  std::vector<std::string> notes;    ///< e.g. negative measured values clamped
+  std::vector<std::string> notes;       ///< e.g. negative measured values clamped
   /// How the material is recorded in a map's metadata: {"model": ..., "file": FILE NAME} (the file's
   /// name only: no folder of the machine that made it).
   nlohmann::json description;
