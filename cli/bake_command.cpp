@@ -69,8 +69,7 @@ Command addBakeCommand(CLI::App& app) {
   // -o names one output file on every command; bake writes a file per map, so it takes a folder.
   command->add_option("-o,--output", args->misplacedOutput, "(bake takes --out-dir: it writes one file per map)")
       ->group("");
-  addComputeFlags(command, args->flags, /*makesMaps=*/true);
-  addOutputFlags(command, args->flags, "per map its status, files, seconds baking and writing, notes");
+  addCommonFlags(command, args->flags, Computes::Maps, "per map its status, files, seconds baking and writing, notes");
   return [args] { return runBake(*args); };
 }
 

@@ -27,59 +27,42 @@ Examples:
 struct ChartArgs {
   CommonFlags flags;
   ChartOptions options;
-  std::string resolutions, samples = "1,4,16", parameterizations = "sphere,paraboloid,cube,latlong",
-                           methods = "auto,sh,direct,importance", environmentError = "texel", spec, chart, csv;
+  std::optional<std::vector<int>> resolutions;
 };
 
 void addChartFlags(CLI::App* command, ChartArgs& a) {
-  command->add_option("spec", a.spec, "Spec file")->required();
-  command->add_option("-o,--output", a.chart, "Chart (.png or .svg); several maps: one panel each");
-  command->add_option("--csv", a.csv, "Also write the points as CSV");
-  command->add_option("--resolution", a.resolutions, "Comma-separated resolutions (both kinds of map)");
-  command->add_option("--resolutions", a.resolutions, "(old spelling of --resolution)")->group("");
-  command->add_option("--samples-per-texel", a.samples, "Comma-separated samples per texel (material maps)")
-      ->default_str(a.samples);
-  command->add_option("--samples", a.samples, "(old spelling of --samples-per-texel)")->group("");
-  command->add_option("--parameterizations", a.parameterizations, "Comma-separated parameterizations")
-      ->default_str(a.parameterizations);
+  ChartOptions& o = a.options;
+  command->add_option("spec", o.spec, "Spec file")->required();
+  command->add_option("-o,--output", o.chart, "Chart (.png or .svg); several maps: one panel each");
+  command->add_option("--csv", o.csv, "Also write the points as CSV");
+  addParsed(command, "--resolution", a.resolutions, listOf(parseWholeNumber),
+            "Comma-separated resolutions (both kinds of map)");
+  addParsed(command, "--samples-per-texel", o.samplesPerTexel, listOf(parseWholeNumber),
+            "Comma-separated samples per texel (material maps)")
+      ->default_str("1,4,16");
+  // The old spellings, hidden.
+  addParsed(command, "--resolutions", a.resolutions, listOf(parseWholeNumber), "")->group("");
+  addParsed(command, "--samples", o.samplesPerTexel, listOf(parseWholeNumber), "")->group("");
+  addParsed(command, "--parameterizations", o.parameterizations, listOf(parseParameterizationKind),
+            "Comma-separated parameterizations")
+      ->default_str("sphere,paraboloid,cube,latlong");
+  addParsed(command, "--methods", o.methods, listOf(parsePrefilterMethod),
+            "Prefilter methods (environment maps): auto, sh, direct, importance, reference")
+      ->default_str("auto,sh,direct,importance");
   command
-      ->add_option("--methods", a.methods,
-                   "Prefilter methods (environment maps): auto, sh, direct, importance, "
-                   "reference")
-      ->default_str(a.methods);
-  command
-      ->add_option("--max-error", a.options.maxError,
-                   "Environment maps: the bound methods are set for "
-                   "(default: each map's max_error)")
+      ->add_option("--max-error", o.maxError,
+                   "Environment maps: the bound methods are set for (default: each map's max_error)")
       ->check(CLI::Range(1e-6, 0.5));
-  command->add_option("--subset", a.options.subset, "Environment maps: random texels compared with the reference")
+  command->add_option("--subset", o.subset, "Environment maps: random texels compared with the reference")
       ->default_val(256);
-  command->add_option("--environment-error", a.environmentError, "Environment maps: texel or lookup error charted")
-      ->default_str(a.environmentError)
-      ->check(CLI::IsMember({"texel", "lookup"}));
-  command->add_option("--lookups", a.options.lookups, "Material maps: random directions per error measurement")
+  command
+      ->add_option_function<std::string>(
+          "--environment-error", [&o](const std::string& text) { o.lookupError = text == "lookup"; },
+          "Environment maps: texel or lookup error charted")
+      ->check(CLI::IsMember({"texel", "lookup"}))
+      ->default_str("texel");
+  command->add_option("--lookups", o.lookups, "Material maps: random directions per error measurement")
       ->default_val(20000);
-}
-
-int runChart(ChartArgs a) {
-  if (a.chart.empty() && a.csv.empty() && !a.flags.json) {
-    throw Error(Error::Kind::InvalidArgument, "chart: give -o CHART.png, --csv FILE or --json (nothing to write)");
-  }
-  ChartOptions& options = a.options;
-  options.spec = a.spec;
-  options.chart = a.chart;
-  options.csv = a.csv;
-  if (!a.resolutions.empty()) {
-    options.resolutions = parseList<int>(a.resolutions, "--resolution", parseWholeNumber);
-    options.environmentResolutions = options.resolutions;
-  }
-  options.samplesPerTexel = parseList<int>(a.samples, "--samples-per-texel", parseWholeNumber);
-  options.parameterizations = parseList<ParameterizationKind>(
-      a.parameterizations, "--parameterizations", [](const std::string& s) { return parseParameterizationKind(s); });
-  options.methods =
-      parseList<PrefilterMethod>(a.methods, "--methods", [](const std::string& s) { return parsePrefilterMethod(s); });
-  options.lookupError = a.environmentError == "lookup";
-  return printResult(withProgress(a.flags, options, chartSpec), a.flags);
 }
 
 }  // namespace
@@ -89,9 +72,14 @@ Command addChartCommand(CLI::App& app) {
   auto* command = app.add_subcommand("chart", "Chart bake or prefilter time against accuracy for the maps of a spec");
   command->footer(kFooter);
   addChartFlags(command, *args);
-  addComputeFlags(command, args->flags, /*makesMaps=*/false);
-  addOutputFlags(command, args->flags, "the points (skipped ones with \"skipped\": true)");
-  return [args] { return runChart(*args); };
+  addCommonFlags(command, args->flags, Computes::Values, "the points (skipped ones with \"skipped\": true)");
+  return [args] {
+    ChartOptions& options = args->options;
+    if (options.chart.empty() && options.csv.empty() && !args->flags.json)
+      throw Error(Error::Kind::InvalidArgument, "chart: give -o CHART.png, --csv FILE or --json (nothing to write)");
+    if (args->resolutions) options.resolutions = options.environmentResolutions = *args->resolutions;
+    return printResult(withProgress(args->flags, options, chartSpec), args->flags);
+  };
 }
 
 }  // namespace brdfbake::cli

@@ -19,52 +19,29 @@ Examples:
   brdfbake convert out/phong_paraboloid.exr --to cube -o out/phong_cube.exr
   brdfbake convert sky.hdr --from latlong --to sphere --resolution 512 -o sky_sphere.exr)";
 
-struct ConvertArgs {
-  CommonFlags flags;
-  ConvertOptions options;
-  OutputFiles outputs;
-  std::optional<std::string> texelFormat;
-  std::string map, to, from;
-  bool faces = false;
-};
-
-int runConvert(ConvertArgs a) {
-  ConvertOptions& options = a.options;
-  options.source.path = a.map;
-  if (!a.from.empty()) options.source.from = parseParameterizationKind(a.from);
-  options.to = parseParameterizationKind(a.to);
-  options.layout = a.faces ? CubeLayout::Faces : CubeLayout::Cross;
-  options.output = a.outputs.first();
-  options.moreOutputs = a.outputs.rest();
-  if (a.texelFormat) options.texelFormat = parseFlag("--texel-format", *a.texelFormat, parseTexelFormat);
-  const FieldFlags names = {{"cos_view", "--cos-view"},
-                            {"to", "--to"},
-                            {"resolution", "--resolution"},
-                            {"texel format", "--texel-format"},
-                            {"output", "-o"}};
-  return printResult(namingFields(names, [&] { return withProgress(a.flags, options, convertOutput); }), a.flags);
-}
-
 }  // namespace
 
 Command addConvertCommand(CLI::App& app) {
+  struct ConvertArgs {
+    CommonFlags flags;
+    ConvertOptions options;
+  };
   auto args = std::make_shared<ConvertArgs>();
+  ConvertOptions& options = args->options;
   auto* command = app.add_subcommand("convert", "Resample a map into another parameterization");
   command->footer(kFooter);
-  command->add_option("map", args->map, "Input map or image")->required();
-  addToOption(command, args->to);
-  addFromOption(command, args->from);
-  command->add_option("--resolution", args->options.resolution, "Output resolution (default: the input's)")
+  addSourceOptions(command, options.source, /*cosView=*/true);
+  addToOption(command, options.to);
+  command->add_option("--resolution", options.resolution, "Output resolution (default: the input's)")
       ->check(CLI::Range(1, 65536));
-  addSamplesPerTexelOption(command, args->options.samplesPerTexel, "Samples per output texel", true);
-  addCosViewOption(command, args->options.source.cosView);
-  addMipLevelOption(command, args->options.source.mipLevel);
-  command->add_flag("--faces", args->faces, "Write a cube map as six files instead of a cross");
-  addOutputFileOption(command, args->outputs, "Output map");
-  addTexelFormatOption(command, args->texelFormat);
-  addComputeFlags(command, args->flags, /*makesMaps=*/true);
-  addOutputFlags(command, args->flags, "files, seconds, notes");
-  return [args] { return runConvert(*args); };
+  addSamplesPerTexelOption(command, options.samplesPerTexel, "Samples per output texel", true);
+  addMapOutputOptions(command, options.outputs);
+  addCommonFlags(command, args->flags, Computes::Maps, "files, seconds, notes");
+  return [args] {
+    const auto converted = namingFields({{"outputs", "-o"}, {"source", "MAP"}},
+                                        [&] { return withProgress(args->flags, args->options, convertOutput); });
+    return printResult(converted, args->flags);
+  };
 }
 
 }  // namespace brdfbake::cli

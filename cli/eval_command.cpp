@@ -25,49 +25,33 @@ Examples:
   brdfbake eval garnet_red.astm --wi 0.5,0,0.866 --wo -0.5,0,0.866 --json
   printf '0.5236 0 0.5236 3.1416\n' > pairs.txt && brdfbake eval fit.json --pairs pairs.txt)";
 
-struct EvalArgs {
-  CommonFlags flags;
-  std::string model, wi, wo, pairs, format = "auto";
-};
-
-int runEval(const EvalArgs& a) {
-  EvaluateOptions options;
-  options.model = a.model;
-  options.format = parseFlag("--format", a.format, parseTableFormat);
-  if (!a.wi.empty()) options.wi = parseVector(a.wi, "--wi");
-  if (!a.wo.empty()) options.wo = parseVector(a.wo, "--wo");
-  options.pairs = a.pairs;
-  if (options.wi.has_value() != options.wo.has_value()) {
-    throw Error(Error::Kind::InvalidArgument, "--wi and --wo go together");
-  }
-  if (options.wi && (!(options.wi->norm() > 0.0) || !(options.wo->norm() > 0.0))) {
-    throw Error(Error::Kind::InvalidArgument, "--wi and --wo must be non-zero");
-  }
-  if (!options.wi && a.pairs.empty())
-    throw Error(Error::Kind::InvalidArgument, "give either --wi and --wo, or --pairs FILE");
-  const EvaluateResult result = evaluateBrdf(options);
-  if (!a.flags.json && !a.flags.quiet) writeStderr(result.columnsLine());
-  return printResult(result, a.flags, Printing::Query, -1);
-}
-
 }  // namespace
 
 Command addEvalCommand(CLI::App& app) {
+  struct EvalArgs {
+    CommonFlags flags;
+    EvaluateOptions options;
+  };
   auto args = std::make_shared<EvalArgs>();
+  EvaluateOptions& options = args->options;
   auto* command =
       app.add_subcommand("eval", "Evaluate a BRDF (fit.json, measured table or material file) at given directions");
   command->footer(kFooter);
-  command->add_option("model", args->model, "fit.json, measured table, or material JSON")->required();
-  auto* wi = command->add_option("--wi", args->wi, "Light direction X,Y,Z (local frame)");
-  auto* wo = command->add_option("--wo", args->wo, "View direction X,Y,Z (local frame)");
-  command->add_option("--pairs", args->pairs, "File of 'theta_i phi_i theta_s phi_s' lines (radians)")
+  command->add_option("model", options.model, "fit.json, measured table, or material JSON")->required();
+  auto* wi = addParsed(command, "--wi", options.wi, parseVec3, "Light direction X,Y,Z (local frame)");
+  auto* wo = addParsed(command, "--wo", options.wo, parseVec3, "View direction X,Y,Z (local frame)");
+  command->add_option("--pairs", options.pairs, "File of 'theta_i phi_i theta_s phi_s' lines (radians)")
       ->excludes(wi)
       ->excludes(wo);
-  command->add_option("--format", args->format, "Table format when MODEL is a table (auto: by content)")
+  addParsed(command, "--format", options.format, parseTableFormat,
+            "Table format when MODEL is a table: auto (by content) | astm | pbrt | merl | mat")
       ->default_str("auto");
-  addComputeFlags(command, args->flags, /*makesMaps=*/false);
-  addOutputFlags(command, args->flags, "the model, its channels and the values");
-  return [args] { return runEval(*args); };
+  addCommonFlags(command, args->flags, Computes::Values, "the model, its channels and the values");
+  return [args] {
+    const EvaluateResult result = evaluateBrdf(args->options);
+    if (!args->flags.json && !args->flags.quiet) writeStderr(result.columnsLine());
+    return printResult(result, args->flags, Printing::Query, -1);
+  };
 }
 
 }  // namespace brdfbake::cli

@@ -43,101 +43,85 @@ Then bake it: {"model": "lobes", "file": "fit.json"} in a spec, or brdfbake eval
 struct FitArgs {
   CommonFlags flags;
   FitTableOptions options;
-  std::string table, format = "auto", lobes = "auto", elevation = "auto", method = "shared", kind = "auto",
-                     maxExponent = "auto", varyingPrior = "auto", colorProfile = "auto", halfDifference = "auto",
-                     heldOut = "on", channels = "rgb", rgb = "cie1931", output, report;
+  std::optional<double> maxExponent, varyingPrior;
 };
 
+// "auto" (nullopt) or a number in [lowest, highest].
+auto autoOrNumber(double lowest, double highest, bool whole) {
+  return [=](const std::string& text) -> std::optional<double> {
+    if (text == "auto") return std::nullopt;
+    const double value = whole ? parseWholeNumber(text) : parseFiniteNumber(text);
+    if (value >= lowest && value <= highest) return value;
+    std::ostringstream range;
+    range << "expected auto or a " << (whole ? "whole " : "") << "number " << lowest << ".." << highest << ", got '"
+          << text.substr(0, 40) << "'";
+    throw Error(Error::Kind::InvalidArgument, range.str());
+  };
+}
+
+// One of two words, the first meaning true.
+CLI::Option* addSwitch(CLI::App* command, const std::string& flag, bool& target, const std::string& yes,
+                       const std::string& no, const std::string& help) {
+  return command
+      ->add_option_function<std::string>(
+          flag, [&target, yes](const std::string& text) { target = text == yes; }, help)
+      ->check(CLI::IsMember({yes, no}))
+      ->default_str(target ? yes : no);
+}
+
 void addModelFlags(CLI::App* command, FitArgs& a) {
-  command->add_option("--lobes", a.lobes, "Lobes per channel: auto or 1.." + std::to_string(kMaxFitLobes))
+  FitOptions& fit = a.options.fit;
+  addParsed(
+      command, "--lobes", fit.lobes,
+      [](const std::string& text) { return static_cast<int>(autoOrNumber(1, kMaxFitLobes, true)(text).value_or(0)); },
+      "Lobes per channel: auto or 1.." + std::to_string(kMaxFitLobes))
       ->default_str("auto");
-  command
-      ->add_option("--kind", a.kind,
-                   "auto | mirror | lafortune | half_vector | mixed | half_difference (the shared method's lobes, or a "
-                   "half-difference table)")
+  addParsed(command, "--kind", fit.kind, parseLobeKindChoice,
+            "auto | mirror | lafortune | half_vector | mixed | half_difference (the shared method's lobes, or a "
+            "half-difference table)")
       ->default_str("auto");
-  command->add_option("--elevation", a.elevation, "auto | constant | varying (with the view's elevation)")
+  addParsed(command, "--elevation", fit.elevation, parseElevationChoice,
+            "auto | constant | varying (with the view's elevation)")
       ->default_str("auto");
-  command->add_option("--method", a.method, "shared (shapes shared by every channel) | per_channel (Ceres)")
+  addParsed(command, "--method", fit.method, parseFitMethod,
+            "shared (shapes shared by every channel) | per_channel (Ceres)")
       ->default_str("shared");
-  command->add_option("--max-exponent", a.maxExponent, "auto, or a number in [1, 1e5] that fixes the cap")
+  addParsed(command, "--max-exponent", a.maxExponent, autoOrNumber(1, 1e5, false),
+            "auto, or a number in [1, 1e5] that fixes the cap")
       ->default_str("auto");
-  command
-      ->add_option("--varying-prior", a.varyingPrior,
-                   "auto, or a number in [0, 1] that fixes the prior on varying lobes' elevation profiles")
+  addParsed(command, "--varying-prior", a.varyingPrior, autoOrNumber(0, 1, false),
+            "auto, or a number in [0, 1] that fixes the prior on varying lobes' elevation profiles")
       ->default_str("auto");
-  command
-      ->add_option("--color-profile", a.colorProfile,
-                   "auto | none | difference_angle (each channel's weights times a cubic in theta_d; shared method)")
+  addParsed(command, "--color-profile", fit.colorProfile, parseColorProfileChoice,
+            "auto | none | difference_angle (each channel's weights times a cubic in theta_d; shared method)")
       ->default_str("auto");
-  command
-      ->add_option("--half-difference", a.halfDifference,
-                   "auto | none: --kind auto also scores a half-difference table (docs/fitting.md)")
-      ->default_str("auto")
-      ->check(CLI::IsMember({"auto", "none"}));
-  command->add_option("--held-out", a.heldOut, "on | off: estimate the fit's held-out error (auto choices need it)")
-      ->default_str("on")
-      ->check(CLI::IsMember({"on", "off"}));
-  command->add_option("--folds", a.options.fit.heldOut.folds, "Folds of the off-mirror held-out split")
+  addSwitch(command, "--half-difference", fit.halfDifference, "auto", "none",
+            "auto | none: --kind auto also scores a half-difference table (docs/fitting.md)");
+  addSwitch(command, "--held-out", fit.estimateHeldOut, "on", "off",
+            "on | off: estimate the fit's held-out error (auto choices need it)");
+  command->add_option("--folds", fit.heldOut.folds, "Folds of the off-mirror held-out split")
       ->default_val(5)
       ->check(CLI::Range(2, 20));
 }
 
-void addDataFlags(CLI::App* command, FitArgs& a) {
-  command->add_option("table", a.table, "Measured table (.astm, .brdf, .binary, .mat)")->required();
-  command->add_option("--format", a.format, "auto | astm | pbrt | merl | mat (auto: by content)")->default_str("auto");
-  command->add_option("--channels", a.channels, "rgb (spectral tables converted) | spectral (every wavelength)")
-      ->default_str("rgb")
-      ->check(CLI::IsMember({"rgb", "spectral"}));
-  command->add_option("--rgb", a.rgb, "Spectral to RGB: cie1931 | single_wavelengths (Zimmons & Bastos 1999)")
-      ->default_str("cie1931")
-      ->check(CLI::IsMember({"cie1931", "single_wavelengths"}));
-  command->add_option("-o,--output", a.output, "fit.json to write (default TABLESTEM_fit.json; none with --json)");
-  command->add_option("--report", a.report, "Also a PNG of measured against fitted values (needs gnuplot)");
-}
-
-// "auto" (nullopt) or a number in [lowest, highest]; throws Error(InvalidArgument) naming the flag.
-std::optional<double> autoOrNumber(const std::string& text, const std::string& flag, double lowest, double highest,
-                                   bool whole) {
-  if (text == "auto") return std::nullopt;
-  try {
-    const double value = whole ? parseWholeNumber(text) : parseFiniteNumber(text);
-    if (value >= lowest && value <= highest) return value;
-  } catch (const std::exception&) {
-  }
-  std::ostringstream range;
-  range << lowest << ".." << highest;
-  throw Error(Error::Kind::InvalidArgument, flag + ": expected auto or a " + (whole ? "whole " : "") + "number " +
-                                                range.str() + ", got '" + text.substr(0, 40) + "'");
-}
-
-void parseModelFlags(const FitArgs& a, FitOptions& fit) {
-  fit.lobes = static_cast<int>(autoOrNumber(a.lobes, "--lobes", 1, kMaxFitLobes, true).value_or(0));
-  fit.kind = parseFlag("--kind", a.kind, parseLobeKindChoice);
-  fit.elevation = parseFlag("--elevation", a.elevation, parseElevationChoice);
-  fit.method = parseFlag("--method", a.method, parseFitMethod);
-  if (const auto cap = autoOrNumber(a.maxExponent, "--max-exponent", 1, 1e5, false)) {
-    fit.maxExponent = *cap;
-    fit.chooseMaxExponent = false;
-  }
-  if (const auto prior = autoOrNumber(a.varyingPrior, "--varying-prior", 0, 1, false)) {
-    fit.varyingPrior = *prior;
-    fit.chooseVaryingPrior = false;
-  }
-  fit.colorProfile = parseFlag("--color-profile", a.colorProfile, parseColorProfileChoice);
-  fit.halfDifference = a.halfDifference == "auto";
-  fit.estimateHeldOut = a.heldOut == "on";
+void addDataFlags(CLI::App* command, FitTableOptions& o) {
+  command->add_option("table", o.table, "Measured table (.astm, .brdf, .binary, .mat)")->required();
+  addParsed(command, "--format", o.format, parseTableFormat, "auto | astm | pbrt | merl | mat (auto: by content)")
+      ->default_str("auto");
+  addSwitch(command, "--channels", o.spectral, "spectral", "rgb",
+            "rgb (spectral tables converted) | spectral (every wavelength)");
+  addParsed(command, "--rgb", o.rgb, parseRgbMethod,
+            "Spectral to RGB: cie1931 | single_wavelengths (Zimmons & Bastos 1999)")
+      ->default_str("cie1931");
+  command->add_option("-o,--output", o.output, "fit.json to write (default TABLESTEM_fit.json; none with --json)");
+  command->add_option("--report", o.report, "Also a PNG of measured against fitted values (needs gnuplot)");
 }
 
 int runFit(FitArgs a) {
   FitTableOptions& options = a.options;
-  options.table = a.table;
-  options.format = parseFlag("--format", a.format, parseTableFormat);
-  parseModelFlags(a, options.fit);
-  options.spectral = a.channels == "spectral";
-  options.rgb = a.rgb == "cie1931" ? RgbMethod::Cie1931 : RgbMethod::SingleWavelengths;
-  options.output = a.output.empty() && !a.flags.json ? options.table.stem().string() + "_fit.json" : a.output;
-  options.report = a.report;
+  if (a.maxExponent) options.fit.maxExponent = *a.maxExponent, options.fit.chooseMaxExponent = false;
+  if (a.varyingPrior) options.fit.varyingPrior = *a.varyingPrior, options.fit.chooseVaryingPrior = false;
+  if (options.output.empty() && !a.flags.json) options.output = options.table.stem().string() + "_fit.json";
   const FitTableResult result = withProgress(a.flags, options, fitTable);
   printResult(result, a.flags);
   return result.file.fit.usable() ? 0 : 1;
@@ -149,10 +133,9 @@ Command addFitCommand(CLI::App& app) {
   auto args = std::make_shared<FitArgs>();
   auto* command = app.add_subcommand("fit", "Fit lobes to a measured BRDF table; reports the fit's held-out error");
   command->footer(kFooter);
-  addDataFlags(command, *args);
+  addDataFlags(command, args->options);
   addModelFlags(command, *args);
-  addComputeFlags(command, args->flags, /*makesMaps=*/false);
-  addOutputFlags(command, args->flags, "files, seconds, and the fit document under \"fit\"");
+  addCommonFlags(command, args->flags, Computes::Values, "files, seconds, and the fit document under \"fit\"");
   return [args] { return runFit(*args); };
 }
 

@@ -24,51 +24,41 @@ Examples:
   brdfbake interpolation -o interpolation.png --csv interpolation.csv
   brdfbake interpolation -o i.svg --line-chart line.svg --sizes 2,8 --viewer -8.3,1,0 --segment 1)";
 
-struct InterpolationArgs {
-  CommonFlags flags;
-  InterpolationOptions options;
-  std::string chart, lineChart, csv, sizes = "1,2,5,10,20", places = "0,10,20,30,40,50,60,70,75,80,85,88",
-                                     viewer = "-8.3,1,0";
-};
-
-int runInterpolation(InterpolationArgs a) {
-  if (a.chart.empty() && a.lineChart.empty() && a.csv.empty() && !a.flags.json) {
-    throw Error(Error::Kind::InvalidArgument,
-                "nothing to write: give -o CHART, --line-chart CHART, --csv FILE or --json");
-  }
-  InterpolationOptions& options = a.options;
-  options.chart = a.chart;
-  options.lineChart = a.lineChart;
-  options.csv = a.csv;
-  options.sizesDegrees = parseList<double>(a.sizes, "--sizes", parseFiniteNumber);
-  options.placesDegrees = parseList<double>(a.places, "--places", parseFiniteNumber);
-  options.viewer = parseVector(a.viewer, "--viewer");
-  const FieldFlags names = {
-      {"sizes", "--sizes"}, {"places", "--places"}, {"viewer", "--viewer"}, {"segment", "--segment"}};
-  return printResult(namingFields(names, [&] { return chartInterpolation(options); }), a.flags);
-}
-
 }  // namespace
 
 Command addInterpolationCommand(CLI::App& app) {
+  struct InterpolationArgs {
+    CommonFlags flags;
+    InterpolationOptions options;
+  };
   auto args = std::make_shared<InterpolationArgs>();
+  InterpolationOptions& o = args->options;
   auto* command =
       app.add_subcommand("interpolation", "Chart the error of per-vertex environment lookups, to pick a tessellation");
   command->footer(kFooter);
-  command->add_option("-o,--output", args->chart, "Sweep chart (.png or .svg)");
-  command->add_option("--line-chart", args->lineChart, "Also chart the line experiment (.png or .svg)");
-  command->add_option("--csv", args->csv, "Also write the sweep as CSV");
-  command->add_option("--sizes", args->sizes, "Triangle sizes, degrees between vertex normals")
-      ->default_str(args->sizes);
-  command->add_option("--places", args->places, "Triangle centres, degrees from the view axis")
-      ->default_str(args->places);
-  command->add_option("--viewer", args->viewer, "Line experiment: viewer position X,Y,Z")->default_str(args->viewer);
-  command->add_option("--segment", args->options.segment, "Line experiment: vertex spacing (20 = one polygon)")
+  command->add_option("-o,--output", o.chart, "Sweep chart (.png or .svg)");
+  command->add_option("--line-chart", o.lineChart, "Also chart the line experiment (.png or .svg)");
+  command->add_option("--csv", o.csv, "Also write the sweep as CSV");
+  addParsed(command, "--sizes", o.sizesDegrees, listOf(parseFiniteNumber),
+            "Triangle sizes, degrees between vertex normals")
+      ->default_str("1,2,5,10,20");
+  addParsed(command, "--places", o.placesDegrees, listOf(parseFiniteNumber),
+            "Triangle centres, degrees from the view axis")
+      ->default_str("0,10,20,30,40,50,60,70,75,80,85,88");
+  addParsed(command, "--viewer", o.viewer, parseVec3, "Line experiment: viewer position X,Y,Z")
+      ->default_str("-8.3,1,0");
+  command->add_option("--segment", o.segment, "Line experiment: vertex spacing (20 = one polygon)")
       ->default_val(20.0)
       ->check(CLI::Range(0.01, 20.0));
-  addComputeFlags(command, args->flags, /*makesMaps=*/false);
-  addOutputFlags(command, args->flags, "the sweep and the line experiment");
-  return [args] { return runInterpolation(*args); };
+  addCommonFlags(command, args->flags, Computes::Values, "the sweep and the line experiment");
+  return [args] {
+    const InterpolationOptions& options = args->options;
+    if (options.chart.empty() && options.lineChart.empty() && options.csv.empty() && !args->flags.json) {
+      throw Error(Error::Kind::InvalidArgument,
+                  "nothing to write: give -o CHART, --line-chart CHART, --csv FILE or --json");
+    }
+    return printResult(namingFields({}, [&] { return chartInterpolation(options); }), args->flags);
+  };
 }
 
 }  // namespace brdfbake::cli

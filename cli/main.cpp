@@ -80,7 +80,7 @@ void installInterruptHandlers() {
 }
 
 int runCommand(const std::map<CLI::App*, brdfbake::cli::Command>& commands) {
-  using brdfbake::cli::writeStderr;
+  using brdfbake::writeStderr;
   try {
     for (const auto& [subcommand, run] : commands) {
       if (subcommand->parsed()) return run();

@@ -35,69 +35,53 @@ Examples:
   brdfbake matcap data_samples/fits/synthetic_two_lobes.json data_samples/environments/sky_latlong.exr \
       --resolution 512 --camera 90,10 --json -o out/fit.exr)";
 
-struct MatcapArgs {
-  CommonFlags flags;
-  MatcapFiles files;
-  OutputFiles outputs;
-  std::string parameterization = "sphere", method = "auto", camera;
-  std::optional<std::string> from, texelFormat;
-};
-
 // "YAW,PITCH" in degrees.
 CameraFrame parseCamera(const std::string& text) {
-  const auto values = parseList<double>(text, "--camera", parseFiniteNumber);
+  const auto values = listOf(parseFiniteNumber)(text);
   if (values.size() != 2) {
     throw Error(Error::Kind::InvalidArgument,
-                "--camera: give YAW,PITCH in degrees (two numbers), got " + std::to_string(values.size()));
+                "give YAW,PITCH in degrees (two numbers), got " + std::to_string(values.size()));
   }
-  return CameraFrame::fromYawPitch(values[0], values[1]);  // its errors name "camera", written --camera
-}
-
-int runMatcapCommand(MatcapArgs args) {
-  MatcapFiles& files = args.files;
-  MatcapRequest& request = files.request;
-  const FieldFlags names = {{"outputs", "-o"},
-                            {"material", "MATERIAL " + printable(files.material.string())},
-                            {"environment", "ENVIRONMENT"}};
-  const MapResult result = namingFields(names, [&] {
-    request.parameterization = parseFlag("--parameterization", args.parameterization, parseParameterizationKind);
-    request.method = parseFlag("--method", args.method, parseUnderEnvironmentMethod);
-    if (!args.camera.empty()) request.camera = parseCamera(args.camera);
-    if (args.from) files.from = parseFlag("--from", *args.from, parseParameterizationKind);
-    files.outputs.files = args.outputs.paths();
-    if (args.texelFormat) files.outputs.texelFormat = parseFlag("--texel-format", *args.texelFormat, parseTexelFormat);
-    return withProgress(args.flags, files, runMatcap);
-  });
-  return printResult(result, args.flags);
+  return CameraFrame::fromYawPitch(values[0], values[1]);
 }
 
 }  // namespace
 
 Command addMatcapCommand(CLI::App& app) {
+  struct MatcapArgs {
+    CommonFlags flags;
+    MatcapFiles files;
+  };
   auto args = std::make_shared<MatcapArgs>();
   MatcapRequest& r = args->files.request;
   auto* command = app.add_subcommand("matcap", "Shade a material under an environment: a matcap (sphere map)");
   command->footer(kFooter);
   command->add_option("material", args->files.material, "Material JSON, fit.json or measured table")->required();
-  command->add_option("environment", args->files.environment, "Environment image (EXR, HDR, ...)")->required();
-  addOutputFileOption(command, args->outputs, "Output map");
-  addTexelFormatOption(command, args->texelFormat);
+  addEnvironmentOptions(command, args->files.environment, args->files.from);
+  addMapOutputOptions(command, args->files.outputs);
   addMapResolutionOption(command, r.resolution);
-  command->add_option("--parameterization", args->parameterization, "sphere (the matcap) | paraboloid | cube | latlong")
-      ->default_val("sphere")
-      ->check(CLI::IsMember({"sphere", "paraboloid", "cube", "latlong"}));
-  command->add_option("--camera", args->camera, "YAW,PITCH in degrees: turn the camera (default 0,0: looking down -z)");
-  command->add_option("--method", args->method, "auto | sampled | reference (the brute-force sum: slow)")
-      ->default_val("auto");
+  addParsed(command, "--parameterization", r.parameterization, parseParameterizationKind,
+            "sphere (the matcap) | paraboloid | cube | latlong")
+      ->default_str("sphere");
+  addParsed(command, "--camera", r.camera, parseCamera,
+            "YAW,PITCH in degrees: turn the camera (default 0,0: looking down -z)");
+  addParsed(command, "--method", r.method, parseUnderEnvironmentMethod,
+            "auto | sampled | reference (the brute-force sum: slow)")
+      ->default_str("auto");
   addMaxErrorOption(command, r.maxError, "The bound on the estimated error (relative to the peak)");
   addSamplesPerTexelOption(command, r.samplesPerTexel, "Footprint samples per texel", false);
   command->add_option("--exposure", r.exposure, "Scale the map by 2^STOPS before writing (for .png)")
       ->default_val(0.0)
       ->check(CLI::Range(-30.0, 30.0));
-  addEnvironmentFromOption(command, args->from);
-  addComputeFlags(command, args->flags, /*makesMaps=*/true);
-  addOutputFlags(command, args->flags, "the map's entry, as bake --json prints it: files, error estimate");
-  return [args] { return runMatcapCommand(*args); };
+  addCommonFlags(command, args->flags, Computes::Maps,
+                 "the map's entry, as bake --json prints it: files, error estimate");
+  return [args] {
+    const FieldFlags names = {{"outputs", "-o"},
+                              {"material", "MATERIAL " + printable(args->files.material.string())},
+                              {"environment", "ENVIRONMENT"}};
+    return printResult(namingFields(names, [&] { return withProgress(args->flags, args->files, runMatcap); }),
+                       args->flags);
+  };
 }
 
 }  // namespace brdfbake::cli

@@ -24,42 +24,28 @@ Examples:
   brdfbake sample out/phong_eye_profile.exr --dirs directions.txt --json
   brdfbake sample out/sky_varying.exr --dir 0,0.5,1 --cos-view 0.7)";
 
-struct SampleArgs {
-  CommonFlags flags;
-  SampleOptions options;
-  std::string map, dir, dirs, from;
-};
-
-int runSample(SampleArgs a) {
-  SampleOptions& options = a.options;
-  if (!a.dir.empty()) {
-    const Vec3 direction = parseVector(a.dir, "--dir");
-    if (!(direction.norm() > 0.0)) throw Error(Error::Kind::InvalidArgument, "--dir: the direction must be non-zero");
-    options.directions.push_back(direction);
-  }
-  options.directionsFile = a.dirs;
-  options.source.path = a.map;
-  if (!a.from.empty()) options.source.from = parseParameterizationKind(a.from);
-  const SampleResult result = namingFields({{"cos_view", "--cos-view"}}, [&] { return sampleOutput(options); });
-  return printResult(result, a.flags, Printing::Query, -1);
-}
-
 }  // namespace
 
 Command addSampleCommand(CLI::App& app) {
+  struct SampleArgs {
+    CommonFlags flags;
+    SampleOptions options;
+  };
   auto args = std::make_shared<SampleArgs>();
+  SampleOptions& options = args->options;
   auto* command = app.add_subcommand(
       "sample", "Look up any output of bake or prefilter as a renderer does (bilinear, as a GPU filters)");
   command->footer(kSampleFooter);
-  command->add_option("map", args->map, "Output of bake or prefilter (or a plain image with --from)")->required();
-  auto* dir = command->add_option("--dir", args->dir, "Direction X,Y,Z (need not be unit length)");
-  command->add_option("--dirs", args->dirs, "File of directions, one \"x y z\" per line")->excludes(dir);
-  addCosViewOption(command, args->options.source.cosView);
-  addMipLevelOption(command, args->options.source.mipLevel);
-  addFromOption(command, args->from);
-  addComputeFlags(command, args->flags, /*makesMaps=*/false);
-  addOutputFlags(command, args->flags, "the direction and the value (an array of them with --dirs)");
-  return [args] { return runSample(*args); };
+  addSourceOptions(command, options.source, /*cosView=*/true);
+  auto* dir = addParsed(
+      command, "--dir", options.directions, [](const std::string& text) { return std::vector<Vec3>{parseVec3(text)}; },
+      "Direction X,Y,Z (need not be unit length)");
+  command->add_option("--dirs", options.directionsFile, "File of directions, one \"x y z\" per line")->excludes(dir);
+  addCommonFlags(command, args->flags, Computes::Values, "the direction and the value (an array of them with --dirs)");
+  return [args] {
+    const SampleResult result = namingFields({{"directions", "--dir"}}, [&] { return sampleOutput(args->options); });
+    return printResult(result, args->flags, Printing::Query, -1);
+  };
 }
 
 Command addInfoCommand(CLI::App& app) {
@@ -74,7 +60,7 @@ Command addInfoCommand(CLI::App& app) {
       "Reads every output of bake and prefilter (see brdfbake sample --help): a cube's six faces and an\n"
       "elevation stack are named by STEM.EXT. A plain image is reported as one.");
   command->add_option("map", args->map, "Output, map or image file")->required();
-  addOutputFlags(command, args->flags, "the kind, files, size, lookup rule, spec and metadata");
+  addCommonFlags(command, args->flags, Computes::Nothing, "the kind, files, size, lookup rule, spec and metadata");
   return [args] { return printResult(describeOutput(args->map), args->flags, Printing::Query); };
 }
 

@@ -8,7 +8,6 @@
 namespace brdfbake::cli {
 
 namespace {
-namespace fs = std::filesystem;
 
 constexpr const char* kFooter =
     R"(ENV is an environment image (EXR, HDR, ...): radiance in its own frame, y up, a lat-long image's
@@ -44,22 +43,17 @@ Examples:
   brdfbake prefilter sky.hdr --chain ggx --to cube --resolution 256 --tiled -o out/sky_ggx.ktx2)";
 
 // The request's fields whose flags are not their names.
-const FieldFlags kFieldFlags = {{"parameterization", "--to"},
-                                {"outputs", "-o"},
-                                {"fresnel", "--fresnel-ior"},
-                                {"sh", "--sh-output"},
-                                {"gloss_chain", "--gloss-scale or --chain"},
+const FieldFlags kFieldFlags = {{"parameterization", "--to"}, {"outputs", "-o"},
+                                {"mip_layout", "--tiled"},    {"fresnel", "--fresnel-ior"},
+                                {"sh", "--sh-output"},        {"gloss_chain", "--gloss-scale or --chain"},
                                 {"environment", "ENV"}};
 
 struct PrefilterArgs {
   CommonFlags flags;
   PrefilterFiles files;
   LobeArguments lobe;
-  OutputFiles outputs;
-  std::string to, method = "auto", view, up, shOutput, shFormat = "brdfbake";
-  std::optional<std::string> from, texelFormat, combine;
-  std::optional<double> fresnelIor;
-  bool tiled = false, faces = false;
+  std::filesystem::path shOutput;
+  bool shCmgen = false;
 };
 
 void addFilterFlags(CLI::App* command, PrefilterArgs& a) {
@@ -68,28 +62,21 @@ void addFilterFlags(CLI::App* command, PrefilterArgs& a) {
                       "mirror | irradiance | phong:N | blinn:N | ggx:ROUGHNESS | lobes:FIT.json");
   command->add_option("--chain", a.lobe.chain, "ggx: cmgen's GGX chain, level k of L holding roughness k/(L-1)")
       ->check(CLI::IsMember({"ggx"}));
-  addToOption(command, a.to);
+  addToOption(command, r.parameterization);
   addMapResolutionOption(command, r.resolution);
-  command->add_option("--method", a.method, "auto | reference | sh | importance | direct")->default_val("auto");
+  addParsed(command, "--method", r.method, parsePrefilterMethod, "auto | reference | sh | importance | direct")
+      ->default_str("auto");
   addMaxErrorOption(command, r.maxError, "The bound each map is made to (relative RMS, 0.01 = 1 %)");
   addSamplesPerTexelOption(command, r.samplesPerTexel, "Mirror lobe: footprint samples per texel", true);
-  addEnvironmentFromOption(command, a.from);
-  command->add_option("--view", a.view, "Sphere maps: direction towards the viewer X,Y,Z (default 0,0,1)");
-  command->add_option("--up", a.up, "Sphere maps: up vector X,Y,Z (default 0,1,0)");
+  addParsed(command, "--view", r.view, parseVec3, "Sphere maps: direction towards the viewer X,Y,Z (default 0,0,1)");
+  addParsed(command, "--up", r.up, parseVec3, "Sphere maps: up vector X,Y,Z (default 0,1,0)");
   command->add_option("--elevations", r.elevations, "Varying lobe models: maps in the stack (default 8)");
-}
-
-void addOutputFileFlags(CLI::App* command, PrefilterArgs& a) {
-  addOutputFileOption(command, a.outputs, "Output map");
-  addTexelFormatOption(command, a.texelFormat);
-  command->add_flag("--mips", a.files.request.mips, "Also write the solid-angle-weighted mip levels STEM_mipK.EXT");
-  command->add_flag("--tiled", a.tiled, "With --mips: the chain inside OUT, one tiled MIP-mapped OpenEXR");
-  command->add_flag("--faces", a.faces, "Write a cube map as six files STEM_posx.EXT ... instead of a cross");
-  command->add_option("--sh-output", a.shOutput, "With --lobe irradiance: also 9 SH coefficients per channel (JSON)");
-  command->add_option("--sh-format", a.shFormat, "brdfbake (JSON, default) | cmgen (the lines cmgen prints, .txt)")
-      ->check(CLI::IsMember({"brdfbake", "cmgen"}));
-  command->add_option("--fresnel-ior", a.fresnelIor, "Fresnel decomposition of a dielectric of this index");
-  command->add_option("--combine", a.combine, "Fresnel decomposition: add (F L_m + k_d E/pi) | mix");
+  addParsed(
+      command, "--fresnel-ior", r.fresnel,
+      [](const std::string& text) { return FresnelTerm::dielectric(Rgb::Constant(parseFiniteNumber(text))); },
+      "Fresnel decomposition of a dielectric of this index");
+  addParsed(command, "--combine", r.combine, parseFresnelCombine,
+            "Fresnel decomposition: add (F L_m + k_d E/pi) | mix");
   command->add_option("--gloss-scale", a.lobe.glossScale, "A gloss chain (--lobe phong|blinn): exponent 2^(S g + B)");
   command->add_option("--gloss-bias", a.lobe.glossBias, "Gloss chain: B above (default 1)");
   command->add_option("--mip-count", a.lobe.mipCount, "Gloss chain: levels (default: down to 1 texel, at most 16)");
@@ -97,40 +84,24 @@ void addOutputFileFlags(CLI::App* command, PrefilterArgs& a) {
                     "Gloss chain: keep cube texels unaveraged across edges");
 }
 
-void setOutputs(const PrefilterArgs& a, PrefilterFiles& files) {
-  files.outputs.files = a.outputs.paths();
-  if (a.texelFormat) files.outputs.texelFormat = parseFlag("--texel-format", *a.texelFormat, parseTexelFormat);
-  files.outputs.layout = a.faces ? CubeLayout::Faces : CubeLayout::Cross;
-  requireField(!a.tiled || files.request.mips || files.request.glossChain, "tiled", "needs --mips or a chain");
-  files.outputs.mipLayout = a.tiled ? MipLayout::Tiled : MipLayout::Files;
-  if (!a.shOutput.empty()) {
-    files.sh = ShOutput{a.shOutput, a.shFormat == "cmgen"};
-    files.request.sh = true;
-    const std::string wanted = files.sh->cmgen ? ".txt" : ".json";
-    requireField(fs::path(a.shOutput).extension() == wanted, "sh",
-                 files.sh->cmgen ? "cmgen's SH coefficients are text: give a .txt file"
-                                 : "the SH coefficients are written as JSON (.json)");
-  }
+void addOutputFileFlags(CLI::App* command, PrefilterArgs& a) {
+  MapOutputs& outputs = a.files.outputs;
+  addMapOutputOptions(command, outputs);
+  command->add_flag("--mips", a.files.request.mips, "Also write the solid-angle-weighted mip levels STEM_mipK.EXT");
+  command->add_flag_callback(
+      "--tiled", [&outputs] { outputs.mipLayout = MipLayout::Tiled; },
+      "With --mips: the chain inside OUT, one tiled MIP-mapped OpenEXR");
+  command->add_option("--sh-output", a.shOutput, "With --lobe irradiance: also 9 SH coefficients per channel (JSON)");
+  addParsed(
+      command, "--sh-format", a.shCmgen, [](const std::string& text) { return parseShFormat(text) == ShFormat::Cmgen; },
+      "brdfbake (JSON, default) | cmgen (the lines cmgen prints, .txt)");
 }
 
 int runPrefilterCommand(PrefilterArgs a) {
-  PrefilterFiles& files = a.files;
-  PrefilterRequest& r = files.request;
   const MapResult result = namingFields(kFieldFlags, [&] {
-    a.lobe.apply(r);
-    r.parameterization = parseFlag("--to", a.to, parseParameterizationKind);
-    r.method = parseFlag("--method", a.method, parsePrefilterMethod);
-    if (!a.view.empty()) r.view = parseVector(a.view, "--view");
-    if (!a.up.empty()) r.up = parseVector(a.up, "--up");
-    if (a.fresnelIor) {
-      requireField(*a.fresnelIor >= kMinFresnelIndex && *a.fresnelIor <= kMaxFresnelIndex, "fresnel",
-                   "the index must be in [0.001, 1000] (docs/limits.md)");
-      r.fresnel = FresnelTerm::dielectric(Rgb::Constant(*a.fresnelIor));
-    }
-    if (a.combine) r.combine = parseFlag("--combine", *a.combine, parseFresnelCombine);
-    if (a.from) files.from = parseFlag("--from", *a.from, parseParameterizationKind);
-    setOutputs(a, files);
-    return withProgress(a.flags, files, runPrefilter);
+    a.lobe.apply(a.files.request);
+    if (!a.shOutput.empty()) a.files.sh = ShOutput{a.shOutput, a.shCmgen};
+    return withProgress(a.flags, a.files, runPrefilter);
   });
   return printResult(result, a.flags);
 }
@@ -142,11 +113,11 @@ Command addPrefilterCommand(CLI::App& app) {
   auto* command =
       app.add_subcommand("prefilter", "Prefilter an environment with a lobe (mirror, irradiance, Phong, GGX)");
   command->footer(kFooter);
-  command->add_option("environment", args->files.environment, "Environment image (EXR, HDR, ...)")->required();
+  addEnvironmentOptions(command, args->files.environment, args->files.from);
   addFilterFlags(command, *args);
   addOutputFileFlags(command, *args);
-  addComputeFlags(command, args->flags, /*makesMaps=*/true);
-  addOutputFlags(command, args->flags, "the map's entry, as bake --json prints it: files, method, error estimate");
+  addCommonFlags(command, args->flags, Computes::Maps,
+                 "the map's entry, as bake --json prints it: files, method, error estimate");
   return [args] { return runPrefilterCommand(*args); };
 }
 

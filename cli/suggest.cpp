@@ -1,5 +1,6 @@
 #include "suggest.hpp"
 
+#include <brdfbake/core/named_values.hpp>
 #include <brdfbake/io/files.hpp>
 
 #include <algorithm>
@@ -9,21 +10,6 @@
 namespace brdfbake::cli {
 
 namespace {
-
-std::size_t editDistance(const std::string& a, const std::string& b) {
-  std::vector<std::size_t> row(b.size() + 1);
-  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    std::size_t diagonal = row[0];
-    row[0] = i;
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t above = row[j];
-      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
-      diagonal = above;
-    }
-  }
-  return row[b.size()];
-}
 
 std::vector<std::string> commandNames(CLI::App& app) {
   std::vector<std::string> names;
@@ -75,19 +61,6 @@ std::vector<std::string> suggestions(CLI::App& app, CLI::App* command, int argc,
 }
 
 }  // namespace
-
-std::optional<std::string> closestName(const std::string& word, const std::vector<std::string>& candidates) {
-  std::optional<std::string> best;
-  std::size_t bestDistance = std::max<std::size_t>(2, word.size() / 3) + 1;
-  std::vector<std::string> extending;
-  for (const auto& candidate : candidates) {
-    if (candidate.rfind(word, 0) == 0) extending.push_back(candidate);
-    const std::size_t distance = editDistance(word, candidate);
-    if (distance < bestDistance) bestDistance = distance, best = candidate;
-  }
-  if (!best && extending.size() == 1) best = extending.front();
-  return best;
-}
 
 void reportParseError(CLI::App& app, const CLI::ParseError& error, int argc, char** argv) {
   CLI::App* command = chosenCommand(app, argc, argv);

@@ -8,10 +8,6 @@
 
 namespace brdfbake::cli {
 
-/// The candidate closest to `word` by edit distance, when close enough to be a typo (at most 2
-/// edits, or a third of the word) or when `word` is the start of exactly one candidate.
-std::optional<std::string> closestName(const std::string& word, const std::vector<std::string>& candidates);
-
 /// Prints CLI11's message for `error` (untrusted text made printable and shortened), with "did you
 /// mean" for each unknown command or flag on the command line, and where to find the flags.
 void reportParseError(CLI::App& app, const CLI::ParseError& error, int argc, char** argv);

@@ -1,10 +1,10 @@
 #include <brdfbake/brdf/blinn_conversion.hpp>
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/math.hpp>
+#include <brdfbake/core/text_numbers.hpp>
 #include <brdfbake/env/prefilter_lobe.hpp>
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <sstream>
 
@@ -89,13 +89,9 @@ std::shared_ptr<PrefilterLobe::Data> finish(std::shared_ptr<PrefilterLobe::Data>
 }
 
 double parseNumber(std::string_view text, std::string_view lobe) {
-  double value = 0.0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) {
-    throw Error(Error::Kind::InvalidArgument,
-                "lobe '" + printable(lobe, 60) + "': '" + printable(text, 40) + "' is not a number");
-  }
-  return value;
+  if (const auto value = finiteNumberIn(text)) return *value;
+  throw Error(Error::Kind::InvalidArgument,
+              "lobe '" + printable(lobe, 60) + "': '" + printable(text, 40) + "' is not a number");
 }
 
 std::string formatNumber(double value) {

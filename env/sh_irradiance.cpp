@@ -1,5 +1,6 @@
 // Irradiance as 9 spherical-harmonic coefficients per channel (sh_irradiance.hpp).
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/named_values.hpp>
 #include <brdfbake/env/sh_irradiance.hpp>
 #include <brdfbake/io/files.hpp>
 #include <brdfbake/io/json_reader.hpp>
@@ -142,6 +143,18 @@ void writeIrradianceSh(const ShExpansion& sh, const nlohmann::json& source, cons
     }
   }
   writeFileAtomically(path, irradianceShToJson(sh, source).dump(2) + "\n");
+}
+
+std::string_view toString(ShFormat format) { return format == ShFormat::Cmgen ? "cmgen" : "brdfbake"; }
+
+ShFormat parseShFormat(std::string_view name) {
+  return parseByName(name, std::array{ShFormat::Brdfbake, ShFormat::Cmgen}, "sh format");
+}
+
+std::string ShOutput::problem() const {
+  if (file.extension() == (cmgen ? ".txt" : ".json")) return "";
+  return cmgen ? "cmgen's SH coefficients are text: give a .txt file"
+               : "the SH coefficients are written as JSON (.json)";
 }
 
 }  // namespace brdfbake

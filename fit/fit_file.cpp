@@ -1,4 +1,5 @@
 #include <brdfbake/core/error.hpp>
+#include <brdfbake/core/text_numbers.hpp>
 #include <brdfbake/core/version.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/io/files.hpp>
@@ -325,15 +326,10 @@ int readModelShape(JsonObjectReader m, LobeModel& model) {
 int readRequestedLobes(JsonObjectReader& fit) {
   const std::string lobes = fit.string("requested_lobes");
   if (lobes == "auto") return 0;
-  try {
-    std::size_t used = 0;
-    const int count = std::stoi(lobes, &used);
-    if (used != lobes.size() || count < 1) throw std::invalid_argument(lobes);
-    return count;
-  } catch (const std::exception&) {
-    throw specError(fit.child("requested_lobes"),
-                    "must be \"auto\" or a positive whole number, got \"" + printable(lobes, 40) + "\"");
-  }
+  const std::optional<int> count = wholeNumberIn(lobes);
+  if (count && *count >= 1) return *count;
+  throw specError(fit.child("requested_lobes"),
+                  "must be \"auto\" or a positive whole number, got \"" + printable(lobes, 40) + "\"");
 }
 
 // One of "fit.candidates". `fitHasMethod`: false in files written before held-out selection, whose

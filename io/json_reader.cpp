@@ -1,3 +1,4 @@
+#include <brdfbake/core/named_values.hpp>
 #include <brdfbake/core/printable.hpp>
 #include <brdfbake/io/json_reader.hpp>
 
@@ -168,7 +169,9 @@ void JsonObjectReader::finish() const {
     if (read_.count(key)) continue;
     std::string known;
     for (const auto& k : known_) known += (known.empty() ? "" : ", ") + k;
-    throw specError(child(key), "unknown key" + (known.empty() ? std::string() : " (known keys: " + known + ")"));
+    const auto meant = closestName(key, std::vector<std::string>(known_.begin(), known_.end()));
+    throw specError(child(key), "unknown key" + (meant ? ", did you mean '" + *meant + "'?" : std::string()) +
+                                    (known.empty() ? std::string() : " (known keys: " + known + ")"));
   }
 }
 

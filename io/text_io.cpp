@@ -7,8 +7,11 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <ctime>
+#include <iomanip>
 #include <sstream>
 
 namespace brdfbake {
@@ -77,19 +80,85 @@ class HeldSigpipe {
   bool wasPending_ = false;
 };
 
+// Writes all of `text` to `fd`; the errno of a failed write, else 0.
+int writeAll(int fd, std::string_view text) {
+  const HeldSigpipe held;
+  while (!text.empty()) {
+    const ssize_t written = ::write(fd, text.data(), text.size());
+    if (written < 0 && errno == EINTR) continue;
+    if (written <= 0) return written < 0 ? errno : ENOSPC;
+    text.remove_prefix(static_cast<std::size_t>(written));
+  }
+  return 0;
+}
+
+double secondsNow() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
 }  // namespace
 
 void writeStdout(std::string_view text) {
-  const HeldSigpipe held;
-  while (!text.empty()) {
-    const ssize_t written = ::write(STDOUT_FILENO, text.data(), text.size());
-    if (written < 0 && errno == EINTR) continue;
-    if (written <= 0) {
-      const int error = written < 0 ? errno : ENOSPC;
-      throw Error(Error::Kind::Io, "stdout: write failed (" + errnoText(error) + ")");
-    }
-    text.remove_prefix(static_cast<std::size_t>(written));
+  if (const int error = writeAll(STDOUT_FILENO, text))
+    throw Error(Error::Kind::Io, "stdout: write failed (" + errnoText(error) + ")");
+}
+
+void writeStderr(std::string_view message) {
+  if (const int error = writeAll(STDERR_FILENO, printableMessage(message)))
+    throw Error(Error::Kind::Io, "stderr: write failed (" + errnoText(error) + ")");
+}
+
+TextProgress::TextProgress(bool enabled, int fd) : enabled_(enabled), terminal_(::isatty(fd) == 1), fd_(fd) {}
+
+TextProgress::~TextProgress() { finish(); }
+
+ProgressSink TextProgress::sink() {
+  if (!enabled_) return {};
+  return [this](const std::string& task, double fraction) { report(task, fraction); };
+}
+
+void TextProgress::finish() {
+  std::lock_guard lock(mutex_);
+  if (terminal_ && lastPercent_ >= 0) write("\r\033[K");
+  lastPercent_ = -1;
+}
+
+// Progress is shown as well as it can be: a failed write does not fail the job.
+void TextProgress::write(const std::string& text) { writeAll(fd_, text); }
+
+void TextProgress::report(const std::string& task, double fraction) {
+  std::lock_guard lock(mutex_);
+  const bool newTask = task != task_;
+  if (newTask) task_ = task, lastQuarter_ = -1, lastPercent_ = -1, started_ = lastLine_ = secondsNow();
+  const int percent = static_cast<int>(std::clamp(fraction, 0.0, 1.0) * 100.0);
+  if (terminal_) {
+    if (percent == lastPercent_) return;
+    lastPercent_ = percent;
+    constexpr int width = 30;
+    const int filled = percent * width / 100;
+    std::ostringstream bar;
+    bar << "\r\033[K" << printable(task, 60) << " [" << std::string(filled, '#') << std::string(width - filled, ' ')
+        << "] " << std::setw(3) << percent << "%";
+    write(bar.str());
+    return;
   }
+  // Plain lines: the start, each quarter reached a second or more after the last line, the end.
+  const int quarter = percent / 25;
+  const double t = secondsNow();
+  const bool end = fraction >= 1.0 && lastQuarter_ < 4;
+  if (!newTask && !end && (quarter <= lastQuarter_ || t - lastLine_ < 1.0)) return;
+  if (!newTask && !end && quarter == 4) return;  // 100 % is printed as the end
+  lastQuarter_ = end ? 4 : std::max(quarter, lastQuarter_);
+  lastLine_ = t;
+  std::ostringstream line;
+  line << "brdfbake: " << task << ": ";
+  if (end) {
+    line.precision(3);
+    line << "done (" << t - started_ << " s)\n";
+  } else {
+    line << percent << " %\n";
+  }
+  write(printableMessage(line.str()));
 }
 
 }  // namespace brdfbake

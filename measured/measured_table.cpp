@@ -101,6 +101,12 @@ std::optional<std::size_t> MeasuredTable::channelIndex(std::string_view name) co
   return std::nullopt;
 }
 
+std::string_view toString(RgbMethod method) { return method == RgbMethod::Cie1931 ? "cie1931" : "single_wavelengths"; }
+
+RgbMethod parseRgbMethod(std::string_view name) {
+  return parseByName(name, std::array{RgbMethod::Cie1931, RgbMethod::SingleWavelengths}, "rgb method");
+}
+
 MeasuredTable MeasuredTable::toRgb(RgbMethod method) const {
   validate();
   if (kind == ChannelKind::Trichromatic) return *this;

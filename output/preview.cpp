@@ -151,7 +151,8 @@ Mesh makePreviewMesh(PreviewObject object, int segments) {
 void PreviewOptions::validate() const {
   require(resolution >= 8 && resolution <= 8192,
           "preview resolution must be in [8, 8192] pixels, got " + std::to_string(resolution));
-  require(segments >= 3 && segments <= 1024, "segments must be in [3, 1024], got " + std::to_string(segments));
+  require(tessellation() >= 3 && tessellation() <= 1024,
+          "segments must be in [3, 1024], got " + std::to_string(tessellation()));
   require(view.allFinite() && view.norm() > 0.0, "view must be a finite non-zero vector");
   require(std::isfinite(exposure), "exposure must be finite");
 }
@@ -237,7 +238,7 @@ Vec3 interpolatedNormal(const Mesh& mesh, const std::array<int, 3>& tri, const V
 Image renderPreview(const Image& map, const Parameterization& parameterization, const PreviewOptions& options) {
   const bool sphere = parameterization.kind() == ParameterizationKind::Sphere;
   const Vec3 view = checkedView(options, sphere);
-  const Mesh mesh = makePreviewMesh(options.object, options.segments);
+  const Mesh mesh = makePreviewMesh(options.object, options.tessellation());
   // Per-vertex attributes for the fixed-function mode: sphere-map pixel coordinates, or r.
   std::vector<Vec3> vertexReflection(mesh.positions.size());
   std::vector<Vec2> vertexTexel(mesh.positions.size());
@@ -270,7 +271,7 @@ Image renderPreview(const BakedOutput& output, const PreviewOptions& options) {
                     " is shaded per pixel");
   }
   const Vec3 view = checkedView(options, output.eyeSpace());
-  const Mesh mesh = makePreviewMesh(options.object, options.segments);
+  const Mesh mesh = makePreviewMesh(options.object, options.tessellation());
   return rasterise(mesh, view, options, [&](const std::array<int, 3>& tri, const Vec3& w) {
     return output.shade(interpolatedNormal(mesh, tri, w), view);
   });

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <optional>
 #include <string>
 
 namespace brdfbake::python {
@@ -26,6 +27,17 @@ py::object pythonFromJson(const nlohmann::json& value);
 py::object pythonFromJson(const nlohmann::ordered_json& value);
 
 /// The Python exception class for `kind` (brdfbake.InvalidInputError, ...), from brdfbake._errors.
+/// parse(text) (a library parse* function), its error naming the keyword argument:
+/// "texel_format: texel format must be one of ...".
+template <class Parse>
+auto parseNamed(const char* keyword, const std::string& text, Parse parse) {
+  try {
+    return parse(text);
+  } catch (const Error& e) {
+    throw Error(e.kind(), std::string(keyword) + ": " + e.what());
+  }
+}
+
 py::object errorClass(Error::Kind kind);
 /// "invalid_argument", "invalid_input", "io", "resource", "numerical".
 const char* kindName(Error::Kind kind);

@@ -61,11 +61,7 @@ Image environmentImage(const py::object& value) {
 
 std::optional<ParameterizationKind> parameterizationArgument(const std::optional<std::string>& from) {
   if (!from) return std::nullopt;
-  try {
-    return parseParameterizationKind(*from);
-  } catch (const Error& e) {
-    throw Error(e.kind(), std::string("from_: ") + e.what());
-  }
+  return parseNamed("from_", *from, parseParameterizationKind);
 }
 
 }  // namespace

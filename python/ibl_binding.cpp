@@ -69,16 +69,8 @@ py::object saveIbl(const PythonIbl& ibl, const std::filesystem::path& folder, co
   outputs.folder = folder;
   outputs.format = format;
   outputs.stem = stem;
-  if (texelFormat) {
-    try {
-      outputs.texelFormat = parseTexelFormat(*texelFormat);
-    } catch (const Error& e) {
-      throw Error(e.kind(), std::string("texel_format: ") + e.what());
-    }
-  }
-  require(shFormat == "brdfbake" || shFormat == "cmgen",
-          "sh_format: expected brdfbake or cmgen, got '" + shFormat + "'");
-  outputs.shCmgen = shFormat == "cmgen";
+  if (texelFormat) outputs.texelFormat = parseNamed("texel_format", *texelFormat, parseTexelFormat);
+  outputs.shCmgen = parseNamed("sh_format", shFormat, parseShFormat) == ShFormat::Cmgen;
   IblReport report;
   try {
     const py::gil_scoped_release release;
@@ -130,11 +122,7 @@ void bindIbl(py::module_& module) {
         request.skyboxResolution = skyboxResolution;
         request.dfgSize = dfgSize;
         request.maxError = maxError;
-        try {
-          request.dfgForm = parseDfgForm(dfgForm);
-        } catch (const Error& e) {
-          throw Error(e.kind(), std::string("dfg_form: ") + e.what());
-        }
+        request.dfgForm = parseNamed("dfg_form", dfgForm, parseDfgForm);
         request.environment = environmentFromPython(environment, std::nullopt);
         auto result = std::make_shared<IblResult>();
         try {

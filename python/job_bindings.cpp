@@ -38,16 +38,6 @@ SpecRunResult runSpecJob(const std::optional<std::filesystem::path>& spec, const
   return result;
 }
 
-// A name of `parse`'s set; errors name the keyword.
-template <class Parse>
-auto parseNamed(const char* keyword, const std::string& name, Parse parse) {
-  try {
-    return parse(name);
-  } catch (const Error& e) {
-    throw Error(e.kind(), std::string(keyword) + ": " + e.what());
-  }
-}
-
 // "auto" (nullopt) or a number in [lowest, highest] (whole when `whole`); errors name the keyword.
 std::optional<double> autoOrNumber(const py::object& value, const char* keyword, double lowest, double highest,
                                    bool whole) {
@@ -97,9 +87,7 @@ FitTableResult fitTableJob(const std::filesystem::path& table, const py::object&
   fit.heldOut.folds = folds;
   require(channels == "rgb" || channels == "spectral", "channels: expected rgb or spectral, got '" + channels + "'");
   options.spectral = channels == "spectral";
-  require(rgb == "cie1931" || rgb == "single_wavelengths",
-          "rgb: expected cie1931 or single_wavelengths, got '" + rgb + "'");
-  options.rgb = rgb == "cie1931" ? RgbMethod::Cie1931 : RgbMethod::SingleWavelengths;
+  options.rgb = parseNamed("rgb", rgb, parseRgbMethod);
   if (output) options.output = *output;
   if (report) options.report = *report;
   options.validate();

@@ -158,13 +158,7 @@ std::vector<std::filesystem::path> save(OpenedMap& map, const std::filesystem::p
   outputs.files.insert(outputs.files.end(), more.begin(), more.end());
   outputs.layout = faces ? CubeLayout::Faces : CubeLayout::Cross;
   outputs.mipLayout = tiled ? MipLayout::Tiled : MipLayout::Files;
-  if (texelFormat) {
-    try {
-      outputs.texelFormat = parseTexelFormat(*texelFormat);
-    } catch (const Error& e) {
-      throw Error(e.kind(), std::string("texel_format: ") + e.what());
-    }
-  }
+  if (texelFormat) outputs.texelFormat = parseNamed("texel_format", *texelFormat, parseTexelFormat);
   MapWriteReport written;
   try {
     const py::gil_scoped_release release;
@@ -253,13 +247,7 @@ void bindMaps(py::module_& module) {
       [](const std::filesystem::path& path, std::optional<std::string> from, int mipLevel) {
         OutputSource source;
         source.path = path;
-        if (from) {
-          try {
-            source.from = parseParameterizationKind(*from);
-          } catch (const Error& e) {
-            throw Error(e.kind(), std::string("from_: ") + e.what());
-          }
-        }
+        if (from) source.from = parseNamed("from_", *from, parseParameterizationKind);
         source.mipLevel = mipLevel;
         return openMap(source);
       },

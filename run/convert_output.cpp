@@ -19,25 +19,12 @@ nlohmann::json convertedFrom(const ConvertOptions& options, const nlohmann::json
   return from;
 }
 
-// The texel format an output gets: the options' for a texture container, none for other formats.
-std::optional<TexelFormat> texelFormatFor(const ConvertOptions& options, const fs::path& file) {
-  return isTextureContainer(imageFormatFor(file)) ? options.texelFormat : std::nullopt;
-}
-
 }  // namespace
 
 void ConvertOptions::validate() const {
-  require(resolution >= 0 && resolution <= 65536, "resolution must be in [1, 65536] (0: the input's)");
-  require(samplesPerTexel >= 1 && samplesPerTexel <= 4096, "samples per texel must be in [1, 4096]");
-  bool anyTexture = false;
-  for (const fs::path& file : outputs()) anyTexture = isTextureContainer(imageFormatFor(file)) || anyTexture;
-  require(!texelFormat || anyTexture, "texel format: applies to .ktx2, .ktx and .dds outputs only; none is one");
-}
-
-std::vector<fs::path> ConvertOptions::outputs() const {
-  std::vector<fs::path> files{output};
-  files.insert(files.end(), moreOutputs.begin(), moreOutputs.end());
-  return files;
+  requireField(resolution >= 0 && resolution <= 65536, "resolution", "must be in [1, 65536] (0: the input's)");
+  requireField(samplesPerTexel >= 1 && samplesPerTexel <= 4096, "samples_per_texel", "must be in [1, 4096]");
+  outputs.validate();
 }
 
 ConvertResult convertOutput(const ConvertOptions& options, const Context& context) {
@@ -45,22 +32,25 @@ ConvertResult convertOutput(const ConvertOptions& options, const Context& contex
   const BakedOutput source = options.source.open();
   options.source.checkCosView(source, false);
   if (source.kind() == OutputKind::FresnelTable && options.to != ParameterizationKind::Sphere) {
-    throw Error(Error::Kind::InvalidArgument,
-                "to: a Fresnel table is a function of n.v; only a sphere map (eye space, view +z) holds it as a "
-                "function of direction");
+    throw Error::invalidField("to",
+                              "a Fresnel table is a function of n.v; only a sphere map (eye space, view +z) holds it "
+                              "as a function of direction");
   }
   const nlohmann::json described = source.describe();
   const int resolution = options.resolution > 0 ? options.resolution : described.value("resolution", 0);
-  require(resolution >= 1, "resolution: the input has none to keep; give one");
+  requireField(resolution >= 1, "resolution", "the input has none to keep; give one");
   const auto target = makeParameterization(options.to, resolution);
   FilePlan plan;
   plan.addInput(options.source.path, "map");
-  for (const fs::path& file : options.outputs()) {
-    for (const auto& f : mapOutputFiles(file, "output", options.to == ParameterizationKind::Cube, options.layout))
+  MapOutputs outputs = options.outputs;
+  outputs.inputs.push_back(options.source.path);
+  for (std::size_t i = 0; i < outputs.files.size(); ++i) {
+    const fs::path& file = outputs.files[i];
+    for (const auto& f : mapOutputFiles(file, "output", options.to == ParameterizationKind::Cube, outputs.layout))
       plan.addOutput(f.file, f.role);
-    const OutputShape shape{options.to, resolution, false, options.layout, texelFormatFor(options, file)};
+    const OutputShape shape{options.to, resolution, false, outputs.layout, outputs.writeOptionsFor(i).texelFormat};
     if (const std::string problem = containerProblem(file, shape); !problem.empty())
-      throw Error(Error::Kind::InvalidArgument, "output: " + problem);
+      throw Error::invalidField("outputs", problem);
   }
   plan.check();
   BakeOptions bake;
@@ -74,9 +64,8 @@ ConvertResult convertOutput(const ConvertOptions& options, const Context& contex
   info.spec = source.metadata().value("spec", nlohmann::json::object());
   info.spec["converted_from"] = convertedFrom(options, described);
   ConvertResult result{{}, {}, baked.summary.seconds};
-  for (const fs::path& file : options.outputs()) {  // the one resampled map, in each format
-    const auto written = writeMap(baked.image, info, file, options.layout,
-                                  {.inputs = {options.source.path}, .texelFormat = texelFormatFor(options, file)});
+  for (std::size_t i = 0; i < outputs.files.size(); ++i) {  // the one resampled map, in each format
+    const auto written = writeMap(baked.image, info, outputs.files[i], outputs.layout, outputs.writeOptionsFor(i));
     result.files.insert(result.files.end(), written.files.begin(), written.files.end());
     result.notes.insert(result.notes.end(), written.notes.begin(), written.notes.end());
   }

@@ -1,3 +1,4 @@
+#include <brdfbake/core/text_numbers.hpp>
 #include <brdfbake/io/files.hpp>
 #include <brdfbake/run/evaluate.hpp>
 
@@ -25,17 +26,13 @@ std::optional<std::array<double, 4>> parsePairLine(const std::string& line, cons
   std::array<double, 4> a{};
   int read = 0;
   for (std::string field; read < 4 && fields >> field; ++read) {
-    std::size_t used = 0;
-    try {
-      a[read] = std::stod(field, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != field.size() || !std::isfinite(a[read])) {
+    const std::optional<double> value = finiteNumberIn(field);
+    if (!value) {
       throw Error::atFile(Error::Kind::InvalidInput, file, number,
                           "'" + shortenForMessage(field, 40) +
                               "' is not a finite number (expected theta_i phi_i theta_s phi_s in radians)");
     }
+    a[read] = *value;
   }
   std::string extra;
   if (read != 4 || (fields >> extra)) {

@@ -64,13 +64,14 @@ FilePlan planOutputs(const InterpolationOptions& options) {
 }  // namespace
 
 void InterpolationOptions::validate() const {
-  require(!sizesDegrees.empty() && !placesDegrees.empty(), "sizes and places must not be empty");
-  for (double s : sizesDegrees) require(s > 0 && s <= 60, "sizes: each must be in (0, 60] degrees");
-  for (double p : placesDegrees) require(p >= 0 && p < 90, "places: each must be in [0, 90) degrees");
-  require(viewer.allFinite() && viewer.norm() <= 1e6,
-          "viewer: the eye must be a finite point within 1e6 units of the surface's centre");
-  require(viewer.y() > 0.0, "viewer: the eye must be above the surface (y > 0), where it sees the reflection");
-  require(segment >= 0.01 && segment <= 20.0, "segment: the vertex spacing must be in [0.01, 20]");
+  requireField(!sizesDegrees.empty(), "sizes", "must not be empty");
+  requireField(!placesDegrees.empty(), "places", "must not be empty");
+  for (double s : sizesDegrees) requireField(s > 0 && s <= 60, "sizes", "each must be in (0, 60] degrees");
+  for (double p : placesDegrees) requireField(p >= 0 && p < 90, "places", "each must be in [0, 90) degrees");
+  requireField(viewer.allFinite() && viewer.norm() <= 1e6, "viewer",
+               "the eye must be a finite point within 1e6 units of the surface's centre");
+  requireField(viewer.y() > 0.0, "viewer", "the eye must be above the surface (y > 0), where it sees the reflection");
+  requireField(segment >= 0.01 && segment <= 20.0, "segment", "the vertex spacing must be in [0.01, 20]");
 }
 
 InterpolationResult chartInterpolation(const InterpolationOptions& options, const Context& context) {

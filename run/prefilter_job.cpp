@@ -402,6 +402,8 @@ MapResult runEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e,
 
 MapResult runPrefilter(const PrefilterFiles& files, const Context& context) {
   PrefilterRequest request = files.request;
+  request.sh = request.sh || files.sh.has_value();
+  if (files.sh) requireField(files.sh->problem().empty(), "sh", files.sh->problem());
   files.outputs.validate();
   MapOutputs outputs = files.outputs;
   outputs.inputs.push_back(files.environment);

@@ -1,3 +1,4 @@
+#include <brdfbake/core/text_numbers.hpp>
 #include <brdfbake/io/files.hpp>
 #include <brdfbake/run/sample_output.hpp>
 
@@ -26,16 +27,12 @@ std::vector<SampleResult::Lookup> readDirectionsFile(const fs::path& file) {
     Vec3 d;
     for (int i = 0; i < 3; ++i) {
       const std::string& word = words[static_cast<std::size_t>(i)];
-      std::size_t used = 0;
-      try {
-        d[i] = std::stod(word, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != word.size() || !std::isfinite(d[i])) {
+      const std::optional<double> value = finiteNumberIn(word);
+      if (!value) {
         throw Error::atFile(Error::Kind::InvalidInput, file.string(), line,
                             "'" + shortenForMessage(word, 40) + "' is not a finite number");
       }
+      d[i] = *value;
     }
     if (!(d.norm() > 0.0)) {
       throw Error::atFile(Error::Kind::InvalidInput, file.string(), line, "the direction must be non-zero");
@@ -72,25 +69,25 @@ void OutputSource::checkCosView(const BakedOutput& output, bool fresnelNeedsIt) 
   const bool stack = output.kind() == OutputKind::ElevationStack, table = output.kind() == OutputKind::FresnelTable;
   const bool needs = stack || (fresnelNeedsIt && table);
   if (needs && !cosView) {
-    throw Error(Error::Kind::InvalidArgument,
-                std::string("cos_view: a") +
-                    (stack ? "n elevation stack is interpolated at n.v" : " Fresnel table is read at n.v") +
-                    "; give n.v in [0, 1]");
+    throw Error::invalidField(
+        "cos_view", std::string("a") +
+                        (stack ? "n elevation stack is interpolated at n.v" : " Fresnel table is read at n.v") +
+                        "; give n.v in [0, 1]");
   }
   if (cosView && !stack && !table) {
-    throw Error(Error::Kind::InvalidArgument, "cos_view: a " + std::string(toString(output.kind())) +
-                                                  " is looked up by direction alone (n.v applies to elevation "
-                                                  "stacks and Fresnel tables)");
+    throw Error::invalidField("cos_view", "a " + std::string(toString(output.kind())) +
+                                              " is looked up by direction alone (n.v applies to elevation stacks "
+                                              "and Fresnel tables)");
   }
   if (cosView && !needs) {
-    throw Error(Error::Kind::InvalidArgument,
-                "cos_view: here a Fresnel table takes n.v from each direction (the view +z)");
+    throw Error::invalidField("cos_view", "here a Fresnel table takes n.v from each direction (the view +z)");
   }
 }
 
 void SampleOptions::validate() const {
-  require(directions.empty() || directionsFile.empty(), "give directions or a directions file, not both");
-  for (const auto& d : directions) require(d.allFinite() && d.norm() > 0.0, "a direction must be finite and non-zero");
+  requireField(directions.empty() || directionsFile.empty(), "directions",
+               "give directions or a directions file, not both");
+  for (const auto& d : directions) requireField(d.allFinite() && d.norm() > 0.0, "directions", "must be non-zero");
 }
 
 SampleResult sampleOutput(const SampleOptions& options, const Context& context) {

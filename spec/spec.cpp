@@ -1,5 +1,6 @@
 #include <brdfbake/bake/baked_mips.hpp>
 #include <brdfbake/core/printable.hpp>
+#include <brdfbake/env/sh_irradiance.hpp>
 #include <brdfbake/fit/fit_file.hpp>
 #include <brdfbake/io/files.hpp>
 #include <brdfbake/io/image_io.hpp>
@@ -137,15 +138,9 @@ void parseEnvironmentOutputs(JsonObjectReader& env, EnvironmentMapSpec& e, const
       throw specError(env.child("sh_output"),
                       "spherical-harmonic coefficients hold irradiance: use it with \"lobe\": \"irradiance\"");
     }
-    if (const auto format = env.optionalString("sh_format")) {
-      if (*format != "brdfbake" && *format != "cmgen")
-        throw specError(env.child("sh_format"), "must be \"brdfbake\" (JSON) or \"cmgen\" (text)");
-      e.shCmgen = *format == "cmgen";
-    }
-    if (fs::path(*sh).extension() != (e.shCmgen ? ".txt" : ".json")) {
-      throw specError(env.child("sh_output"), e.shCmgen ? "cmgen's SH coefficients are text: give a .txt file"
-                                                        : "the SH coefficients are written as JSON (.json)");
-    }
+    if (env.has("sh_format")) e.shCmgen = env.parsed("sh_format", parseShFormat) == ShFormat::Cmgen;
+    if (const std::string problem = ShOutput{*sh, e.shCmgen}.problem(); !problem.empty())
+      throw specError(env.child("sh_output"), problem);
     e.shOutput = fs::path(*sh).is_absolute() ? fs::path(*sh) : baseDirectory / *sh;
   } else if (env.has("sh_format")) {
     throw specError(env.child("sh_format"), "needs \"sh_output\" (the file the coefficients go to)");

@@ -13,6 +13,7 @@
 #include <brdfbake/core/named_values.hpp>
 #include <brdfbake/core/printable.hpp>
 #include <brdfbake/core/progress.hpp>
+#include <brdfbake/core/text_numbers.hpp>
 #include <brdfbake/core/version.hpp>
 #endif
 

@@ -95,7 +95,7 @@ TEST(PrefilterCli, RefusalsNameTheFlags) {
   // Tiled chains and SH outputs.
   for (const auto& [flags, message] : std::vector<std::pair<std::string, std::string>>{
            {" --lobe phong:20 --to cube --resolution 12 --mips --tiled", "power-of-two"},
-           {" --lobe phong:20 --to cube --resolution 16 --tiled", "needs --mips"},
+           {" --lobe phong:20 --to cube --resolution 16 --tiled", "--tiled: a tiled file holds a whole mip chain"},
            {" --lobe phong:20 --to cube --resolution 8 --sh-output " + q(dir / "x.json"), "--sh-output"}}) {
     const auto refused = runCli("prefilter " + q(kSky) + flags + " -o " + q(dir / "bad.exr"));
     EXPECT_EQ(refused.exitCode, 2) << refused.output;

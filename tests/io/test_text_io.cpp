@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -111,6 +112,32 @@ TEST(WriteStdout, WritesEveryByte) {
   ::close(file);
   std::ifstream in(dir / "out.txt");
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(in), {}), "report\n");
+}
+
+// What TextProgress writes to a file (not a terminal) for `reports`.
+std::string progressText(const std::vector<std::pair<std::string, double>>& reports, bool enabled = true) {
+  test::TempDir dir;
+  const int file = ::open((dir / "log.txt").c_str(), O_WRONLY | O_CREAT, 0600);
+  {
+    TextProgress progress(enabled, file);
+    const ProgressSink sink = progress.sink();
+    EXPECT_EQ(static_cast<bool>(sink), enabled);
+    for (const auto& [task, fraction] : reports)
+      if (sink) sink(task, fraction);
+  }
+  ::close(file);
+  std::ifstream in(dir / "log.txt");
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(TextProgress, PlainLinesNameEachTaskItsStartAndItsEnd) {
+  // Reports within a second of the start print no quarter lines: only each task's start and end.
+  const std::string text = progressText({{"maps[0] a.exr", 0.0}, {"maps[0] a.exr", 0.3}, {"maps[0] a.exr", 0.6},
+                                         {"maps[0] a.exr", 1.0}, {"fit \x1b[2J", 1.0}});
+  EXPECT_EQ(text.rfind("brdfbake: maps[0] a.exr: 0 %\nbrdfbake: maps[0] a.exr: done (", 0), 0u) << text;
+  EXPECT_NE(text.find(" s)\nbrdfbake: fit \\x1b[2J: done ("), std::string::npos) << text;  // escaped
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 3);
+  EXPECT_EQ(progressText({{"task", 0.5}}, /*enabled=*/false), "");
 }
 
 }  // namespace

@@ -84,7 +84,7 @@ TEST(BakeJob, TheReportGivesSizesFilesAndSecondsPerMap) {
   convert.source.path = dir / "phong_paraboloid.exr";
   convert.to = ParameterizationKind::Cube;
   convert.resolution = 128;
-  convert.output = dir / "cube.exr";
+  convert.outputs.files = {dir / "cube.exr"};
   convertOutput(convert);
   const Vec3 light = Vec3(1, 1, 1).normalized();
   for (const Vec3& d : {light, Vec3(1, 1, 0.5).normalized(), Vec3(0, 0, -1)}) {

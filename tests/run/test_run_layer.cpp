@@ -241,15 +241,15 @@ TEST(OutputJobs, ConvertDescribeAndSampleAgreeWithTheAnalyticLobe) {
   convert.source.path = dir / "phong.exr";
   convert.to = ParameterizationKind::Paraboloid;
   convert.resolution = 128;
-  convert.output = dir / "phong_paraboloid.exr";
+  convert.outputs.files = {dir / "phong_paraboloid.exr"};
   const ConvertResult converted = convertOutput(convert);
-  EXPECT_EQ(converted.files.front(), convert.output);
-  const OutputDescription described = describeOutput(convert.output);
+  EXPECT_EQ(converted.files.front(), convert.outputs.files.front());
+  const OutputDescription described = describeOutput(convert.outputs.files.front());
   EXPECT_EQ(described.description["parameterization"], "paraboloid");
   EXPECT_EQ(described.description["spec"]["converted_from"]["file"],
             convert.source.path.filename().string());  // no folder
   SampleOptions sample;
-  sample.source.path = convert.output;
+  sample.source.path = convert.outputs.files.front();
   const Vec3 r = Vec3(0.2, -0.1, 1.0).normalized();
   sample.directions = {r};
   EXPECT_NEAR(sampleOutput(sample).lookups[0].value[0], std::pow(r.z(), 50.0), 0.02);

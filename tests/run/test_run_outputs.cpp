@@ -58,7 +58,7 @@ fs::path convertTo(const fs::path& input, ParameterizationKind to, int resolutio
   options.source.cosView = cosView;
   options.to = to;
   options.resolution = resolution;
-  options.output = output;
+  options.outputs.files = {output};
   convertOutput(options);
   return output;
 }

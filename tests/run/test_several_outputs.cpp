@@ -181,9 +181,8 @@ TEST(SeveralOutputs, ConvertWritesTheOneResampledMapInEachFormat) {
   options.to = ParameterizationKind::Cube;
   options.resolution = 8;
   options.samplesPerTexel = 1;
-  options.output = dir / "s.exr";
-  options.moreOutputs = {dir / "s.dds"};
-  options.texelFormat = TexelFormat::Rgba32Float;  // the DDS only: float32 keeps the EXR's values exactly
+  options.outputs.files = {dir / "s.exr", dir / "s.dds"};
+  options.outputs.texelFormat = TexelFormat::Rgba32Float;  // the DDS only: float32 keeps the EXR's values exactly
   const ConvertResult result = convertOutput(options);
   EXPECT_EQ(readTextureHeaderOf(dir / "s.dds").format, TexelFormat::Rgba32Float);
   const MapFile exr = readMap(dir / "s.exr"), dds = readMap(dir / "s.dds");
@@ -191,8 +190,7 @@ TEST(SeveralOutputs, ConvertWritesTheOneResampledMapInEachFormat) {
     const Rgba a = texelAt(exr, d), b = texelAt(dds, d);
     for (int c = 0; c < 3; ++c) EXPECT_EQ(b[c], a[c]);
   }
-  options.moreOutputs = {dir / "t.png"};
-  options.output = dir / "t.exr";
+  options.outputs.files = {dir / "t.exr", dir / "t.png"};
   EXPECT_THROW(convertOutput(options), Error);  // a texel format and no texture output
   EXPECT_FALSE(fs::exists(dir / "t.exr"));
 }

@@ -141,7 +141,10 @@ TEST(Spec, NamesTheJsonPathOfEveryError) {
       {[](json& m) { m["material"]["exponent"] = -3; }, "spec.json: maps[0].material.exponent: must be > 0, got -3"},
       {[](json& m) { m["material"]["exponent"] = "high"; }, "maps[0].material.exponent: must be a number"},
       {[](json& m) { m["material"]["shininess"] = 3; }, "maps[0].material.shininess: unknown key"},
-      {[](json& m) { m["colour"] = 3; }, "maps[0].colour: unknown key"},
+      {[](json& m) { m["colour"] = 3; }, "maps[0].colour: unknown key (known keys: "},
+      {[](json& m) { m["samples_per_texle"] = 3; },
+       "maps[0].samples_per_texle: unknown key, did you mean "
+       "'samples_per_texel'? (known keys: "},
       {[](json& m) { m["material"]["model"] = "lambertian"; }, "maps[0].material.model: unknown model 'lambertian'"},
       {[](json& m) { m["parameterization"] = "spherical"; },
        "maps[0].parameterization: parameterization must be one of sphere, paraboloid, cube, latlong, profile, auto; "

@@ -52,6 +52,22 @@ ShExpansion irradianceShFromJson(const nlohmann::json& document, const std::stri
 /// sh[2], sh[5] and sh[7] change sign.
 std::string irradianceShCmgenText(const ShExpansion& sh);
 
+/// How SH coefficients are written: "brdfbake", the JSON of irradianceShToJson (.json), or "cmgen",
+/// the 9 RGB lines of irradianceShCmgenText (.txt).
+enum class ShFormat { Brdfbake, Cmgen };
+std::string_view toString(ShFormat format);
+/// "brdfbake" | "cmgen"; throws Error(InvalidArgument) listing them.
+ShFormat parseShFormat(std::string_view name);
+
+/// Where SH coefficients go: a JSON file or, with `cmgen`, cmgen's lines.
+struct ShOutput {
+  std::filesystem::path file;
+  bool cmgen = false;
+
+  /// What is wrong with the file's extension for its format ("" when nothing).
+  std::string problem() const;
+};
+
 /// The constants k_i of the basis above (Y_i = k_i b_i, b_i the polynomials of cmgen's lines).
 std::vector<double> irradianceShBasisConstants();
 

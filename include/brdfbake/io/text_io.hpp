@@ -1,10 +1,14 @@
 #pragma once
 /// @file
 /// Line-oriented text in and out of the command line: files of one record per line (`eval --pairs`,
-/// `sample --dirs`) read with bounds, and reports written to stdout with every write checked.
+/// `sample --dirs`) read with bounds, reports and messages written with every write checked, and
+/// progress shown as text.
+
+#include <brdfbake/core/progress.hpp>
 
 #include <cstddef>
 #include <filesystem>
+#include <mutex>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -32,5 +36,36 @@ std::vector<std::string> readTextLines(const std::filesystem::path& path, const 
 /// while it writes, so the process is not killed), "stdout: write failed (Bad file descriptor)"
 /// when stdout is closed. Callers that also use std::cout flush it first.
 void writeStdout(std::string_view text);
+
+/// Writes a message for a person to standard error (file descriptor 2) as writeStdout writes, with
+/// the control characters of untrusted text escaped (printableMessage): "stderr: write failed (...)".
+void writeStderr(std::string_view message);
+
+/// Progress as text on a file descriptor (standard error by default), as the command line shows it:
+/// a bar "TASK [#####     ]  40%" redrawn in place when the descriptor is a terminal, else plain lines
+/// "brdfbake: TASK: 25 %" (a task's start, each quarter reached a second or more after the last
+/// line, "brdfbake: TASK: done (1.23 s)" at its end, the fraction 1). Nothing when disabled.
+class TextProgress {
+ public:
+  explicit TextProgress(bool enabled = true, int fd = 2);
+  ~TextProgress();
+  TextProgress(const TextProgress&) = delete;
+  TextProgress& operator=(const TextProgress&) = delete;
+
+  /// A sink reporting here (empty when disabled); it must not outlive this object.
+  ProgressSink sink();
+  /// Clears a bar before results are printed under it.
+  void finish();
+
+ private:
+  void report(const std::string& task, double fraction);
+  void write(const std::string& text);
+  bool enabled_, terminal_;
+  int fd_;
+  std::mutex mutex_;
+  std::string task_;
+  int lastQuarter_ = -1, lastPercent_ = -1;
+  double lastLine_ = 0.0, started_ = 0.0;
+};
 
 }  // namespace brdfbake

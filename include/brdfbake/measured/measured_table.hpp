@@ -47,6 +47,9 @@ enum class RgbMethod {
   Cie1931,            ///< CIE 1931 2-degree observer under D65 to linear sRGB (brdf/spectrum.hpp)
   SingleWavelengths,  ///< the value at the nearest wavelength to 750 / 550 / 400 nm (Zimmons & Bastos 1999 section 8)
 };
+std::string_view toString(RgbMethod method);
+/// "cie1931" | "single_wavelengths"; throws Error(InvalidArgument) listing them.
+RgbMethod parseRgbMethod(std::string_view name);
 
 /// The angles of one sample, radians (see @file for the frame).
 struct SampleAngles {

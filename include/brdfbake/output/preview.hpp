@@ -5,6 +5,7 @@
 #include <brdfbake/maps/image.hpp>
 
 #include <array>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -40,11 +41,14 @@ struct PreviewOptions {
   /// computed at the vertices and interpolated linearly across each triangle, as fixed-function
   /// hardware did; otherwise the normal is interpolated and the map looked up exactly per pixel.
   bool perVertex = false;
-  int segments = 64;      ///< tessellation (per-vertex artefacts grow as it drops)
+  /// Tessellation (per-vertex artefacts grow as it drops), in [3, 1024]; default 64, or 16 in
+  /// per-vertex mode (coarse enough to show its artefacts): tessellation() says which.
+  std::optional<int> segments;
   double exposure = 0.0;  ///< values are scaled by 2^exposure
   Rgb background = Rgb(0.18, 0.18, 0.2);
 
   void validate() const;
+  int tessellation() const { return segments.value_or(perVertex ? 16 : 64); }
 };
 
 /// Orthographic view of the object: every pixel sees it along -view, so the reflected direction

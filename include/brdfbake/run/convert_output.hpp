@@ -4,6 +4,7 @@
 /// output texel averages the input's lookups (as a renderer makes them) over its footprint.
 
 #include <brdfbake/io/map_file.hpp>
+#include <brdfbake/run/map_outputs.hpp>
 #include <brdfbake/run/sample_output.hpp>
 
 namespace brdfbake {
@@ -13,18 +14,12 @@ struct ConvertOptions {
   ParameterizationKind to = ParameterizationKind::Sphere;
   int resolution = 0;        ///< 0: the input's
   int samplesPerTexel = 16;  ///< footprint samples per output texel, in [1, 4096]
-  CubeLayout layout = CubeLayout::Cross;
-  std::filesystem::path output;
-  /// Further files the one resampled map is written to (formats by extension), after `output`.
-  std::vector<std::filesystem::path> moreOutputs;
-  /// How .ktx2, .ktx and .dds outputs store texels (default rgba16f); at least one output must be one.
-  std::optional<TexelFormat> texelFormat;
+  /// The files the one resampled map is written to (formats by extension), with the cube layout and
+  /// texel format; the source is added to the inputs never overwritten.
+  MapOutputs outputs;
 
-  /// Throws Error(InvalidArgument) for values out of range, an output of an unknown format, a texel
-  /// format no output can take.
+  /// Throws Error::invalidField ("resolution", "samples_per_texel", MapOutputs::validate's fields).
   void validate() const;
-  /// `output`, then `moreOutputs`.
-  std::vector<std::filesystem::path> outputs() const;
 };
 
 struct ConvertResult {

@@ -17,6 +17,7 @@
 #include <brdfbake/env/environment.hpp>
 #include <brdfbake/env/prefilter.hpp>
 #include <brdfbake/env/prefilter_stack.hpp>
+#include <brdfbake/env/sh_irradiance.hpp>
 #include <brdfbake/maps/sh.hpp>
 #include <brdfbake/run/map_outputs.hpp>
 #include <brdfbake/run/spec_runner.hpp>
@@ -107,13 +108,6 @@ struct LobeArguments {
 /// prefilterLobeModelStack or prefilterFresnelDecomposition on `context`, and irradianceSh when
 /// asked. Throws what validate() and they throw.
 PrefilterResult prefilterEnvironment(const PrefilterRequest& request, const Context& context = {});
-
-/// Where the SH coefficients go (PrefilterRequest::sh): a JSON file (irradianceShToJson) or, with
-/// `cmgen`, the 9 RGB lines cmgen --sh-shader prints (.txt).
-struct ShOutput {
-  std::filesystem::path file;
-  bool cmgen = false;
-};
 
 /// Every file writePrefiltered writes for `request` to `outputs` (and `sh`), with their roles, for
 /// checks before any work.
