@@ -11,9 +11,9 @@ namespace {
 const std::vector<std::string> kKeys = {"max_error", "resolution", "samples_per_texel", "output", "outputs"};
 
 TEST(ClosestName, ATypoWithinTwoEditsIsNamed) {
-  EXPECT_EQ(closestName("max_eror", kKeys), "max_error");    // one deletion
+  EXPECT_EQ(closestName("max_eror", kKeys), "max_error");     // one deletion
   EXPECT_EQ(closestName("resolutoin", kKeys), "resolution");  // a swap: two substitutions
-  EXPECT_EQ(closestName("outptu", kKeys), "output");         // two substitutions; "outputs" is three away
+  EXPECT_EQ(closestName("outptu", kKeys), "output");          // two substitutions; "outputs" is three away
 }
 
 TEST(ClosestName, AWordNearNothingIsNotNamed) {
@@ -24,7 +24,7 @@ TEST(ClosestName, AWordNearNothingIsNotNamed) {
 
 TEST(ClosestName, TheStartOfExactlyOneNameIsThatName) {
   EXPECT_EQ(closestName("samples", kKeys), "samples_per_texel");  // ten edits away, but its only extension
-  EXPECT_FALSE(closestName("o", {"output", "outputs"}));            // two extensions, both far
+  EXPECT_FALSE(closestName("o", {"output", "outputs"}));          // two extensions, both far
 }
 
 TEST(ParseByName, AnUnknownNameListsTheNamesAndSuggestsTheClosest) {

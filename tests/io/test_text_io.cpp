@@ -132,8 +132,11 @@ std::string progressText(const std::vector<std::pair<std::string, double>>& repo
 
 TEST(TextProgress, PlainLinesNameEachTaskItsStartAndItsEnd) {
   // Reports within a second of the start print no quarter lines: only each task's start and end.
-  const std::string text = progressText({{"maps[0] a.exr", 0.0}, {"maps[0] a.exr", 0.3}, {"maps[0] a.exr", 0.6},
-                                         {"maps[0] a.exr", 1.0}, {"fit \x1b[2J", 1.0}});
+  const std::string text = progressText({{"maps[0] a.exr", 0.0},
+                                         {"maps[0] a.exr", 0.3},
+                                         {"maps[0] a.exr", 0.6},
+                                         {"maps[0] a.exr", 1.0},
+                                         {"fit \x1b[2J", 1.0}});
   EXPECT_EQ(text.rfind("brdfbake: maps[0] a.exr: 0 %\nbrdfbake: maps[0] a.exr: done (", 0), 0u) << text;
   EXPECT_NE(text.find(" s)\nbrdfbake: fit \\x1b[2J: done ("), std::string::npos) << text;  // escaped
   EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 3);
