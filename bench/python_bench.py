@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Times the Python module's vectorised calls (docs/python.md, "Speed"): Map.sample and Fit.evaluate on
-10^6 directions, medians of 5 runs, with the machine and the date. Not a test.
+10^6 directions, and a live matcap preview (256^2, max_error 0.05) on a prepared Environment, medians
+of 5 runs, with the machine and the date. Not a test.
 
     PYTHONPATH=build/python /usr/bin/python3 bench/python_bench.py [--count N]
 """
@@ -51,6 +52,10 @@ def main():
     wo = rng.normal(size=(args.count, 3))
     median, low, high = median_seconds(lambda: fit.evaluate(dirs, wo))
     print(f"Fit.evaluate ({fit.model['lobes']} lobes) {args.count} pairs: {median:.3f} s ({low:.3f} to {high:.3f})")
+    environment = brdfbake.Environment(SOURCE / "data_samples" / "environments" / "sky_latlong.exr")
+    material = SOURCE / "data_samples" / "materials" / "copper.json"
+    median, low, high = median_seconds(lambda: brdfbake.matcap(material, environment, 256, max_error=0.05))
+    print(f"matcap copper 256^2 at 5 % (prepared Environment): {median * 1e3:.1f} ms ({low * 1e3:.1f} to {high * 1e3:.1f})")
 
 
 if __name__ == "__main__":
