@@ -68,7 +68,11 @@ Command addMatcapCommand(CLI::App& app) {
   addParsed(command, "--method", r.method, parseUnderEnvironmentMethod,
             "auto | sampled | reference (the brute-force sum: slow)")
       ->default_str("auto");
-  addMaxErrorOption(command, r.maxError, "The bound on the estimated error (relative to the peak)");
+  addMaxErrorOption(command, r.maxError, "The bound on the estimated error (RMS relative to the peak)");
+  command
+      ->add_option("--max-relative-error", r.maxRelativeError,
+                   "The bound on each texel's relative error where above 1 % of the median (default 3 x --max-error)")
+      ->check(CLI::Range(1e-6, 10.0));
   addSamplesPerTexelOption(command, r.samplesPerTexel, "Footprint samples per texel", false);
   command->add_option("--exposure", r.exposure, "Scale the map by 2^STOPS before writing (for .png)")
       ->default_val(0.0)

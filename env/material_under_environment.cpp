@@ -352,8 +352,29 @@ std::vector<Probe> drawProbes(const Setup& setup, const NormalGrid& guide, int c
 struct Measure {
   double lookupRms = 0.0, highlightRms = 0.0, max = 0.0, peak = 0.0;
   double lower = 0.0;  // the larger RMS with two standard errors taken off: clearly above a bound when above it
+  // The largest relative error |value - reference| / reference (per channel, over the probe's largest
+  // reference channel) over the probes whose reference is above kRelativeFloor x the median of the
+  // uniform probes' references: the error where the picture is dim, which an RMS relative to a sun's
+  // highlight cannot see. A maximum only grows with more probes: above a bound is clearly above it.
+  double relative = 0.0, median = 0.0;
   double bound() const { return std::max(lookupRms, highlightRms); }
 };
+constexpr double kRelativeFloor = 0.01;
+
+// The largest relative error of `values` at the probes above kRelativeFloor x the uniform probes' median.
+void measureRelative(const std::vector<Probe>& probes, const std::vector<Rgb>& values, Measure& m) {
+  std::vector<double> uniform;
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (!probes[i].highlight) uniform.push_back(probes[i].reference.abs().maxCoeff());
+  if (uniform.empty()) return;
+  std::nth_element(uniform.begin(), uniform.begin() + uniform.size() / 2, uniform.end());
+  m.median = uniform[uniform.size() / 2];
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const double v = probes[i].reference.abs().maxCoeff();
+    if (v > kRelativeFloor * m.median && v > 0.0)
+      m.relative = std::max(m.relative, (values[i] - probes[i].reference).abs().maxCoeff() / v);
+  }
+}
 
 // The errors of `values` (one per probe) against the probes' reference, relative to the peak: each
 // RMS as the square root of its mean square plus two standard errors (the self-normalised
@@ -394,6 +415,7 @@ Measure measure(const std::vector<Probe>& probes, const std::vector<Rgb>& values
   m.highlightRms = std::sqrt(highMean + 2.0 * highError) * scale;
   m.lower = std::sqrt(std::max({lookupMean - 2.0 * lookupError, highMean - 2.0 * highError, 0.0})) * scale;
   m.max = worst * scale;
+  measureRelative(probes, values, m);
   return m;
 }
 
@@ -459,6 +481,8 @@ void UnderEnvironmentOptions::validate() const {
   require(samplesPerTexel >= 1 && samplesPerTexel <= 4096, "samples per texel must be in [1, 4096]");
   require(maxError > 0.0 && maxError < 1.0,
           "max error must be in (0, 1) (0.01 is 1 % of the peak), got " + formatG(maxError));
+  require(!maxRelativeError || (*maxRelativeError > 0.0 && *maxRelativeError <= 10.0),
+          "max relative error must be in (0, 10] (0.03 is 3 % of each texel's value)");
   require(importanceSamples == 0 || (importanceSamples >= 8 && importanceSamples <= 1 << 20),
           "importance samples must be 0 (searched) or in [8, 2^20]");
   require(gridPerWidth == 0 || gridPerWidth == -1 || (gridPerWidth >= 2 && gridPerWidth <= 64),
@@ -540,9 +564,17 @@ void makeReady(const Setup& setup, ProbeBank& bank, std::size_t count) {
   bank.ready = count;
 }
 
-// The candidate's error on the ready probes, more made ready until it is clearly within `target`,
-// clearly above it, or every probe is.
-Measure estimateOn(const Setup& setup, const Evaluation& evaluation, ProbeBank& bank, double target) {
+// What a candidate must meet on the probes: 0.8 of each bound (the margin covers the gap between its
+// point values and the finished map's lookups).
+struct Targets {
+  double peak = 0.0, relative = 0.0;
+  bool within(const Measure& m) const { return m.bound() <= peak && m.relative <= relative; }
+  bool clearlyAbove(const Measure& m) const { return m.lower > peak || m.relative > relative; }
+};
+
+// The candidate's error on the ready probes, more made ready until it is clearly within the targets,
+// clearly above them, or every probe is.
+Measure estimateOn(const Setup& setup, const Evaluation& evaluation, ProbeBank& bank, const Targets& target) {
   std::vector<Rgb> values;
   for (;;) {
     const std::vector<Probe> fresh(bank.probes.begin() + static_cast<std::ptrdiff_t>(values.size()),
@@ -551,23 +583,23 @@ Measure estimateOn(const Setup& setup, const Evaluation& evaluation, ProbeBank& 
         fresh, [&](const Probe& p) { return evaluation.at(p.normal); }, setup.context);
     values.insert(values.end(), more.begin(), more.end());
     const Measure m = measure(bank.probes, values);
-    if (m.bound() <= target || m.lower > target || bank.ready == bank.probes.size()) return m;
+    if (target.within(m) || target.clearlyAbove(m) || bank.ready == bank.probes.size()) return m;
     makeReady(setup, bank, 2 * bank.ready);
   }
 }
 
-// Tries the candidates cheapest first and returns the first whose bound on the probes is within 0.8
-// maxError (the margin covers the gap between its point values and the finished map's lookups);
-// without estimation the first. When none qualifies, the most accurate one tried, with a note.
+// Tries the candidates cheapest first and returns the first within the targets on the probes (0.8
+// maxError and 0.8 of the relative bound); without estimation the first. When none qualifies, the
+// most accurate one tried (by its error over its targets), with a note.
 std::unique_ptr<Evaluation> chooseCandidate(const Setup& setup, const std::vector<Candidate>& candidates,
                                             ProbeBank& bank, double rimCos, bool estimating,
                                             UnderEnvironmentSummary& summary) {
   const UnderEnvironmentOptions& o = setup.options;
-  const double target = 0.8 * o.maxError;
+  const Targets target{0.8 * o.maxError, 0.8 * o.relativeBound()};
   std::unique_ptr<Evaluation> best;
   double bestError = HUGE_VAL;
   std::size_t bestIndex = 0;
-  std::map<int, double> pointwise;  // the lower bound of the sampled values' own error, per sample count
+  std::map<int, bool> pointwise;  // whether the sampled values' own error is clearly too much, per sample count
   for (const Candidate& c : candidates) {
     if (estimating && bank.probes.empty()) {
       const auto drawStart = Clock::now();
@@ -580,34 +612,41 @@ std::unique_ptr<Evaluation> chooseCandidate(const Setup& setup, const std::vecto
     if (estimating && c.perWidth > 0 && o.gridPerWidth == 0 && &c != &candidates.back()) {
       if (!pointwise.count(c.samples)) {
         const auto checkStart = Clock::now();
-        pointwise[c.samples] = estimateOn(setup, SampledEvaluation(setup, c.samples), bank, target).lower;
+        pointwise[c.samples] =
+            target.clearlyAbove(estimateOn(setup, SampledEvaluation(setup, c.samples), bank, target));
         summary.estimateSeconds += secondsSince(checkStart);
       }
-      if (pointwise[c.samples] > target) continue;
+      if (pointwise[c.samples]) continue;
     }
     const auto start = Clock::now();
     auto evaluation = build(setup, c, setup.context.progress());
     UnderEnvironmentCandidate record{c.detail, c.predicted, secondsSince(start)};
+    bool within = !estimating;
+    double overTargets = 0.0;
     if (estimating) {
       const auto estimateStart = Clock::now();
       const Measure m = estimateOn(setup, *evaluation, bank, target);
-      record.errorEstimate = m.bound(), record.errorEstimateMax = m.max;
+      record.errorEstimate = m.bound(), record.errorEstimateMax = m.max, record.relativeError = m.relative;
+      within = target.within(m);
+      overTargets = std::max(m.bound() / target.peak, m.relative / target.relative);
       summary.estimateSeconds += secondsSince(estimateStart);
     }
     summary.candidates.push_back(record);
-    if (!estimating || record.errorEstimate <= target) {
+    if (within) {
       summary.candidates.back().chosen = true;
       summary.detail = c.detail;
       return evaluation;
     }
-    if (record.errorEstimate < bestError) {
-      bestError = record.errorEstimate, best = std::move(evaluation), bestIndex = summary.candidates.size() - 1;
+    if (overTargets < bestError) {
+      bestError = overTargets, best = std::move(evaluation), bestIndex = summary.candidates.size() - 1;
     }
   }
+  const UnderEnvironmentCandidate& used = summary.candidates[bestIndex];
   summary.candidates[bestIndex].chosen = true;
   summary.detail = candidates[bestIndex].detail;
-  summary.notes.push_back("no sampled setting met 0.8 x the error bound on the probes (best " +
-                          formatG(100.0 * bestError) + " %); used the most accurate one tried");
+  summary.notes.push_back("no sampled setting met 0.8 x the error bounds on the probes (best " +
+                          formatG(100.0 * used.errorEstimate) + " % of the peak, " +
+                          formatG(100.0 * used.relativeError) + " % relative); used the most accurate one tried");
   return best;
 }
 
@@ -626,6 +665,7 @@ MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, c
   UnderEnvironmentSummary& summary = result.summary;
   summary.material = std::string(material.model());
   summary.maxError = options.maxError;
+  summary.maxRelativeError = options.relativeBound();
   Setup setup(environment, material, options, context);
   tbb::task_arena arena(context.arenaThreads());
   arena.execute([&] {
@@ -684,7 +724,13 @@ MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, c
       summary.errorEstimated = true;
       summary.errorEstimate = m.bound(), summary.lookupRms = m.lookupRms, summary.highlightRms = m.highlightRms;
       summary.errorMax = m.max, summary.peak = m.peak, summary.probes = static_cast<int>(bank.ready);
-      summary.metBound = summary.errorEstimate <= options.maxError;
+      // The relative error is the chosen evaluation's at the probes, a texel's own value against the
+      // reference: bilinear lookups between texels across a highlight's edge are relative errors of
+      // the resolution, which the peak measure above already bounds.
+      for (const auto& c : summary.candidates)
+        if (c.chosen) summary.relativeError = std::max(0.0, c.relativeError);
+      summary.relativeFloor = kRelativeFloor * m.median;
+      summary.metBound = summary.errorEstimate <= options.maxError && summary.relativeError <= options.relativeBound();
       if (!summary.metBound) {
         summary.notes.push_back(
             "the finished map's lookups miss the bound: its resolution limits them when the "
@@ -706,7 +752,9 @@ std::string UnderEnvironmentSummary::briefReport() const {
   } else if (errorEstimated) {
     out << ": estimated error " << formatG(100.0 * errorEstimate) << " % of the peak (lookups "
         << formatG(100.0 * lookupRms) << " %, highlight " << formatG(100.0 * highlightRms) << " %; bound "
-        << formatG(100.0 * maxError) << " %" << (metBound ? "" : ", NOT met") << ")";
+        << formatG(100.0 * maxError) << " %), " << formatG(100.0 * relativeError)
+        << " % of each texel's value where above 1 % of the median (bound " << formatG(100.0 * maxRelativeError)
+        << " %)" << (metBound ? "" : ", bounds NOT met");
   } else {
     out << ": error not estimated (estimation off)";
   }
@@ -720,7 +768,8 @@ nlohmann::json UnderEnvironmentSummary::toJson() const {
     nlohmann::json entry = {
         {"detail", c.detail}, {"predicted_seconds", c.predictedSeconds}, {"seconds", c.seconds}, {"chosen", c.chosen}};
     if (c.errorEstimate >= 0.0)
-      entry["error_estimate"] = c.errorEstimate, entry["error_estimate_max"] = c.errorEstimateMax;
+      entry["error_estimate"] = c.errorEstimate, entry["error_estimate_max"] = c.errorEstimateMax,
+      entry["relative_error"] = c.relativeError;
     candidatesJson.push_back(entry);
   }
   auto estimated = [&](double value) { return errorEstimated ? nlohmann::json(value) : nlohmann::json(nullptr); };
@@ -734,6 +783,9 @@ nlohmann::json UnderEnvironmentSummary::toJson() const {
           {"lookup_rms", estimated(lookupRms)},
           {"highlight_rms", estimated(highlightRms)},
           {"error_max", estimated(errorMax)},
+          {"max_relative_error", maxRelativeError},
+          {"relative_error", estimated(relativeError)},
+          {"relative_floor", estimated(relativeFloor)},
           {"peak", estimated(peak)},
           {"probes", probes},
           {"exact", exact},

@@ -145,8 +145,11 @@ Rgb LobeSampler::integrate(const Material& material, const ShadingGeometry& g,
       if (!(f.abs().maxCoeff() > 0.0)) continue;
       const Vec3 d = eyeToEnvironment_ * *l;
       const double sinTheta = std::sqrt(std::max(0.0, 1.0 - d.y() * d.y()));
-      // The level whose texels cover the sample's solid angle 1 / density, one coarser (Křivánek & Colbert 2008).
-      const double lod = 0.5 * std::log2(1.0 / (density * equatorTexel_ * std::max(sinTheta, 1e-9))) + 1.0;
+      // The level whose texels cover the sample's solid angle 1 / density. Křivánek & Colbert 2008 read one
+      // level coarser, which hides noise but blurs the sky into the lobe: under the sample sky a GGX
+      // alpha 0.09 matcap's dim texels came out up to 15 % high with 16 samples and 2.7 % with 256
+      // (6 % and 1.2 % at this level).
+      const double lod = 0.5 * std::log2(1.0 / (density * equatorTexel_ * std::max(sinTheta, 1e-9)));
       sum += f * rest_.trilinear(d.normalized(), lod) / density;
     }
   }

@@ -294,18 +294,20 @@ void bindMatcap(py::module_& module) {
   module.def(
       "matcap",
       [](const py::object& material, const py::object& environment, int resolution, double maxError,
-         const std::string& method, const py::object& camera, const std::string& parameterization, int samplesPerTexel,
-         double exposure, const std::optional<std::filesystem::path>& output, int threads, const py::object& progress) {
+         std::optional<double> maxRelativeError, const std::string& method, const py::object& camera,
+         const std::string& parameterization, int samplesPerTexel, double exposure,
+         const std::optional<std::filesystem::path>& output, int threads, const py::object& progress) {
         MatcapRequest r;
         r.resolution = resolution;
         r.maxError = maxError;
+        r.maxRelativeError = maxRelativeError;
         r.samplesPerTexel = samplesPerTexel;
         r.exposure = exposure;
         return matcapJob(material, environment, r, parameterization, method, camera, output, threads, progress);
       },
-      py::arg("material"), py::arg("environment"), py::arg("resolution"), py::arg("max_error"), py::arg("method"),
-      py::arg("camera"), py::arg("parameterization"), py::arg("samples_per_texel"), py::arg("exposure"),
-      py::arg("output"), py::arg("threads"), py::arg("progress"),
+      py::arg("material"), py::arg("environment"), py::arg("resolution"), py::arg("max_error"),
+      py::arg("max_relative_error"), py::arg("method"), py::arg("camera"), py::arg("parameterization"),
+      py::arg("samples_per_texel"), py::arg("exposure"), py::arg("output"), py::arg("threads"), py::arg("progress"),
       "makeMatcap (run/matcap_job.hpp) in memory, written too when output is given; use brdfbake.matcap.");
 }
 

@@ -28,6 +28,8 @@ void validateSettings(const MatcapRequest& r) {
                "must be in [1, 4096], got " + std::to_string(samplesPerTexel));
   requireField(maxError > 0.0 && maxError <= 0.5, "max_error",
                "must be in (0, 0.5] (0.01 is 1 % of the peak), got " + formatG(maxError));
+  requireField(!r.maxRelativeError || (*r.maxRelativeError > 0.0 && *r.maxRelativeError <= 10.0), "max_relative_error",
+               "must be in (0, 10] (0.03 is 3 % of a texel's value)");
   requireField(view.allFinite() && view.norm() > 0.0, "view", "must be a non-zero finite vector");
   requireField(parameterization != ParameterizationKind::Sphere || (view.normalized() - Vec3::UnitZ()).norm() < 1e-9,
                "view", "a sphere map views along +z (eye space); turn the camera instead");
@@ -61,6 +63,7 @@ UnderEnvironmentOptions MatcapRequest::shadingOptions() const {
   options.view = view;
   options.method = method;
   options.maxError = maxError;
+  options.maxRelativeError = maxRelativeError;
   options.camera = camera;
   return options;
 }
@@ -69,6 +72,7 @@ nlohmann::json MatcapRequest::describe() const {
   nlohmann::json materialJson = materialDescription;
   if (materialJson.is_null() && material) materialJson = {{"model", std::string(material->model())}};
   nlohmann::json environmentJson = {{"method", std::string(toString(method))}, {"max_error", maxError}};
+  if (maxRelativeError) environmentJson["max_relative_error"] = *maxRelativeError;
   if (environment) environmentJson["file"] = fs::path(environment->source).filename().string();
   nlohmann::json map = {{"parameterization", std::string(toString(parameterization))},
                         {"resolution", resolution},
@@ -167,6 +171,7 @@ MapResult runUnderEnvironmentMap(const MapSpec& specified, const std::shared_ptr
   request.view = o.view;
   request.method = o.method;
   request.maxError = o.maxError;
+  request.maxRelativeError = o.maxRelativeError;
   request.camera = o.camera;
   request.exposure = map.raw.value("exposure", 0.0);  // checked by the spec's parser
   request.materialDescription = withoutFolders(map.raw.value("material", nlohmann::json()));

@@ -79,6 +79,8 @@ void parseEnvironmentLighting(JsonObjectReader& map, MapSpec& spec, const fs::pa
   if (env.has("from")) e.from = env.parsed("from", parseParameterizationKind);
   if (env.has("method")) e.method = env.parsed("method", parseUnderEnvironmentMethod);
   e.maxError = env.number("max_error", 0.01, 0.0, 0.5, /*exclusiveMinimum=*/true);
+  if (env.has("max_relative_error"))
+    e.maxRelativeError = env.number("max_relative_error", 0.0, 10.0, /*exclusiveMinimum=*/true);
   env.finish();
   if (map.has("camera")) e.camera = parseCamera(map);
   // "exposure": stops the written map is scaled by (2^exposure; for 8-bit outputs). Read again by the
@@ -105,6 +107,7 @@ UnderEnvironmentOptions MapSpec::underEnvironmentOptions() const {
   options.samplesPerTexel = samplesPerTexel;
   options.method = e->method;
   options.maxError = e->maxError;
+  options.maxRelativeError = e->maxRelativeError;
   return options;
 }
 

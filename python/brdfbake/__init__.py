@@ -247,6 +247,7 @@ def matcap(
     resolution: int = 256,
     *,
     max_error: float = 0.01,
+    max_relative_error: Optional[float] = None,
     method: str = "auto",
     camera: Optional[Sequence[float]] = None,
     parameterization: str = "sphere",
@@ -262,8 +263,10 @@ def matcap(
         first), a dict in a spec's "material" form ({"model": "cook_torrance", ...}), or a Fit.
     environment: an Environment (prepared once: reuse it for many materials), an image file or a numpy array of
         radiance (a lat-long image).
-    resolution: texels across. max_error: the bound on the estimated error, relative to the peak (0.05 for a
-        live preview, 0.01 for final output: the bound picks the method). camera: (yaw, pitch) in degrees.
+    resolution: texels across. max_error: the bound on the estimated error, RMS relative to the peak (0.05 for a
+        live preview, 0.01 for final output: the bound picks the method). max_relative_error: the bound on each
+        texel's relative error where the picture is above 1 % of its median (default 3 x max_error).
+        camera: (yaw, pitch) in degrees.
     output: also write the map there (format by extension); else Map.save(path) writes it later.
 
     Returns the Map: .pixels ((N, N, 4) float32, a view), .sample(dirs), .result (the error estimate).
@@ -274,7 +277,8 @@ def matcap(
         environment = Environment(environment)
     with progress_callback(progress) as callback:
         return _core.matcap(
-            material, environment, resolution, max_error, method, camera, parameterization, samples_per_texel,
+            material, environment, resolution, max_error, max_relative_error, method, camera, parameterization,
+            samples_per_texel,
             exposure, output, threads, callback,
         )
 

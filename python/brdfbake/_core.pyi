@@ -244,6 +244,7 @@ def matcap(
     environment: Environment,
     resolution: int,
     max_error: float,
+    max_relative_error: Optional[float],
     method: str,
     camera: Optional[Sequence[float]],
     parameterization: str,

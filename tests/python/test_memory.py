@@ -133,6 +133,7 @@ def test_errors_name_the_keyword():
     for call, words in [
         (lambda: brdfbake.matcap(material, env, 0), "resolution: "),
         (lambda: brdfbake.matcap(material, env, 16, max_error=2.0), "max_error: "),
+        (lambda: brdfbake.matcap(material, env, 16, max_relative_error=0.0), "max_relative_error: must be in (0, 10]"),
         (lambda: brdfbake.matcap({"model": "gooch"}, env, 16), "material: gooch has no BRDF"),
         (lambda: brdfbake.matcap({"model": "nope"}, env, 16), "material: model: unknown model"),
         (lambda: brdfbake.matcap(material, env, 16, camera=(0, 120)), "camera: "),

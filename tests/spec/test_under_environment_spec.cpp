@@ -130,6 +130,8 @@ TEST(UnderEnvironmentSpec, BadInputNamesItsJsonPath) {
       {[](json& m) { m["environment"]["file"] = ""; }, "maps[0].environment.file: must not be empty"},
       {[](json& m) { m["environment"]["method"] = "fast"; }, "maps[0].environment.method: method must be one of"},
       {[](json& m) { m["environment"]["max_error"] = 0.9; }, "maps[0].environment.max_error: must be <= 0.5"},
+      {[](json& m) { m["environment"]["max_relative_error"] = 0; },
+       "maps[0].environment.max_relative_error: must be > 0"},
       {[](json& m) { m["parameterization"] = "profile"; }, "maps[0].parameterization: a material lit by"},
       {[](json& m) { m["resolution"] = "auto"; }, "maps[0].max_error: required with \"auto\" values"},
       {[](json& m) {

@@ -31,7 +31,9 @@
 /// sphere map, uniform over the visible disc), and the value-weighted RMS (drawn in proportion to
 /// the map's value: where the highlight is); the estimate is the larger. The reference is a sum over
 /// the environment's texels (underEnvironmentReferenceAt). Sphere maps leave out the rim band
-/// (mapRimCos), as measureMapError does.
+/// (mapRimCos), as measureMapError does. Besides, the largest relative error of the evaluation's
+/// values at the probes whose reference is above 1 % of the median: the error where the picture is
+/// dim, bounded by maxRelativeError.
 
 #include <brdfbake/brdf/material.hpp>
 #include <brdfbake/core/context.hpp>
@@ -43,6 +45,7 @@
 #include <nlohmann/json.hpp>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -72,6 +75,11 @@ struct UnderEnvironmentOptions {
   /// The bound on the estimated error (larger of the lookup RMS and the value-weighted RMS,
   /// relative to the peak), in (0, 1). Default 1 %.
   double maxError = 0.01;
+  /// The bound on the largest relative error of a texel, |value - reference| / reference, over the
+  /// texels whose reference is above 1 % of the median (where the picture is dim as well as at a
+  /// highlight), in (0, 10]. Default (nullopt): 3 x maxError.
+  std::optional<double> maxRelativeError;
+  double relativeBound() const { return maxRelativeError.value_or(3.0 * maxError); }
   /// Fixed settings (0 = searched by maxError; Sampled only): importance samples per evaluation
   /// (>= 8), and grid points per lobe width (>= 2; -1 = every footprint sample, no grid).
   int importanceSamples = 0;
@@ -97,6 +105,7 @@ struct UnderEnvironmentCandidate {
   double seconds = 0.0;            ///< spent evaluating it (grid or probes)
   double errorEstimate = -1.0;     ///< the bound on the probes, from its own values (-1: not estimated)
   double errorEstimateMax = -1.0;  ///< the largest probe error, relative to the peak
+  double relativeError = -1.0;     ///< the largest relative error at probes above 1 % of the median
   bool chosen = false;
 };
 
@@ -104,7 +113,7 @@ struct UnderEnvironmentSummary {
   UnderEnvironmentMethod method = UnderEnvironmentMethod::Auto;  ///< Sampled or Reference
   std::string detail;
   std::string material;  ///< the material's model name
-  double maxError = 0.0;
+  double maxError = 0.0, maxRelativeError = 0.0;
   /// The finished map's lookups against the reference (0 when not estimated): the larger of
   /// lookupRms and highlightRms (errorEstimate), each relative to the peak (the largest reference
   /// value met), and the largest error.
@@ -113,10 +122,14 @@ struct UnderEnvironmentSummary {
   double highlightRms = 0.0;
   double errorMax = 0.0;
   double peak = 0.0;
+  /// The largest relative error of the chosen evaluation's values (a texel's own value, before
+  /// bilinear lookups) at the probes whose reference is above relativeFloor (1 % of the median of the
+  /// uniform probes' references).
+  double relativeError = 0.0, relativeFloor = 0.0;
   int probes = 0;
   bool errorEstimated = false;
   bool exact = false;     ///< the reference method (no estimate)
-  bool metBound = false;  ///< exact, or estimated within maxError
+  bool metBound = false;  ///< exact, or estimated within maxError and maxRelativeError
   /// The split: bright texels (explicit lights), the luminance threshold, their share of ∫ Y dω.
   int brightTexels = 0;
   double brightThreshold = 0.0;

@@ -42,13 +42,16 @@ struct MatcapRequest {
   UnderEnvironmentMethod method = UnderEnvironmentMethod::Auto;
   /// The bound on the estimated error, relative to the peak, in (0, 0.5] (material_under_environment.hpp).
   double maxError = 0.01;
+  /// The bound on each texel's relative error where the picture is above 1 % of its median, in (0, 10]
+  /// (default 3 x maxError; material_under_environment.hpp).
+  std::optional<double> maxRelativeError;
   CameraFrame camera;     ///< default: looking down -z, up +y (CameraFrame::fromYawPitch turns it)
   double exposure = 0.0;  ///< stops the map is scaled by (2^exposure), in [-30, 30]: for 8-bit outputs
   /// How the map's metadata records the material ({"model": ..., "file": NAME}); empty: its model.
   nlohmann::json materialDescription;
 
   /// Throws Error::invalidField naming the field: "material" (none, or no BRDF), "environment",
-  /// "resolution", "samples_per_texel", "max_error", "exposure", "camera".
+  /// "resolution", "samples_per_texel", "max_error", "max_relative_error", "exposure", "camera".
   void validate() const;
   /// The options shadeUnderEnvironment takes.
   UnderEnvironmentOptions shadingOptions() const;

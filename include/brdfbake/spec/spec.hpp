@@ -76,14 +76,15 @@ struct EnvironmentMapSpec {
   }
 };
 
-/// "environment": {"file", "from", "method", "max_error"} beside "material" (in place of "lights"), and
-/// the map's "camera": the material lit by an environment (docs/matcap.md), made by
+/// "environment": {"file", "from", "method", "max_error", "max_relative_error"} beside "material" (in place of
+/// "lights"), and the map's "camera": the material lit by an environment (docs/matcap.md), made by
 /// bakeUnderEnvironment.
 struct EnvironmentLighting {
   std::filesystem::path file;                                    ///< "file", resolved against the spec's folder
   std::optional<ParameterizationKind> from;                      ///< "from": parameterization of a plain image
   UnderEnvironmentMethod method = UnderEnvironmentMethod::Auto;  ///< "method": "auto" | "sampled" | "reference"
   double maxError = 0.01;                                        ///< "max_error", in (0, 0.5]
+  std::optional<double> maxRelativeError;  ///< "max_relative_error", in (0, 10] (default 3 x max_error)
   /// The map's "camera": {"forward": [x, y, z], "up": [x, y, z]} (orthonormal) or {"yaw": degrees,
   /// "pitch": degrees}; default the environment's axes (viewer on +z, up +y).
   CameraFrame camera;
