@@ -650,6 +650,42 @@ std::unique_ptr<Evaluation> chooseCandidate(const Setup& setup, const std::vecto
   return best;
 }
 
+// The finished map's error as a renderer reads it (bilinear lookups at the probes, relative to the
+// peak), and the chosen evaluation's relative error: a texel's own value against the reference, since
+// lookups between texels across a highlight's edge are relative errors of the resolution, which the
+// peak measure already bounds.
+void reportFinishedMap(const Setup& setup, const MaterialUnderEnvironment& result, ProbeBank& bank,
+                       UnderEnvironmentSummary& summary) {
+  const UnderEnvironmentOptions& options = setup.options;
+  const auto measureStart = Clock::now();
+  auto lookups = [&] {
+    const std::vector<Probe> ready(bank.probes.begin(), bank.probes.begin() + static_cast<std::ptrdiff_t>(bank.ready));
+    auto lookup = [&](const Probe& p) -> Rgb {
+      return sampleBilinear(result.image, *result.map, p.direction).head<3>();
+    };
+    return measure(ready, valuesAt(ready, lookup, setup.context));
+  };
+  Measure m = lookups();
+  if (m.bound() > options.maxError && bank.ready < bank.probes.size()) {  // a tighter bound from every probe
+    makeReady(setup, bank, bank.probes.size());
+    m = lookups();
+  }
+  summary.errorEstimated = true;
+  summary.errorEstimate = m.bound(), summary.lookupRms = m.lookupRms, summary.highlightRms = m.highlightRms;
+  summary.errorMax = m.max, summary.peak = m.peak, summary.probes = static_cast<int>(bank.ready);
+  for (const auto& c : summary.candidates)
+    if (c.chosen) summary.relativeError = std::max(0.0, c.relativeError);
+  summary.relativeFloor = kRelativeFloor * m.median;
+  const bool peakMet = summary.errorEstimate <= options.maxError;
+  summary.metBound = peakMet && summary.relativeError <= options.relativeBound();
+  if (!peakMet) {
+    summary.notes.push_back(
+        "the finished map's lookups miss the bound: its resolution limits them when the "
+        "sampled values met it (raise the resolution)");
+  }
+  summary.estimateSeconds += secondsSince(measureStart);
+}
+
 }  // namespace
 
 MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, const Material& material,
@@ -705,39 +741,7 @@ MaterialUnderEnvironment shadeUnderEnvironment(const Environment& environment, c
     result.image = renderOutput(*result.map, *evaluation, setup.view, smoothAngle, options.samplesPerTexel, context);
     requireFinite(result.image);
     summary.outputSeconds += secondsSince(bakeStart);
-    if (estimating) {
-      // The finished map as a renderer reads it: bilinear lookups at the probes.
-      const auto measureStart = Clock::now();
-      auto lookups = [&] {
-        const std::vector<Probe> ready(bank.probes.begin(),
-                                       bank.probes.begin() + static_cast<std::ptrdiff_t>(bank.ready));
-        auto lookup = [&](const Probe& p) -> Rgb {
-          return sampleBilinear(result.image, *result.map, p.direction).head<3>();
-        };
-        return measure(ready, valuesAt(ready, lookup, context));
-      };
-      Measure m = lookups();
-      if (m.bound() > options.maxError && bank.ready < bank.probes.size()) {  // a tighter bound from every probe
-        makeReady(setup, bank, bank.probes.size());
-        m = lookups();
-      }
-      summary.errorEstimated = true;
-      summary.errorEstimate = m.bound(), summary.lookupRms = m.lookupRms, summary.highlightRms = m.highlightRms;
-      summary.errorMax = m.max, summary.peak = m.peak, summary.probes = static_cast<int>(bank.ready);
-      // The relative error is the chosen evaluation's at the probes, a texel's own value against the
-      // reference: bilinear lookups between texels across a highlight's edge are relative errors of
-      // the resolution, which the peak measure above already bounds.
-      for (const auto& c : summary.candidates)
-        if (c.chosen) summary.relativeError = std::max(0.0, c.relativeError);
-      summary.relativeFloor = kRelativeFloor * m.median;
-      summary.metBound = summary.errorEstimate <= options.maxError && summary.relativeError <= options.relativeBound();
-      if (!summary.metBound) {
-        summary.notes.push_back(
-            "the finished map's lookups miss the bound: its resolution limits them when the "
-            "sampled values met it (raise the resolution)");
-      }
-      summary.estimateSeconds += secondsSince(measureStart);
-    }
+    if (estimating) reportFinishedMap(setup, result, bank, summary);
   });
   summary.seconds = secondsSince(start);
   return result;
@@ -816,6 +820,8 @@ MapInfo underEnvironmentMapInfo(const MaterialUnderEnvironment& map, nlohmann::j
       {"max_error", s.maxError},
       {"error_metric", "max(lookup RMS, value-weighted RMS), relative to the peak"},
       {"error_estimate", s.errorEstimated ? nlohmann::json(s.errorEstimate) : nlohmann::json(nullptr)},
+      {"max_relative_error", s.maxRelativeError},
+      {"relative_error", s.errorEstimated ? nlohmann::json(s.relativeError) : nlohmann::json(nullptr)},
       {"exact", s.exact}};
   return info;
 }

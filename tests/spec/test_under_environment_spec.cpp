@@ -185,6 +185,10 @@ TEST(UnderEnvironmentSpec, TheMapIsMadeFromTheParsedSpec) {
   const MapFile file = readMap(dir / "furnace.exr");
   EXPECT_EQ(file.info.resolution, 32);
   EXPECT_EQ(file.info.spec["under_environment"]["material"], "phong");
+  // A furnace's Lambertian matcap is 0.5 everywhere: every texel is above 1 % of the median, and
+  // within 0.5 % of it (the check above), so the relative error recorded is at most that.
+  EXPECT_DOUBLE_EQ(file.info.spec["under_environment"]["max_relative_error"].get<double>(), 0.06);  // 3 x 0.02
+  EXPECT_LT(file.info.spec["under_environment"]["relative_error"].get<double>(), 0.005);
   EXPECT_NEAR(file.image.at(16, 16)[0], 0.5, 0.0025);
   // Not for other maps.
   json lit = copperUnderSky();

@@ -176,7 +176,7 @@ std::vector<Rgb> underEnvironmentReferenceAt(const Environment& environment, con
 MapInfo underEnvironmentMapInfo(const MaterialUnderEnvironment& map, nlohmann::json spec);
 
 /// Writes the map (writeMap) with MapInfo::spec = `spec` plus "under_environment": {material,
-/// method, detail, max_error, error_estimate, error_metric, camera}.
+/// method, detail, max_error, error_metric, error_estimate, max_relative_error, relative_error, exact}.
 MapWriteReport writeUnderEnvironmentMap(const MaterialUnderEnvironment& map, const std::filesystem::path& path,
                                         nlohmann::json spec, CubeLayout layout = CubeLayout::Cross,
                                         const WriteOptions& options = {});
