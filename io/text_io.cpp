@@ -92,10 +92,6 @@ int writeAll(int fd, std::string_view text) {
   return 0;
 }
 
-double secondsNow() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
 }  // namespace
 
 void writeStdout(std::string_view text) {
@@ -129,7 +125,8 @@ void TextProgress::write(const std::string& text) { writeAll(fd_, text); }
 void TextProgress::report(const std::string& task, double fraction) {
   std::lock_guard lock(mutex_);
   const bool newTask = task != task_;
-  if (newTask) task_ = task, lastQuarter_ = -1, lastPercent_ = -1, started_ = lastLine_ = secondsNow();
+  if (newTask)
+    task_ = task, lastQuarter_ = -1, lastPercent_ = -1, started_ = lastLine_ = std::chrono::steady_clock::now();
   const int percent = static_cast<int>(std::clamp(fraction, 0.0, 1.0) * 100.0);
   if (terminal_) {
     if (percent == lastPercent_) return;
@@ -144,9 +141,9 @@ void TextProgress::report(const std::string& task, double fraction) {
   }
   // Plain lines: the start, each quarter reached a second or more after the last line, the end.
   const int quarter = percent / 25;
-  const double t = secondsNow();
+  const auto t = std::chrono::steady_clock::now();
   const bool end = fraction >= 1.0 && lastQuarter_ < 4;
-  if (!newTask && !end && (quarter <= lastQuarter_ || t - lastLine_ < 1.0)) return;
+  if (!newTask && !end && (quarter <= lastQuarter_ || secondsSince(lastLine_) < 1.0)) return;
   if (!newTask && !end && quarter == 4) return;  // 100 % is printed as the end
   lastQuarter_ = end ? 4 : std::max(quarter, lastQuarter_);
   lastLine_ = t;
@@ -154,7 +151,7 @@ void TextProgress::report(const std::string& task, double fraction) {
   line << "brdfbake: " << task << ": ";
   if (end) {
     line.precision(3);
-    line << "done (" << t - started_ << " s)\n";
+    line << "done (" << secondsSince(started_) << " s)\n";
   } else {
     line << percent << " %\n";
   }

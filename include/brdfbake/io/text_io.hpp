@@ -6,6 +6,7 @@
 
 #include <brdfbake/core/progress.hpp>
 
+#include <chrono>
 #include <cstddef>
 #include <filesystem>
 #include <mutex>
@@ -65,7 +66,7 @@ class TextProgress {
   std::mutex mutex_;
   std::string task_;
   int lastQuarter_ = -1, lastPercent_ = -1;
-  double lastLine_ = 0.0, started_ = 0.0;
+  std::chrono::steady_clock::time_point lastLine_, started_;
 };
 
 }  // namespace brdfbake
