@@ -15,9 +15,9 @@ struct Context::Shared {
   std::atomic<bool> cancelled{false};
 };
 
-Context::Context() : shared_(std::make_shared<Shared>()) {}
+Context::Context() : shared_(std::make_shared<Shared>()), reached_(std::make_shared<double>(0.0)) {}
 
-Context::Context(Options options) : shared_(std::make_shared<Shared>()) {
+Context::Context(Options options) : shared_(std::make_shared<Shared>()), reached_(std::make_shared<double>(0.0)) {
   requireThreadCount(options.threads);
   threads_ = options.threads;
   allowLarge_ = options.allowLarge;
@@ -45,6 +45,7 @@ void Context::requireImageSize(int width, int height, const std::string& where) 
 Context Context::task(std::string name) const {
   Context copy = *this;
   copy.task_ = std::move(name);
+  copy.reached_ = std::make_shared<double>(0.0);
   copy.offset_ = 0.0, copy.scale_ = 1.0;
   return copy;
 }
@@ -74,7 +75,8 @@ void Context::report(double fraction) const {
   if (!shared_->sink || quiet_) return;
   const std::lock_guard lock(shared_->reporting);
   const double f = std::clamp(std::isfinite(fraction) ? fraction : 0.0, 0.0, 1.0);
-  shared_->sink(task_, std::clamp(offset_ + scale_ * f, 0.0, 1.0));
+  *reached_ = std::max(*reached_, std::clamp(offset_ + scale_ * f, 0.0, 1.0));
+  shared_->sink(task_, *reached_);
 }
 
 std::function<void(double)> Context::progress() const {

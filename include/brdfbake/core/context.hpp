@@ -78,7 +78,9 @@ class Context {
   /// The task progress is reported under ("" unless task() named one).
   const std::string& taskName() const { return task_; }
   /// Reports `fraction` (in [0, 1]) of the current task to the sink, after checkCancelled(). Calls
-  /// are serialised, so a sink needs no lock of its own.
+  /// are serialised, so a sink needs no lock of its own, and a task's reports never go backwards: a
+  /// fraction below the furthest the task (any of its parts) reached is sent as that furthest, so
+  /// threads reporting out of order do not make a bar jump back.
   void report(double fraction) const;
   /// report() as a callback, for the computations that count their steps (ProgressCounter).
   std::function<void(double)> progress() const;
@@ -99,6 +101,7 @@ class Context {
   int threads_ = 0;
   bool allowLarge_ = false;
   std::string task_;
+  std::shared_ptr<double> reached_;    // the furthest fraction this task reported (guarded by Shared)
   double offset_ = 0.0, scale_ = 1.0;  // part(): fraction f of the part is offset_ + scale_ f of the task
   bool quiet_ = false;                 // withoutProgress()
 };
