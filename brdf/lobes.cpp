@@ -50,7 +50,9 @@ void validateColorProfile(const std::vector<double>& profile, bool expected, con
   }
   require(profile.size() == static_cast<std::size_t>(kColorProfileCount),
           at + ": a colour profile holds " + std::to_string(kColorProfileCount) + " coefficients");
-  for (double p : profile) require(std::isfinite(p) && p >= 0.0, at + ": colour profiles must be finite and >= 0");
+  for (double p : profile)
+    require(std::isfinite(p) && p >= 0.0 && p <= kMaxLobeWeight,
+            at + ": colour profiles must be finite and in [0, 1e6]");
 }
 
 // Every channel's table coefficients match the model's table: coefficientCount finite numbers
@@ -101,7 +103,8 @@ void LobeModel::validate() const {
     const std::string where = "lobe model: channel '" + channel.name + "'";
     require(channel.lobes.size() <= static_cast<std::size_t>(kMaxModelLobes),
             where + ": at most " + std::to_string(kMaxModelLobes) + " lobes");
-    require(std::isfinite(channel.diffuse) && channel.diffuse >= 0.0, where + ": diffuse must be finite and >= 0");
+    require(std::isfinite(channel.diffuse) && channel.diffuse >= 0.0 && channel.diffuse <= kMaxLobeWeight,
+            where + ": diffuse must be finite and in [0, 1e6]");
     for (std::size_t k = 0; k < channel.lobes.size(); ++k) {
       const Lobe& lobe = channel.lobes[k];
       const std::string at = where + " lobe " + std::to_string(k);
@@ -109,7 +112,7 @@ void LobeModel::validate() const {
               at + ": " + std::string(toString(elevation)) + " lobes need " + std::to_string(count) +
                   " coefficient(s) per parameter");
       for (double c : lobe.weight) {
-        require(std::isfinite(c) && c >= 0.0, at + ": weights must be finite and >= 0");
+        require(std::isfinite(c) && c >= 0.0 && c <= kMaxLobeWeight, at + ": weights must be finite and in [0, 1e6]");
         require(count == 1 || c > 0.0, at + ": varying weights must be > 0 (they are interpolated geometrically)");
       }
       for (double n : lobe.exponent) {
@@ -118,7 +121,8 @@ void LobeModel::validate() const {
       }
       require(std::isfinite(lobe.cxy) && std::abs(lobe.cxy) <= kMaxLobeCxy,
               at + ": cxy must be finite with |cxy| <= " + std::to_string(static_cast<int>(kMaxLobeCxy)));
-      require(std::isfinite(lobe.fresnel) && lobe.fresnel >= 0.0, at + ": fresnel must be finite and >= 0");
+      require(std::isfinite(lobe.fresnel) && lobe.fresnel >= 0.0 && lobe.fresnel <= kMaxLobeWeight,
+              at + ": fresnel must be finite and in [0, 1e6]");
       require(lobe.halfVector || lobe.fresnel == 0.0, at + ": fresnel applies to half-vector lobes only");
       require(!lobe.halfVector || lobe.cxy == -1.0, at + ": a half-vector lobe has no cxy");
       for (double n : lobe.exponent) {

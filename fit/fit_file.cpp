@@ -409,18 +409,18 @@ void readFitSection(JsonObjectReader fit, FitResult& result) {
 // (LobeModel::validate then checks that the model's colour profile asks for it).
 std::vector<double> readColorProfile(JsonObjectReader& reader, const std::string& key) {
   if (!reader.has(key)) return {};
-  return readNumbers(reader, key, kColorProfileCount, 0.0, HUGE_VAL);
+  return readNumbers(reader, key, kColorProfileCount, 0.0, kMaxLobeWeight);
 }
 
 // One lobe of a channel, `count` coefficients per weight and exponent.
 Lobe readLobe(JsonObjectReader lobe, std::size_t count) {
   Lobe l;
-  l.weight = readNumbers(lobe, "weight", count, count == 1 ? 0.0 : 1e-300, HUGE_VAL);
+  l.weight = readNumbers(lobe, "weight", count, count == 1 ? 0.0 : 1e-300, kMaxLobeWeight);
   l.exponent = readNumbers(lobe, "exponent", count, kMinLobeExponent, kMaxLobeExponent);
   const std::string axis = lobe.optionalString("axis").value_or("lafortune");
   if (axis == "half_vector") {
     l.halfVector = true;
-    l.fresnel = lobe.number("fresnel", 0.0, 0.0, HUGE_VAL, false);
+    l.fresnel = lobe.number("fresnel", 0.0, 0.0, kMaxLobeWeight, false);
   } else if (axis == "lafortune") {
     l.cxy = lobe.number("cxy", -1.0, -kMaxLobeCxy, kMaxLobeCxy, false);
   } else {
@@ -439,7 +439,7 @@ LobeChannel readChannel(JsonObjectReader ch, int lobeCount, std::size_t count, s
                         std::optional<ChannelFitStats>& stats) {
   LobeChannel channel;
   channel.name = ch.string("name");
-  channel.diffuse = ch.number("diffuse", 0.0);
+  channel.diffuse = ch.number("diffuse", 0.0, kMaxLobeWeight);
   channel.diffuseProfile = readColorProfile(ch, "diffuse_profile");
   if (tableCount > 0)
     channel.halfDifferenceCoefficients =

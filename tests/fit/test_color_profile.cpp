@@ -142,7 +142,7 @@ TEST(ColorProfile, ValidateRejectsProfilesThatDoNotMatchTheModel) {
   expectRejected(m, "channel 'G' diffuse: a colour profile holds 4");
   m = profiledModel();
   m.channels[0].lobes[0].weightProfile[2] = -0.1;
-  expectRejected(m, "channel 'R' lobe 0 weight: colour profiles must be finite and >= 0");
+  expectRejected(m, "channel 'R' lobe 0 weight: colour profiles must be finite and in [0, 1e6]");
   m = profiledModel();
   m.channels[0].lobes[0].fresnelProfile = {1.0, 1.0, 1.0, 1.0};  // a mirror lobe has no C_F
   expectRejected(m, "channel 'R' lobe 0 fresnel");

@@ -592,6 +592,20 @@ TEST(FitFile, ErrorsNameTheJsonPath) {
   d = good;
   d["channels"][0]["diffuse"] = -1;
   expectError(d, "channels[0].diffuse");
+  // Weights as large as a double allows once passed and crashed the matcap's lobe sampler (exit 139):
+  // weights and diffuse terms lie in [0, 1e6], the bound of a spec's colours.
+  d = good;
+  d["channels"][0]["diffuse"] = 1e308;
+  expectError(d, "channels[0].diffuse");
+  d = good;
+  d["channels"][0]["lobes"][0]["weight"][0] = 1e308;
+  expectError(d, "channels[0].lobes[0].weight[0]");
+  d = good;
+  d["channels"][0]["lobes"][0]["weight"][0] = 1e6;
+  EXPECT_NO_THROW(fitFileFromJson(d, "fit.json"));
+  LobeModel huge = constantModel();
+  huge.channels[1].lobes[0].weight[0] = 2e6;
+  EXPECT_THROW(huge.validate(), Error);
   d = good;
   d["channels"][2]["lobes"][1]["wieght"] = 1;
   expectError(d, "wieght");

@@ -130,6 +130,10 @@ inline constexpr int kColorProfileCount = kColorProfileDegree + 1;
 /// Bounds the fitter enforces and LobeModel::validate checks.
 inline constexpr double kMinLobeExponent = 1.0;
 inline constexpr double kMaxLobeExponent = 1e5;
+/// Largest diffuse term, lobe weight, Fresnel coefficient and colour-profile coefficient: the bound a
+/// spec's colours have (io/json_reader.hpp kMaxColor). Products of them stay far from overflow, where
+/// 1e308 passed as a weight once crashed the matcap's lobe sampler.
+inline constexpr double kMaxLobeWeight = 1e6;
 
 /// A varying lobe parameter from the logarithms of its values and the Bernstein weights at the
 /// elevation (see @file): exp(sum_j weights[j] logValues[j]).
