@@ -219,6 +219,13 @@ bool readsAsTexture(const fs::path& path) {
 
 fs::path metadataSidecarPath(const fs::path& path) { return path.string() + ".json"; }
 
+nlohmann::json readMetadataSidecar(const fs::path& path) {
+  const fs::path sidecar = metadataSidecarPath(path);
+  std::error_code ec;
+  if (!fs::is_regular_file(sidecar, ec)) return nullptr;
+  return parseJsonText(readTextFile(sidecar, "metadata sidecar", kMaxJsonBytes), sidecar.string());
+}
+
 WriteReport writeImage(const Image& image, const fs::path& path, const WriteOptions& options) {
   for (const auto& input : options.inputs) {
     if (sameFile(input, path)) {
@@ -374,15 +381,11 @@ Image readImage(const fs::path& path, int mipLevel) {
                                                std::to_string(height) + " pixels, more than its header says");
   }
   Image image = readPixelsInStrips(in.get(), header, path);
-  std::string metadata = header.metadata;
-  std::string metadataSource = path.string() + " (brdfbake metadata)";
-  const fs::path sidecar = metadataSidecarPath(path);
-  std::error_code ec;
-  if (metadata.empty() && fs::is_regular_file(sidecar, ec)) {
-    metadata = readTextFile(sidecar, "metadata sidecar", kMaxJsonBytes);
-    metadataSource = sidecar.string();
+  if (!header.metadata.empty()) {
+    image.metadata = parseJsonText(header.metadata, path.string() + " (brdfbake metadata)");
+  } else if (nlohmann::json sidecar = readMetadataSidecar(path); !sidecar.is_null()) {
+    image.metadata = std::move(sidecar);
   }
-  if (!metadata.empty()) image.metadata = parseJsonText(metadata, metadataSource);
   return image;
 }
 

@@ -222,11 +222,8 @@ std::string readWhole(const fs::path& path) {
 }
 
 void metadataFromSidecar(nlohmann::json& metadata, const fs::path& path) {
-  const fs::path sidecar = metadataSidecarPath(path);
-  std::error_code ec;
-  if (metadata.empty() && fs::is_regular_file(sidecar, ec)) {
-    metadata = parseJsonText(readTextFile(sidecar, "metadata sidecar"), sidecar.string());
-  }
+  if (!metadata.empty()) return;
+  if (nlohmann::json sidecar = readMetadataSidecar(path); !sidecar.is_null()) metadata = std::move(sidecar);
 }
 }  // namespace
 

@@ -220,6 +220,22 @@ TEST(ImageLimits, ASidecarThatCannotBeWrittenIsNamedByItsImage) {
   EXPECT_FALSE(fs::exists(dir / "m.hdr"));
 }
 
+// A sidecar (X.dds.json, X.hdr.json) over the JSON limit is refused before it is read, for every format
+// that keeps its metadata beside it: a 1,000 MB sparse sidecar once took 2 GB to read and refuse.
+TEST(ImageLimits, AnOversizeSidecarIsRefusedBeforeItIsRead) {
+  test::TempDir dir;
+  for (const char* name : {"m.hdr", "m.dds"}) {
+    writeImage(noise(4, 4), dir / name);
+    const fs::path sidecar = metadataSidecarPath(dir / name);
+    ASSERT_TRUE(fs::exists(sidecar)) << name;
+    fs::resize_file(sidecar, std::uintmax_t{1000} << 20);  // sparse: no disk, but 1,000 MB to read
+    const std::string message = errorOf([&] { readImage(dir / name); }, Error::Kind::Resource);
+    EXPECT_NE(message.find(sidecar.string()), std::string::npos) << message;
+    EXPECT_NE(message.find("more than the 16777216 bytes accepted for a metadata sidecar"), std::string::npos)
+        << message;
+  }
+}
+
 TEST(ImageLimits, ALinkAtTheOutputIsNeitherFollowedNorReplaced) {
   test::TempDir dir;
   put(dir / "victim.exr", "keep");

@@ -49,6 +49,10 @@ WriteReport writeImage(const Image& image, const std::filesystem::path& path, co
 /// PATH.json: where writeImage puts (or removes) the metadata of `path` when its format drops
 /// custom attributes, and where readImage looks for it.
 std::filesystem::path metadataSidecarPath(const std::filesystem::path& path);
+/// The metadata in `path`'s sidecar (metadataSidecarPath) when it is a regular file, else null. A
+/// sidecar over kMaxJsonBytes is refused before it is read (Error(Resource) naming it), bad JSON
+/// (Error(InvalidInput)) named with line and column.
+nlohmann::json readMetadataSidecar(const std::filesystem::path& path);
 
 /// Reads any format OpenImageIO reads, and KTX2, KTX1 and DDS (by their identifiers, readTexture;
 /// a cube texture comes back as the cube cross, crossOfCubeFaces), as float RGBA (alpha 1 if
