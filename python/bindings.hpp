@@ -40,6 +40,11 @@ struct PythonEnvironment {
 std::shared_ptr<const Environment> environmentFromPython(const py::object& source,
                                                          const std::optional<std::string>& from);
 
+/// A job's map in memory as a brdfbake.Map: its level 0 looked up, every level kept, `entry` as its
+/// .result, and how to write it.
+std::shared_ptr<OpenedMap> mapInMemory(std::vector<Image> levels, const MapInfo& info, const nlohmann::json& entry,
+                                       std::function<MapWriteReport(const MapOutputs&)> writer);
+
 /// Opens `source` without the GIL. Throws what BakedOutput::open throws.
 std::shared_ptr<OpenedMap> openMap(const OutputSource& source);
 

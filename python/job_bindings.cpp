@@ -32,6 +32,7 @@ SpecRunResult runSpecJob(const std::optional<std::filesystem::path>& spec, const
   if (!document.is_none()) options.document = jsonFromPython(document, label);
   options.label = label;
   if (outDir) options.outDir = *outDir;
+  options.inMemory = true;  // a map without "output" comes back as MapResult.map
   options.validate();
   SpecRunResult result;
   runJob([&](const Context& context) { result = runSpec(options, context); }, progress, threads, allowLarge);
@@ -116,17 +117,6 @@ auto namingKeywords(const std::vector<std::pair<std::string, std::string>>& rena
       if (field == keyword) keyword = name;
     throw Error(error.kind(), keyword + ": " + error.problem());
   }
-}
-
-// A job's map in memory as a brdfbake.Map: its level 0 looked up, every level kept, and how to write it.
-std::shared_ptr<OpenedMap> mapInMemory(std::vector<Image> levels, const MapInfo& info, const nlohmann::json& entry,
-                                       std::function<MapWriteReport(const MapOutputs&)> writer) {
-  auto map = std::make_shared<OpenedMap>();
-  map->output = std::make_shared<const BakedOutput>(BakedOutput::fromMap(levels.front(), info));
-  map->levels = std::move(levels);
-  map->result = pythonFromJson(entry);
-  map->writer = std::move(writer);
-  return map;
 }
 
 // ---- prefilter ----------------------------------------------------------------------------------

@@ -173,6 +173,16 @@ std::vector<std::filesystem::path> save(OpenedMap& map, const std::filesystem::p
 
 }  // namespace
 
+std::shared_ptr<OpenedMap> mapInMemory(std::vector<Image> levels, const MapInfo& info, const nlohmann::json& entry,
+                                       std::function<MapWriteReport(const MapOutputs&)> writer) {
+  auto map = std::make_shared<OpenedMap>();
+  map->output = std::make_shared<const BakedOutput>(BakedOutput::fromMap(levels.front(), info));
+  map->levels = std::move(levels);
+  map->result = pythonFromJson(entry);
+  map->writer = std::move(writer);
+  return map;
+}
+
 std::shared_ptr<OpenedMap> openMap(const OutputSource& source) {
   auto map = std::make_shared<OpenedMap>();
   map->source = source;

@@ -91,12 +91,20 @@ void bindSpecResults(py::module_& module) {
       .def_readonly("error", &MapResult::error, "The failure's message, or \"\".")
       .def_readonly("files", &MapResult::files, "Every file written (faces, mip levels, sidecars, ...).")
       .def_readonly("notes", &MapResult::notes)
+      .def_property_readonly(
+          "map",
+          [](const MapResult& m) -> py::object {
+            if (!m.made) return py::none();
+            return py::cast(mapInMemory(m.made->levels, m.made->info, m.entry, m.made->write));
+          },
+          "The map as a brdfbake.Map when the spec named no output for it (made in memory only), else None.")
       .def(
           "to_json", [](const MapResult& m) { return pythonFromJson(m.toJson()); },
           "The map's entry as `brdfbake bake --json` prints it: output, status, files, parameterization, "
           "resolution, width, height, bake_path, bake_seconds, write_seconds, notes, and its kind's keys.")
       .def("brief_report", &MapResult::briefReport, "The lines `brdfbake bake` prints for the map.")
       .def("__repr__", [](const MapResult& m) {
+        if (m.made) return "<brdfbake.MapResult " + m.jsonPath + " in memory>";
         return "<brdfbake.MapResult " + m.jsonPath + " " + (m.written ? "written" : "failed") + " '" +
                m.output.string() + "'>";
       });

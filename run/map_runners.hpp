@@ -33,6 +33,8 @@ struct MapPlace {
   bool list = false;
   /// "a.exr" or "a.exr, a.png, a.ktx2".
   std::string names() const;
+  /// How a report starts: "wrote a.exr, a.png", or "made maps[0] in memory" for a map without files.
+  std::string made() const;
 };
 MapPlace placeOf(const MapSpec& map);
 /// A spec map's outputs as the write step takes them.

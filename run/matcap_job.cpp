@@ -138,9 +138,9 @@ MapResult reportMatcap(const MatcapResult& made, const MapPlace& place, const Ma
       written.files, notes);
   result.entry.update(made.toJson());
   const std::string environment = made.description["environment"].value("file", std::string("the environment"));
-  result.lines.push_back("wrote " + place.names() + " (" + kind + " " + std::to_string(width) + "x" +
-                         std::to_string(height) + ", lit by " + environment + "): " + formatNumber(s.seconds) +
-                         " s, write " + formatNumber(writeSeconds) + " s");
+  result.lines.push_back(place.made() + " (" + kind + " " + std::to_string(width) + "x" + std::to_string(height) +
+                         ", lit by " + environment + "): " + formatNumber(s.seconds) + " s, write " +
+                         formatNumber(writeSeconds) + " s");
   result.lines.push_back("  " + s.briefReport());
   for (const auto& note : result.notes) result.lines.push_back("  note: " + note);
   return result;
@@ -148,10 +148,17 @@ MapResult reportMatcap(const MatcapResult& made, const MapPlace& place, const Ma
 
 MapResult makeAndWriteMatcap(const MatcapRequest& request, const MapOutputs& outputs, const MapPlace& place,
                              const Context& context) {
-  const MatcapResult made = makeMatcap(request, context);
+  auto made = std::make_shared<const MatcapResult>(makeMatcap(request, context));
+  if (outputs.files.empty()) {  // in memory (a spec map without outputs)
+    MapResult result = reportMatcap(*made, place, {}, 0.0);
+    auto write = [made](const MapOutputs& o) { return writeMatcap(*made, o); };
+    result.made = std::make_shared<const MadeMap>(
+        MadeMap{{made->map.image}, underEnvironmentMapInfo(made->map, made->description), std::move(write)});
+    return result;
+  }
   const auto writeStart = std::chrono::steady_clock::now();
-  const MapWriteReport written = writeMatcap(made, outputs);
-  return reportMatcap(made, place, written, secondsSince(writeStart));
+  const MapWriteReport written = writeMatcap(*made, outputs);
+  return reportMatcap(*made, place, written, secondsSince(writeStart));
 }
 
 MapResult runUnderEnvironmentMap(const MapSpec& specified, const std::shared_ptr<const Environment>& environment,
@@ -176,7 +183,7 @@ MapResult runUnderEnvironmentMap(const MapSpec& specified, const std::shared_ptr
   request.exposure = map.raw.value("exposure", 0.0);  // checked by the spec's parser
   request.materialDescription = withoutFolders(map.raw.value("material", nlohmann::json()));
   return makeAndWriteMatcap(request, outputsOf(map, context.write.inputs), placeOf(map),
-                            context.context.task(map.jsonPath + " " + map.output.filename().string()));
+                            context.context.task(map.jsonPath + " " + map.outputName()));
 }
 
 }  // namespace run_detail

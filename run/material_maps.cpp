@@ -66,7 +66,7 @@ Baked bakeMaterial(const MapSpec& specified, const MapRunContext& context) {
   const auto function = map.makeFunction();
   BakeOptions options;
   options.samplesPerTexel = map.samplesPerTexel;
-  const Context task = context.context.task(map.jsonPath + " " + map.output.filename().string());
+  const Context task = context.context.task(map.jsonPath + " " + map.outputName());
   if (map.anyAuto()) {
     bakeAuto(*function, options, task, baked);
   } else if (map.radialProfile) {
@@ -119,10 +119,10 @@ MapResult writeProfile(const Baked& baked, const MapRunContext& context) {
   const Vec3& axis = profile.axis();
   result.entry["axis"] = {axis.x(), axis.y(), axis.z()};
   result.entry["samples_per_texel"] = map.samplesPerTexel;
-  result.lines.push_back("wrote " + placeOf(map).names() + " (1-D radial profile, " + std::to_string(n) +
-                         " texels about (" + formatNumber(axis.x()) + ", " + formatNumber(axis.y()) + ", " +
-                         formatNumber(axis.z()) + "), " + baked.summary.path + "): bake " +
-                         formatNumber(baked.summary.seconds) + " s, write " + formatNumber(writeSeconds) + " s");
+  result.lines.push_back(placeOf(map).made() + " (1-D radial profile, " + std::to_string(n) + " texels about (" +
+                         formatNumber(axis.x()) + ", " + formatNumber(axis.y()) + ", " + formatNumber(axis.z()) +
+                         "), " + baked.summary.path + "): bake " + formatNumber(baked.summary.seconds) + " s, write " +
+                         formatNumber(writeSeconds) + " s");
   result.lines.push_back("  lookup: u = |r - axis| / 2, texel i at u = (i + 0.5) / " + std::to_string(n) +
                          " (about the view: u = the sphere-map radius)");
   addAutoLines(baked.autoReport, result);
@@ -160,12 +160,23 @@ MapResult writeMaterialMap(const Baked& baked, const MapRunContext& context) {
       placeOf(map), {kind, map.resolution, width, height, baked.summary.path, baked.summary.seconds, writeSeconds},
       written.files, written.notes);
   result.entry["samples_per_texel"] = map.samplesPerTexel;
-  result.lines.push_back("wrote " + placeOf(map).names() + " (" + kind + " " + std::to_string(width) + "x" +
+  result.lines.push_back(placeOf(map).made() + " (" + kind + " " + std::to_string(width) + "x" +
                          std::to_string(height) + ", " + std::to_string(map.samplesPerTexel) + " samples/texel, " +
                          baked.summary.path + "): bake " + formatNumber(baked.summary.seconds) + " s, write " +
                          formatNumber(writeSeconds) + " s");
   addAutoLines(baked.autoReport, result);
   addNoteLines(written.notes, result);
+  if (map.inMemory()) {
+    auto image = std::make_shared<const Image>(baked.image);
+    auto write = [image, info](const MapOutputs& o) {
+      o.validate();
+      MapWriteReport report;
+      for (std::size_t i = 0; i < o.files.size(); ++i)
+        appendWritten(report, writeMap(*image, info, o.files[i], o.layout, o.writeOptionsFor(i)));
+      return report;
+    };
+    result.made = std::make_shared<const MadeMap>(MadeMap{{baked.image}, info, std::move(write)});
+  }
   return result;
 }
 

@@ -322,8 +322,9 @@ std::vector<std::string> boundNotes(const PrefilterResult& made) {
 }
 
 void addLines(const PrefilterResult& made, const MapPlace& place, double writeSeconds, MapResult& result) {
-  const std::string what = made.stack ? elevationSlicePath(place.files.front(), 0).string() + " ..." : place.names();
-  result.lines.push_back("wrote " + what + " (" + std::string(toString(made.map.map->kind())) + " " +
+  const std::string what =
+      made.stack ? "wrote " + elevationSlicePath(place.files.front(), 0).string() + " ..." : place.made();
+  result.lines.push_back(what + " (" + std::string(toString(made.map.map->kind())) + " " +
                          std::to_string(made.map.map->width()) + "x" + std::to_string(made.map.map->height()) +
                          "): " + made.map.summary.briefReport() + "; write " + formatNumber(writeSeconds) + " s");
   if (result.files.size() > 1) result.lines.push_back("  " + std::to_string(result.files.size()) + " files in all");
@@ -360,10 +361,17 @@ namespace {
 MapResult makeAndWritePrefiltered(const PrefilterRequest& request, const MapOutputs& outputs,
                                   const std::optional<ShOutput>& sh, const MapPlace& place, const nlohmann::json& spec,
                                   const Context& context) {
-  const PrefilterResult made = prefilterEnvironment(request, context);
+  auto made = std::make_shared<const PrefilterResult>(prefilterEnvironment(request, context));
+  if (outputs.files.empty()) {  // in memory (a spec map without outputs)
+    MapResult result = reportPrefiltered(*made, place, {}, 0.0, sh);
+    auto write = [made, spec](const MapOutputs& o) { return writePrefiltered(*made, o, std::nullopt, spec); };
+    result.made = std::make_shared<const MadeMap>(
+        MadeMap{made->map.levels, prefilteredMapInfo(made->map, spec, 0), std::move(write)});
+    return result;
+  }
   const auto writeStart = std::chrono::steady_clock::now();
-  MapWriteReport written = writePrefiltered(made, outputs, sh, spec);
-  return reportPrefiltered(made, place, std::move(written), secondsSince(writeStart), sh);
+  MapWriteReport written = writePrefiltered(*made, outputs, sh, spec);
+  return reportPrefiltered(*made, place, std::move(written), secondsSince(writeStart), sh);
 }
 
 }  // namespace
@@ -395,7 +403,7 @@ MapResult runEnvironmentMap(const MapSpec& map, const EnvironmentMapSpec& e,
   MapOutputs outputs = outputsOf(map, context.write.inputs);
   outputs.mipLayout = e.mipLayout;
   return makeAndWritePrefiltered(request, outputs, sh, placeOf(map), withoutFolders(map.raw),
-                                 context.context.task(map.jsonPath + " " + map.output.filename().string()));
+                                 context.context.task(map.jsonPath + " " + map.outputName()));
 }
 
 }  // namespace run_detail

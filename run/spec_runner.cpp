@@ -20,6 +20,7 @@ fs::path placed(const fs::path& outDir, const fs::path& written) {
 void placeOutputs(BakeSpec& spec, const fs::path& outDir) {
   if (outDir.empty()) return;
   for (auto& map : spec.maps) {
+    if (map.inMemory()) continue;
     if (map.outputList) {
       const nlohmann::json& list = map.raw.at("outputs");
       map.output = placed(outDir, list.at(0).get<std::string>());
@@ -128,10 +129,10 @@ SpecPlan planSpec(const SpecRunOptions& options, const Context& context) {
   options.validate();
   SpecPlan plan;
   if (!options.spec.empty()) {
-    plan.spec = loadBakeSpec(options.spec);
+    plan.spec = loadBakeSpec(options.spec, options.inMemory);
     plan.specFile = options.spec;
   } else {
-    plan.spec = parseBakeSpec(options.document, "", options.label);
+    plan.spec = parseBakeSpec(options.document, "", options.label, options.inMemory);
   }
   placeOutputs(plan.spec, options.outDir);
   const fs::path specFolder = plan.specFile.parent_path();
@@ -156,6 +157,7 @@ SpecRunResult runSpec(const SpecRunOptions& options, const Context& context) {
     const MapSpec& map = plan.spec.maps[i];
     try {
       MapResult made = runOneMap(map, environments[i], plan, context);
+      if (made.made) made.entry["status"] = "in_memory";
       for (const auto& note : map.notes) {
         made.notes.push_back(note);
         made.entry["notes"].push_back(note);
@@ -177,6 +179,11 @@ std::string MapPlace::names() const {
   std::string text;
   for (const fs::path& file : files) text += (text.empty() ? "" : ", ") + file.string();
   return text;
+}
+
+std::string MapPlace::made() const {
+  return files.empty() ? "made " + (jsonPath.empty() ? std::string("the map") : jsonPath) + " in memory"
+                       : "wrote " + names();
 }
 
 MapPlace placeOf(const MapSpec& map) { return {map.jsonPath, map.outputs(), map.outputList}; }
@@ -213,7 +220,7 @@ MapResult makeMapResult(const MapPlace& place, const EntryFacts& facts, std::vec
                         std::vector<std::string> notes) {
   MapResult result;
   result.jsonPath = place.jsonPath;
-  result.output = place.files.front();
+  if (!place.files.empty()) result.output = place.files.front();
   result.written = true;
   result.entry = {{"output", result.output.string()},
                   {"status", "written"},

@@ -48,7 +48,8 @@ bool wholeChainInFile(const MapSpec& spec) {
 
 }  // namespace
 
-void parseMapOutputs(JsonObjectReader& map, MapSpec& spec, const fs::path& baseDirectory) {
+void parseMapOutputs(JsonObjectReader& map, MapSpec& spec, const fs::path& baseDirectory, bool inMemory) {
+  if (inMemory && !map.has("outputs") && !map.has("output")) return;
   if (!map.has("outputs")) {
     spec.output = parseOutputPath(map.require("output"), map.child("output"), baseDirectory);
     return;
@@ -84,7 +85,30 @@ void parseTexelFormatAndCheckOutputs(JsonObjectReader& map, MapSpec& spec) {
 
 }  // namespace spec_detail
 
+namespace spec_detail {
+
+void refuseFilesInMemory(const MapSpec& spec) {
+  if (!spec.inMemory()) return;
+  auto refuse = [&](const std::string& key, const std::string& what) {
+    throw specError(spec.jsonPath + "." + key, what + ": name an \"output\" (a map made in memory writes no files)");
+  };
+  if (spec.radialProfile) refuse("parameterization", "a radial profile is read back from its file");
+  if (const MaterialMapSpec* m = spec.materialMap()) {
+    if (m->mips) refuse("mips", "mip levels are files beside the map's output");
+    if (m->fresnelTableOutput) refuse("fresnel_table_output", "the Fresnel table is a file");
+  }
+  if (const EnvironmentMapSpec* e = spec.environmentMap()) {
+    if (e->shOutput) refuse("environment.sh_output", "the SH coefficients are a file");
+    if (e->fresnel) refuse("environment.fresnel", "the Fresnel maps are files beside the map's output");
+    if (e->lobeModel() && e->lobeModel()->variesWithView())
+      refuse("environment.lobe", "a lobe varying with the view makes one file per elevation");
+  }
+}
+
+}  // namespace spec_detail
+
 std::vector<fs::path> MapSpec::outputs() const {
+  if (inMemory()) return {};
   std::vector<fs::path> files{output};
   files.insert(files.end(), moreOutputs.begin(), moreOutputs.end());
   return files;

@@ -10,7 +10,10 @@ namespace brdfbake::spec_detail {
 
 // "output": FILE or "outputs": [FILE, ...] (one of the two), each a path of a format brdfbake writes,
 // resolved against `baseDirectory`; fills MapSpec::output, moreOutputs and outputList.
-void parseMapOutputs(JsonObjectReader& map, MapSpec& spec, const std::filesystem::path& baseDirectory);
+// "output" or "outputs"; neither leaves the map in memory (no outputs) when `inMemory`, else is refused.
+void parseMapOutputs(JsonObjectReader& map, MapSpec& spec, const std::filesystem::path& baseDirectory, bool inMemory);
+// A map made in memory asks for no file of its own (mips beside it, a Fresnel table, SH, an elevation stack).
+void refuseFilesInMemory(const MapSpec& spec);
 
 // "texel_format" (after the map's content is parsed, so the shape is known), then every output checked
 // against what the map will hold (MapSpec::outputProblem), the error naming the output's JSON path.

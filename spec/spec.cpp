@@ -356,12 +356,12 @@ void parseView(JsonObjectReader& map, MapSpec& spec) {
   }
 }
 
-MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs::path& baseDirectory) {
+MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs::path& baseDirectory, bool inMemory) {
   JsonObjectReader map(value, path);
   MapSpec spec;
   spec.jsonPath = path;
   spec.raw = value;
-  spec_detail::parseMapOutputs(map, spec, baseDirectory);  // "output" or "outputs"
+  spec_detail::parseMapOutputs(map, spec, baseDirectory, inMemory);  // "output" or "outputs"
   parseParameterization(map, spec);
   parseSampling(map, spec);
   parseCubeLayout(map, spec);
@@ -370,14 +370,12 @@ MapSpec parseMap(const nlohmann::json& value, const std::string& path, const fs:
   if (map.has("environment") && !map.has("material")) {  // a prefiltered environment map (docs/prefilter.md)
     if (spec.radialProfile) throw specError(map.child("parameterization"), "environment maps cannot be profiles");
     parseEnvironmentMap(map, spec, baseDirectory);
-    spec_detail::parseTexelFormatAndCheckOutputs(map, spec);
-    map.finish();
-    return spec;
+  } else {
+    parseMaterialMap(map, spec, baseDirectory);
   }
-
-  parseMaterialMap(map, spec, baseDirectory);
   spec_detail::parseTexelFormatAndCheckOutputs(map, spec);
   map.finish();
+  spec_detail::refuseFilesInMemory(spec);
   return spec;
 }
 
@@ -507,14 +505,15 @@ std::shared_ptr<const MapFunction> MapSpec::makeFunction() const {
   return std::make_shared<MaterialMapFunction>(m->material, m->lights, view);
 }
 
-BakeSpec parseBakeSpec(const nlohmann::json& document, const fs::path& baseDirectory, const std::string& label) {
+BakeSpec parseBakeSpec(const nlohmann::json& document, const fs::path& baseDirectory, const std::string& label,
+                       bool inMemory) {
   try {
     JsonObjectReader root(document, "");
     BakeSpec spec;
     const auto& maps = root.array("maps", kMaxMaps);
     if (maps.empty()) throw specError("maps", "must hold at least one map");
     for (std::size_t i = 0; i < maps.size(); ++i) {
-      spec.maps.push_back(parseMap(maps[i], "maps[" + std::to_string(i) + "]", baseDirectory));
+      spec.maps.push_back(parseMap(maps[i], "maps[" + std::to_string(i) + "]", baseDirectory, inMemory));
       spec.maps.back().specLabel = label;
     }
     root.finish();
@@ -540,10 +539,10 @@ BakeSpec parseBakeSpec(const nlohmann::json& document, const fs::path& baseDirec
   }
 }
 
-BakeSpec loadBakeSpec(const fs::path& file) {
+BakeSpec loadBakeSpec(const fs::path& file, bool inMemory) {
   const nlohmann::json document = readJsonFile(file);
   BakeSpec spec =
-      parseBakeSpec(document, file.parent_path().empty() ? fs::path(".") : file.parent_path(), file.string());
+      parseBakeSpec(document, file.parent_path().empty() ? fs::path(".") : file.parent_path(), file.string(), inMemory);
   spec.file = file;
   return spec;
 }

@@ -112,6 +112,9 @@ def bake(
         (tqdm bars when tqdm is installed and stderr is a terminal).
     allow_large: allow maps over 8192^2 texels (the memory budget still applies).
 
+    A map without "output" is made in memory only: its MapResult.map is a Map (pixels, sample, save),
+    and nothing is written for it (docs/python.md).
+
     The whole spec is checked before any map is made. Returns the BakeResult (to_json() is what
     ``bake --json`` prints). Raises Error naming the JSON path for a bad spec; when a map fails while
     being made the others are still made, and the first failure is raised, naming the map's JSON path,

@@ -48,7 +48,9 @@ def test_nothing_is_written_or_needed_but_the_arrays(tmp_path):
         m = brdfbake.matcap({"model": "phong", "diffuse": [0.5] * 3, "specular": [0] * 3, "exponent": 1}, env, 32)
         p = brdfbake.prefilter(env, "irradiance", "cube", 8)
         i = brdfbake.ibl(env, resolution=32, skybox_resolution=16)
-        print(m.pixels.shape, p.pixels.shape, i.specular[0].shape, len(i.specular), i.sh.shape)
+        b = brdfbake.bake({"maps": [{"parameterization": "sphere", "resolution": 16, "material": {"model": "phong", "exponent": 5},
+                                     "lights": [{"direction": "eye"}]}]}).maps[0].map
+        print(m.pixels.shape, p.pixels.shape, i.specular[0].shape, len(i.specular), i.sh.shape, b.pixels.shape)
     """)
     os.chmod(folder, 0o555)
     try:
@@ -58,7 +60,7 @@ def test_nothing_is_written_or_needed_but_the_arrays(tmp_path):
     finally:
         os.chmod(folder, 0o755)
     assert done.returncode == 0, done.stderr
-    assert done.stdout.strip() == "(32, 32, 4) (24, 32, 4) (6, 32, 32, 4) 6 (9, 3)"
+    assert done.stdout.strip() == "(32, 32, 4) (24, 32, 4) (6, 32, 32, 4) 6 (9, 3) (16, 16, 4)"
     assert list(folder.iterdir()) == []
 
 
@@ -125,6 +127,37 @@ def test_a_matcap_saved_later_is_the_map_in_memory(tmp_path):
     assert files == [tmp_path / "m.exr"] and m.files == files
     assert np.array_equal(brdfbake.read_map(tmp_path / "m.exr").pixels, m.pixels)
     assert brdfbake.read_map(tmp_path / "m.exr").metadata["spec"]["environment"]["file"] == "environment array"
+
+
+def test_a_spec_map_without_output_is_made_in_memory(tmp_path):
+    # The analytic Phong map lit from the eye (as test_bake.py's file route): max(0, r_z)^n at every map
+    # direction r, within 1 % of the peak away from the rim; no file written; save() writes it later.
+    phong = {"parameterization": "sphere", "resolution": 256, "samples_per_texel": 16,
+             "material": {"model": "phong", "specular": [1, 1, 1], "exponent": 50},
+             "lights": [{"direction": "eye", "color": [1, 1, 1]}]}
+    written = dict(phong, output="written.exr")
+    result = brdfbake.bake({"maps": [phong, written]}, out_dir=tmp_path, progress=False)
+    kept, on_disk = result.maps
+    assert kept.files == [] and str(kept.output) in ("", ".")
+    assert kept.to_json()["status"] == "in_memory" and kept.written
+    assert on_disk.map is None and [p.name for p in result.files] == ["written.exr"]
+    assert "made maps[0] in memory (sphere 256x256" in result.brief_report()
+    rng = np.random.default_rng(7)
+    dirs = rng.normal(size=(20000, 3))
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    dirs = dirs[dirs[:, 2] > -math.cos(math.radians(10))]
+    values = kept.map.sample(dirs)
+    assert np.max(np.abs(values[:, :3] - np.maximum(0.0, dirs[:, 2:3]) ** 50)) < 0.01
+    assert kept.map.metadata["spec"]["material"]["exponent"] == 50
+    assert np.array_equal(kept.map.pixels, brdfbake.read_map(tmp_path / "written.exr").pixels)
+    assert kept.map.save(tmp_path / "later.exr") == [tmp_path / "later.exr"]
+    assert np.array_equal(brdfbake.read_map(tmp_path / "later.exr").pixels, kept.map.pixels)
+    # A map made in memory writes nothing of its own: what would be files beside it is refused by name.
+    silhouette = {"parameterization": "sphere", "resolution": 64, "material": {"model": "silhouette", "width": 10}, "mips": True}
+    with pytest.raises(brdfbake.Error, match=r"maps\[0\]\.mips: mip levels are files .*name an \"output\""):
+        brdfbake.bake({"maps": [silhouette]}, progress=False)
+    with pytest.raises(brdfbake.Error, match=r"maps\[0\]\.parameterization: a radial profile"):
+        brdfbake.bake({"maps": [dict(phong, parameterization="profile")]}, progress=False)
 
 
 def test_errors_name_the_keyword():

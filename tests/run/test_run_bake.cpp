@@ -41,6 +41,39 @@ TEST(BakeJob, BakeAndSampleMatchTheAnalyticLobes) {
   }
 }
 
+// A map without "output" in a spec run with inMemory: the map comes back in MapResult::made, nothing is
+// written, and its texels hold the analytic lobe; its writer writes it later. Without inMemory (the
+// tool's bake) the output stays required.
+TEST(BakeJob, AMapWithoutOutputIsMadeInMemory) {
+  test::TempDir dir;
+  SpecRunOptions options;
+  options.document = nlohmann::json::parse(R"({"maps": [{"parameterization": "paraboloid", "resolution": 128,
+      "material": {"model": "phong", "exponent": 50}, "lights": [{"direction": [1, 1, 1]}]}]})");
+  options.outDir = dir.path();
+  options.inMemory = true;
+  const SpecRunResult result = runSpec(options);
+  ASSERT_EQ(result.maps.size(), 1u);
+  const MapResult& map = result.maps[0];
+  ASSERT_TRUE(map.made) << result.briefReport();
+  EXPECT_TRUE(result.files.empty());
+  EXPECT_TRUE(fs::is_empty(dir.path()));
+  EXPECT_EQ(map.entry["status"], "in_memory");
+  EXPECT_EQ(map.lines.at(0).rfind("made maps[0] in memory (paraboloid 256x128", 0), 0u) << map.lines.at(0);
+  ASSERT_EQ(map.made->levels.size(), 1u);
+  const auto paraboloid = makeParameterization(ParameterizationKind::Paraboloid, 128);
+  const Vec3 light = Vec3(1, 1, 1).normalized();
+  for (const Vec3& r : {Vec3(0, 0, 1), light, Vec3(0.2, -0.1, 1).normalized(), Vec3(1, 1, 0.8).normalized()}) {
+    const Rgba v = sampleBilinear(map.made->levels[0], *paraboloid, r);
+    EXPECT_NEAR(v[0], std::pow(std::max(0.0, r.dot(light)), 50), 0.01) << r.transpose();
+  }
+  const MapWriteReport written = map.made->write({.files = {dir / "later.exr"}});
+  EXPECT_EQ(written.files.at(0), dir / "later.exr");
+  EXPECT_NEAR(sampleAt(dir / "later.exr", light)[0], 1.0, 0.01);
+
+  options.inMemory = false;
+  EXPECT_NE(test::errorOf([&] { runSpec(options); }).find("maps[0].output"), std::string::npos);
+}
+
 TEST(BakeJob, TheReportGivesSizesFilesAndSecondsPerMap) {
   // phong_eye.json: a 256 sphere map (256 x 256 texels) and a 256 paraboloid map (two discs side
   // by side, 512 x 256).

@@ -13,6 +13,7 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/io/files.hpp>
 #include <brdfbake/run/job.hpp>
+#include <brdfbake/run/map_outputs.hpp>
 #include <brdfbake/spec/spec.hpp>
 
 #include <nlohmann/json.hpp>
@@ -35,15 +36,27 @@ struct SpecRunOptions {
   /// Write the outputs under this folder instead of the spec's (an absolute "output" keeps only
   /// its file name); every output must stay inside the output folder.
   std::filesystem::path outDir;
+  /// Let a map leave out "output": it is then made in memory only (MapResult::made), as a renderer or
+  /// the Python module asks for. Without it every map needs an output (the tool's `bake`).
+  bool inMemory = false;
 
   /// Throws Error(InvalidArgument) unless exactly one of `spec` and `document` is given.
   void validate() const;
 };
 
+/// A map made in memory (a spec map without outputs, SpecRunOptions::inMemory): its levels (level 0
+/// first: a mip or gloss chain has more), its metadata, and how to write it later.
+struct MadeMap {
+  std::vector<Image> levels;
+  MapInfo info;
+  /// Writes the map as the spec would have (throws what writeMap throws).
+  std::function<MapWriteReport(const MapOutputs&)> write;
+};
+
 /// One map of a spec as made: what was written and how.
 struct MapResult {
   std::string jsonPath;                      ///< "maps[0]"
-  std::filesystem::path output;              ///< the map's "output", placed
+  std::filesystem::path output;              ///< the map's "output", placed (empty: made in memory)
   bool written = false;                      ///< false: making it failed (`error` says why)
   std::string error;                         ///< the failure's message
   std::vector<std::filesystem::path> files;  ///< every file written (faces, mip levels, sidecars, ...)
@@ -54,6 +67,8 @@ struct MapResult {
   nlohmann::json entry;
   /// The text lines `bake` prints for the map ("wrote ..." and notes).
   std::vector<std::string> lines;
+  /// The map itself when it was made in memory (no output), else null.
+  std::shared_ptr<const MadeMap> made;
 
   std::string briefReport() const;
   nlohmann::json toJson() const { return entry; }

@@ -179,8 +179,12 @@ struct MapSpec {
   /// Notes about the inputs found while parsing (e.g. negative measured values clamped to 0),
   /// printed and reported with the map.
   std::vector<std::string> notes;
-  /// Every file the map is written to: `output`, then `moreOutputs`.
+  /// Every file the map is written to: `output`, then `moreOutputs`; none for a map made in memory.
   std::vector<std::filesystem::path> outputs() const;
+  /// The map names no output (parseBakeSpec with `inMemory`): it is made in memory only.
+  bool inMemory() const { return output.empty(); }
+  /// How progress and reports name the map: its output's file name, or "in memory".
+  std::string outputName() const { return inMemory() ? "in memory" : output.filename().string(); }
   /// The JSON path naming outputs()[i]: "maps[0].output", or "maps[0].outputs[i]".
   std::string outputJsonPath(std::size_t i) const;
   /// The write options for outputs()[i]: `readFiles` (never overwritten), and `texelFormat` for a texture container.
@@ -236,10 +240,13 @@ struct LobeArgument {
 /// Throws Error(InvalidArgument) naming the accepted forms, and what readFitFile throws.
 LobeArgument parseLobeArgument(const std::string& text, const std::filesystem::path& baseDirectory);
 
-/// Parses and validates a spec. `baseDirectory` resolves relative paths. Throws Error(InvalidInput)
-/// whose message starts with `label` (usually the file name) and names the JSON path.
+/// Parses and validates a spec. `baseDirectory` resolves relative paths. With `inMemory` a map may
+/// leave out "output" and "outputs" (then it is made in memory only, MapSpec::inMemory, and may not ask
+/// for files of its own: "mips" beside it, "fresnel_table_output", "sh_output", Fresnel maps, an
+/// elevation stack); without it, "output" is required. Throws Error(InvalidInput) whose message starts
+/// with `label` (usually the file name) and names the JSON path.
 BakeSpec parseBakeSpec(const nlohmann::json& document, const std::filesystem::path& baseDirectory,
-                       const std::string& label = "spec");
+                       const std::string& label = "spec", bool inMemory = false);
 
 /// The environment a map reads ("environment": {"file", "from"}: prefiltered, or lighting a material),
 /// read and checked by loadEnvironment; its errors name the spec and the JSON path of
@@ -268,6 +275,6 @@ FilePlan planSpecFiles(const BakeSpec& spec, const std::filesystem::path& specFi
 
 /// Reads a spec file. Throws Error(Io) if unreadable, Error(InvalidInput) with file, line and
 /// column for JSON syntax errors, and the errors of parseBakeSpec.
-BakeSpec loadBakeSpec(const std::filesystem::path& file);
+BakeSpec loadBakeSpec(const std::filesystem::path& file, bool inMemory = false);
 
 }  // namespace brdfbake
