@@ -17,8 +17,14 @@ if(SOURCE_DIR)
   set(BUILD_DIR "${WORK_DIR}/brdfbake")
 endif()
 run_step(${CMAKE_COMMAND} --install "${BUILD_DIR}" --prefix "${WORK_DIR}/prefix")
-run_step(${CMAKE_COMMAND} -S "${CONSUMER_SOURCE}" -B "${WORK_DIR}/build"
-         "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix" -DCMAKE_BUILD_TYPE=Release "-DBRDFBAKE_README=${README}")
+set(consumer_flags "")
+if(CONSUMER_SANITIZE)
+  set(sanitize "-fsanitize=${CONSUMER_SANITIZE} -fno-omit-frame-pointer")
+  set(consumer_flags "-DCMAKE_CXX_FLAGS=${sanitize}" "-DCMAKE_EXE_LINKER_FLAGS=${sanitize}")
+endif()
+run_step(${CMAKE_COMMAND} -S "${CONSUMER_SOURCE}" -B "${WORK_DIR}/build" "-DCMAKE_CXX_COMPILER=${CONSUMER_CXX}"
+         ${consumer_flags} "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix" -DCMAKE_BUILD_TYPE=Release
+         "-DBRDFBAKE_README=${README}")
 run_step(${CMAKE_COMMAND} --build "${WORK_DIR}/build")
 if(NOT EXECUTABLE)
   set(EXECUTABLE consumer)
