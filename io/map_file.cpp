@@ -66,7 +66,7 @@ std::vector<fs::path> cubeFaceSet(const fs::path& path) {
   for (const auto& face : faces) isFace = isFace || face.filename() == path.filename();
   if (!isFace) return {};
   const Image image = readImage(path);
-  if (image.metadata.value("layout", "") != "faces") return {};
+  if (metadataValue(image.metadata, "layout", std::string()) != "faces") return {};
   return faces;
 }
 
@@ -103,7 +103,8 @@ namespace {
 Image readTiledLevel(const fs::path& path, int level, const std::function<Image(int)>& read) {
   Image image = read(level);
   if (!hasMapMetadata(image)) return image;
-  const int resolution = image.metadata.value("resolution", 0);
+  const int resolution = metadataValue(image.metadata, "resolution", 0);
+  if (resolution < 1) return image;  // no valid resolution: mapFromImage refuses it, naming the file
   if ((resolution >> level) < 1) {
     throw Error(Error::Kind::InvalidInput,
                 path.string() + ": MIP level " + std::to_string(level) + " lies below the map's " +

@@ -52,7 +52,8 @@ MapInfo MapInfo::fromJson(const nlohmann::json& metadata) {
                                                ", newer than this brdfbake understands (" +
                                                std::to_string(kConventionVersion) + ")");
   }
-  info.spec = metadata.value("spec", nlohmann::json::object());
+  info.spec = metadataValue(metadata, "spec", nlohmann::json::object());
+  if (!info.spec.is_object() && !info.spec.is_null()) throw missing("spec");  // null: made by a program, no spec
   return info;
 }
 

@@ -78,7 +78,7 @@ void requireNoMipLevel(int mipLevel, const fs::path& path, const std::string& wh
 
 // A 1-D profile: N x 1 with "resolution" N.
 void checkProfileImage(const Image& image, const fs::path& path) {
-  const int resolution = image.metadata.value("resolution", 0);
+  const int resolution = metadataValue(image.metadata, "resolution", 0);
   if (image.height() != 1 || image.width() != resolution) {
     throw Error(Error::Kind::InvalidInput, path.string() + ": a 1-D profile of resolution " +
                                                std::to_string(resolution) + " is " + std::to_string(resolution) +
@@ -228,7 +228,7 @@ BakedOutput BakedOutput::open(const fs::path& path, const OpenOutputOptions& opt
   } else {
     out.files_ = {path};
     Image image = readImage(path);
-    const std::string parameterization = image.metadata.is_object() ? image.metadata.value("parameterization", "") : "";
+    const std::string parameterization = metadataValue(image.metadata, "parameterization", std::string());
     if (parameterization == "profile") {
       requireNoMipLevel(options.mipLevel, path, "a 1-D radial profile");
       checkProfileImage(image, path);

@@ -24,7 +24,7 @@ nlohmann::json describeBrdfbakeOutput(const BakedOutput& output) {
   switch (output.kind()) {
     case OutputKind::RadialProfile:
     case OutputKind::FresnelTable:
-      info["parameterization"] = metadata.value("parameterization", "");
+      info["parameterization"] = metadataValue(metadata, "parameterization", std::string());
       info["width"] = info["resolution"];
       info["height"] = 1;
       break;
@@ -35,9 +35,10 @@ nlohmann::json describeBrdfbakeOutput(const BakedOutput& output) {
     default:
       break;
   }
-  info["convention_version"] = metadata.value("convention_version", 0);
-  info["spec"] = output.kind() == OutputKind::ShIrradiance ? metadata.value("environment", nlohmann::json::object())
-                                                           : metadata.value("spec", nlohmann::json::object());
+  info["convention_version"] = metadataValue(metadata, "convention_version", 0);
+  info["spec"] = output.kind() == OutputKind::ShIrradiance
+                     ? metadataValue(metadata, "environment", nlohmann::json::object())
+                     : metadataValue(metadata, "spec", nlohmann::json::object());
   if (output.kind() == OutputKind::ShIrradiance) info["coefficients"] = metadata["coefficients"];
   return info;
 }

@@ -110,6 +110,42 @@ TEST(TextureMaps, EveryParameterizationRoundTripsAsATwoDimensionalTexture) {
   }
 }
 
+// Metadata of a wrong JSON type in a map file (a hand edit, another tool) reads as absent and is refused
+// naming the file and the key: it once gave "internal error: [json.exception.type_error.302]", exit 1.
+TEST(TextureMaps, MetadataOfAWrongTypeIsRefusedNamingTheFileAndKey) {
+  test::TempDir dir;
+  const auto sphere = makeParameterization(ParameterizationKind::Sphere, 8);
+  writeMap(mapOf(*sphere), infoOf(ParameterizationKind::Sphere, 8), dir / "good.exr");
+  const Image good = readImage(dir / "good.exr");
+  const std::vector<std::pair<nlohmann::json, std::string>> cases = {
+      {{{"parameterization", 5}}, "no valid 'parameterization'"},
+      {{{"resolution", "8"}}, "no valid 'resolution'"},
+      {{{"resolution", 1e300}}, "no valid 'resolution'"},
+      {{{"spec", "x"}}, "no valid 'spec'"},
+      {{{"convention_version", "1"}}, "no valid 'convention_version'"}};
+  for (const char* extension : {".exr", ".ktx2"}) {
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+      Image bad = good;
+      bad.metadata.update(cases[i].first);
+      const fs::path file = dir / ("bad" + std::to_string(i) + extension);
+      writeImage(bad, file);
+      try {
+        readMap(file);
+        ADD_FAILURE() << file << " read";
+      } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), Error::Kind::InvalidInput) << e.what();
+        EXPECT_EQ(std::string(e.what()).rfind(file.string() + ": map metadata has " + cases[i].second, 0), 0u)
+            << e.what();
+      }
+    }
+  }
+  // A face's "layout" of a wrong type is no face set: the file reads as the map it is.
+  Image face = good;
+  face.metadata["layout"] = 7;
+  writeImage(face, dir / "layout.exr");
+  EXPECT_EQ(readMap(dir / "layout.exr").info.resolution, 8);
+}
+
 TEST(TextureMaps, CubeFacesLayoutWritesSixTwoDimensionalTextures) {
   test::TempDir dir;
   const CubeMap cube(4);

@@ -8,7 +8,9 @@
 #include <nlohmann/json.hpp>
 
 #include <cstddef>
+#include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace brdfbake {
@@ -44,6 +46,26 @@ class Image {
   int width_ = 0, height_ = 0;
   std::vector<float> pixels_;
 };
+
+/// metadata[key] when `metadata` is an object holding `key` as a value of T's JSON type, else
+/// `fallback`: metadata comes from files, and a wrong type ("resolution": "8") must read as absent,
+/// to be refused by name, never as nlohmann's type_error.
+template <class T>
+T metadataValue(const nlohmann::json& metadata, const char* key, T fallback) {
+  if (!metadata.is_object()) return fallback;
+  const auto it = metadata.find(key);
+  if (it == metadata.end()) return fallback;
+  if constexpr (std::is_same_v<T, nlohmann::json>) {
+    return *it;
+  } else if constexpr (std::is_same_v<T, std::string>) {
+    return it->is_string() ? it->template get<std::string>() : fallback;
+  } else {
+    static_assert(std::is_integral_v<T>, "metadataValue reads JSON, strings and integers");
+    if (!it->is_number_integer()) return fallback;
+    const long long v = it->template get<long long>();
+    return v >= std::numeric_limits<T>::min() && v <= std::numeric_limits<T>::max() ? static_cast<T>(v) : fallback;
+  }
+}
 
 /// What a map file says about itself: written into every map (OpenEXR/TIFF/PNG attributes, or a
 /// sidecar FILE.json where the format cannot hold them) and read back by `brdfbake info`.
