@@ -36,15 +36,23 @@ CLI::App* chosenCommand(CLI::App& app, int argc, char** argv) {
   return nullptr;
 }
 
-// "did you mean" lines for the command line's unknown command or flags.
-std::vector<std::string> suggestions(CLI::App& app, CLI::App* command, int argc, char** argv) {
-  std::vector<std::string> lines;
-  if (!command && argc > 1 && argv[1][0] != '-') {
-    if (const auto name = closestName(argv[1], commandNames(app))) {
-      lines.push_back("'" + shortenForMessage(argv[1], 40) + "' is not a command; did you mean '" + *name + "'?");
-    }
-    return lines;
+// What is wrong when no command was named: the first word is no command, or no flag of brdfbake
+// itself (CLI11 says only "A subcommand is required" for both).
+std::string noCommandMessage(CLI::App& app, const std::string& first) {
+  const std::string word = "'" + shortenForMessage(first, 40) + "'";
+  if (first.empty() || first[0] == '-') {
+    return word + " is not a flag of brdfbake itself (--help, --version); a command comes first";
   }
+  std::string names;
+  for (const auto& name : commandNames(app)) names += (names.empty() ? "" : ", ") + name;
+  std::string text = word + " is not a command (" + names + ")";
+  if (const auto name = closestName(first, commandNames(app))) text += "; did you mean '" + *name + "'?";
+  return text;
+}
+
+// "did you mean" lines for the command line's unknown flags.
+std::vector<std::string> suggestions(CLI::App* command, int argc, char** argv) {
+  std::vector<std::string> lines;
   if (!command) return lines;
   const std::vector<std::string> known = flagNames(*command);
   for (int i = 2; i < argc; ++i) {
@@ -64,8 +72,9 @@ std::vector<std::string> suggestions(CLI::App& app, CLI::App* command, int argc,
 
 void reportParseError(CLI::App& app, const CLI::ParseError& error, int argc, char** argv) {
   CLI::App* command = chosenCommand(app, argc, argv);
-  std::string text = "brdfbake: error: " + shortenForMessage(error.what(), 300) + "\n";
-  for (const auto& line : suggestions(app, command, argc, argv)) text += "  " + line + "\n";
+  const std::string what = !command && argc > 1 ? noCommandMessage(app, argv[1]) : shortenForMessage(error.what(), 300);
+  std::string text = "brdfbake: error: " + what + "\n";
+  for (const auto& line : suggestions(command, argc, argv)) text += "  " + line + "\n";
   text += "Run 'brdfbake " + (command ? command->get_name() + " " : std::string()) + "--help' for " +
           (command ? "its flags" : "the commands") + ".\n";
   writeStderr(text);

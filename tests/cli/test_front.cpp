@@ -28,6 +28,15 @@ TEST(Front, AMistypedCommandOrFlagGetsASuggestion) {
   EXPECT_EQ(far.exitCode, 2);
   EXPECT_EQ(far.err.find("did you mean"), std::string::npos) << "no suggestion for a word near nothing:\n" << far.err;
   EXPECT_NE(far.err.find("Run 'brdfbake bake --help'"), std::string::npos) << far.err;
+  // No command at all: say what the first word is not, not CLI11's "A subcommand is required".
+  const auto bogus = runCli("bogus");
+  EXPECT_EQ(bogus.exitCode, 2);
+  EXPECT_EQ(bogus.err.rfind("brdfbake: error: 'bogus' is not a command (bake, ", 0), 0u) << bogus.err;
+  const auto version = runCli("-V");
+  EXPECT_EQ(version.exitCode, 2);
+  EXPECT_EQ(version.err.rfind("brdfbake: error: '-V' is not a flag of brdfbake itself (--help, --version)", 0), 0u)
+      << version.err;
+  EXPECT_EQ(runCli("--version").exitCode, 0);
 }
 
 TEST(Front, EveryCommandHasJsonAndEveryComputingCommandHasThreads) {
