@@ -7,9 +7,8 @@ namespace brdfbake::test {
 
 /// Checks every point's "pareto" flag against non-dominance recomputed from "seconds" and
 /// `errorKey`: a point is on the front unless another is no slower and no less accurate, and
-/// strictly better in one of the two. Returns the number of points on the front.
-inline int expectParetoFlagsMatch(const nlohmann::json& points, const char* errorKey = "rms") {
-  int front = 0;
+/// strictly better in one of the two.
+inline void expectParetoFlagsMatch(const nlohmann::json& points, const char* errorKey = "rms") {
   for (const auto& p : points) {
     const double t = p["seconds"].get<double>(), e = p[errorKey].get<double>();
     bool dominated = false;
@@ -18,9 +17,7 @@ inline int expectParetoFlagsMatch(const nlohmann::json& points, const char* erro
       dominated = dominated || (to <= t && eo <= e && (to < t || eo < e));
     }
     EXPECT_EQ(p["pareto"].get<bool>(), !dominated) << p.dump();
-    front += !dominated;
   }
-  return front;
 }
 
 }  // namespace brdfbake::test
