@@ -83,10 +83,6 @@ void parseTexelFormatAndCheckOutputs(JsonObjectReader& map, MapSpec& spec) {
   }
 }
 
-}  // namespace spec_detail
-
-namespace spec_detail {
-
 void refuseFilesInMemory(const MapSpec& spec) {
   if (!spec.inMemory()) return;
   auto refuse = [&](const std::string& key, const std::string& what) {

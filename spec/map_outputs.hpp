@@ -9,8 +9,8 @@
 namespace brdfbake::spec_detail {
 
 // "output": FILE or "outputs": [FILE, ...] (one of the two), each a path of a format brdfbake writes,
-// resolved against `baseDirectory`; fills MapSpec::output, moreOutputs and outputList.
-// "output" or "outputs"; neither leaves the map in memory (no outputs) when `inMemory`, else is refused.
+// resolved against `baseDirectory`; fills MapSpec::output, moreOutputs and outputList. Neither leaves the
+// map in memory (no outputs) when `inMemory`, and is refused otherwise.
 void parseMapOutputs(JsonObjectReader& map, MapSpec& spec, const std::filesystem::path& baseDirectory, bool inMemory);
 // A map made in memory asks for no file of its own (mips beside it, a Fresnel table, SH, an elevation stack).
 void refuseFilesInMemory(const MapSpec& spec);
