@@ -12,10 +12,12 @@
 namespace brdfbake {
 
 RadialProfile::RadialProfile(const Vec3& axis, std::vector<Rgb> texels) : texels_(std::move(texels)) {
-  require(axis.allFinite() && axis.norm() > 0.0, "profile axis must be a finite non-zero vector");
+  // Scaled to its largest component first: the norm of [1e308, 1e308, 0] overflows.
+  const double scale = axis.cwiseAbs().maxCoeff();
+  require(std::isfinite(scale) && scale > 0.0, "profile axis must be a finite non-zero vector");
   require(!texels_.empty(), "a profile needs at least one texel");
   for (const Rgb& t : texels_) require(t.allFinite(), "profile texels must be finite");
-  axis_ = axis.normalized();
+  axis_ = (axis / scale).normalized();
   const Vec3 helper = std::abs(axis_.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
   tangent_ = axis_.cross(helper).normalized();
   bitangent_ = axis_.cross(tangent_);

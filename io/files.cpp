@@ -35,7 +35,14 @@ struct FileDescriptor {
 
 std::string errnoText(int error) { return std::error_code(error, std::generic_category()).message(); }
 
+void requireNoNul(const fs::path& path, const std::string& role) {
+  if (path.native().find('\0') == std::string::npos) return;
+  throw Error(Error::Kind::InvalidArgument,
+              role + ": " + named(path) + ": contains a NUL character, which no file name may hold");
+}
+
 std::uintmax_t requireInputFile(const fs::path& path, const std::string& what) {
+  requireNoNul(path, what);
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
   if (!fs::exists(status)) throw Error(Error::Kind::Io, named(path) + ": no such file (" + what + ")");
@@ -47,6 +54,40 @@ std::uintmax_t requireInputFile(const fs::path& path, const std::string& what) {
   const std::uintmax_t size = fs::file_size(path, ec);
   if (ec) throw Error(Error::Kind::Io, named(path) + ": cannot read: " + ec.message());
   return size;
+}
+
+InputFile::InputFile(const fs::path& path, const std::string& what) : path_(path) {
+  requireInputFile(path, what);  // the messages that name what is there instead
+  // O_NONBLOCK: should a FIFO take the file's place after the check, opening it does not wait for a writer.
+  fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd_ < 0) throw Error(Error::Kind::Io, named(path) + ": cannot open (" + what + "): " + errnoText(errno));
+  struct stat opened {};
+  if (::fstat(fd_, &opened) != 0 || !S_ISREG(opened.st_mode)) {
+    ::close(fd_);
+    throw Error(Error::Kind::Io, named(path) + ": not a regular file (" + what + ")");
+  }
+  size_ = static_cast<std::uintmax_t>(opened.st_size);
+}
+
+InputFile::~InputFile() { ::close(fd_); }
+
+fs::path InputFile::openName() const {
+  const fs::path name = "/proc/self/fd/" + std::to_string(fd_);
+  return ::access(name.c_str(), R_OK) == 0 ? name : path_;
+}
+
+std::string InputFile::read(std::uintmax_t offset, std::size_t count) const {
+  std::string bytes(count, '\0');
+  std::size_t used = 0;
+  while (used < count) {
+    const ssize_t got = ::pread(fd_, bytes.data() + used, count - used, static_cast<off_t>(offset + used));
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) throw Error(Error::Kind::Io, named(path_) + ": read failed: " + errnoText(errno));
+    if (got == 0) break;
+    used += static_cast<std::size_t>(got);
+  }
+  bytes.resize(used);
+  return bytes;
 }
 
 std::string readTextFile(const fs::path& path, const std::string& what, std::uintmax_t maxBytes) {
@@ -182,6 +223,7 @@ void requireReplaceableOutput(const fs::path& path, Error::Kind kind, const std:
 }
 
 AtomicOutput::AtomicOutput(fs::path target) : target_(std::move(target)) {
+  requireNoNul(target_, "output");
   requireReplaceableOutput(target_, Error::Kind::Io);
   std::error_code ec;
   const fs::path folder = target_.parent_path();
@@ -398,6 +440,8 @@ void FilePlan::addInput(const fs::path& file, std::string role) { inputs_.push_b
 void FilePlan::addOutput(const fs::path& file, std::string role) { outputs_.push_back({file, std::move(role)}); }
 
 void FilePlan::check() const {
+  for (const auto* list : {&inputs_, &outputs_})
+    for (const Entry& e : *list) requireNoNul(e.file, e.role);
   // Each path is resolved and stat'ed once, then looked up: linear in the number of files (a spec
   // of 1024 maps with their mip levels plans thousands). Hard links (the same file under two
   // resolved names) are caught by their inode where the file exists.

@@ -13,11 +13,7 @@
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/core/printable.hpp>
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -64,6 +60,13 @@ class Bytes {
 };
 
 std::string sizeText(std::int64_t w, std::int64_t h) { return std::to_string(w) + " x " + std::to_string(h); }
+
+// A whole number of any size (a count of bytes may pass 2^63: 2147483647^2 x 16).
+std::string wholeText(double value) {
+  char text[400];
+  std::snprintf(text, sizeof text, "%.0f", value);
+  return text;
+}
 
 // ---- OpenEXR (openexr.com, "OpenEXR File Layout") -----------------------------------------------
 
@@ -193,7 +196,7 @@ Claim checkExr(const Bytes& b, std::uintmax_t fileBytes) {
   }
   const double chunks = exrChunks(h);
   if (8.0 * chunks > static_cast<double>(fileBytes) - static_cast<double>(at)) {
-    b.fail("a " + sizeText(h.width, h.height) + " image has " + std::to_string(static_cast<long long>(chunks)) +
+    b.fail("a " + sizeText(h.width, h.height) + " image has " + wholeText(chunks) +
            " chunks, whose offset table alone needs more than the " + std::to_string(fileBytes) + "-byte file");
   }
   static const double kExpansion[] = {1.0,        kRunLength, kDeflate, kDeflate, kDeflate, kDeflate * 4.0 / 3.0,
@@ -367,29 +370,24 @@ Claim checkHeader(std::string_view bytes, std::uintmax_t fileBytes, const std::s
   const double holdable = claim.maxExpansion * static_cast<double>(fileBytes) + 65536.0;
   if (claim.rawBytes > holdable) {
     b.fail("the header says " + sizeText(claim.width, claim.height) + " pixels, more than a " +
-           std::to_string(fileBytes) + "-byte file can hold (" +
-           std::to_string(static_cast<long long>(claim.rawBytes)) +
-           " bytes of samples; this kind of file holds at most " +
-           std::to_string(static_cast<long long>(claim.maxExpansion)) + " per byte: truncated or corrupt)");
+           std::to_string(fileBytes) + "-byte file can hold (" + wholeText(claim.rawBytes) +
+           " bytes of samples; this kind of file holds at most " + wholeText(claim.maxExpansion) +
+           " per byte: truncated or corrupt)");
+  }
+  const double decoded = static_cast<double>(claim.width) * static_cast<double>(claim.height) * 16.0;
+  if (decoded > std::max(kFreeDecodedBytes, kMaxDecodedPerFileByte * static_cast<double>(fileBytes))) {
+    b.fail("the header says " + sizeText(claim.width, claim.height) + " pixels, " + wholeText(decoded) +
+           " bytes as float RGBA from a " + std::to_string(fileBytes) +
+           "-byte file; above 128 MiB brdfbake decodes at most 1024 bytes per byte of file (no real picture "
+           "compresses so far: a flat or hostile file; docs/limits.md)");
   }
   return claim;
 }
 
-Claim checkHeaderOfFile(const std::filesystem::path& path, std::uintmax_t fileBytes) {
-  const std::string label = printable(path.string());
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-  if (fd < 0) throw Error(Error::Kind::Io, label + ": cannot open the image");
-  std::string head(static_cast<std::size_t>(std::min<std::uintmax_t>(fileBytes, kMaxHeaderBytes)), '\0');
-  std::size_t used = 0;
-  while (used < head.size()) {
-    const ssize_t got = ::read(fd, head.data() + used, head.size() - used);
-    if (got < 0 && errno == EINTR) continue;
-    if (got <= 0) break;
-    used += static_cast<std::size_t>(got);
-  }
-  ::close(fd);
-  head.resize(used);
-  return checkHeader(head, fileBytes, label);
+Claim checkHeaderOfFile(const InputFile& file) {
+  const std::string head =
+      file.read(0, static_cast<std::size_t>(std::min<std::uintmax_t>(file.size(), kMaxHeaderBytes)));
+  return checkHeader(head, file.size(), printable(file.path().string()));
 }
 
 }  // namespace brdfbake::image_header

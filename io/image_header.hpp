@@ -5,6 +5,8 @@
 // it. So readImage accepts only the formats whose headers are checked here (OpenEXR, Radiance HDR,
 // PNG, TIFF), and refuses a header that claims more than its file can hold.
 
+#include <brdfbake/io/files.hpp>
+
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -35,7 +37,15 @@ inline constexpr std::size_t kMaxHeaderBytes = std::size_t{16} << 20;
 /// header's compression.
 Claim checkHeader(std::string_view bytes, std::uintmax_t fileBytes, const std::string& label);
 
-/// Reads the first kMaxHeaderBytes of `path` and calls checkHeader (label: the path, printable).
-Claim checkHeaderOfFile(const std::filesystem::path& path, std::uintmax_t fileBytes);
+/// Above this many bytes of decoded float RGBA, an image must come from a file of at least 1/1024
+/// of that (kMaxDecodedPerFileByte): 128 MiB, a 4096 x 2048 image.
+inline constexpr double kFreeDecodedBytes = 128.0 * (1 << 20);
+/// Decoded float RGBA bytes (16 per pixel) one byte of file may stand for above kFreeDecodedBytes.
+/// Real pictures compress far less (an 8-bit sky about 2:1, 10 decoded bytes per file byte); a
+/// file beyond it is a flat or hostile picture that would cost memory out of all proportion.
+inline constexpr double kMaxDecodedPerFileByte = 1024.0;
+
+/// Reads the first kMaxHeaderBytes of the open file and calls checkHeader (label: its path, printable).
+Claim checkHeaderOfFile(const InputFile& file);
 
 }  // namespace brdfbake::image_header

@@ -208,12 +208,16 @@ bool isTextureContainer(ImageFormat format) {
 namespace {
 // True if the file is read as a texture container: its first bytes say so, or its extension does
 // (then the container reader names what is wrong).
-bool readsAsTexture(const fs::path& path) {
-  if (textureContainerFor(path)) return true;
-  std::ifstream in(path, std::ios::binary);
-  char first[12] = {};
-  in.read(first, sizeof first);
-  return textureContainerOf(std::string_view(first, static_cast<std::size_t>(in.gcount()))).has_value();
+bool readsAsTexture(const InputFile& file) {
+  return textureContainerFor(file.path()) || textureContainerOf(file.read(0, 12)).has_value();
+}
+
+// The backend's message, naming the file by its path rather than the name it was opened by.
+std::string backendError(const InputFile& file, std::string error) {
+  const std::string opened = file.openName().string();
+  for (std::size_t at = error.find(opened); at != std::string::npos; at = error.find(opened, at))
+    error.replace(at, opened.size(), file.path().string());
+  return named(file.path()) + ": " + printable(error, 1000);
 }
 }  // namespace
 
@@ -297,12 +301,12 @@ WriteReport writeImage(const Image& image, const fs::path& path, const WriteOpti
 }
 
 int imageMipLevelCount(const fs::path& path) {
-  const std::uintmax_t fileBytes = requireInputFile(path, "image");
-  if (readsAsTexture(path)) return readTextureHeaderOf(path).levels;
-  const image_header::Claim claim = image_header::checkHeaderOfFile(path, fileBytes);
+  const InputFile file(path, "image");
+  if (readsAsTexture(file)) return readTextureHeaderOf(path).levels;
+  const image_header::Claim claim = image_header::checkHeaderOfFile(file);
   std::string error;
-  const int levels = imageBackend().mipLevelCount(path.c_str(), readerName(claim.format), error);
-  if (levels < 0) throw Error(Error::Kind::Io, named(path) + ": " + printable(error, 1000));
+  const int levels = imageBackend().mipLevelCount(file.openName().c_str(), readerName(claim.format), error);
+  if (levels < 0) throw Error(Error::Kind::Io, backendError(file, std::move(error)));
   return levels;
 }
 
@@ -354,20 +358,21 @@ WriteReport writeTiledMipChain(const std::vector<Image>& levels, const nlohmann:
 }
 
 Image readImage(const fs::path& path, int mipLevel) {
-  const std::uintmax_t fileBytes = requireInputFile(path, "image");
   require(mipLevel >= 0, "readImage: MIP level must be >= 0");
-  if (readsAsTexture(path)) {
+  // One open file for the header check and the decoder: a replace meanwhile is read as the old file.
+  const InputFile file(path, "image");
+  if (readsAsTexture(file)) {
     Texture texture = readTexture(path, mipLevel);
     Image image = texture.isCube() ? crossOfCubeFaces(texture.levels[0]) : std::move(texture.levels[0][0]);
     image.metadata = std::move(texture.metadata);
     return image;
   }
-  const image_header::Claim claim = image_header::checkHeaderOfFile(path, fileBytes);
+  const image_header::Claim claim = image_header::checkHeaderOfFile(file);
   const image_backend::Functions& backend = imageBackend();
   image_backend::Header header;
   std::string error;
-  const OpenImage in(backend.openImage(path.c_str(), readerName(claim.format), mipLevel, header, error));
-  if (!in) throw Error(Error::Kind::Io, named(path) + ": " + printable(error, 1000));
+  const OpenImage in(backend.openImage(file.openName().c_str(), readerName(claim.format), mipLevel, header, error));
+  if (!in) throw Error(Error::Kind::Io, backendError(file, std::move(error)));
   if (!header.levelFound) {
     throw Error(Error::Kind::InvalidInput, named(path) + ": has " + std::to_string(header.levels) + " MIP level" +
                                                (header.levels == 1 ? "" : "s") + ", no level " +

@@ -195,12 +195,8 @@ WriteReport writeTexture(const Texture& texture, const fs::path& path, const Wri
   WriteReport report;
   report.notes = std::move(encoded.notes);
   AtomicOutput output(path);
-  {
-    std::ofstream out(output.temporaryPath(), std::ios::binary);
-    out.write(encoded.bytes.data(), static_cast<std::streamsize>(encoded.bytes.size()));
-    out.close();
-    if (!out) throw Error(Error::Kind::Io, path.string() + ": could not write " + output.temporaryPath().string());
-  }
+  output.open();
+  output.write(encoded.bytes);  // a full disk: "<path>: write failed: No space left on device (disk full)"
   const fs::path sidecar = metadataSidecarPath(path);
   if (*container == TextureContainer::Dds && !texture.metadata.empty()) {
     writeFileAtomically(sidecar, texture.metadata.dump(2) + "\n");

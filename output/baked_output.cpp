@@ -100,7 +100,12 @@ Vec3 axisOf(const nlohmann::json& metadata, const fs::path& path) {
     }
     v[i] = (*axis)[static_cast<std::size_t>(i)].get<double>();
   }
-  return v;
+  const double scale = v.cwiseAbs().maxCoeff();
+  if (!std::isfinite(scale) || scale == 0.0) {
+    throw Error(Error::Kind::InvalidInput,
+                path.string() + ": radial profile 'axis' must be a finite non-zero vector, got " + axis->dump());
+  }
+  return v / scale;
 }
 
 double checkedCosView(std::optional<double> cosView, OutputKind kind) {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <sstream>
 #include <vector>
 
@@ -76,6 +77,8 @@ class JsonConverter {
       PyErr_Clear();
       fail(path, "the string " + shortRepr(value) + " is not valid Unicode");
     }
+    if (std::memchr(utf8, '\0', static_cast<std::size_t>(size)))  // as in JSON text (io/json_text.cpp)
+      fail(path, "contains a NUL character (\\u0000), which no name or value may hold");
     return {utf8, static_cast<std::size_t>(size)};
   }
 

@@ -93,6 +93,14 @@ def _whole(value: Any, keyword: str, optional: bool = False) -> Any:
     return value
 
 
+def _paths(**keywords: Any) -> None:
+    """Path keywords checked for a NUL here, so the error names the keyword (pybind11's path conversion
+    would raise a TypeError listing every signature; the library refuses NUL in any path it is given)."""
+    for keyword, value in keywords.items():
+        if isinstance(value, (str, bytes, os.PathLike)) and "\0" in os.fsdecode(value):
+            raise InvalidArgumentError(f"{keyword}: contains a NUL character, which no file name may hold")
+
+
 def bake(
     spec: Union[PathLike, Mapping[str, Any]],
     out_dir: Optional[PathLike] = None,
@@ -125,6 +133,7 @@ def bake(
     if path is not None and isinstance(path, (str, os.PathLike)) and not os.fspath(path):
         raise InvalidArgumentError("spec: an empty path")
     threads = _whole(threads, "threads")
+    _paths(spec=path, out_dir=out_dir)
     with progress_callback(progress) as callback:
         result = _core.run_spec(path, document, out_dir, threads, allow_large, "spec", callback)
     failure = result._first_error
@@ -177,6 +186,7 @@ def fit(
     to_json() (what ``fit --json`` prints). A fit whose solve failed is returned with usable False.
     """
     threads, folds = _whole(threads, "threads"), _whole(folds, "folds")
+    _paths(table=table, output=output, report=report)
     with progress_callback(progress) as callback:
         return _core.fit_table(
             table, lobes, kind, elevation, method, max_exponent, varying_prior, color_profile, half_difference,
@@ -232,6 +242,7 @@ def prefilter(
     resolution, samples_per_texel, threads = (_whole(resolution, "resolution"),
                                               _whole(samples_per_texel, "samples_per_texel"), _whole(threads, "threads"))
     elevations, mip_count = _whole(elevations, "elevations", True), _whole(mip_count, "mip_count", True)
+    _paths(environment=environment, output=output, sh_output=sh_output)
     if from_ is not None and isinstance(environment, Environment):
         raise InvalidArgumentError("from_: an Environment knows its parameterization")
     if not isinstance(environment, Environment):
@@ -276,6 +287,7 @@ def matcap(
     """
     resolution, samples_per_texel, threads = (_whole(resolution, "resolution"),
                                               _whole(samples_per_texel, "samples_per_texel"), _whole(threads, "threads"))
+    _paths(environment=environment, output=output)
     if not isinstance(environment, Environment):
         environment = Environment(environment)
     with progress_callback(progress) as callback:

@@ -173,6 +173,36 @@ TEST(AtomicOutput, AFullDiskIsAnErrorNamingTheOutputAndKeepsTheOldFile) {
   EXPECT_GT(disk.freeBytes(), 150u * 1024);  // the temporary's blocks are free again
 }
 
+TEST(OutputBatch, ASetIsReplacedWholeOrNotAtAll) {
+  // The ibl job's files (a chain, irradiance, skybox, DFG table): the disk fills on the last, and
+  // the previous run's set must stay whole, not half replaced and then cleaned away.
+  BRDFBAKE_REQUIRE_TINY_FILESYSTEM(disk, "200k");
+  for (const char* name : {"a.bin", "b.bin", "c.bin"}) put(disk / name, std::string("old ") + name);
+  const std::string small(40 * 1024, 's'), large(400 * 1024, 'l');
+  const std::string message = errorOf(
+      [&] {
+        OutputBatch batch;
+        writeFileAtomically(disk / "a.bin", small);
+        writeFileAtomically(disk / "b.bin", small);
+        writeFileAtomically(disk / "c.bin", large);  // more than the disk holds
+        batch.commit();
+      },
+      Error::Kind::Io);
+  EXPECT_EQ(message, (disk / "c.bin").string() + ": write failed: No space left on device (disk full)");
+  for (const char* name : {"a.bin", "b.bin", "c.bin"}) EXPECT_EQ(slurp(disk / name), std::string("old ") + name);
+  EXPECT_EQ(hiddenTemporaries(disk.path()), 0);
+  {
+    OutputBatch batch;
+    writeFileAtomically(disk / "a.bin", small);
+    writeFileAtomically(disk / "b.bin", "new b");
+    EXPECT_EQ(slurp(disk / "a.bin"), "old a.bin");  // nothing moves before the batch commits
+    batch.commit();
+  }
+  EXPECT_EQ(slurp(disk / "a.bin"), small);
+  EXPECT_EQ(slurp(disk / "b.bin"), "new b");
+  EXPECT_EQ(hiddenTemporaries(disk.path()), 0);
+}
+
 class FilePlanTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -195,6 +225,19 @@ TEST_F(FilePlanTest, AnOutputIsNeverAnInputHoweverItIsSpelled) {
                                  dir / "hard.astm", dir / "." / "table.astm"}) {
     EXPECT_NE(planError(output).find("is the table (an input)"), std::string::npos) << output;
   }
+}
+
+TEST_F(FilePlanTest, ANulInAnyPathIsRefusedBeforeAnyWork) {
+  // The system would cut "out.exr\0.png" at the NUL and write out.exr under another name.
+  const fs::path cut = dir / std::string("out.exr\0.png", 12);
+  EXPECT_NE(planError(cut).find("-o: " + (dir / "out.exr").string() + "\\x00.png: contains a NUL character"),
+            std::string::npos)
+      << planError(cut);
+  EXPECT_NE(errorOf([&] { AtomicOutput out(cut); }, Error::Kind::InvalidArgument).find("contains a NUL character"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { requireInputFile(cut, "table"); }, Error::Kind::InvalidArgument).find("table: "),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "out.exr"));
 }
 
 TEST_F(FilePlanTest, TwoOutputsNeverShareAFile) {

@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -16,6 +17,7 @@
 #include <fstream>
 #include <future>
 #include <random>
+#include <thread>
 
 #include "test_support.hpp"
 #include "tiny_filesystem.hpp"
@@ -42,9 +44,11 @@ std::string junk(std::size_t bytes) {
   return out;
 }
 
-// A PNG whose IHDR claims width x height RGB (8 bits), followed by `dataBytes` of IDAT (junk).
-std::string pngClaiming(std::uint32_t width, std::uint32_t height, std::size_t dataBytes) {
-  std::string ihdr = bigEndian32(width) + bigEndian32(height) + std::string("\x08\x02\x00\x00\x00", 5);
+// A PNG whose IHDR claims width x height RGB of 8 bits (or grey of `greyBits`), followed by
+// `dataBytes` of IDAT (junk).
+std::string pngClaiming(std::uint32_t width, std::uint32_t height, std::size_t dataBytes, char greyBits = 0) {
+  const std::string depthAndColour = greyBits ? std::string{greyBits, '\0'} : std::string("\x08\x02", 2);
+  std::string ihdr = bigEndian32(width) + bigEndian32(height) + depthAndColour + std::string(3, '\0');
   return std::string("\x89PNG\r\n\x1a\n", 8) + bigEndian32(13) + "IHDR" + ihdr + bigEndian32(0) +
          bigEndian32(static_cast<std::uint32_t>(dataBytes)) + "IDAT" + junk(dataBytes) + bigEndian32(0) +
          bigEndian32(0) + "IEND" + bigEndian32(0xAE426082);
@@ -94,13 +98,72 @@ TEST(ImageLimits, HeadersClaimingMoreThanTheirFileHoldsAreRefusedBeforeDecoding)
            std::string("\x03\x01\x03\x00\x01\x00\x00\x00\x01\x00\x00\x00", 12) +
            std::string("\x15\x01\x03\x00\x01\x00\x00\x00\x03\x00\x00\x00", 12) + littleEndian32(0) + junk(300 * 1024),
        "the header says 20000 x 20000 pixels"},
+      // 2^64 - 2^34 + 4 bytes of samples: shown whole (as a double), never wrapped to a negative number.
+      {"huge.hdr", "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2147483647 +X 2147483647\n" + junk(1024),
+       "(18446744056529682432 bytes of samples;"},
   };
   for (const Case& c : cases) {
     put(dir / c.name, c.bytes);
+    SCOPED_TRACE(c.name);
     const std::string message = errorOf([&] { readImage(dir / c.name); }, Error::Kind::InvalidInput);
     EXPECT_EQ(message.rfind((dir / c.name).string() + ": ", 0), 0u) << message;
     EXPECT_NE(message.find(c.says), std::string::npos) << message;
   }
+}
+
+TEST(ImageLimits, ASmallFileNeverDecodesToGigabytes) {
+  // 1-bit PNGs whose headers fit their deflate bound (1032 raw bytes per byte) but would decode to
+  // 2 GiB and 8 GiB of float RGBA: refused from the header, whatever the memory budget.
+  test::TempDir dir;
+  struct Case {
+    std::uint32_t width, height;
+    std::size_t bytes;
+    const char* decoded;  // width x height x 16
+  };
+  for (const Case& c : {Case{16384, 8192, 17 * 1024, "2147483648"}, Case{32768, 16384, 66 * 1024, "8589934592"}}) {
+    const std::string png = pngClaiming(c.width, c.height, c.bytes, 1);
+    put(dir / "flat.png", png);
+    const std::string message = errorOf([&] { readImage(dir / "flat.png"); }, Error::Kind::InvalidInput);
+    const std::string says = std::string(c.decoded) + " bytes as float RGBA from a " + std::to_string(png.size());
+    EXPECT_NE(message.find(says), std::string::npos) << message;
+  }
+  // The floor: 128 MiB of floats (4096 x 2048) is decoded from any file its header check allows.
+  put(dir / "sky.png", pngClaiming(4096, 2048, 9 * 1024, 1));
+  EXPECT_EQ(errorOf([&] { readImage(dir / "sky.png"); }, Error::Kind::Io).find("bytes as float RGBA"),
+            std::string::npos);
+}
+
+TEST(ImageLimits, AFileReplacedWhileItIsReadIsReadWholeOldOrNew) {
+  // Another process renames a new picture over the input (an atomic replace) while it is read: the
+  // header check and the decoder see the same open file, so every read is one picture or the other.
+  test::TempDir dir;
+  Image small(64, 64, Rgba(0.25f, 0.25f, 0.25f, 1.0f)), large(96, 96, Rgba(0.75f, 0.75f, 0.75f, 1.0f));
+  writeImage(small, dir / "small.exr");
+  writeImage(large, dir / "large.exr");
+  fs::copy_file(dir / "small.exr", dir / "sky.exr");
+  std::atomic<bool> stop{false};
+  std::thread replacer([&] {
+    for (int i = 0; !stop; ++i) {
+      fs::copy_file(dir / (i % 2 ? "small.exr" : "large.exr"), dir / "next.exr", fs::copy_options::overwrite_existing);
+      fs::rename(dir / "next.exr", dir / "sky.exr");
+    }
+  });
+  int failures = 0;
+  std::string firstFailure;
+  for (int read = 0; read < 300; ++read) {
+    try {
+      const Image image = readImage(dir / "sky.exr");
+      const float expected = image.width() == 64 ? 0.25f : 0.75f;
+      if ((image.width() != 64 && image.width() != 96) || image.height() != image.width() ||
+          image.at(image.width() - 1, image.height() - 1)[0] != expected)
+        ++failures;
+    } catch (const Error& e) {
+      if (failures++ == 0) firstFailure = e.what();
+    }
+  }
+  stop = true;
+  replacer.join();
+  EXPECT_EQ(failures, 0) << firstFailure;
 }
 
 TEST(ImageLimits, OpenExrAttributesBeyondTheFileAreRefused) {
@@ -174,7 +237,7 @@ Image noise(int w, int h) {
 TEST(ImageLimits, AFullDiskIsAnErrorNamingTheImageForEveryFormat) {
   BRDFBAKE_REQUIRE_TINY_FILESYSTEM(disk, "200k");
   const Image image = noise(512, 512);  // incompressible: far more than 200 KB in every format
-  for (const char* name : {"big.png", "big.exr", "big.tif", "big.hdr"}) {
+  for (const char* name : {"big.png", "big.exr", "big.tif", "big.hdr", "big.ktx2", "big.ktx", "big.dds"}) {
     put(disk / name, "old");
     const std::string message = errorOf([&] { writeImage(image, disk / name); }, Error::Kind::Io);
     EXPECT_EQ(message.rfind((disk / name).string() + ": ", 0), 0u) << message;

@@ -105,6 +105,21 @@ def test_keys_must_be_strings_and_nesting_is_bounded(tmp_path):
         brdfbake.bake({"maps": deep}, out_dir=tmp_path, progress=False)
 
 
+@pytest.mark.parametrize(
+    "spec, path",
+    [
+        ({"maps": [dict(PHONG_EYE, output="x.exr\0.exr")]}, r"maps\[0\]\.output"),
+        ({"maps": [dict(PHONG_EYE, output="pic.png\0.exr")]}, r"maps\[0\]\.output"),
+        ({"maps": [dict(PHONG_EYE, **{"out\0put": "x.exr"})]}, r"maps\[0\]"),
+    ],
+)
+def test_a_nul_in_a_dict_spec_is_refused_before_any_work_as_in_json_text(tmp_path, spec, path):
+    # The system would cut "x.exr\0.exr" at the NUL and write x.exr while reporting the whole name.
+    with pytest.raises(brdfbake.InvalidInputError, match=f"spec: {path}: contains a NUL character"):
+        brdfbake.bake(spec, out_dir=tmp_path, progress=False)
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_paths_tuples_and_numpy_values_are_json_values(tmp_path):
     spec = {
         "maps": (

@@ -4,6 +4,7 @@ bad input raises brdfbake.Error naming the keyword, and nothing is left behind."
 
 import math
 import tempfile
+import pathlib
 
 import numpy as np
 import pytest
@@ -96,6 +97,21 @@ def test_several_maps_need_an_output(source_dir, tmp_path, scratch):
                            fresnel_ior=1.5, output=tmp_path / "f.exr", progress=False)
     assert (tmp_path / "f_irradiance.exr").exists() and (tmp_path / "f_fresnel.exr").exists()
     assert m.path == tmp_path / "f.exr"
+    # A lobe varying with the view: one map per elevation, so files, never a result whose files are gone.
+    varying = "lobes:" + str(source_dir / "data_samples/fits/synthetic_varying.json")
+    with pytest.raises(brdfbake.InvalidArgumentError, match="output: .*elevation stack"):
+        brdfbake.prefilter(source_dir / "data_samples/environments/sky_latlong.exr", varying, "sphere", 8,
+                           progress=False)
+    stack = brdfbake.prefilter(source_dir / "data_samples/environments/sky_latlong.exr", varying, "sphere", 8,
+                               elevations=3, output=tmp_path / "v.exr", progress=False)
+    assert all(pathlib.Path(f).exists() for f in stack.files) and len(stack.files) >= 3
+    assert stack.pixels.shape == (3, 8, 8, 4)  # one 8 x 8 sphere map per elevation
+
+
+def test_a_nul_in_an_output_path_is_refused_before_any_work(sky, tmp_path, scratch):
+    with pytest.raises(brdfbake.InvalidArgumentError, match="contains a NUL character"):
+        brdfbake.prefilter(sky, "phong:20", "sphere", 8, output=str(tmp_path / "x.exr") + "\0.exr", progress=False)
+    assert list(tmp_path.glob("x*")) == [] and list(scratch.iterdir()) == []
 
 
 @pytest.mark.parametrize(

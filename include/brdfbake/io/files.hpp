@@ -24,11 +24,42 @@ inline std::string shortenForMessage(std::string_view text, std::size_t limit = 
   return printable(text, limit);
 }
 
+/// Throws Error(InvalidArgument) "<role>: <path>: contains a NUL character" if it does: the system
+/// would cut the name there and read or write another file. FilePlan::check, requireInputFile and
+/// AtomicOutput call it, so every front (JSON, Python, flags) goes through it.
+void requireNoNul(const std::filesystem::path& path, const std::string& role);
+
 /// Checks that `path` is an existing regular file (following symlinks) and returns its size.
 /// Throws Error(Io) "<path>: no such file", "<path>: is a folder, not a file" or "<path>: is a FIFO
 /// (named pipe), not a regular file" (`what` names the role, e.g. "measured table"): devices, FIFOs
 /// and sockets never end or block, so no reader takes them.
 std::uintmax_t requireInputFile(const std::filesystem::path& path, const std::string& what = "input file");
+
+/// An input file opened once: its type and size are those of the open file (fstat), and every
+/// read goes through the same descriptor, so a file replaced meanwhile (an atomic rename) is read
+/// whole as the old file, never half old and half new. Throws as requireInputFile, and Error(Io)
+/// "<path>: not a regular file" should a device take the file's place before it opens.
+class InputFile {
+ public:
+  InputFile(const std::filesystem::path& path, const std::string& what);
+  ~InputFile();
+  InputFile(const InputFile&) = delete;
+  InputFile& operator=(const InputFile&) = delete;
+
+  const std::filesystem::path& path() const { return path_; }
+  std::uintmax_t size() const { return size_; }
+  int descriptor() const { return fd_; }
+  /// A name for this open file (/proc/self/fd/N) for a library that opens files by name; the
+  /// path itself where /proc is not mounted.
+  std::filesystem::path openName() const;
+  /// Up to `count` bytes from `offset` (fewer at the end of the file).
+  std::string read(std::uintmax_t offset, std::size_t count) const;
+
+ private:
+  std::filesystem::path path_;
+  std::uintmax_t size_ = 0;
+  int fd_ = -1;
+};
 
 /// Reads a whole file (requireInputFile first), never more than `maxBytes` (a file that grows while
 /// read included): Error(Resource) beyond.
