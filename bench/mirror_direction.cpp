@@ -4,7 +4,8 @@
 // evaluated exactly on the mirror direction. Prints a Markdown table (G channel) and draws
 // docs/images/mirror_direction.png with gnuplot when present.
 //
-//   mirror_direction [--shared ../shared/data/cornell] [--chart docs/images/mirror_direction.png]
+//   mirror_direction [--shared ../shared/data/cornell] [--chart PNG | --update-docs]
+// (--update-docs: the tracked docs/images/mirror_direction.png; without either, no chart)
 #include <brdfbake/core/error.hpp>
 #include <brdfbake/fit/cornell_grid.hpp>
 #include <brdfbake/fit/lobe_fit.hpp>
@@ -20,15 +21,17 @@ namespace fs = std::filesystem;
 
 int main(int argc, char** argv) {
   fs::path shared = "../shared/data/cornell";
-  fs::path chart = "docs/images/mirror_direction.png";
+  fs::path chart;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--shared" && i + 1 < argc)
       shared = argv[++i];
     else if (arg == "--chart" && i + 1 < argc)
       chart = argv[++i];
+    else if (arg == "--update-docs")
+      chart = "docs/images/mirror_direction.png";
     else {
-      std::cerr << "usage: mirror_direction [--shared DIR] [--chart PNG]\n";
+      std::cerr << "usage: mirror_direction [--shared DIR] [--chart PNG | --update-docs]\n";
       return 2;
     }
   }
@@ -77,6 +80,7 @@ int main(int argc, char** argv) {
       }
       std::cerr << names[t] << ": " << fit.briefReport();
     }
+    if (chart.empty()) return 0;
     if (!findGnuplot()) {
       std::cerr << "mirror_direction: gnuplot not found; no chart written\n";
       return 0;

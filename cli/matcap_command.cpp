@@ -1,6 +1,12 @@
 // brdfbake matcap MATERIAL ENVIRONMENT -o OUT: a material shaded under an environment, as a sphere map
 // looked up by the view-space normal (makeMatcap).
+#include <brdfbake/core/text_numbers.hpp>
+#include <brdfbake/io/image_io.hpp>
 #include <brdfbake/run/matcap_job.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
 
 #include "commands.hpp"
 #include "flags.hpp"
@@ -24,8 +30,9 @@ under the environment, viewed along -z with up +y (the environment's axes; turn 
 importance-sampled. The map reports its error estimate: the larger of the RMS of its bilinear lookups
 over the visible disc and their value-weighted RMS (where the highlight is), relative to the peak, each
 against a brute-force sum over the environment's texels; auto makes the cheapest map within
---max-error. A .png output is 8-bit sRGB (clamped to [0, 1]; --exposure STOPS scales by 2^STOPS
-first); .exr keeps linear floats.
+--max-error. A .png output is 8-bit sRGB, clamped to [0, 1] after --exposure: auto (the default
+for .png) scales the map so its 99th percentile is white and records the stops in the file; STOPS
+scales by 2^STOPS. .exr keeps linear floats (exposure 0 unless given).
 Units, orientation and method: docs/matcap.md.
 
 Examples:
@@ -74,12 +81,30 @@ Command addMatcapCommand(CLI::App& app) {
                    "The bound on each texel's relative error where above 1 % of the median (default 3 x --max-error)")
       ->check(CLI::Range(1e-6, 10.0));
   addSamplesPerTexelOption(command, r.samplesPerTexel, "Footprint samples per texel", false);
-  command->add_option("--exposure", r.exposure, "Scale the map by 2^STOPS before writing (for .png)")
-      ->default_val(0.0)
-      ->check(CLI::Range(-30.0, 30.0));
+  struct Exposure {
+    std::optional<double> stops;  // none: auto
+  };
+  auto exposure = std::make_shared<Exposure>();
+  addParsed(
+      command, "--exposure", exposure->stops,
+      [](const std::string& text) -> std::optional<double> {
+        if (text == "auto") return std::nullopt;
+        const double stops = parseFiniteNumber(text);
+        if (std::abs(stops) > 30.0) throw Error(Error::Kind::InvalidArgument, "give auto or STOPS in [-30, 30]");
+        return stops;
+      },
+      "auto | STOPS: scale the map by 2^STOPS before writing; auto puts its 99th percentile at white "
+      "(for .png; the default there, 0 for other formats)")
+      ->default_str("auto");
   addCommonFlags(command, args->flags, Computes::Maps,
                  "the map's entry, as bake --json prints it: files, error estimate");
-  return [args] {
+  return [args, exposure] {
+    MatcapRequest& request = args->files.request;
+    const auto& files = args->files.outputs.files;
+    request.exposure = exposure->stops.value_or(0.0);
+    request.autoExposure = !exposure->stops && std::any_of(files.begin(), files.end(), [](const auto& f) {
+      return imageFormatFor(f) == ImageFormat::Png;
+    });
     const FieldFlags names = {{"outputs", "-o"},
                               {"material", "MATERIAL " + printable(args->files.material.string())},
                               {"environment", "ENVIRONMENT"}};

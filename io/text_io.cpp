@@ -125,8 +125,7 @@ void TextProgress::write(const std::string& text) { writeAll(fd_, text); }
 void TextProgress::report(const std::string& task, double fraction) {
   std::lock_guard lock(mutex_);
   const bool newTask = task != task_;
-  if (newTask)
-    task_ = task, lastQuarter_ = -1, lastPercent_ = -1, started_ = lastLine_ = std::chrono::steady_clock::now();
+  if (newTask) task_ = task, lastQuarter_ = -1, lastPercent_ = -1, lastLine_ = std::chrono::steady_clock::now();
   const int percent = static_cast<int>(std::clamp(fraction, 0.0, 1.0) * 100.0);
   if (terminal_) {
     if (percent == lastPercent_) return;
@@ -150,8 +149,7 @@ void TextProgress::report(const std::string& task, double fraction) {
   std::ostringstream line;
   line << "brdfbake: " << task << ": ";
   if (end) {
-    line.precision(3);
-    line << "done (" << secondsSince(started_) << " s)\n";
+    line << "done\n";  // the job's own report gives its time, once (stdout, --json)
   } else {
     line << percent << " %\n";
   }

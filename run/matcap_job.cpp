@@ -5,6 +5,7 @@
 #include <brdfbake/run/matcap_job.hpp>
 #include <brdfbake/spec/material_file.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -87,10 +88,31 @@ nlohmann::json MatcapRequest::describe() const {
   return map;
 }
 
-MatcapResult makeMatcap(const MatcapRequest& request, const Context& context) {
-  request.validate();
+double exposureFor(const Image& image) {
+  std::vector<float> brightest;
+  brightest.reserve(static_cast<std::size_t>(image.width()) * image.height());
+  for (int y = 0; y < image.height(); ++y) {
+    for (int x = 0; x < image.width(); ++x) {
+      const Rgba v = image.at(x, y);
+      if (v[3] > 0.0f) brightest.push_back(std::max({v[0], v[1], v[2]}));  // alpha 0: outside a sphere map's disc
+    }
+  }
+  if (brightest.empty()) return 0.0;
+  const auto at = brightest.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(brightest.size() - 1));
+  std::nth_element(brightest.begin(), at, brightest.end());
+  return *at > 0.0f ? std::clamp(-std::log2(static_cast<double>(*at)), -30.0, 30.0) : 0.0;
+}
+
+MatcapResult makeMatcap(const MatcapRequest& specified, const Context& context) {
+  specified.validate();
+  MatcapRequest request = specified;
   MatcapResult result;
   result.map = shadeUnderEnvironment(*request.environment, *request.material, request.shadingOptions(), context);
+  if (request.autoExposure) {
+    request.exposure = exposureFor(result.map.image);
+    result.map.summary.notes.push_back("exposure " + formatG(request.exposure) +
+                                       " stops (auto: the 99th percentile of the map at white)");
+  }
   // The error estimate is relative to the peak, so it holds for the scaled map too.
   if (request.exposure != 0.0) {
     const float scale = static_cast<float>(std::exp2(request.exposure));

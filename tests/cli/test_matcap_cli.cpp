@@ -6,6 +6,8 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 
 #include "test_support.hpp"
@@ -44,6 +46,38 @@ TEST(MatcapCli, APngShowsTheSkysBrightTopAtTheTop) {
   // Rows 8 and 55 through the middle column: the normals (0, +-0.73, 0.68).
   auto at = [&](int x, int y) { return pixels[(static_cast<std::size_t>(y) * spec.width + x) * spec.nchannels + 1]; };
   EXPECT_GT(at(32, 8), at(32, 55) + 0.1) << "top " << at(32, 8) << ", bottom " << at(32, 55);
+}
+
+TEST(MatcapCli, APngIsExposedSoItsBrightestPercentIsWhite) {
+  // --exposure auto, the default for .png: the 99th percentile of the disc's brightest channel at
+  // white, so about 1 % of the disc's texels saturate at 255; the stops are recorded in the file.
+  test::TempDir dir;
+  std::ofstream(dir / "white.json") << R"({"model": "phong", "diffuse": [0.8, 0.8, 0.8], "specular": [0, 0, 0],
+                                           "exponent": 1})";
+  const auto result = runCli("matcap " + q(dir / "white.json") + " " + q(kSky) +
+                             " --resolution 64 --samples-per-texel 4 --threads 2 -o " + q(dir / "white.png"));
+  ASSERT_EQ(result.exitCode, 0) << result.output;
+  EXPECT_NE(result.out.find("(auto: the 99th percentile of the map at white)"), std::string::npos) << result.out;
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);  // the bytes as stored, not multiplied by alpha
+  auto in = OIIO::ImageInput::open((dir / "white.png").string(), &config);
+  ASSERT_TRUE(in);
+  const OIIO::ImageSpec spec = in->spec();
+  ASSERT_EQ(spec.nchannels, 4);
+  std::vector<unsigned char> pixels(static_cast<std::size_t>(spec.width) * spec.height * 4);
+  ASSERT_TRUE(in->read_image(0, 0, 0, 4, OIIO::TypeDesc::UINT8, pixels.data()));
+  int disc = 0, white = 0;
+  for (std::size_t i = 0; i < pixels.size(); i += 4) {
+    if (pixels[i + 3] == 0) continue;
+    ++disc;
+    white += std::max({pixels[i], pixels[i + 1], pixels[i + 2]}) == 255;
+  }
+  ASSERT_GT(disc, 3000);  // pi 32^2 = 3217 texels of the 64 x 64 picture
+  EXPECT_GE(white, disc / 200) << white << " of " << disc;
+  EXPECT_LE(white, disc / 40) << white << " of " << disc;
+  const auto metadata = nlohmann::json::parse(spec.get_string_attribute("brdfbake:metadata", "{}"));
+  ASSERT_TRUE(metadata["spec"].contains("exposure")) << metadata.dump();
+  EXPECT_LT(std::abs(metadata["spec"]["exposure"].get<double>()), 30.0);
 }
 
 TEST(MatcapCli, BadFlagsAndFilesExitTwoNamingThemAndWriteNothing) {

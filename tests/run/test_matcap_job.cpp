@@ -43,6 +43,21 @@ void forCoveredTexels(const Image& a, const Image& b, F f) {
       if (a.at(x, y)[3] >= 1.0 && b.at(x, y)[3] >= 1.0) f(x, y);
 }
 
+TEST(MatcapJob, AutoExposurePutsTheNinetyNinthPercentileOfTheCoveredTexelsAtWhite) {
+  // 100 covered texels whose brightest channel is 1, 2, ..., 100 (in turn red, green, blue), and
+  // uncovered ones (alpha 0) far brighter, which must not count: the 99th percentile of 100 values,
+  // at index floor(0.99 x 99) = 98 of the sorted list, is 99, so the stops are -log2(99).
+  Image image(20, 10, Rgba(1e6f, 1e6f, 1e6f, 0.0f));
+  for (int i = 0; i < 100; ++i) {
+    Rgba v(0.5f, 0.5f, 0.5f, 1.0f);
+    v[i % 3] = static_cast<float>(i + 1);
+    image.set(i % 10, i / 10, v);
+  }
+  EXPECT_NEAR(exposureFor(image), -std::log2(99.0), 1e-12);
+  EXPECT_EQ(exposureFor(Image(4, 4, Rgba(0, 0, 0, 1))), 0.0);                  // a black map stays as it is
+  EXPECT_EQ(exposureFor(Image(4, 4, Rgba(1e-30f, 1e-30f, 1e-30f, 1))), 30.0);  // within [-30, 30]
+}
+
 TEST(MatcapJob, AWhiteFurnaceShowsTheLambertianAlbedo) {
   TempDir dir;
   const fs::path furnace = writeEnvironment(

@@ -45,7 +45,8 @@ void writeStderr(std::string_view message);
 /// Progress as text on a file descriptor (standard error by default), as the command line shows it:
 /// a bar "TASK [#####     ]  40%" redrawn in place when the descriptor is a terminal, else plain lines
 /// "brdfbake: TASK: 25 %" (a task's start, each quarter reached a second or more after the last
-/// line, "brdfbake: TASK: done (1.23 s)" at its end, the fraction 1). Nothing when disabled.
+/// line, "brdfbake: TASK: done" at its end, the fraction 1; the time is the job report's, printed once).
+/// Nothing when disabled.
 class TextProgress {
  public:
   explicit TextProgress(bool enabled = true, int fd = 2);
@@ -66,7 +67,7 @@ class TextProgress {
   std::mutex mutex_;
   std::string task_;
   int lastQuarter_ = -1, lastPercent_ = -1;
-  std::chrono::steady_clock::time_point lastLine_, started_;
+  std::chrono::steady_clock::time_point lastLine_;
 };
 
 }  // namespace brdfbake

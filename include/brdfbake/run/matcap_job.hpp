@@ -47,6 +47,11 @@ struct MatcapRequest {
   std::optional<double> maxRelativeError;
   CameraFrame camera;     ///< default: looking down -z, up +y (CameraFrame::fromYawPitch turns it)
   double exposure = 0.0;  ///< stops the map is scaled by (2^exposure), in [-30, 30]: for 8-bit outputs
+  /// Picks `exposure` from the map instead: the stops that put the 99th percentile of its texels'
+  /// largest channel (over the texels the map covers) at 1, the white of an 8-bit output, within
+  /// [-30, 30]. The map's metadata and notes record the stops chosen. The command line's default
+  /// for .png outputs.
+  bool autoExposure = false;
   /// How the map's metadata records the material ({"model": ..., "file": NAME}); empty: its model.
   nlohmann::json materialDescription;
 
@@ -70,6 +75,10 @@ struct MatcapResult {
   /// height, bake_path, bake_seconds, samples_per_texel, under_environment (the summary).
   nlohmann::json toJson() const;
 };
+
+/// The stops that bring the 99th percentile of the covered texels' largest channel to 1 (0 for a
+/// black map), within [-30, 30]: MatcapRequest::autoExposure.
+double exposureFor(const Image& image);
 
 /// Makes the matcap in memory: validate(), then shadeUnderEnvironment on `context` (threads,
 /// progress, cancellation), then the exposure. Throws what validate() and shadeUnderEnvironment throw.
