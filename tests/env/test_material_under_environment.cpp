@@ -279,6 +279,41 @@ TEST(MaterialUnderEnvironment, UpInTheEnvironmentIsUpInThePicture) {
   EXPECT_TRUE(shows(up.image.at(30, 16), red));
 }
 
+TEST(MaterialUnderEnvironment, ALobeNarrowerThanTheTexelsReflectsTheEnvironmentAsAMirror) {
+  // Phong of exponent 1e7 (0.02 degrees wide) in the coloured cube of 2.8-degree texels: no sum over
+  // texels resolves it, so auto shades it as a mirror at once, its error not estimated (it used to
+  // try every candidate against a reference blind to the lobe: 325 s under the sample sky). Each
+  // texel shows the face its reflected direction r = 2 (n.v) n - v points at: for a narrow lobe
+  // (1/pi) k_s Integral (r.l)^n dl = (1/pi) k_s 2 pi / (n + 1) L(r), so k_s = (n + 1) / 2 shows L(r).
+  const Environment cube = bakeEnvironment(ColoredCubeEnvironment(), ParameterizationKind::LatLong, 64, "cube", 4);
+  const double n = 1e7;
+  const PhongMaterial mirror(Rgb::Constant((n + 1.0) / 2.0), n);
+  UnderEnvironmentOptions options;
+  options.resolution = 32;
+  const auto result = shadeUnderEnvironment(cube, mirror, options, test::twoThreads());
+  EXPECT_FALSE(result.summary.errorEstimated);
+  EXPECT_NE(result.summary.briefReport().find("error not estimated (the lobe is narrower than the environment's"),
+            std::string::npos)
+      << result.summary.briefReport();
+  EXPECT_EQ(result.summary.candidates.size(), 1u);
+  static const Rgb colors[6] = {Rgb(1, 0, 0), Rgb(0, 1, 1), Rgb(0, 1, 0), Rgb(1, 0, 1), Rgb(0, 0, 1), Rgb(1, 1, 0)};
+  int checked = 0;
+  for (const DiscTexel& t : discTexels(result.image)) {
+    const Vec3 r = 2.0 * t.normal.z() * t.normal - Vec3::UnitZ();
+    int axis = 0;
+    r.cwiseAbs().maxCoeff(&axis);
+    const Vec3 a = r.cwiseAbs();
+    const double second = std::max(a[(axis + 1) % 3], a[(axis + 2) % 3]);
+    // Away from the cube's edges and the rim, where a texel's footprint reflects more than one face.
+    if (a[axis] < 1.3 * second || t.normal.z() < 0.7) continue;
+    const Rgb expected = colors[2 * axis + (r[axis] < 0.0 ? 1 : 0)];
+    EXPECT_LT((result.image.at(t.x, t.y).head<3>() - expected).abs().maxCoeff(), 0.02)
+        << "texel " << t.x << ", " << t.y << " r " << r.transpose();
+    ++checked;
+  }
+  EXPECT_GT(checked, 250);  // of the 800 in the disc
+}
+
 TEST(MaterialUnderEnvironment, BadInputIsRefusedClearly) {
   const Environment sky = bakeEnvironment(SkyEnvironment(), ParameterizationKind::LatLong, 16, "sky", 1);
   const PhongMaterial phong(Rgb::Ones(), 20.0);

@@ -128,6 +128,9 @@ struct UnderEnvironmentSummary {
   double relativeError = 0.0, relativeFloor = 0.0;
   int probes = 0;
   bool errorEstimated = false;
+  /// Why not, when errorEstimated is false: "estimation off", or "the lobe is narrower than the
+  /// environment's texels" (auto then reflects the environment as a mirror: see the notes).
+  std::string unestimated = "estimation off";
   bool exact = false;     ///< the reference method (no estimate)
   bool metBound = false;  ///< exact, or estimated within maxError and maxRelativeError
   /// The split: bright texels (explicit lights), the luminance threshold, their share of ∫ Y dω.
