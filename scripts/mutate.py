@@ -18,6 +18,8 @@ Usage (from the repository root, after configuring a build folder with the tests
   scripts/mutate.py --build build --only fresnel-schlick-exponent,cube-face-swap --timeout 600 --json out.json
 A baseline run of the same tests on the unmutated tree comes first (--no-baseline skips it); a failing
 baseline stops the run, as a mutant could not be judged against it. Builds and tests run under `nice`.
+Exit status: 0 when every mutant ran, 1 when interrupted, 2 when a file could not be restored, 3 when
+the score is below --min-score. .ci/mutation is the scheduled entry point (not part of .ci/run).
 """
 import argparse
 import json
@@ -182,6 +184,7 @@ def parse_args():
     parser.add_argument("--mutants", default=str(DEFAULT_LIST), help="the mutant list (default tests/mutants.json)")
     parser.add_argument("--no-baseline", action="store_true", help="skip the run on the unmutated tree")
     parser.add_argument("--include-equivalent", action="store_true", help="run the mutants marked equivalent too")
+    parser.add_argument("--min-score", type=float, help="exit with status 3 when the score (percent) is below this")
     return parser.parse_args()
 
 
@@ -241,7 +244,9 @@ def main():
         pathlib.Path(args.json).write_text(json.dumps(
             {"results": results, "equivalent": [{"id": m["id"], "reason": m["equivalent"]} for m in equivalent],
              "score_percent": round(score, 1), "minutes": round(minutes, 1)}, indent=2) + "\n")
-    return 0 if len(results) == len(to_run) else 1
+    if len(results) != len(to_run):
+        return 1
+    return 3 if args.min_score is not None and score < args.min_score else 0
 
 
 if __name__ == "__main__":
