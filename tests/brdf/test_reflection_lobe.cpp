@@ -8,6 +8,8 @@
 #include <brdfbake/brdf/phong.hpp>
 #include <brdfbake/brdf/reflection_lobe.hpp>
 
+#include <cmath>
+
 namespace brdfbake {
 namespace {
 
@@ -133,6 +135,30 @@ TEST(ReflectionLobe, MaterialsDescribeTheirBrdfs) {
   EXPECT_GT(((*fitted)[1].axis - g.reflected).norm(), 1e-3) << "the Lafortune axis tilts towards the horizon";
   EXPECT_EQ((*fitted)[2].shape, ReflectionLobeShape::Cosine);
   EXPECT_FALSE(LobeMaterial(model, LobeMaterialMode::Reflectance).reflectionLobes(g));
+}
+
+// Phong's two parts are weighed by their shares of a white furnace (only the ratio matters): the
+// integrals of max(0, r.l)^n and of max(0, n.l) over the sphere, summed here with the midpoint rule
+// in theta (the azimuth gives 2 pi), times the parts' luminances 1 and 0.5.
+TEST(ReflectionLobe, PhongWeightsAreTheFurnaceSharesOfItsParts) {
+  const auto cosinePowerIntegral = [](double exponent) {
+    constexpr int kSteps = 200000;
+    double sum = 0.0;
+    for (int i = 0; i < kSteps; ++i) {
+      const double theta = (i + 0.5) / kSteps * 0.5 * kPi;
+      sum += std::pow(std::cos(theta), exponent) * std::sin(theta);
+    }
+    return 2.0 * kPi * sum * 0.5 * kPi / kSteps;
+  };
+  const Vec3 v = Vec3::UnitZ(), n = Vec3(0.3, 0.0, 1.0).normalized();
+  const ShadingGeometry g{n, v, reflect(v, n)};
+  for (const double exponent : {1.0, 10.0, 50.0}) {
+    const auto lobes = PhongMaterial(Rgb::Ones(), exponent, Rgb::Constant(0.5)).reflectionLobes(g);
+    ASSERT_TRUE(lobes);
+    ASSERT_EQ(lobes->size(), 2u);
+    const double expected = cosinePowerIntegral(exponent) / (0.5 * cosinePowerIntegral(1.0));
+    EXPECT_NEAR((*lobes)[0].weight / (*lobes)[1].weight, expected, 1e-6 * expected) << exponent;
+  }
 }
 
 }  // namespace

@@ -914,5 +914,35 @@ TEST(MerlSampling, SamplesTheFullCornellGridAndSkipsUnmeasuredBins) {
   }
 }
 
+// Linear in theta: a quarter of the way from 0.2 to 0.6 rad is 1 + (5 - 1) / 4 (the midpoint alone
+// cannot tell the two weights apart).
+TEST(MirrorDirectionTable, AtWeighsTheNearerAngleMore) {
+  MirrorDirectionTable table;
+  table.thetas = {0.2, 0.6};
+  table.values.resize(2, 1);
+  table.values << 1.0, 5.0;
+  table.offsets = Eigen::MatrixXd::Zero(2, 1);
+  table.channelNames = {"Y"};
+  table.validate();
+  EXPECT_NEAR(table.at(0.3)[0], 2.0, 1e-12);
+  EXPECT_NEAR(table.at(0.5)[0], 4.0, 1e-12);
+}
+
+// The weights are 1 / angle^2 (table_interpolation.hpp): a query 5 and 15 degrees from the two
+// nearest samples (both in the plane of incidence, so the mirror image is the query itself) gets
+// (1/25 v1 + 1/225 v2) / (1/25 + 1/225) = (9 v1 + v2) / 10.
+TEST(TableInterpolation, NeighboursWeighOneOverTheirAngleSquared) {
+  MeasuredTable table;
+  table.kind = ChannelKind::Monochrome;
+  table.channelNames = {"Y"};
+  table.angles = {
+      {radians(30), 0, radians(20), kPi}, {radians(30), 0, radians(40), kPi}, {radians(30), 0, radians(80), kPi}};
+  table.values.resize(3, 1);
+  table.values << 1.0, 10.0, 100.0;
+  const TableInterpolator interpolator(table, 2);
+  const Vec3 wi = directionFromAngles(radians(30), 0.0), wo = directionFromAngles(radians(25), kPi);
+  EXPECT_NEAR(interpolator.evaluate(wi, wo)[0], (9.0 * 1.0 + 10.0) / 10.0, 1e-9);
+}
+
 }  // namespace
 }  // namespace brdfbake

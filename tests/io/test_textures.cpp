@@ -460,5 +460,77 @@ TEST(Textures, InvalidTexturesAreNotWritten) {
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }
 
+// A DDS file without the DX10 header, written here from Microsoft's DDS_HEADER and DDS_PIXELFORMAT:
+// the four-character code 113 is D3DFMT_A16B16G16R16F (R, G, B, A halves in that order in memory),
+// 116 D3DFMT_A32B32G32R32F (R, G, B, A floats).
+std::string legacyDds(std::uint32_t fourCC, std::uint32_t width, std::uint32_t height, const std::string& texels) {
+  std::string out("DDS ");
+  const auto put = [&out](std::uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); };
+  put(124);                       // dwSize
+  put(0x1 | 0x2 | 0x4 | 0x1000);  // DDSD_CAPS | HEIGHT | WIDTH | PIXELFORMAT
+  put(height);
+  put(width);
+  put(0);                               // dwPitchOrLinearSize
+  put(0);                               // dwDepth
+  put(0);                               // dwMipMapCount: 0 means one level
+  for (int i = 0; i < 11; ++i) put(0);  // dwReserved1
+  put(32);                              // ddspf.dwSize
+  put(0x4);                             // DDPF_FOURCC
+  put(fourCC);
+  for (int i = 0; i < 5; ++i) put(0);  // bit count and masks
+  put(0x1000);                         // DDSCAPS_TEXTURE
+  for (int i = 0; i < 4; ++i) put(0);  // dwCaps2, dwCaps3, dwCaps4, dwReserved2
+  return out + texels;
+}
+
+TEST(Textures, LegacyDdsFourCcFilesAreReadAsTheirFormats) {
+  // Two texels (1, 2, 0.5, 1) and (0.25, 4, 0, 1): halves 0x3C00 0x4000 0x3800 0x3C00, 0x3400 0x4400 0 0x3C00.
+  const std::uint16_t halves[8] = {0x3C00, 0x4000, 0x3800, 0x3C00, 0x3400, 0x4400, 0x0000, 0x3C00};
+  const float floats[8] = {1.0f, 2.0f, 0.5f, 1.0f, 0.25f, 4.0f, 0.0f, 1.0f};
+  const std::string files[2] = {
+      legacyDds(113, 2, 1, std::string(reinterpret_cast<const char*>(halves), sizeof halves)),
+      legacyDds(116, 2, 1, std::string(reinterpret_cast<const char*>(floats), sizeof floats))};
+  for (const std::string& bytes : files) {
+    const Texture t = decodeTexture(bytes, "legacy.dds");
+    ASSERT_EQ(t.levelCount(), 1);
+    ASSERT_EQ(t.faceCount(), 1);
+    const Image& image = t.levels[0][0];
+    ASSERT_EQ(image.width(), 2);
+    ASSERT_EQ(image.height(), 1);
+    for (int x = 0; x < 2; ++x)
+      for (int c = 0; c < 4; ++c) EXPECT_EQ(image.at(x, 0)[c], floats[4 * x + c]) << x << " " << c;
+  }
+}
+
+// One byte short: the parser refuses it for its size (InvalidInput, "truncated"), whichever
+// container, before a row is decoded.
+TEST(Textures, AFileOneByteShortIsRefusedAsTruncated) {
+  const Texture cube = makeTexture(4, 4, 6, 3, [](int k, int f, int x, int y) { return Rgba(k, f, x, y); });
+  for (const TextureContainer container : kContainers) {
+    const std::string bytes = encodeTexture(cube, container, TexelFormat::Rgba16Float).bytes;
+    expectRefused(bytes.substr(0, bytes.size() - 1), "short.tex", "truncated");
+  }
+}
+
+// A cube's level holds six faces: 4 x 4 half-float RGBA faces are 128 bytes, so level 0 is 768; a
+// level index claiming one face's 128 bytes is refused (KTX2 specification, levelIndex).
+TEST(Textures, Ktx2CubeLevelLengthMustHoldAllSixFaces) {
+  const Texture cube = makeTexture(4, 4, 6, 3, [](int k, int f, int x, int y) { return Rgba(k, f, x, y); });
+  const std::string good = encodeTexture(cube, TextureContainer::Ktx2, TexelFormat::Rgba16Float).bytes;
+  ASSERT_EQ(u64At(good, 88), 6u * 128u);  // level 0: byteLength
+  expectRefused(withU64(withU64(good, 88, 128), 96, 128), "a.ktx2", "level 0");
+}
+
+// A key/value entry's length one to four bytes more than the key/value data has left is refused.
+TEST(Textures, KeyValueEntryRunningPastTheKeyValueDataIsRefused) {
+  Texture t = makeTexture(2, 2, 1, 1, [](int, int, int, int) { return Rgba(1, 1, 1, 1); });
+  t.metadata = {{"a", 1}};
+  const std::string good = encodeTexture(t, TextureContainer::Ktx2, TexelFormat::Rgba32Float).bytes;
+  const std::uint32_t kvd = u32At(good, 56), left = u32At(good, 60) - 4;
+  for (std::uint32_t extra = 1; extra <= 4; ++extra) {
+    expectRefused(withU32(good, kvd, left + extra), "a.ktx2", "key/value entry 0: length");
+  }
+}
+
 }  // namespace
 }  // namespace brdfbake

@@ -67,5 +67,17 @@ TEST(Conventions, BilinearLookupHitsTexelCentresExactly) {
   EXPECT_NEAR(sampleBilinear(image, Vec2(0.0, 1.5), all, true)[0], 1.5, 1e-6);   // wrapped: columns 3 and 0
 }
 
+// An N-texel 1-D texture holds texel i at s = (i + 0.5) / N (the Fresnel table's coordinate): a
+// ramp v_i = i reads i at the texel centres, i + 1/4 a quarter texel further, and its end values
+// beyond the first and last centres.
+TEST(Conventions, LinearLookupIn1dHitsTexelCentres) {
+  std::vector<Rgb> ramp;
+  for (int i = 0; i < 8; ++i) ramp.push_back(Rgb::Constant(i));
+  for (int i = 0; i < 8; ++i) EXPECT_NEAR(sampleLinear1d(ramp, (i + 0.5) / 8)[0], i, 1e-12) << i;
+  for (int i = 0; i < 7; ++i) EXPECT_NEAR(sampleLinear1d(ramp, (i + 0.75) / 8)[0], i + 0.25, 1e-12) << i;
+  EXPECT_EQ(sampleLinear1d(ramp, 0.0)[0], 0.0);
+  EXPECT_EQ(sampleLinear1d(ramp, 1.0)[0], 7.0);
+}
+
 }  // namespace
 }  // namespace brdfbake

@@ -19,7 +19,9 @@
 #include <OpenImageIO/imageio.h>
 #include <OpenImageIO/texture.h>
 
+#include <cstdio>
 #include <random>
+#include <sstream>
 
 #include "test_support.hpp"
 
@@ -283,6 +285,39 @@ TEST(ShIrradiance, AHemisphericalSkyMatchesTheClosedForm) {
   nlohmann::json bad = document;
   bad["coefficients"].erase(3);
   EXPECT_THROW(irradianceShFromJson(bad, "doc"), Error);
+}
+
+// A sky of radiance y^2 has bands 0 and 2 only (y^2 = 1/3 + 2/3 P2(y)), so three bands hold its
+// irradiance exactly: E(n)/pi = 1/3 + 2/3 (A_2/pi) P2(n.y) with A_2 = pi/4 (Ramamoorthi & Hanrahan
+// 2001), = (1 + n.y^2) / 4. By hand: n = y gives 2 pi (1/4) / pi = 1/2; n = x gives (pi/4) / pi = 1/4.
+TEST(ShIrradiance, AQuadraticSkyMatchesTheClosedFormThroughBandTwo) {
+  const Environment sky = latLongEnvironment(128, [](const Vec3& d) { return Rgb::Constant(d.y() * d.y()); });
+  const ShExpansion sh = irradianceSh(sky);
+  double scratch[9];
+  for (const Vec3& n : randomDirections(50, 13)) {
+    EXPECT_NEAR(sh.evaluate(n, scratch)[0], 0.25 * (1.0 + n.y() * n.y()), 5e-4) << n.transpose();
+  }
+}
+
+// cmgen's lines are the coefficients times the basis constants: Ramamoorthi & Hanrahan 2001's
+// 0.282095, 0.488603, 1.092548, 0.315392 and 0.546274, with the signs of the basis above.
+TEST(ShIrradiance, CmgenLinesArePreScaledByThePublishedConstants) {
+  const double expected[9] = {0.282095,  -0.488603, 0.488603,  -0.488603, 1.092548,
+                              -1.092548, 0.315392,  -1.092548, 0.546274};
+  const std::string text = irradianceShCmgenText(ShExpansion{2, std::vector<Rgb>(9, Rgb::Ones())});
+  std::istringstream lines(text);
+  std::string line;
+  int i = 0;
+  while (std::getline(lines, line)) {
+    ASSERT_LT(i, 9) << line;
+    double r = 0.0, g = 0.0, b = 0.0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "(%lf, %lf, %lf)", &r, &g, &b), 3) << line;
+    EXPECT_NEAR(r, expected[i], 1e-6) << line;
+    EXPECT_EQ(g, r);
+    EXPECT_EQ(b, r);
+    ++i;
+  }
+  EXPECT_EQ(i, 9);
 }
 
 }  // namespace
