@@ -258,6 +258,12 @@ TEST_F(FilePlanTest, OutputsStayInsideTheOutputFolder) {
   FilePlan inside(dir / "sub");
   inside.addOutput(dir / "sub" / "deeper" / "x.exr", "-o");
   EXPECT_NO_THROW(inside.check());
+  // An output folder that is itself a link is followed: the outputs lie inside its target.
+  fs::create_symlink(dir / "sub", dir / "linked");
+  FilePlan linked(dir / "linked");
+  linked.addOutput(dir / "linked" / "x.exr", "-o");
+  EXPECT_NO_THROW(linked.check());
+  EXPECT_NE(planError(dir / "linked" / ".." / "x.exr", dir / "linked").find("lies outside"), std::string::npos);
 }
 
 TEST_F(FilePlanTest, OutputsMustBeWritableFiles) {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <functional>
+#include <stdexcept>
 
 #include "test_support.hpp"
 
@@ -298,10 +299,12 @@ void expectRefused(const std::string& bytes, const std::string& label, const std
 }
 
 std::string withU32(std::string bytes, std::size_t offset, std::uint32_t value) {
+  if (offset + 4 > bytes.size()) throw std::out_of_range("withU32: past the file's end");
   std::memcpy(bytes.data() + offset, &value, 4);
   return bytes;
 }
 std::string withU64(std::string bytes, std::size_t offset, std::uint64_t value) {
+  if (offset + 8 > bytes.size()) throw std::out_of_range("withU64: past the file's end");
   std::memcpy(bytes.data() + offset, &value, 8);
   return bytes;
 }

@@ -5,6 +5,7 @@ README's Cornell table), so the examples and the asserts in them stay true."""
 import os
 import re
 import sys
+import subprocess
 import types
 
 import pytest
@@ -69,3 +70,27 @@ def test_the_python_example_of_readme_runs(tmp_path, monkeypatch, cornell, capsy
         assert plotted["path"] == "out/garnet_held_out.png"
     else:
         assert "matplotlib is not installed" in capsys.readouterr().out
+
+
+def shell_blocks(path):
+    """The ```sh blocks of a markdown file that call the built tool (build/cli/brdfbake)."""
+    blocks = re.findall(r"^```(?:sh|bash)\n(.*?)^```", path.read_text(), flags=re.S | re.M)
+    return [b for b in blocks if "build/cli/brdfbake" in b and "quickstart.sh" not in b and "build/bench" not in b]
+
+
+def test_every_command_line_of_readme_runs_as_written_after_the_demo(tmp_path, cli, cornell):
+    # The demo (scripts/quickstart.sh demo) bakes phong_eye.json into out/; then each block runs in
+    # one shell, from a copy of the layout a user has: build/cli/brdfbake, data_samples/, ../shared.
+    repo = tmp_path / "repo"
+    (repo / "build" / "cli").mkdir(parents=True)
+    os.symlink(cli, repo / "build" / "cli" / "brdfbake")
+    os.symlink(SOURCE_DIR / "data_samples", repo / "data_samples")
+    os.symlink(SHARED_DIR, tmp_path / "shared")
+    blocks = shell_blocks(SOURCE_DIR / "README.md")
+    assert len(blocks) >= 2 and sum(b.count("build/cli/brdfbake ") for b in blocks) >= 15
+    demo = "build/cli/brdfbake bake data_samples/specs/phong_eye.json --out-dir out --quiet\n"
+    for i, block in enumerate([demo] + blocks):
+        done = subprocess.run(["bash", "-e", "-o", "pipefail", "-c", block], cwd=repo, capture_output=True, text=True)
+        assert done.returncode == 0, f"README block {i}:\n{block}\nexit {done.returncode}: {done.stderr[-2000:]}"
+    for made in ["out/phong_cube.exr", "out/fit.json", "out/sky.exr", "out/garnet.exr", "teapot.png", "chart.csv"]:
+        assert (repo / made).stat().st_size > 0, made
