@@ -20,13 +20,19 @@ using test::runCli;
 
 const std::string kSky = test::sourcePath("data_samples/environments/sky_latlong.exr");
 
+// `brdfbake matcap` of a white Lambertian sphere (albedo 0.8) under the sample sky into dir/white.png,
+// 64 x 64, with `flags` added.
+test::CommandResult matcapOfWhiteSphere(const test::TempDir& dir, const std::string& flags) {
+  std::ofstream(dir / "white.json") << R"({"model": "phong", "diffuse": [0.8, 0.8, 0.8], "specular": [0, 0, 0],
+                                           "exponent": 1})";
+  return runCli("matcap " + q(dir / "white.json") + " " + q(kSky) + " --resolution 64 --samples-per-texel 4 " +
+                "--threads 2 " + flags + " -o " + q(dir / "white.png"));
+}
+
 TEST(MatcapCli, APngShowsTheSkysBrightTopAtTheTop) {
   test::TempDir dir;
   // A white Lambertian sphere under the sky: brighter where it faces the zenith (+y, up).
-  std::ofstream(dir / "white.json") << R"({"model": "phong", "diffuse": [0.8, 0.8, 0.8], "specular": [0, 0, 0],
-                                           "exponent": 1})";
-  const auto result = runCli("matcap " + q(dir / "white.json") + " " + q(kSky) +
-                             " --resolution 64 --samples-per-texel 4 --threads 2 --json -o " + q(dir / "white.png"));
+  const auto result = matcapOfWhiteSphere(dir, "--json");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   const auto entry = nlohmann::json::parse(result.out);
   EXPECT_EQ(entry["status"], "written");
@@ -52,10 +58,7 @@ TEST(MatcapCli, APngIsExposedSoItsBrightestPercentIsWhite) {
   // --exposure auto, the default for .png: the 99th percentile of the disc's brightest channel at
   // white, so about 1 % of the disc's texels saturate at 255; the stops are recorded in the file.
   test::TempDir dir;
-  std::ofstream(dir / "white.json") << R"({"model": "phong", "diffuse": [0.8, 0.8, 0.8], "specular": [0, 0, 0],
-                                           "exponent": 1})";
-  const auto result = runCli("matcap " + q(dir / "white.json") + " " + q(kSky) +
-                             " --resolution 64 --samples-per-texel 4 --threads 2 -o " + q(dir / "white.png"));
+  const auto result = matcapOfWhiteSphere(dir, "");
   ASSERT_EQ(result.exitCode, 0) << result.output;
   EXPECT_NE(result.out.find("(auto: the 99th percentile of the map at white)"), std::string::npos) << result.out;
   OIIO::ImageSpec config;
