@@ -22,15 +22,6 @@ namespace fs = std::filesystem;
 
 namespace {
 std::string named(const fs::path& path) { return printable(path.string()); }
-
-// Closes a file descriptor at scope exit (reads only: a failed close loses nothing).
-struct FileDescriptor {
-  explicit FileDescriptor(int descriptor) : fd(descriptor) {}
-  ~FileDescriptor() { ::close(fd); }
-  FileDescriptor(const FileDescriptor&) = delete;
-  FileDescriptor& operator=(const FileDescriptor&) = delete;
-  int fd;
-};
 }  // namespace
 
 std::string errnoText(int error) { return std::error_code(error, std::generic_category()).message(); }
@@ -56,7 +47,7 @@ std::uintmax_t requireInputFile(const fs::path& path, const std::string& what) {
   return size;
 }
 
-InputFile::InputFile(const fs::path& path, const std::string& what) : path_(path) {
+InputFile::InputFile(const fs::path& path, const std::string& what) : path_(path), what_(what) {
   requireInputFile(path, what);  // the messages that name what is there instead
   // O_NONBLOCK: should a FIFO take the file's place after the check, opening it does not wait for a writer.
   fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
@@ -82,7 +73,7 @@ std::string InputFile::read(std::uintmax_t offset, std::size_t count) const {
   while (used < count) {
     const ssize_t got = ::pread(fd_, bytes.data() + used, count - used, static_cast<off_t>(offset + used));
     if (got < 0 && errno == EINTR) continue;
-    if (got < 0) throw Error(Error::Kind::Io, named(path_) + ": read failed: " + errnoText(errno));
+    if (got < 0) throw Error(Error::Kind::Io, named(path_) + ": read failed (" + what_ + "): " + errnoText(errno));
     if (got == 0) break;
     used += static_cast<std::size_t>(got);
   }
@@ -91,36 +82,22 @@ std::string InputFile::read(std::uintmax_t offset, std::size_t count) const {
 }
 
 std::string readTextFile(const fs::path& path, const std::string& what, std::uintmax_t maxBytes) {
-  const std::uintmax_t size = requireInputFile(path, what);
+  const InputFile file(path, what);
   auto tooLarge = [&](std::uintmax_t bytes) {
     return Error(Error::Kind::Resource, named(path) + ": " + std::to_string(bytes) + " bytes or more, more than the " +
                                             std::to_string(maxBytes) + " bytes accepted for a " + what);
   };
-  if (size > maxBytes) throw tooLarge(size);
-  // O_NONBLOCK: should a FIFO take the file's place after the check, opening it does not wait for a writer.
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
-  if (fd < 0) throw Error(Error::Kind::Io, named(path) + ": cannot open (" + what + "): " + errnoText(errno));
-  const FileDescriptor guard(fd);
-  struct stat opened {};
-  if (::fstat(fd, &opened) != 0 || !S_ISREG(opened.st_mode)) {
-    throw Error(Error::Kind::Io, named(path) + ": not a regular file (" + what + ")");
-  }
-  // Read with a bound, whatever the size said: a file may grow while it is read.
+  if (file.size() > maxBytes) throw tooLarge(file.size());
+  // Read with a bound, whatever the size said: a file may grow while it is read. A read shorter than
+  // asked is the end of the file.
   std::string bytes;
-  bytes.resize(static_cast<std::size_t>(size));
-  std::size_t used = 0;
-  for (;;) {
-    if (used == bytes.size()) {
-      if (bytes.size() > maxBytes) throw tooLarge(bytes.size());
-      bytes.resize(std::min<std::uintmax_t>(std::max<std::size_t>(bytes.size() * 2, 4096), maxBytes + 1));
-    }
-    const ssize_t got = ::read(fd, bytes.data() + used, bytes.size() - used);
-    if (got < 0 && errno == EINTR) continue;
-    if (got < 0) throw Error(Error::Kind::Io, named(path) + ": read failed (" + what + "): " + errnoText(errno));
-    if (got == 0) break;
-    used += static_cast<std::size_t>(got);
+  for (std::uintmax_t ask = std::max<std::uintmax_t>(file.size(), 4096);; ask = bytes.size()) {
+    ask = std::min<std::uintmax_t>(ask, maxBytes + 1 - bytes.size());
+    const std::string part = file.read(bytes.size(), static_cast<std::size_t>(ask));
+    bytes += part;
+    if (bytes.size() > maxBytes) throw tooLarge(bytes.size());
+    if (part.size() < ask) break;
   }
-  bytes.resize(used);
   return bytes;
 }
 

@@ -57,6 +57,7 @@ class InputFile {
 
  private:
   std::filesystem::path path_;
+  std::string what_;  ///< the role named in messages ("image", "measured table")
   std::uintmax_t size_ = 0;
   int fd_ = -1;
 };
